@@ -1,0 +1,52 @@
+// The controller's handle on one KURT3D over DDS: the same topics whether a simulator or the
+// real robot's adapter serves them.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "macsim/dds/participant.h"
+#include "macsim/msg/geometry_msgs.h"
+#include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgs.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+
+namespace macsim::client {
+
+/// Sends velocity commands to a robot and keeps its latest odometry.
+class RobotClient {
+ public:
+  using Odometry = nav_msgs::msg::dds_::Odometry_;
+
+  RobotClient(dds::Participant& participant, const std::string& robot_name);
+
+  /// Publishes a velocity command (m/s forward, rad/s counter-clockwise) on cmd_vel.
+  /// The robot stops by itself 0.6 s after the last command, so repeat it while moving.
+  bool drive(double linear, double angular);
+  /// Publishes a zero velocity command.
+  bool stop() { return drive(0.0, 0.0); }
+
+  /// Waits until an odometry sample newer than the last one returned arrives.
+  std::optional<Odometry> wait_for_odometry(std::chrono::milliseconds timeout);
+  /// The latest odometry received, if any.
+  std::optional<Odometry> latest_odometry() const;
+  /// True once a participant serving this robot's cmd_vel has been matched.
+  bool commander_matched() const { return cmd_vel_.matched() > 0; }
+
+  const std::string& robot_name() const { return robot_name_; }
+
+ private:
+  std::string robot_name_;
+  mutable std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::optional<Odometry> latest_;
+  uint64_t received_ = 0, returned_ = 0;
+  dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> cmd_vel_;
+  dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom_;
+};
+
+}  // namespace macsim::client

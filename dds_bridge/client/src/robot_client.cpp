@@ -1,0 +1,40 @@
+#include "macsim/client/robot_client.h"
+
+#include "macsim/dds/convert.h"
+#include "macsim/dds/topics.h"
+
+namespace macsim::client {
+
+RobotClient::RobotClient(dds::Participant& participant, const std::string& robot_name)
+    : robot_name_(robot_name),
+      cmd_vel_(participant, dds::topics::cmd_vel(robot_name), dds::QosFamily::Command),
+      odom_(participant, dds::topics::odom(robot_name), dds::QosFamily::Sensor,
+            [this](const Odometry& odom) {
+              {
+                std::lock_guard<std::mutex> lock(mutex_);
+                latest_ = odom;
+                ++received_;
+              }
+              arrived_.notify_all();
+            }) {}
+
+bool RobotClient::drive(double linear, double angular) {
+  return cmd_vel_.write(dds::planar_twist(linear, angular));
+}
+
+std::optional<RobotClient::Odometry> RobotClient::wait_for_odometry(
+    std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!arrived_.wait_for(lock, timeout, [this] { return received_ > returned_; })) {
+    return std::nullopt;
+  }
+  returned_ = received_;
+  return latest_;
+}
+
+std::optional<RobotClient::Odometry> RobotClient::latest_odometry() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return latest_;
+}
+
+}  // namespace macsim::client

@@ -1,0 +1,47 @@
+// The small command-line parser every MACSim-DDS program uses (--domain, --profile, --help, ...).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "macsim/dds/participant.h"
+
+namespace macsim::dds {
+
+/// Declares options bound to variables, parses argv, prints usage; errors name the option.
+class CommandLine {
+ public:
+  CommandLine(std::string program, std::string summary);
+
+  /// A boolean switch, e.g. --paused.
+  void flag(const std::string& name, const std::string& help, bool* target);
+  /// An option taking a value, e.g. --world FILE.
+  void option(const std::string& name, const std::string& value_name, const std::string& help,
+              std::string* target);
+  void option(const std::string& name, const std::string& value_name, const std::string& help,
+              double* target);
+  void option(const std::string& name, const std::string& value_name, const std::string& help,
+              int* target);
+  /// --domain N (0..232) and --profile FILE, bound to the participant options.
+  void participant_options(ParticipantOptions* options);
+
+  /// Parses argv. Returns an exit code when the program should stop now: 0 after --help,
+  /// 2 after a usage error (already printed to stderr); std::nullopt to go on.
+  std::optional<int> parse(int argc, char** argv);
+  std::string usage() const;
+
+ private:
+  struct Option {
+    std::string name, value_name, help;
+    std::function<bool(const std::string&)> set;  // false: bad value
+    bool takes_value;
+  };
+  void add(Option option);
+
+  std::string program_, summary_;
+  std::vector<Option> options_;
+};
+
+}  // namespace macsim::dds

@@ -1,0 +1,150 @@
+// A Fast DDS domain participant set up the MACSim-DDS way, with typed writers and readers.
+#pragma once
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "macsim/dds/qos.h"
+
+namespace macsim::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// Raised when a DDS entity cannot be created; the message says which and why.
+struct DdsError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// How to join DDS: domain id, optional Fast DDS XML profile file, participant name.
+struct ParticipantOptions {
+  int domain = 0;
+  std::string profile_file;  ///< empty: FASTRTPS_DEFAULT_PROFILES_FILE or Fast DDS defaults
+  std::string name = "macsim";
+};
+
+/// Highest domain id Fast DDS's default port mapping allows.
+inline constexpr int kMaxDomainId = 232;
+
+/// Owns a DomainParticipant (from the default participant QoS after the XML profiles are
+/// loaded), one publisher, one subscriber and the topics; deletes them all on destruction.
+class Participant {
+ public:
+  explicit Participant(const ParticipantOptions& options);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  /// The topic of that name, registering the type and creating the topic on first use.
+  template <class PubSubType>
+  fdds::Topic* topic(const std::string& name) {
+    auto found = topics_.find(name);
+    if (found != topics_.end()) return found->second;
+    fdds::TypeSupport type(new PubSubType());
+    return make_topic(name, type);
+  }
+
+  fdds::DomainParticipant* get() const { return participant_; }
+  fdds::Publisher* publisher() const { return publisher_; }
+  fdds::Subscriber* subscriber() const { return subscriber_; }
+  int domain() const { return domain_; }
+
+ private:
+  fdds::Topic* make_topic(const std::string& name, fdds::TypeSupport type);
+
+  int domain_;
+  fdds::DomainParticipant* participant_ = nullptr;
+  fdds::Publisher* publisher_ = nullptr;
+  fdds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, fdds::Topic*> topics_;
+};
+
+/// A typed data writer on one topic, with the QoS of its family.
+template <class PubSubType>
+class Writer {
+ public:
+  using Data = typename PubSubType::type;
+
+  Writer(Participant& participant, const std::string& topic_name, QosFamily family)
+      : participant_(participant) {
+    writer_ = participant.publisher()->create_datawriter(
+        participant.topic<PubSubType>(topic_name), writer_qos(family, participant.publisher()));
+    if (!writer_) throw DdsError("cannot create a writer on " + topic_name);
+  }
+  ~Writer() { participant_.publisher()->delete_datawriter(writer_); }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  /// Publishes one sample; false if Fast DDS refused it.
+  bool write(const Data& sample) { return writer_->write(const_cast<Data*>(&sample)); }
+  /// Number of readers currently matched.
+  int matched() const {
+    fdds::PublicationMatchedStatus status;
+    writer_->get_publication_matched_status(status);
+    return status.current_count;
+  }
+
+ private:
+  Participant& participant_;
+  fdds::DataWriter* writer_ = nullptr;
+};
+
+/// A typed data reader that hands every valid sample to a callback on Fast DDS's thread.
+/// The callback must be short and thread-safe: copy or enqueue, never act on shared state.
+template <class PubSubType>
+class Reader : private fdds::DataReaderListener {
+ public:
+  using Data = typename PubSubType::type;
+  using Callback = std::function<void(const Data&)>;
+
+  Reader(Participant& participant, const std::string& topic_name, QosFamily family,
+         Callback on_sample)
+      : participant_(participant), on_sample_(std::move(on_sample)) {
+    reader_ = participant.subscriber()->create_datareader(
+        participant.topic<PubSubType>(topic_name), reader_qos(family, participant.subscriber()),
+        this);
+    if (!reader_) throw DdsError("cannot create a reader on " + topic_name);
+  }
+  ~Reader() override {
+    reader_->set_listener(nullptr);
+    participant_.subscriber()->delete_datareader(reader_);
+  }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  /// Number of writers currently matched.
+  int matched() const { return matched_.load(); }
+
+ private:
+  void on_data_available(fdds::DataReader* reader) override {
+    Data sample;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) on_sample_(sample);
+    }
+  }
+  void on_subscription_matched(fdds::DataReader*,
+                               const fdds::SubscriptionMatchedStatus& status) override {
+    matched_.store(status.current_count);
+  }
+
+  Participant& participant_;
+  Callback on_sample_;
+  std::atomic<int> matched_{0};
+  fdds::DataReader* reader_ = nullptr;
+};
+
+}  // namespace macsim::dds

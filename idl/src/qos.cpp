@@ -1,0 +1,49 @@
+#include "macsim/dds/qos.h"
+
+namespace macsim::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+struct Policies {
+  fdds::ReliabilityQosPolicyKind reliability;
+  fdds::DurabilityQosPolicyKind durability;
+  int depth;
+};
+
+Policies policies(QosFamily family) {
+  switch (family) {
+    case QosFamily::Command:
+      return {fdds::RELIABLE_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 10};
+    case QosFamily::Sensor:
+      return {fdds::BEST_EFFORT_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 5};
+    case QosFamily::Latched:
+      return {fdds::RELIABLE_RELIABILITY_QOS, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, 1};
+  }
+  return {fdds::RELIABLE_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 10};
+}
+
+template <class Qos>
+void apply(const Policies& p, Qos& qos) {
+  qos.reliability().kind = p.reliability;
+  qos.durability().kind = p.durability;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = p.depth;
+}
+
+}  // namespace
+
+fdds::DataWriterQos writer_qos(QosFamily family, fdds::Publisher* publisher) {
+  fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
+  apply(policies(family), qos);
+  return qos;
+}
+
+fdds::DataReaderQos reader_qos(QosFamily family, fdds::Subscriber* subscriber) {
+  fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
+  apply(policies(family), qos);
+  return qos;
+}
+
+}  // namespace macsim::dds

@@ -1,0 +1,48 @@
+// A world plus its command queue: commands from any thread are applied at one point per step.
+#pragma once
+
+#include <functional>
+#include <mutex>
+#include <vector>
+
+#include "macsim/sim_core/world.h"
+
+namespace macsim {
+
+/// A change to the world, run on the simulation thread between two steps.
+using Command = std::function<void(World&)>;
+
+/// Thread-safe FIFO of commands; producers (e.g. DDS callbacks) only push.
+class CommandQueue {
+ public:
+  void push(Command command);
+  /// Runs every queued command on `world`, in arrival order; returns how many ran.
+  std::size_t drain(World& world);
+
+ private:
+  std::mutex mutex_;
+  std::vector<Command> pending_;
+  std::vector<Command> running_;
+};
+
+/// The simulation loop's core: drain the queue once, then step the world once.
+class Simulation {
+ public:
+  explicit Simulation(WorldSpec spec) : world_(std::move(spec)) {}
+
+  /// Applies the queued commands, then advances one fixed step.
+  void step() {
+    commands_.drain(world_);
+    world_.step();
+  }
+
+  CommandQueue& commands() { return commands_; }
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+
+ private:
+  World world_;
+  CommandQueue commands_;
+};
+
+}  // namespace macsim

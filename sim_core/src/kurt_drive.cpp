@@ -1,0 +1,69 @@
+#include "macsim/sim_core/kurt_drive.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace macsim {
+
+double KurtDriveParams::wheel_radius() const { return wheel_perimeter / (2.0 * M_PI); }
+
+WheelSpeeds wheel_speeds_from_twist(double linear, double angular,
+                                    const KurtDriveParams& params) {
+  // The real driver uses the full axis length here (not half of it, as a textbook
+  // differential drive would): controllers tuned on the robot expect this factor.
+  return {linear - params.axis_length * angular, linear + params.axis_length * angular};
+}
+
+WheelSpeeds quantize_to_speed_cm(WheelSpeeds speeds) {
+  // The driver sends (int)(speed * 100): truncation towards zero.
+  auto cm = [](double v) { return static_cast<double>(static_cast<int>(v * 100.0)) / 100.0; };
+  return {cm(speeds.left), cm(speeds.right)};
+}
+
+int16_t EncoderCounter::ticks_since_last(double angle) {
+  const auto total = static_cast<int64_t>(std::floor(angle / (2.0 * M_PI) * ticks_per_turn_));
+  const int64_t delta = total - last_total_;
+  last_total_ = total;
+  return static_cast<int16_t>(std::clamp<int64_t>(delta, std::numeric_limits<int16_t>::min(),
+                                                  std::numeric_limits<int16_t>::max()));
+}
+
+void EncoderCounter::reset(double angle) {
+  last_total_ = static_cast<int64_t>(std::floor(angle / (2.0 * M_PI) * ticks_per_turn_));
+}
+
+void KurtOdometry::integrate_frame(int left_ticks, int right_ticks) {
+  const double dt = params_.frame_period;
+  const double left = params_.wheel_perimeter * left_ticks / params_.ticks_per_turn;
+  const double right = params_.wheel_perimeter * right_ticks / params_.ticks_per_turn;
+  const double v_left = left / dt;
+  const double v_right = right / dt;
+  linear_ = (v_right + v_left) * 0.5;
+  angular_ = (v_right - v_left) / params_.axis_length * params_.turning_adaptation;
+
+  // Step in the driver's internal frame: z forward, x lateral, theta clockwise.
+  constexpr double kEpsilon = 0.0001;
+  double step_x = 0.0, step_z = 0.0, step_theta = 0.0;
+  if (std::fabs(left - right) < kEpsilon) {
+    if (std::fabs(left) >= kEpsilon) step_z = (left + right) * 0.5;
+  } else {
+    const double distance = 0.5 * (left + right);
+    step_theta = (left - right) / params_.axis_length * params_.turning_adaptation;
+    step_x = distance * std::sin(step_theta);
+    step_z = distance * std::cos(step_theta);
+  }
+  internal_x_ += step_x * std::cos(internal_theta_) + step_z * std::sin(internal_theta_);
+  internal_z_ += -step_x * std::sin(internal_theta_) + step_z * std::cos(internal_theta_);
+  internal_theta_ += step_theta;
+  if (internal_theta_ > M_PI) internal_theta_ -= 2.0 * M_PI;
+  if (internal_theta_ < -M_PI) internal_theta_ += 2.0 * M_PI;
+}
+
+PlanarOdometry KurtOdometry::estimate() const {
+  return {internal_z_, -internal_x_, -internal_theta_, linear_, angular_};
+}
+
+void KurtOdometry::reset() { *this = KurtOdometry(params_); }
+
+}  // namespace macsim

@@ -1,0 +1,42 @@
+// Internal helpers between Eigen and ODE, and the tag every geom carries for contacts.
+#pragma once
+
+#include <ode/ode.h>
+
+#include "macsim/sim_core/world_spec.h"
+
+namespace macsim::detail {
+
+/// Stored in every geom's user data: who owns it (no self-contacts) and its friction.
+struct GeomTag {
+  int owner = -1;          ///< object or robot number; geoms of one owner never collide
+  double friction = 1.0;   ///< Coulomb mu; a contact uses the geometric mean of both sides
+};
+
+/// Process-wide ODE set-up (dInitODE2, message handler) and per-thread data; idempotent.
+void ensure_ode_ready();
+
+inline void to_ode(const Eigen::Quaterniond& q, dQuaternion out) {
+  out[0] = q.w();
+  out[1] = q.x();
+  out[2] = q.y();
+  out[3] = q.z();
+}
+
+inline Eigen::Quaterniond from_ode(const dReal* q) { return {q[0], q[1], q[2], q[3]}; }
+
+inline Eigen::Vector3d vec(const dReal* v) { return {v[0], v[1], v[2]}; }
+
+/// Places a body at a pose.
+inline void set_body_pose(dBodyID body, const Pose& pose) {
+  dBodySetPosition(body, pose.position.x(), pose.position.y(), pose.position.z());
+  dQuaternion q;
+  to_ode(pose.orientation, q);
+  dBodySetQuaternion(body, q);
+}
+
+inline Pose body_pose(dBodyID body) {
+  return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body))};
+}
+
+}  // namespace macsim::detail
