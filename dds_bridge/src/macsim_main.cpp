@@ -1,5 +1,6 @@
 // macsim: loads a world, steps it and serves it over Fast DDS.
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -28,6 +29,18 @@ void print_summary(const macsim::WorldSpec& spec) {
   std::cout << ", step " << spec.physics.step * 1e3 << " ms" << std::endl;
 }
 
+void print_status(const macsim::World& world) {
+  for (const auto& robot : world.robots()) {
+    const macsim::Pose p = robot->base_footprint_pose();
+    const Eigen::Vector3d heading = p.orientation * Eigen::Vector3d::UnitX();
+    std::printf("macsim: t=%7.2f s  %s at x=%.3f y=%.3f yaw=%.1f deg, speed %.2f m/s\n",
+                world.time(), robot->name().c_str(), p.position.x(), p.position.y(),
+                std::atan2(heading.y(), heading.x()) * 180.0 / M_PI,
+                robot->linear_velocity().norm());
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -38,6 +51,7 @@ int main(int argc, char** argv) {
   bool as_fast_as_possible = false;
   bool realtime = false;
   bool validate = false;
+  double status_period = 0.0;
 
   macsim::dds::CommandLine cli(
       "macsim", "Loads a MACSim world, steps its physics and serves it over DDS.");
@@ -49,14 +63,16 @@ int main(int argc, char** argv) {
            &as_fast_as_possible);
   cli.option("duration", "SECONDS", "stop after this much sim time (default: run until SIGINT)",
              &duration);
+  cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
+             &status_period);
   cli.flag("validate", "load the world, print a summary and exit", &validate);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (world_file.empty()) {
     std::cerr << "macsim: --world FILE is required (see --help)\n";
     return 2;
   }
-  if (rtf <= 0.0 || duration < 0.0) {
-    std::cerr << "macsim: --rtf must be positive and --duration not negative\n";
+  if (rtf <= 0.0 || duration < 0.0 || status_period < 0.0) {
+    std::cerr << "macsim: --rtf must be positive, --duration and --status not negative\n";
     return 2;
   }
   if (realtime) rtf = 1.0;
@@ -81,17 +97,21 @@ int main(int argc, char** argv) {
     macsim::SimBridge bridge(dds, *simulation);
     std::cout << "macsim: serving on DDS domain " << participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
-    std::cout << "macsim: stepping "
-              << (as_fast_as_possible ? std::string("as fast as possible")
-                                      : "at real-time factor " + std::to_string(rtf))
-              << (duration > 0 ? ", for " + std::to_string(duration) + " s of sim time" : "")
-              << std::endl;
+    if (as_fast_as_possible) {
+      std::printf("macsim: stepping as fast as possible");
+    } else {
+      std::printf("macsim: stepping at real-time factor %g", rtf);
+    }
+    if (duration > 0) std::printf(", for %g s of sim time", duration);
+    std::printf("\n");
+    std::fflush(stdout);
 
     using Clock = std::chrono::steady_clock;
     const auto wall_step = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(simulation->world().step_size() / rtf));
     const auto start = Clock::now();
     auto next = start;
+    auto next_status = start;
     const uint64_t last_step =
         duration > 0 ? static_cast<uint64_t>(std::llround(duration /
                                                           simulation->world().step_size()))
@@ -99,6 +119,11 @@ int main(int argc, char** argv) {
     while (!g_stop.load() && simulation->world().steps() < last_step) {
       simulation->step();
       bridge.publish();
+      if (status_period > 0 && Clock::now() >= next_status) {
+        print_status(simulation->world());
+        next_status += std::chrono::duration_cast<Clock::duration>(
+            std::chrono::duration<double>(status_period));
+      }
       if (!as_fast_as_possible) {
         next += wall_step;
         const auto now = Clock::now();
