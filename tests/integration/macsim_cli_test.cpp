@@ -2,7 +2,12 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <dirent.h>
+#include <unistd.h>
+
 #include <fstream>
+#include <set>
+#include <sstream>
 
 #include "support/child_process.h"
 #include "support/test_domain.h"
@@ -87,6 +92,48 @@ TEST(MacsimCli, SigtermAndSigintStopCleanly) {
     p.signal(sig);
     EXPECT_EQ(p.wait_for_exit(10s), 0) << p.output();
     EXPECT_NE(p.output().find("macsim: stopped at sim time"), std::string::npos) << p.output();
+  }
+}
+
+// Local IPv4 addresses (as /proc/net/udp's hex) of the UDP sockets a process holds.
+std::vector<std::string> udp_local_addresses(pid_t pid) {
+  std::set<std::string> inodes;
+  const std::string fd_dir = "/proc/" + std::to_string(pid) + "/fd";
+  if (DIR* dir = opendir(fd_dir.c_str())) {
+    while (dirent* entry = readdir(dir)) {
+      char target[256] = {};
+      const std::string link = fd_dir + "/" + entry->d_name;
+      if (readlink(link.c_str(), target, sizeof(target) - 1) > 0 &&
+          std::string(target).rfind("socket:[", 0) == 0) {
+        inodes.insert(std::string(target).substr(8, std::string(target).size() - 9));
+      }
+    }
+    closedir(dir);
+  }
+  std::vector<std::string> addresses;
+  std::ifstream udp("/proc/net/udp");
+  std::string line;
+  std::getline(udp, line);  // header
+  while (std::getline(udp, line)) {
+    std::istringstream fields(line);
+    std::string slot, local, remote, state, queues, timer, retransmit, uid, timeout, inode;
+    fields >> slot >> local >> remote >> state >> queues >> timer >> retransmit >> uid >> timeout >>
+        inode;
+    if (inodes.count(inode)) addresses.push_back(local.substr(0, 8));
+  }
+  return addresses;
+}
+
+TEST(DdsProfile, TheShippedProfileKeepsEverySocketOnLoopback) {
+  // ctest runs this with FASTRTPS_DEFAULT_PROFILES_FILE=deploy/dds/localhost.xml.
+  ChildProcess p({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                  std::to_string(unique_test_domain())});
+  ASSERT_TRUE(p.wait_for_output("stepping", 20s)) << p.output();
+  const auto addresses = udp_local_addresses(p.pid());
+  ASSERT_FALSE(addresses.empty()) << "macsim holds no UDP socket";
+  for (const auto& a : addresses) {
+    // 127.0.0.1 is 0100007F; the SPDP multicast group 239.255.0.1 (joined on lo) is 0100FFEF.
+    EXPECT_TRUE(a == "0100007F" || a == "0100FFEF") << "a UDP socket bound to " << a;
   }
 }
 
