@@ -23,16 +23,18 @@ double wrap_difference(double a, double b) {
 
 }  // namespace
 
-KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int owner,
+KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int collision_group,
                      KurtDriveParams drive, KurtBodyParams body)
     : name_(spec.name),
+      spec_(spec),
       drive_(drive),
       body_(body),
-      chassis_tag_(std::make_unique<GeomTag>(GeomTag{owner, 0.5})),
-      wheel_tag_(std::make_unique<GeomTag>(GeomTag{owner, body.wheel_friction})),
-      encoders_{EncoderCounter(drive.ticks_per_turn), EncoderCounter(drive.ticks_per_turn)},
-      odometry_(drive),
-      next_frame_time_(drive.frame_period) {
+      chassis_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.5, 0.0, 0.1})),
+      wheel_tag_(std::make_unique<GeomTag>(
+          GeomTag{collision_group, body.wheel_friction, 0.0, 0.1})),
+      state_{{}, {}, -1e9, {}, {},
+             {EncoderCounter(drive.ticks_per_turn), EncoderCounter(drive.ticks_per_turn)},
+             KurtOdometry(drive), drive.frame_period, 0} {
   detail::ensure_ode_ready();
   const double r = drive_.wheel_radius();
   const Eigen::Quaterniond q = spec.pose.orientation;
@@ -97,16 +99,16 @@ void KurtRobot::command_twist(double linear, double angular, double now) {
 }
 
 void KurtRobot::command_wheel_speeds(WheelSpeeds speeds, double now) {
-  commanded_ = quantize_to_speed_cm(speeds);
-  last_command_time_ = now;
+  state_.commanded = quantize_to_speed_cm(speeds);
+  state_.last_command_time = now;
 }
 
 void KurtRobot::before_step(double now) {
-  const bool fresh = now - last_command_time_ < drive_.command_timeout;
-  active_ = fresh ? commanded_ : WheelSpeeds{};
+  const bool fresh = now - state_.last_command_time < drive_.command_timeout;
+  state_.active = fresh ? state_.commanded : WheelSpeeds{};
   const double r = drive_.wheel_radius();
   for (int i = 0; i < 6; ++i) {
-    const double rim_speed = i < 3 ? active_.left : active_.right;
+    const double rim_speed = i < 3 ? state_.active.left : state_.active.right;
     dJointSetHingeParam(hinges_[i], dParamVel, rim_speed / r);
   }
 }
@@ -115,19 +117,23 @@ void KurtRobot::update_wheel_angles() {
   const int middles[2] = {kLeftMiddle, kRightMiddle};
   for (int side = 0; side < 2; ++side) {
     const double angle = dJointGetHingeAngle(hinges_[middles[side]]);
-    encoder_angle_[side] += wrap_difference(angle, last_hinge_angle_[side]);
-    last_hinge_angle_[side] = angle;
+    state_.encoder_angle[side] += wrap_difference(angle, state_.last_hinge_angle[side]);
+    state_.last_hinge_angle[side] = angle;
   }
 }
 
 void KurtRobot::after_step(double now) {
   update_wheel_angles();
-  if (now + 1e-9 < next_frame_time_) return;
-  next_frame_time_ += drive_.frame_period;
-  const int left = encoders_[0].ticks_since_last(encoder_angle_[0]);
-  const int right = encoders_[1].ticks_since_last(encoder_angle_[1]);
-  odometry_.integrate_frame(left, right);
-  ++frames_;
+  if (now + 1e-9 < state_.next_frame_time) return;
+  state_.next_frame_time += drive_.frame_period;
+  const int left = state_.encoders[0].ticks_since_last(state_.encoder_angle[0]);
+  const int right = state_.encoders[1].ticks_since_last(state_.encoder_angle[1]);
+  state_.odometry.integrate_frame(left, right);
+  ++state_.frames;
+}
+
+std::array<dBodyID, 7> KurtRobot::bodies() const {
+  return {chassis_, wheels_[0], wheels_[1], wheels_[2], wheels_[3], wheels_[4], wheels_[5]};
 }
 
 Pose KurtRobot::base_footprint_pose() const {

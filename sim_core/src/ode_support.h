@@ -9,8 +9,10 @@ namespace macsim::detail {
 
 /// Stored in every geom's user data: who owns it (no self-contacts) and its friction.
 struct GeomTag {
-  int owner = -1;          ///< object or robot number; geoms of one owner never collide
-  double friction = 1.0;   ///< Coulomb mu; a contact uses the geometric mean of both sides
+  int group = -1;                ///< collision group; geoms of one group never collide
+  double friction = 1.0;         ///< Coulomb mu; a contact uses the geometric mean of both
+  double bounce = 0.0;           ///< restitution; a contact uses the larger
+  double bounce_velocity = 0.1;  ///< m/s below which nothing bounces
 };
 
 /// Process-wide ODE set-up (dInitODE2, message handler) and per-thread data; idempotent.

@@ -1,13 +1,12 @@
+// World: building ODE from the description, stepping, contacts, doors, stability.
 #include "macsim/sim_core/world.h"
 
-#include <ode/ode.h>
-
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
-#include <cstdio>
 
 #include "macsim/sim_core/world_loader.h"
-#include "ode_support.h"
+#include "world_internal.h"
 
 namespace macsim {
 
@@ -30,18 +29,92 @@ void ensure_ode_ready() {
   (void)thread_ready;
 }
 
+BodyState body_state(dBodyID body) {
+  return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
+          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body))};
+}
+
+void set_body_state(dBodyID body, const BodyState& s) {
+  set_body_pose(body, {s.position, s.orientation});
+  dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
+  dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(),
+                     s.angular_velocity.z());
+}
+
+bool plausible(const BodyState& s) {
+  constexpr double kMaxSpeed = 1e3;          // m/s
+  constexpr double kMaxAngularSpeed = 1e4;   // rad/s
+  constexpr double kMaxDistance = 1e5;       // m from the origin
+  return s.position.allFinite() && s.orientation.coeffs().allFinite() &&
+         s.linear_velocity.allFinite() && s.angular_velocity.allFinite() &&
+         s.linear_velocity.norm() < kMaxSpeed && s.angular_velocity.norm() < kMaxAngularSpeed &&
+         s.position.norm() < kMaxDistance;
+}
+
 }  // namespace detail
 
 using detail::GeomTag;
 
 namespace {
 constexpr int kMaxContacts = 8;
-constexpr int kGroundOwner = -2;
+constexpr int kGroundGroup = -2;
+constexpr int kRobotGroupBase = -100;
+constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1 mm
 }  // namespace
 
 World::World(WorldSpec spec) : spec_(std::move(spec)) {
   detail::ensure_ode_ready();
+  for (const auto& robot : spec_.robots) {
+    if (robot.type != "kurt3d") {
+      throw WorldFileError(robot.source.file, robot.source.line,
+                           "unknown robot type '" + robot.type + "' (known: kurt3d)");
+    }
+  }
+  WorldSpec fragment;
+  fragment.objects = spec_.objects;
+  fragment.joints = spec_.joints;
+  fragment.doors = spec_.doors;
+  std::vector<ObjectId> ids;
+  for (const auto& object : fragment.objects) {
+    auto record = std::make_unique<Object>();
+    record->id = next_id_++;
+    record->spec = object;
+    objects_.push_back(std::move(record));
+  }
+  for (const auto& joint : fragment.joints) {
+    joints_.push_back(std::make_unique<Joint>(Joint{joint, nullptr, 0.0}));
+  }
+  for (const auto& door : fragment.doors) {
+    auto record = std::make_unique<Door>();
+    record->spec = door;
+    doors_.push_back(std::move(record));
+  }
   dRandSetSeed(spec_.physics.seed);
+  build();
+  initial_ = snapshot();
+}
+
+World::~World() { clear_ode(); }
+
+void World::clear_ode() {
+  if (!world_) return;
+  robots_.clear();
+  for (auto& joint : joints_) {
+    if (joint->joint) dJointDestroy(joint->joint);
+    joint->joint = nullptr;
+  }
+  for (auto& object : objects_) destroy_ode_object(*object);
+  if (ground_) dGeomDestroy(ground_);
+  ground_ = nullptr;
+  dJointGroupDestroy(contact_group_);
+  dSpaceDestroy(space_);
+  dWorldDestroy(world_);
+  dThreadingFreeImplementation(static_cast<dThreadingImplementationID>(threading_));
+  world_ = nullptr;
+}
+
+void World::build() {
+  clear_ode();
   world_ = dWorldCreate();
   const auto& g = spec_.physics.gravity;
   dWorldSetGravity(world_, g.x(), g.y(), g.z());
@@ -57,74 +130,174 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
   space_ = dHashSpaceCreate(nullptr);
   contact_group_ = dJointGroupCreate(0);
 
-  if (spec_.ground) {
-    ground_ = dCreatePlane(space_, 0, 0, 1, 0);
-    dGeomSetData(ground_, &tags_.emplace_back(GeomTag{kGroundOwner, spec_.ground_friction}));
+  ground_ = dCreatePlane(space_, 0, 0, 1, 0);
+  ground_tag_ = std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1});
+  dGeomSetData(ground_, ground_tag_.get());
+
+  for (auto& door : doors_) {
+    door->door_joint = joint_named(door->spec.door_joint);
+    door->switch_joint =
+        door->spec.switch_joint.empty() ? nullptr : joint_named(door->spec.switch_joint);
   }
-  int owner = 0;
-  for (const auto& object : spec_.objects) add_object(object, owner++);
+  for (std::size_t d = 0; d < doors_.size(); ++d) {
+    const auto& s = doors_[d]->spec;
+    for (const std::string* part : {&s.leaf, &s.frame, &s.switch_platform, &s.switch_base}) {
+      if (auto id = find_object(*part)) find(*id)->door = static_cast<int>(d);
+    }
+  }
+  for (auto& object : objects_) build_object(*object);
+  for (auto& joint : joints_) build_joint(*joint);
+  int group = kRobotGroupBase;
   for (const auto& robot : spec_.robots) {
-    if (robot.type != "kurt3d") {
-      throw WorldFileError(robot.source.file, robot.source.line,
-                           "unknown robot type '" + robot.type + "' (known: kurt3d)");
-    }
-    robots_.push_back(std::make_unique<KurtRobot>(world_, space_, robot, owner++));
+    robots_.push_back(std::make_unique<KurtRobot>(world_, space_, robot, group--));
   }
+  refresh_bodies();
 }
 
-World::~World() {
-  robots_.clear();
-  for (auto& object : objects_) {
-    dGeomDestroy(object.geom);
-    if (object.body) dBodyDestroy(object.body);
+void World::refresh_bodies() {
+  bodies_.clear();
+  body_names_.clear();
+  for (const auto& object : objects_) {
+    if (object->body) {
+      bodies_.push_back(object->body);
+      body_names_.push_back(object->spec.name);
+    }
   }
-  if (ground_) dGeomDestroy(ground_);
-  dJointGroupDestroy(contact_group_);
-  dSpaceDestroy(space_);
-  dWorldDestroy(world_);
-  dThreadingFreeImplementation(static_cast<dThreadingImplementationID>(threading_));
+  for (const auto& robot : robots_) {
+    for (dBodyID body : robot->bodies()) {
+      bodies_.push_back(body);
+      body_names_.push_back(robot->name());
+    }
+  }
+  last_good_.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) last_good_[i] = detail::body_state(bodies_[i]);
 }
 
-void World::add_object(const ObjectSpec& spec, int owner) {
-  WorldObject object{spec, nullptr, nullptr};
-  switch (spec.shape) {
-    case Shape::Box:
-      object.geom = dCreateBox(space_, spec.size.x(), spec.size.y(), spec.size.z());
-      break;
-    case Shape::Cylinder:
-      object.geom = dCreateCylinder(space_, spec.size.x(), spec.size.z());
-      break;
-    case Shape::Sphere:
-      object.geom = dCreateSphere(space_, spec.size.x());
-      break;
-  }
-  dGeomSetData(object.geom, &tags_.emplace_back(GeomTag{owner, spec.friction}));
-  dQuaternion q;
-  detail::to_ode(spec.pose.orientation, q);
-  if (spec.portable) {
-    object.body = dBodyCreate(world_);
-    dMass mass;
-    switch (spec.shape) {
-      case Shape::Box:
-        dMassSetBox(&mass, spec.density, spec.size.x(), spec.size.y(), spec.size.z());
-        break;
-      case Shape::Cylinder:
-        dMassSetCylinder(&mass, spec.density, 3, spec.size.x(), spec.size.z());
-        break;
-      case Shape::Sphere:
-        dMassSetSphere(&mass, spec.density, spec.size.x());
-        break;
+void World::build_object(Object& o) {
+  const ObjectSpec& s = o.spec;
+  const MaterialSpec* material = spec_.material(s.material);
+  if (!material) material = &spec_.materials.front();
+  // Collision group: an object, or a whole door-switch structure, never collides with itself.
+  const int group = o.door >= 0 ? 1'000'000 + o.door : static_cast<int>(o.id);
+  o.tag = GeomTag{group, material->friction, material->bounce, material->bounce_velocity};
+
+  // Mass of the components, each rotated and moved into the object's frame (ODE applies the
+  // parallel axis theorem), then about the combined centre of mass.
+  dMass total;
+  dMassSetZero(&total);
+  for (const auto& c : s.components) {
+    dMass m;
+    switch (c.shape) {
+      case Shape::Box: dMassSetBox(&m, s.density, c.size.x(), c.size.y(), c.size.z()); break;
+      case Shape::Cylinder: dMassSetCylinder(&m, s.density, 3, c.size.x(), c.size.z()); break;
+      case Shape::Sphere: dMassSetSphere(&m, s.density, c.size.x()); break;
     }
-    if (spec.mass) dMassAdjust(&mass, *spec.mass);
-    dBodySetMass(object.body, &mass);
-    dGeomSetBody(object.geom, object.body);
-    detail::set_body_pose(object.body, spec.pose);
+    dMatrix3 r;
+    dQuaternion q;
+    detail::to_ode(c.pose.orientation, q);
+    dQtoR(q, r);
+    dMassRotate(&m, r);
+    dMassTranslate(&m, c.pose.position.x(), c.pose.position.y(), c.pose.position.z());
+    dMassAdd(&total, &m);
+  }
+  o.com = {total.c[0], total.c[1], total.c[2]};
+
+  for (const auto& c : s.components) {
+    dGeomID geom = nullptr;
+    switch (c.shape) {
+      case Shape::Box: geom = dCreateBox(space_, c.size.x(), c.size.y(), c.size.z()); break;
+      case Shape::Cylinder: geom = dCreateCylinder(space_, c.size.x(), c.size.z()); break;
+      case Shape::Sphere: geom = dCreateSphere(space_, c.size.x()); break;
+    }
+    dGeomSetData(geom, &o.tag);
+    o.geoms.push_back(geom);
+  }
+
+  if (s.portable) {
+    o.body = dBodyCreate(world_);
+    dMassTranslate(&total, -o.com.x(), -o.com.y(), -o.com.z());
+    dBodySetMass(o.body, &total);
+    detail::set_body_pose(o.body, s.pose * Pose{o.com, Eigen::Quaterniond::Identity()});
+    for (std::size_t i = 0; i < s.components.size(); ++i) {
+      const auto& c = s.components[i];
+      dGeomSetBody(o.geoms[i], o.body);
+      const Eigen::Vector3d offset = c.pose.position - o.com;
+      dGeomSetOffsetPosition(o.geoms[i], offset.x(), offset.y(), offset.z());
+      dQuaternion q;
+      detail::to_ode(c.pose.orientation, q);
+      dGeomSetOffsetQuaternion(o.geoms[i], q);
+    }
+    if (s.frozen) dBodySetKinematic(o.body);
   } else {
-    dGeomSetPosition(object.geom, spec.pose.position.x(), spec.pose.position.y(),
-                     spec.pose.position.z());
-    dGeomSetQuaternion(object.geom, q);
+    for (std::size_t i = 0; i < s.components.size(); ++i) {
+      const Pose p = s.pose * s.components[i].pose;
+      dGeomSetPosition(o.geoms[i], p.position.x(), p.position.y(), p.position.z());
+      dQuaternion q;
+      detail::to_ode(p.orientation, q);
+      dGeomSetQuaternion(o.geoms[i], q);
+    }
   }
-  objects_.push_back(object);
+}
+
+void World::destroy_ode_object(Object& o) {
+  for (dGeomID g : o.geoms) dGeomDestroy(g);
+  o.geoms.clear();
+  if (o.body) dBodyDestroy(o.body);
+  o.body = nullptr;
+}
+
+World::Joint* World::joint_named(const std::string& name) {
+  for (auto& j : joints_) {
+    if (j->spec.name == name) return j.get();
+  }
+  return nullptr;
+}
+
+void World::build_joint(Joint& j) {
+  if (j.joint) {
+    j.position = j.spec.type == JointSpec::Type::Slider ? dJointGetSliderPosition(j.joint)
+                                                        : dJointGetHingeAngle(j.joint);
+    dJointDestroy(j.joint);
+    j.joint = nullptr;
+  }
+  auto id1 = find_object(j.spec.body1);
+  if (!id1) return;
+  Object* moving = find(*id1);
+  dBodyID other = nullptr;
+  if (!j.spec.body2.empty()) {
+    if (auto id2 = find_object(j.spec.body2)) other = find(*id2)->body;
+  }
+  // ODE takes a joint's zero where the bodies are when it is attached: move the moving body
+  // back by the joint's position, attach, and put it where it was.
+  const BodyState now = detail::body_state(moving->body);
+  BodyState zero = now;
+  const Eigen::Vector3d axis = j.spec.axis;
+  if (j.spec.type == JointSpec::Type::Slider) {
+    zero.position -= axis * j.position;
+    j.joint = dJointCreateSlider(world_, nullptr);
+  } else {
+    const Eigen::Quaterniond back(Eigen::AngleAxisd(-j.position, axis));
+    zero.position = j.spec.anchor + back * (now.position - j.spec.anchor);
+    zero.orientation = back * now.orientation;
+    j.joint = dJointCreateHinge(world_, nullptr);
+  }
+  detail::set_body_state(moving->body, zero);
+  dJointAttach(j.joint, moving->body, other);
+  if (j.spec.type == JointSpec::Type::Slider) {
+    dJointSetSliderAxis(j.joint, axis.x(), axis.y(), axis.z());
+    dJointSetSliderParam(j.joint, dParamLoStop, j.spec.lo);
+    dJointSetSliderParam(j.joint, dParamHiStop, j.spec.hi);
+    dJointSetSliderParam(j.joint, dParamFMax, j.spec.max_force);
+    dJointSetSliderParam(j.joint, dParamVel, j.spec.velocity);
+  } else {
+    dJointSetHingeAnchor(j.joint, j.spec.anchor.x(), j.spec.anchor.y(), j.spec.anchor.z());
+    dJointSetHingeAxis(j.joint, axis.x(), axis.y(), axis.z());
+    dJointSetHingeParam(j.joint, dParamLoStop, j.spec.lo);
+    dJointSetHingeParam(j.joint, dParamHiStop, j.spec.hi);
+    dJointSetHingeParam(j.joint, dParamFMax, j.spec.max_force);
+    dJointSetHingeParam(j.joint, dParamVel, j.spec.velocity);
+  }
+  detail::set_body_state(moving->body, now);
 }
 
 KurtRobot* World::robot(const std::string& name) {
@@ -134,17 +307,11 @@ KurtRobot* World::robot(const std::string& name) {
   return nullptr;
 }
 
-Pose World::object_pose(const WorldObject& object) const {
-  dQuaternion q;
-  dGeomGetQuaternion(object.geom, q);
-  return {detail::vec(dGeomGetPosition(object.geom)), detail::from_ode(q)};
-}
-
 void World::near_callback(void* data, dGeomID a, dGeomID b) {
   auto* self = static_cast<World*>(data);
   const auto* ta = static_cast<const GeomTag*>(dGeomGetData(a));
   const auto* tb = static_cast<const GeomTag*>(dGeomGetData(b));
-  if (ta && tb && ta->owner == tb->owner) return;
+  if (ta->group == tb->group) return;
   dBodyID ba = dGeomGetBody(a);
   dBodyID bb = dGeomGetBody(b);
   if (!ba && !bb) return;  // two static geoms
@@ -152,29 +319,176 @@ void World::near_callback(void* data, dGeomID a, dGeomID b) {
 
   dContact contacts[kMaxContacts];
   const int n = dCollide(a, b, kMaxContacts, &contacts[0].geom, sizeof(dContact));
-  const double mu = std::sqrt((ta ? ta->friction : 1.0) * (tb ? tb->friction : 1.0));
+  if (n == 0) return;
+  const double mu = std::sqrt(ta->friction * tb->friction);
+  const double bounce = std::max(ta->bounce, tb->bounce);
+  const double bounce_velocity = std::max(ta->bounce_velocity, tb->bounce_velocity);
   for (int i = 0; i < n; ++i) {
     dSurfaceParameters& s = contacts[i].surface;
     s.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
     s.mu = mu;
     s.soft_erp = 0.2;
     s.soft_cfm = 1e-5;
+    if (bounce > 0) {
+      s.mode |= dContactBounce;
+      s.bounce = bounce;
+      s.bounce_vel = bounce_velocity;
+    }
     dJointID joint = dJointCreateContact(self->world_, self->contact_group_, &contacts[i]);
     dJointAttach(joint, ba, bb);
   }
   self->contacts_ += n;
 }
 
+namespace {
+
+struct PenetrationQuery {
+  const detail::GeomTag* tag;
+  dBodyID body;
+  std::vector<const detail::GeomTag*> hits;
+};
+
+void penetration_callback(void* data, dGeomID a, dGeomID b) {
+  auto* q = static_cast<PenetrationQuery*>(data);
+  const auto* ta = static_cast<const GeomTag*>(dGeomGetData(a));
+  const auto* tb = static_cast<const GeomTag*>(dGeomGetData(b));
+  if (ta->group == tb->group) return;
+  dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+  if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
+  dContactGeom contacts[kMaxContacts];
+  const int n = dCollide(a, b, kMaxContacts, contacts, sizeof(dContactGeom));
+  for (int i = 0; i < n; ++i) {
+    if (contacts[i].depth > kPenetrationDepth) {
+      q->hits.push_back(ta == q->tag ? tb : ta);
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> World::penetrations(const Object& object) const {
+  PenetrationQuery query{&object.tag, object.body, {}};
+  for (dGeomID g : object.geoms) {
+    dSpaceCollide2(g, reinterpret_cast<dGeomID>(space_), &query, &penetration_callback);
+  }
+  std::vector<std::string> names;
+  auto add = [&names](const std::string& name) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  };
+  for (const auto* hit : query.hits) {
+    if (hit == ground_tag_.get()) {
+      add("ground");
+      continue;
+    }
+    bool found = false;
+    for (const auto& o : objects_) {
+      if (&o->tag == hit) {
+        add(o->spec.name);
+        found = true;
+      }
+    }
+    if (!found) {
+      for (const auto& r : robots_) add(r->name());  // robot geoms carry their own tags
+    }
+  }
+  return names;
+}
+
+void World::emit(WorldEvent::Type type, const std::string& subject, const std::string& detail) {
+  events_.push_back({type, time(), subject, detail});
+}
+
+std::vector<WorldEvent> World::take_events() {
+  std::vector<WorldEvent> out;
+  out.swap(events_);
+  return out;
+}
+
+void World::update_doors() {
+  for (auto& door : doors_) {
+    bool pressed = false;
+    if (door->switch_joint && door->switch_joint->joint) {
+      const JointSpec& s = door->switch_joint->spec;
+      const double pos = dJointGetSliderPosition(door->switch_joint->joint);
+      pressed = pos <= s.lo + 0.1 * (s.hi - s.lo);  // pressed fully (within 10 % of travel)
+    }
+    const bool triggered = door->virtual_trigger || pressed;
+    if (triggered != door->triggered) {
+      door->triggered = triggered;
+      emit(triggered ? WorldEvent::Type::SwitchTriggered : WorldEvent::Type::SwitchReleased,
+           door->spec.name, door->virtual_trigger ? "virtual" : "pressed");
+    }
+    Joint* j = door->door_joint;
+    if (!j || !j->joint) continue;
+    const double speed = std::fabs(j->spec.velocity);
+    const double velocity = triggered ? speed : -speed;  // open towards HI, close towards LO
+    if (j->spec.type == JointSpec::Type::Slider) {
+      dJointSetSliderParam(j->joint, dParamVel, velocity);
+    } else {
+      dJointSetHingeParam(j->joint, dParamVel, velocity);
+    }
+  }
+}
+
+void World::check_stability() {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    BodyState now = detail::body_state(bodies_[i]);
+    if (detail::plausible(now)) {
+      last_good_[i] = now;
+      continue;
+    }
+    // Put the body back where it last was, at rest, so nothing spreads; report it.
+    BodyState back = last_good_[i];
+    back.linear_velocity.setZero();
+    back.angular_velocity.setZero();
+    detail::set_body_state(bodies_[i], back);
+    emit(WorldEvent::Type::Instability, body_names_[i],
+         "a body went unstable (non-finite or implausible state); put back at rest");
+  }
+}
+
 void World::step() {
   detail::ensure_ode_ready();
   const double now = time();
+  update_doors();
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
   dSpaceCollide(space_, this, &World::near_callback);
   dWorldQuickStep(world_, spec_.physics.step);
   dJointGroupEmpty(contact_group_);
   ++steps_;
+  check_stability();
   for (auto& robot : robots_) robot->after_step(time());
+  for (auto& door : doors_) {
+    const DoorGap before = door->gap;
+    door->gap = door_state_of(*door).gap;
+    if (door->gap != before && door->gap != DoorGap::Half) {
+      emit(door->gap == DoorGap::Open ? WorldEvent::Type::DoorOpened : WorldEvent::Type::DoorClosed,
+           door->spec.name);
+    }
+  }
+}
+
+DoorState World::door_state_of(const Door& door) const {
+  DoorState state;
+  state.virtually_triggered = door.virtual_trigger;
+  state.triggered = door.triggered;
+  if (door.switch_joint && door.switch_joint->joint) {
+    const JointSpec& s = door.switch_joint->spec;
+    const double pos = dJointGetSliderPosition(door.switch_joint->joint);
+    state.switch_travel = std::clamp((s.hi - pos) / (s.hi - s.lo), 0.0, 1.0);
+  }
+  if (door.door_joint && door.door_joint->joint) {
+    const JointSpec& s = door.door_joint->spec;
+    const double pos = s.type == JointSpec::Type::Slider ? dJointGetSliderPosition(door.door_joint->joint)
+                                                         : dJointGetHingeAngle(door.door_joint->joint);
+    state.opening = std::clamp((pos - s.lo) / (s.hi - s.lo), 0.0, 1.0);
+  }
+  state.gap = state.opening < 0.05 ? DoorGap::Closed
+              : state.opening > 0.95 ? DoorGap::Open
+                                     : DoorGap::Half;
+  return state;
 }
 
 }  // namespace macsim

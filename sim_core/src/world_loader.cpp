@@ -6,8 +6,12 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <regex>
 #include <set>
 #include <sstream>
+
+#include "macsim/sim_core/texture.h"
 
 namespace macsim {
 
@@ -19,6 +23,7 @@ WorldFileError::WorldFileError(std::string file, int line, const std::string& me
 
 namespace {
 
+namespace fs = std::filesystem;
 using tinyxml2::XMLElement;
 
 std::string upper(std::string s) {
@@ -30,215 +35,6 @@ std::string trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r\n");
   if (first == std::string::npos) return "";
   return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
-}
-
-/// Reads one file's elements; knows where it is for messages.
-class Reader {
- public:
-  Reader(std::string file, const WarningSink& warn) : file_(std::move(file)), warn_(warn) {}
-
-  [[noreturn]] void fail(const XMLElement* at, const std::string& message) const {
-    throw WorldFileError(file_, at ? at->GetLineNum() : 0, message);
-  }
-  void warn(const XMLElement* at, const std::string& message) const {
-    if (warn_) warn_(file_ + ":" + std::to_string(at->GetLineNum()) + ": warning: " + message);
-  }
-
-  std::string text(const XMLElement* e) const { return trim(e->GetText() ? e->GetText() : ""); }
-
-  double number(const XMLElement* e) const {
-    const std::string t = text(e);
-    try {
-      std::size_t used = 0;
-      const double value = std::stod(t, &used);
-      if (used == t.size() && std::isfinite(value)) return value;
-    } catch (const std::exception&) {
-    }
-    fail(e, "<" + std::string(e->Name()) + "> expects a finite number, got '" + t + "'");
-  }
-
-  double positive(const XMLElement* e) const {
-    const double value = number(e);
-    if (value <= 0.0) {
-      fail(e, "<" + std::string(e->Name()) + "> must be positive, got " + text(e));
-    }
-    return value;
-  }
-
-  std::vector<double> numbers(const XMLElement* e, std::size_t min_count,
-                              std::size_t max_count) const {
-    std::vector<double> values;
-    std::stringstream stream(text(e));
-    std::string item;
-    while (std::getline(stream, item, ',')) {
-      item = trim(item);
-      try {
-        std::size_t used = 0;
-        const double value = std::stod(item, &used);
-        if (used != item.size() || !std::isfinite(value)) throw std::invalid_argument(item);
-        values.push_back(value);
-      } catch (const std::exception&) {
-        fail(e, "<" + std::string(e->Name()) + "> expects comma-separated numbers, got '" +
-                    text(e) + "'");
-      }
-    }
-    if (values.size() < min_count || values.size() > max_count) {
-      const std::string expected = min_count == max_count
-                                       ? std::to_string(min_count)
-                                       : std::to_string(min_count) + " to " +
-                                             std::to_string(max_count);
-      fail(e, "<" + std::string(e->Name()) + "> expects " + expected + " numbers, got " +
-                  std::to_string(values.size()));
-    }
-    return values;
-  }
-
-  Eigen::Vector3d vector3(const XMLElement* e) const {
-    const auto v = numbers(e, 3, 3);
-    return {v[0], v[1], v[2]};
-  }
-
-  /// ROT: roll, pitch, yaw in degrees about fixed x, y, z (applied in that order).
-  Eigen::Quaterniond rotation(const XMLElement* e) const {
-    const Eigen::Vector3d rpy = vector3(e) * (M_PI / 180.0);
-    return Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-           Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-           Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX());
-  }
-
-  SourceLocation where(const XMLElement* e) const { return {file_, e->GetLineNum()}; }
-
- private:
-  std::string file_;
-  const WarningSink& warn_;
-};
-
-void read_physics(const Reader& r, const XMLElement* physics, PhysicsSpec& spec) {
-  for (auto* e = physics->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    const std::string tag = upper(e->Name());
-    if (tag == "STEP") {
-      spec.step = r.positive(e);
-    } else if (tag == "GRAVITY") {
-      spec.gravity = r.vector3(e);
-    } else if (tag == "ITERATIONS") {
-      spec.solver_iterations = static_cast<int>(r.positive(e));
-    } else if (tag == "ERP") {
-      spec.erp = r.positive(e);
-    } else if (tag == "CFM") {
-      spec.cfm = r.positive(e);
-    } else if (tag == "SEED") {
-      spec.seed = static_cast<uint32_t>(r.number(e));
-    } else {
-      r.warn(e, "unknown element <" + std::string(e->Name()) + "> in <PHYSICS> ignored");
-    }
-  }
-}
-
-Shape read_shape(const Reader& r, const XMLElement* e) {
-  const std::string value = upper(r.text(e));
-  if (value == "BOX") return Shape::Box;
-  if (value == "CYLINDER") return Shape::Cylinder;
-  if (value == "SPHERE") return Shape::Sphere;
-  r.fail(e, "unknown shape '" + r.text(e) + "' (expected BOX, CYLINDER or SPHERE)");
-}
-
-ObjectSpec read_object(const Reader& r, const XMLElement* object) {
-  ObjectSpec spec;
-  spec.source = r.where(object);
-  const XMLElement* dims = nullptr;
-  const XMLElement* radius = nullptr;
-  const XMLElement* height = nullptr;
-  for (auto* e = object->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    const std::string tag = upper(e->Name());
-    if (tag == "ID") {
-      spec.id = r.text(e);
-    } else if (tag == "TYPE") {
-      const std::string type = upper(r.text(e));
-      if (type != "PORTABLE" && type != "FIXED") {
-        r.fail(e, "object <TYPE> must be PORTABLE or FIXED, got '" + r.text(e) + "'");
-      }
-      spec.portable = type == "PORTABLE";
-    } else if (tag == "SHAPE") {
-      spec.shape = read_shape(r, e);
-    } else if (tag == "DIMS") {
-      dims = e;
-    } else if (tag == "RADIUS") {
-      radius = e;
-    } else if (tag == "HEIGHT") {
-      height = e;
-    } else if (tag == "POS") {
-      spec.pose.position = r.vector3(e);
-    } else if (tag == "ROT") {
-      spec.pose.orientation = r.rotation(e);
-    } else if (tag == "DENSITY") {
-      spec.density = r.positive(e);
-    } else if (tag == "MASS") {
-      spec.mass = r.positive(e);
-    } else if (tag == "FRICTION") {
-      spec.friction = r.number(e);
-      if (spec.friction < 0) r.fail(e, "<FRICTION> must not be negative");
-    } else if (tag == "COLOR") {
-      const auto c = r.numbers(e, 3, 4);
-      for (double channel : c) {
-        if (channel < 0.0 || channel > 1.0) r.fail(e, "<COLOR> channels must lie in [0, 1]");
-      }
-      spec.color = {float(c[0]), float(c[1]), float(c[2]), c.size() == 4 ? float(c[3]) : 1.0f};
-    } else if (tag == "USER_DATA") {
-      spec.user_data = r.text(e);
-    } else {
-      r.warn(e, "unknown element <" + std::string(e->Name()) + "> in <OBJECT> ignored");
-    }
-  }
-  if (spec.id.empty()) r.fail(object, "<OBJECT> needs an <ID>");
-  switch (spec.shape) {
-    case Shape::Box:
-      if (!dims) r.fail(object, "box object '" + spec.id + "' needs <DIMS>x,y,z</DIMS>");
-      spec.size = r.vector3(dims);
-      if ((spec.size.array() <= 0.0).any()) {
-        r.fail(dims, "box dimensions must be positive");
-      }
-      break;
-    case Shape::Cylinder:
-      if (!radius || !height) {
-        r.fail(object, "cylinder object '" + spec.id + "' needs <RADIUS> and <HEIGHT>");
-      }
-      spec.size = {r.positive(radius), 0.0, r.positive(height)};
-      break;
-    case Shape::Sphere:
-      if (!radius) r.fail(object, "sphere object '" + spec.id + "' needs <RADIUS>");
-      spec.size = {r.positive(radius), 0.0, 0.0};
-      break;
-  }
-  return spec;
-}
-
-RobotSpec read_robot(const Reader& r, const XMLElement* robot) {
-  RobotSpec spec;
-  spec.source = r.where(robot);
-  for (auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    const std::string tag = upper(e->Name());
-    if (tag == "ID") {
-      spec.name = r.text(e);
-    } else if (tag == "TYPE") {
-      spec.type = r.text(e);
-    } else if (tag == "POS") {
-      spec.pose.position = r.vector3(e);
-    } else if (tag == "ROT") {
-      spec.pose.orientation = r.rotation(e);
-    } else {
-      r.warn(e, "unknown element <" + std::string(e->Name()) + "> in <ROBOT> ignored");
-    }
-  }
-  if (spec.name.empty()) r.fail(robot, "<ROBOT> needs an <ID> (its topic namespace)");
-  if (spec.type.empty()) r.fail(robot, "<ROBOT> '" + spec.name + "' needs a <TYPE>");
-  const bool valid_name = std::all_of(spec.name.begin(), spec.name.end(), [](unsigned char c) {
-    return std::isalnum(c) || c == '_';
-  });
-  if (!valid_name || std::isdigit(static_cast<unsigned char>(spec.name[0]))) {
-    r.fail(robot, "robot <ID> '" + spec.name +
-                      "' must be a topic name: letters, digits and _, not starting with a digit");
-  }
-  return spec;
 }
 
 /// tinyxml2's error as a sentence: what went wrong and, where it says, at which element.
@@ -261,39 +57,731 @@ std::string xml_error_message(const tinyxml2::XMLDocument& doc) {
   return "malformed XML: " + what;
 }
 
-WorldSpec parse(tinyxml2::XMLDocument& doc, const std::string& file, const WarningSink& warn) {
-  if (doc.Error()) throw WorldFileError(file, doc.ErrorLineNum(), xml_error_message(doc));
-  const Reader r(file, warn);
-  const XMLElement* root = doc.RootElement();
-  if (!root || upper(root->Name()) != "WORLD") {
-    r.fail(root, "the root element of a world file must be <WORLD>");
+/// Reads one file's elements; knows where it is for messages.
+class Reader {
+ public:
+  Reader(std::string file, const WarningSink& warn) : file_(std::move(file)), warn_(warn) {}
+
+  const std::string& file() const { return file_; }
+
+  [[noreturn]] void fail(const XMLElement* at, const std::string& message) const {
+    throw WorldFileError(file_, at ? at->GetLineNum() : 0, message);
   }
-  WorldSpec world;
-  world.file = file;
-  world.name = std::filesystem::path(file).stem().string();
-  std::set<std::string> ids;
-  for (auto* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    const std::string tag = upper(e->Name());
-    if (tag == "NAME") {
-      world.name = r.text(e);
-    } else if (tag == "PHYSICS") {
-      read_physics(r, e, world.physics);
-    } else if (tag == "GROUND") {
-      world.ground = true;
-      if (auto* f = e->FirstChildElement("FRICTION")) world.ground_friction = r.number(f);
-    } else if (tag == "OBJECT") {
-      ObjectSpec object = read_object(r, e);
-      if (!ids.insert(object.id).second) r.fail(e, "duplicate id '" + object.id + "'");
-      world.objects.push_back(std::move(object));
-    } else if (tag == "ROBOT") {
-      RobotSpec robot = read_robot(r, e);
-      if (!ids.insert(robot.name).second) r.fail(e, "duplicate id '" + robot.name + "'");
-      world.robots.push_back(std::move(robot));
-    } else {
-      r.warn(e, "unknown element <" + std::string(e->Name()) + "> ignored");
+  void warn(const XMLElement* at, const std::string& message) const {
+    if (warn_) warn_(file_ + ":" + std::to_string(at->GetLineNum()) + ": warning: " + message);
+  }
+  void unknown(const XMLElement* e, const char* parent) const {
+    warn(e, "unknown element <" + std::string(e->Name()) + "> in <" + parent + "> ignored");
+  }
+
+  std::string text(const XMLElement* e) const { return trim(e->GetText() ? e->GetText() : ""); }
+
+  std::string tag(const XMLElement* e) const { return "<" + std::string(e->Name()) + ">"; }
+
+  double number(const XMLElement* e) const {
+    const std::string t = text(e);
+    try {
+      std::size_t used = 0;
+      const double value = std::stod(t, &used);
+      if (used == t.size() && std::isfinite(value)) return value;
+    } catch (const std::exception&) {
+    }
+    fail(e, tag(e) + " expects a finite number, got '" + t + "'");
+  }
+
+  double positive(const XMLElement* e) const {
+    const double value = number(e);
+    if (value <= 0.0) fail(e, tag(e) + " must be positive, got " + text(e));
+    return value;
+  }
+
+  double non_negative(const XMLElement* e) const {
+    const double value = number(e);
+    if (value < 0.0) fail(e, tag(e) + " must not be negative, got " + text(e));
+    return value;
+  }
+
+  bool boolean(const XMLElement* e) const {
+    const std::string t = upper(text(e));
+    if (t == "TRUE" || t == "1" || t == "YES") return true;
+    if (t == "FALSE" || t == "0" || t == "NO") return false;
+    fail(e, tag(e) + " expects true or false, got '" + text(e) + "'");
+  }
+
+  std::vector<double> numbers(const XMLElement* e, std::size_t min_count,
+                              std::size_t max_count) const {
+    std::vector<double> values;
+    std::stringstream stream(text(e));
+    std::string item;
+    while (std::getline(stream, item, ',')) {
+      item = trim(item);
+      try {
+        std::size_t used = 0;
+        const double value = std::stod(item, &used);
+        if (used != item.size() || !std::isfinite(value)) throw std::invalid_argument(item);
+        values.push_back(value);
+      } catch (const std::exception&) {
+        fail(e, tag(e) + " expects comma-separated numbers, got '" + text(e) + "'");
+      }
+    }
+    if (values.size() < min_count || values.size() > max_count) {
+      const std::string expected = min_count == max_count
+                                       ? std::to_string(min_count)
+                                       : std::to_string(min_count) + " to " +
+                                             std::to_string(max_count);
+      fail(e, tag(e) + " expects " + expected + " numbers, got " + std::to_string(values.size()));
+    }
+    return values;
+  }
+
+  Eigen::Vector3d vector3(const XMLElement* e) const {
+    const auto v = numbers(e, 3, 3);
+    return {v[0], v[1], v[2]};
+  }
+
+  Eigen::Vector3d positive_vector3(const XMLElement* e) const {
+    const Eigen::Vector3d v = vector3(e);
+    if ((v.array() <= 0.0).any()) fail(e, tag(e) + " must be positive in every axis");
+    return v;
+  }
+
+  /// ROT: roll, pitch, yaw in degrees about fixed x, y, z (applied in that order).
+  Eigen::Quaterniond rotation(const XMLElement* e) const {
+    const Eigen::Vector3d rpy = vector3(e) * (M_PI / 180.0);
+    return Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+           Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+           Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX());
+  }
+
+  Color color(const XMLElement* e) const {
+    const auto c = numbers(e, 3, 4);
+    for (double channel : c) {
+      if (channel < 0.0 || channel > 1.0) fail(e, "<COLOR> channels must lie in [0, 1]");
+    }
+    return {float(c[0]), float(c[1]), float(c[2]), c.size() == 4 ? float(c[3]) : 1.0f};
+  }
+
+  /// A texture path relative to this file, checked to be a 2^n x 2^n BMP.
+  std::string texture(const XMLElement* e) const {
+    const fs::path relative = text(e);
+    const std::string path =
+        (relative.is_absolute() ? relative : fs::path(file_).parent_path() / relative)
+            .lexically_normal()
+            .string();
+    if (auto problem = texture_problem(path)) fail(e, *problem);
+    return path;
+  }
+
+  SourceLocation where(const XMLElement* e) const { return {file_, e->GetLineNum()}; }
+
+ private:
+  std::string file_;
+  const WarningSink& warn_;
+};
+
+bool valid_id(const std::string& id) {
+  return !id.empty() && std::all_of(id.begin(), id.end(), [](unsigned char c) {
+           return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+         });
+}
+
+/// What one loaded file (and its imports) contributed, for the naming conventions.
+struct FileContents {
+  std::map<std::string, FileContents> imports;  // by import ID
+  std::vector<std::string> objects;             // full names
+  std::vector<std::string> joints;              // full names
+};
+
+/// Loads a world file and its <IMPORT> tree into one WorldSpec.
+class Loader {
+ public:
+  explicit Loader(const WarningSink& warn) : warn_(warn) {
+    world_.materials.push_back(MaterialSpec{"default"});
+  }
+
+  WorldSpec take() { return std::move(world_); }
+
+  void load_root(tinyxml2::XMLDocument& doc, const std::string& file) {
+    if (doc.Error()) throw WorldFileError(file, doc.ErrorLineNum(), xml_error_message(doc));
+    const Reader r(file, warn_);
+    const XMLElement* root = doc.RootElement();
+    if (!root || upper(root->Name()) != "WORLD") {
+      r.fail(root, "the root element of a world file must be <WORLD>");
+    }
+    world_.file = file;
+    world_.name = fs::path(file).stem().string();
+    if (fs::exists(file)) stack_.push_back(fs::weakly_canonical(file).string());
+    FileContents contents;
+    read_children(r, root, Pose{}, "", contents, true);
+  }
+
+ private:
+  std::string full_name(const std::string& prefix, const std::string& id) const {
+    return prefix.empty() ? id : prefix + "/" + id;
+  }
+
+  void claim_name(const Reader& r, const XMLElement* e, const std::string& name) {
+    if (!names_.insert(name).second) r.fail(e, "duplicate id '" + name + "'");
+  }
+
+  // Elements allowed in both <WORLD> and <ENVIRONMENT>.
+  void read_children(const Reader& r, const XMLElement* parent, const Pose& frame,
+                     const std::string& prefix, FileContents& contents, bool is_world) {
+    for (auto* e = parent->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (is_world && tag == "NAME") {
+        world_.name = r.text(e);
+      } else if (is_world && tag == "PHYSICS") {
+        read_physics(r, e);
+      } else if (is_world && tag == "GROUND") {
+        for (auto* g = e->FirstChildElement(); g; g = g->NextSiblingElement()) {
+          if (upper(g->Name()) == "FRICTION") {
+            world_.ground_friction = r.non_negative(g);
+          } else {
+            r.unknown(g, "GROUND");
+          }
+        }
+      } else if (tag == "MATERIAL") {
+        read_material(r, e);
+      } else if (tag == "OBJECT" || tag == "WALL" || tag == "RAMP") {
+        ObjectSpec object = tag == "OBJECT" ? read_object(r, e)
+                            : tag == "WALL" ? read_wall(r, e)
+                                            : read_ramp(r, e);
+        object.name = full_name(prefix, object.name);
+        claim_name(r, e, object.name);
+        object.pose = frame * object.pose;
+        contents.objects.push_back(object.name);
+        world_.objects.push_back(std::move(object));
+      } else if (tag == "JOINT") {
+        JointSpec joint = read_joint(r, e);
+        joint.name = full_name(prefix, joint.name);
+        claim_name(r, e, joint.name);
+        joint.body1 = full_name(prefix, joint.body1);
+        if (!joint.body2.empty()) joint.body2 = full_name(prefix, joint.body2);
+        joint.axis = frame.orientation * joint.axis;
+        joint.anchor = frame.position + frame.orientation * joint.anchor;
+        contents.joints.push_back(joint.name);
+        world_.joints.push_back(std::move(joint));
+      } else if (tag == "ROBOT") {
+        RobotSpec robot = read_robot(r, e);
+        claim_name(r, e, robot.name);
+        robot.pose = frame * robot.pose;
+        world_.robots.push_back(std::move(robot));
+      } else if (tag == "IMPORT") {
+        read_import(r, e, frame, prefix, contents);
+      } else {
+        r.unknown(e, is_world ? "WORLD" : "ENVIRONMENT");
+      }
     }
   }
-  return world;
+
+  void read_physics(const Reader& r, const XMLElement* physics) {
+    PhysicsSpec& spec = world_.physics;
+    for (auto* e = physics->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "STEP") {
+        spec.step = r.positive(e);
+      } else if (tag == "GRAVITY") {
+        spec.gravity = r.vector3(e);
+      } else if (tag == "ITERATIONS") {
+        spec.solver_iterations = static_cast<int>(r.positive(e));
+      } else if (tag == "ERP") {
+        spec.erp = r.positive(e);
+      } else if (tag == "CFM") {
+        spec.cfm = r.positive(e);
+      } else if (tag == "SEED") {
+        spec.seed = static_cast<uint32_t>(r.non_negative(e));
+      } else {
+        r.unknown(e, "PHYSICS");
+      }
+    }
+  }
+
+  void read_material(const Reader& r, const XMLElement* element) {
+    MaterialSpec m;
+    for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "NAME") {
+        m.name = r.text(e);
+      } else if (tag == "FRICTION") {
+        m.friction = r.non_negative(e);
+      } else if (tag == "BOUNCE") {
+        m.bounce = r.non_negative(e);
+        if (m.bounce > 1.0) r.fail(e, "<BOUNCE> must lie in [0, 1]");
+      } else if (tag == "BOUNCE_VELOCITY") {
+        m.bounce_velocity = r.non_negative(e);
+      } else if (tag == "DENSITY") {
+        m.density = r.positive(e);
+      } else {
+        r.unknown(e, "MATERIAL");
+      }
+    }
+    if (m.name.empty()) r.fail(element, "<MATERIAL> definition needs a <NAME>");
+    if (const MaterialSpec* known = world_.material(m.name)) {
+      const bool same = known->friction == m.friction && known->bounce == m.bounce &&
+                        known->bounce_velocity == m.bounce_velocity &&
+                        known->density == m.density;
+      // A file imported twice defines its materials twice: fine when they agree.
+      if (!same) r.fail(element, "material '" + m.name + "' is defined twice, differently");
+      return;
+    }
+    world_.materials.push_back(m);
+  }
+
+  Shape read_shape(const Reader& r, const XMLElement* e) const {
+    const std::string value = upper(r.text(e));
+    if (value == "BOX") return Shape::Box;
+    if (value == "CYLINDER") return Shape::Cylinder;
+    if (value == "SPHERE") return Shape::Sphere;
+    r.fail(e, "unknown shape '" + r.text(e) + "' (expected BOX, CYLINDER or SPHERE)");
+  }
+
+  /// Reads the shape-related child `e` of an object or component; true if it was one.
+  bool read_component_field(const Reader& r, const XMLElement* e, ComponentSpec& c,
+                            const XMLElement*& dims, const XMLElement*& radius,
+                            const XMLElement*& height) const {
+    const std::string tag = upper(e->Name());
+    if (tag == "SHAPE") {
+      c.shape = read_shape(r, e);
+    } else if (tag == "DIMS") {
+      dims = e;
+    } else if (tag == "RADIUS") {
+      radius = e;
+    } else if (tag == "HEIGHT") {
+      height = e;
+    } else if (tag == "COLOR") {
+      c.color = r.color(e);
+    } else if (tag == "TEXTURE") {
+      c.texture = r.texture(e);
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  void finish_component(const Reader& r, const XMLElement* at, const std::string& what,
+                        ComponentSpec& c, const XMLElement* dims, const XMLElement* radius,
+                        const XMLElement* height) const {
+    switch (c.shape) {
+      case Shape::Box:
+        if (!dims) r.fail(at, what + " is a BOX and needs <DIMS>x,y,z</DIMS>");
+        c.size = r.positive_vector3(dims);
+        break;
+      case Shape::Cylinder:
+        if (!radius || !height) r.fail(at, what + " is a CYLINDER and needs <RADIUS> and <HEIGHT>");
+        c.size = {r.positive(radius), 0.0, r.positive(height)};
+        break;
+      case Shape::Sphere:
+        if (!radius) r.fail(at, what + " is a SPHERE and needs <RADIUS>");
+        c.size = {r.positive(radius), 0.0, 0.0};
+        break;
+    }
+  }
+
+  ComponentSpec read_component(const Reader& r, const XMLElement* component,
+                               const Color& default_color) const {
+    ComponentSpec c;
+    c.color = default_color;
+    const XMLElement *dims = nullptr, *radius = nullptr, *height = nullptr;
+    bool has_shape = false;
+    for (auto* e = component->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "POS") {
+        c.pose.position = r.vector3(e);
+      } else if (tag == "ROT") {
+        c.pose.orientation = r.rotation(e);
+      } else if (read_component_field(r, e, c, dims, radius, height)) {
+        has_shape |= tag == "SHAPE";
+      } else {
+        r.unknown(e, "COMPONENT");
+      }
+    }
+    if (!has_shape) r.fail(component, "<COMPONENT> needs a <SHAPE>");
+    finish_component(r, component, "<COMPONENT>", c, dims, radius, height);
+    return c;
+  }
+
+  /// The common part of OBJECT, WALL and RAMP: id, pose, material, user apps.
+  bool read_common(const Reader& r, const XMLElement* e, ObjectSpec& spec,
+                   std::optional<double>& mass, std::optional<double>& density) const {
+    const std::string tag = upper(e->Name());
+    if (tag == "ID") {
+      spec.name = r.text(e);
+      if (!valid_id(spec.name)) {
+        r.fail(e, "<ID> '" + spec.name + "' may hold only letters, digits, _ - and .");
+      }
+    } else if (tag == "POS") {
+      spec.pose.position = r.vector3(e);
+    } else if (tag == "ROT") {
+      spec.pose.orientation = r.rotation(e);
+    } else if (tag == "MATERIAL") {
+      spec.material = r.text(e);
+      if (!world_.material(spec.material)) {
+        r.fail(e, "unknown material '" + spec.material + "' (define it with <MATERIAL><NAME>" +
+                      spec.material + "</NAME>...</MATERIAL> before use)");
+      }
+    } else if (tag == "DENSITY") {
+      density = r.positive(e);
+    } else if (tag == "MASS") {
+      mass = r.positive(e);
+    } else if (tag == "USER_DATA") {
+      spec.user_data = r.text(e);
+    } else if (tag == "FROZEN") {
+      spec.frozen = r.boolean(e);
+    } else if (tag == "USER_APPS") {
+      for (auto* a = e->FirstChildElement(); a; a = a->NextSiblingElement()) {
+        const std::string app = upper(a->Name());
+        if (app == "MAGNETIZABLE") {
+          spec.magnetizable = r.boolean(a);
+        } else if (app == "USER_COLOR") {
+          spec.user_color = static_cast<int>(r.number(a));
+        } else if (app == "USER_SHAPE") {
+          spec.user_shape = static_cast<int>(r.number(a));
+        } else {
+          r.unknown(a, "USER_APPS");
+        }
+      }
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  void finish_mass(const Reader& r, const XMLElement* at, ObjectSpec& spec,
+                   const std::optional<double>& mass, const std::optional<double>& density) const {
+    if (mass && density) r.fail(at, "give <MASS> or <DENSITY>, not both");
+    spec.density = density ? *density : world_.material(spec.material)->density;
+    if (mass) spec.density = *mass / spec.volume();
+  }
+
+  ObjectSpec read_object(const Reader& r, const XMLElement* object) const {
+    ObjectSpec spec;
+    spec.source = r.where(object);
+    std::optional<double> mass, density;
+    ComponentSpec single;
+    const XMLElement *dims = nullptr, *radius = nullptr, *height = nullptr, *shape = nullptr;
+    std::vector<const XMLElement*> components;
+    for (auto* e = object->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "TYPE") {
+        const std::string type = upper(r.text(e));
+        if (type != "PORTABLE" && type != "FIXED") {
+          r.fail(e, "object <TYPE> must be PORTABLE or FIXED, got '" + r.text(e) + "'");
+        }
+        spec.portable = type == "PORTABLE";
+      } else if (tag == "COMPONENT") {
+        components.push_back(e);
+      } else if (read_common(r, e, spec, mass, density)) {
+      } else if (read_component_field(r, e, single, dims, radius, height)) {
+        if (tag == "SHAPE") shape = e;
+      } else {
+        r.unknown(e, "OBJECT");
+      }
+    }
+    if (spec.name.empty()) r.fail(object, "<OBJECT> needs an <ID>");
+    if (components.empty()) {
+      if (!shape) r.fail(object, "object '" + spec.name + "' needs a <SHAPE> or <COMPONENT>s");
+      finish_component(r, object, "object '" + spec.name + "'", single, dims, radius, height);
+      spec.components.push_back(single);
+    } else {
+      if (shape || dims || radius || height) {
+        r.fail(object, "object '" + spec.name +
+                           "' has <COMPONENT>s: give shapes and sizes inside them");
+      }
+      for (const auto* c : components) spec.components.push_back(read_component(r, c, single.color));
+    }
+    finish_mass(r, object, spec, mass, density);
+    return spec;
+  }
+
+  ObjectSpec read_wall(const Reader& r, const XMLElement* wall) const {
+    ObjectSpec spec;
+    spec.kind = ObjectKind::Wall;
+    spec.portable = false;
+    spec.source = r.where(wall);
+    std::optional<double> mass, density;
+    ComponentSpec box;
+    box.color = {0.85f, 0.85f, 0.8f, 1.0f};
+    double length = 0, height = 0, thickness = 0.1;
+    for (auto* e = wall->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "LENGTH") {
+        length = r.positive(e);
+      } else if (tag == "HEIGHT") {
+        height = r.positive(e);
+      } else if (tag == "THICKNESS") {
+        thickness = r.positive(e);
+      } else if (tag == "COLOR") {
+        box.color = r.color(e);
+      } else if (tag == "TEXTURE") {
+        box.texture = r.texture(e);
+      } else if (!read_common(r, e, spec, mass, density)) {
+        r.unknown(e, "WALL");
+      }
+    }
+    if (spec.name.empty()) r.fail(wall, "<WALL> needs an <ID>");
+    if (length <= 0 || height <= 0) {
+      r.fail(wall, "wall '" + spec.name + "' needs <LENGTH> and <HEIGHT>");
+    }
+    box.size = {length, thickness, height};
+    box.pose.position = {0, 0, height / 2};  // POS is the middle of the wall's foot
+    spec.components.push_back(box);
+    finish_mass(r, wall, spec, mass, density);
+    return spec;
+  }
+
+  ObjectSpec read_ramp(const Reader& r, const XMLElement* ramp) const {
+    ObjectSpec spec;
+    spec.kind = ObjectKind::Ramp;
+    spec.portable = false;
+    spec.source = r.where(ramp);
+    std::optional<double> mass, density;
+    RampGeometry geometry;
+    const XMLElement *height = nullptr, *depth = nullptr, *angle = nullptr, *width = nullptr;
+    Color color{0.6f, 0.5f, 0.4f, 1.0f};
+    std::string texture;
+    for (auto* e = ramp->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "WIDTH") {
+        width = e;
+      } else if (tag == "HEIGHT") {
+        height = e;
+      } else if (tag == "DEPTH") {
+        depth = e;
+      } else if (tag == "ANGLE") {
+        angle = e;
+      } else if (tag == "COLOR") {
+        color = r.color(e);
+      } else if (tag == "TEXTURE") {
+        texture = r.texture(e);
+      } else if (!read_common(r, e, spec, mass, density)) {
+        r.unknown(e, "RAMP");
+      }
+    }
+    if (spec.name.empty()) r.fail(ramp, "<RAMP> needs an <ID>");
+    if (!width || !angle || (height == nullptr) == (depth == nullptr)) {
+      r.fail(ramp, "ramp '" + spec.name +
+                       "' needs <WIDTH>, <ANGLE> (degrees) and one of <HEIGHT> or <DEPTH>");
+    }
+    geometry.width = r.positive(width);
+    geometry.angle = r.positive(angle) * M_PI / 180.0;
+    if (geometry.angle >= M_PI / 2) r.fail(angle, "<ANGLE> must lie in (0, 90) degrees");
+    geometry.height =
+        height ? r.positive(height) : r.positive(depth) * std::tan(geometry.angle);
+    spec.ramp = geometry;
+    ComponentSpec box = geometry.box();
+    box.color = color;
+    box.texture = texture;
+    spec.components.push_back(box);
+    finish_mass(r, ramp, spec, mass, density);
+    return spec;
+  }
+
+  JointSpec read_joint(const Reader& r, const XMLElement* joint) const {
+    JointSpec spec;
+    spec.source = r.where(joint);
+    for (auto* e = joint->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "ID") {
+        spec.name = r.text(e);
+      } else if (tag == "TYPE") {
+        const std::string type = upper(r.text(e));
+        if (type == "SLIDER") {
+          spec.type = JointSpec::Type::Slider;
+        } else if (type == "HINGE") {
+          spec.type = JointSpec::Type::Hinge;
+        } else {
+          r.fail(e, "joint <TYPE> must be SLIDER or HINGE, got '" + r.text(e) + "'");
+        }
+      } else if (tag == "BODY1") {
+        spec.body1 = r.text(e);
+      } else if (tag == "BODY2") {
+        spec.body2 = r.text(e);
+      } else if (tag == "AXIS") {
+        spec.axis = r.vector3(e);
+        if (spec.axis.norm() < 1e-9) r.fail(e, "<AXIS> must not be zero");
+        spec.axis.normalize();
+      } else if (tag == "ANCHOR") {
+        spec.anchor = r.vector3(e);
+      } else if (tag == "LO") {
+        spec.lo = r.number(e);
+      } else if (tag == "HI") {
+        spec.hi = r.number(e);
+      } else if (tag == "MAX_FORCE" || tag == "MAXFORCE") {
+        spec.max_force = r.non_negative(e);
+      } else if (tag == "VELOCITY") {
+        spec.velocity = r.number(e);
+      } else {
+        r.unknown(e, "JOINT");
+      }
+    }
+    if (spec.name.empty()) r.fail(joint, "<JOINT> needs an <ID>");
+    if (spec.body1.empty()) r.fail(joint, "joint '" + spec.name + "' needs a <BODY1>");
+    if (spec.lo > spec.hi) r.fail(joint, "joint '" + spec.name + "' has <LO> above <HI>");
+    if (spec.type == JointSpec::Type::Hinge) {
+      spec.lo *= M_PI / 180.0;  // hinge stops are written in degrees
+      spec.hi *= M_PI / 180.0;
+    }
+    return spec;
+  }
+
+  RobotSpec read_robot(const Reader& r, const XMLElement* robot) const {
+    RobotSpec spec;
+    spec.source = r.where(robot);
+    for (auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "ID") {
+        spec.name = r.text(e);
+      } else if (tag == "TYPE") {
+        spec.type = r.text(e);
+      } else if (tag == "POS") {
+        spec.pose.position = r.vector3(e);
+      } else if (tag == "ROT") {
+        spec.pose.orientation = r.rotation(e);
+      } else {
+        r.unknown(e, "ROBOT");
+      }
+    }
+    if (spec.name.empty()) r.fail(robot, "<ROBOT> needs an <ID> (its topic namespace)");
+    if (spec.type.empty()) r.fail(robot, "<ROBOT> '" + spec.name + "' needs a <TYPE>");
+    const bool valid_name = std::all_of(spec.name.begin(), spec.name.end(), [](unsigned char c) {
+      return std::isalnum(c) || c == '_';
+    });
+    if (!valid_name || std::isdigit(static_cast<unsigned char>(spec.name[0]))) {
+      r.fail(robot, "robot <ID> '" + spec.name +
+                        "' must be a topic name: letters, digits and _, not starting with a digit");
+    }
+    return spec;
+  }
+
+  void read_import(const Reader& r, const XMLElement* import, const Pose& frame,
+                   const std::string& prefix, FileContents& contents) {
+    std::string id, file;
+    Pose pose;
+    for (auto* e = import->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "ID") {
+        id = r.text(e);
+      } else if (tag == "NAME") {
+        file = r.text(e);
+      } else if (tag == "POS") {
+        pose.position = r.vector3(e);
+      } else if (tag == "ROT") {
+        pose.orientation = r.rotation(e);
+      } else {
+        r.unknown(e, "IMPORT");
+      }
+    }
+    if (id.empty()) r.fail(import, "<IMPORT> needs an <ID>");
+    if (!valid_id(id)) r.fail(import, "<IMPORT> <ID> '" + id + "' may hold only letters, digits, _ - and .");
+    if (file.empty()) r.fail(import, "<IMPORT> '" + id + "' needs a <NAME> (the file to import)");
+    if (contents.imports.count(id)) r.fail(import, "duplicate import id '" + id + "'");
+    const fs::path path = fs::path(file).is_absolute()
+                              ? fs::path(file)
+                              : fs::path(r.file()).parent_path() / file;
+    const std::string shown = path.lexically_normal().string();
+    if (!fs::is_regular_file(path)) {
+      r.fail(import, "imported file '" + shown + "' (import '" + id + "') does not exist");
+    }
+    const std::string canonical = fs::weakly_canonical(path).string();
+    if (std::find(stack_.begin(), stack_.end(), canonical) != stack_.end()) {
+      r.fail(import, "import cycle: '" + shown + "' imports itself (through import '" + id + "')");
+    }
+    tinyxml2::XMLDocument doc;
+    doc.LoadFile(shown.c_str());
+    if (doc.Error()) throw WorldFileError(shown, doc.ErrorLineNum(), xml_error_message(doc));
+    const Reader child(shown, warn_);
+    const XMLElement* root = doc.RootElement();
+    if (!root || upper(root->Name()) != "ENVIRONMENT") {
+      child.fail(root, "the root element of an imported file must be <ENVIRONMENT>");
+    }
+    stack_.push_back(canonical);
+    FileContents& sub = contents.imports[id];
+    const std::string name = full_name(prefix, id);
+    read_children(child, root, frame * pose, name, sub, false);
+    stack_.pop_back();
+    check_conventions(r, import, id, name, sub, prefix);
+  }
+
+  // The seed's naming conventions: a "doors" container importing door_%02d structures, each
+  // importing a switch_component and a door_component. MACSim left objects outside the
+  // conventions unreachable; here everything is reachable and a broken convention is a warning.
+  void check_conventions(const Reader& r, const XMLElement* import, const std::string& id,
+                         const std::string& name, FileContents& sub, const std::string& prefix) {
+    static const std::regex door_id("door_[0-9]{2}");
+    const bool in_doors_container = !prefix.empty() && fs::path(prefix).filename() == "doors";
+    const bool is_door = sub.imports.count("door_component") > 0;
+    if (in_doors_container && !std::regex_match(id, door_id)) {
+      r.warn(import, "import '" + id + "' in the doors container does not follow the door_%02d "
+                     "convention; loaded and reachable as '" + name + "'");
+    }
+    if (in_doors_container && !is_door) {
+      r.warn(import, "'" + name + "' imports no door_component: loaded as plain objects");
+    }
+    if (!is_door) return;
+    if (!in_doors_container) {
+      r.warn(import, "door '" + name + "' is not inside a <ID>doors</ID> container (seed "
+                     "convention); loaded and reachable");
+    }
+    DoorSpec door;
+    door.name = name;
+    door.source = r.where(import);
+    auto part = [&](const FileContents& c, const char* what, std::string& moving,
+                    std::string& fixed, std::string& joint) {
+      if (c.joints.size() != 1) {
+        r.fail(import, "'" + name + "/" + what + "' must hold exactly one <JOINT>, it holds " +
+                           std::to_string(c.joints.size()));
+      }
+      joint = c.joints.front();
+      const JointSpec* j = nullptr;
+      for (const auto& candidate : world_.joints) {
+        if (candidate.name == joint) j = &candidate;
+      }
+      moving = j->body1;
+      fixed = j->body2;
+    };
+    part(sub.imports.at("door_component"), "door_component", door.leaf, door.frame,
+         door.door_joint);
+    if (auto s = sub.imports.find("switch_component"); s != sub.imports.end()) {
+      part(s->second, "switch_component", door.switch_platform, door.switch_base,
+           door.switch_joint);
+    }
+    world_.doors.push_back(door);
+  }
+
+  const WarningSink& warn_;
+  WorldSpec world_;
+  std::set<std::string> names_;
+  std::vector<std::string> stack_;  // canonical paths of the files being read
+};
+
+/// Checks references between elements once everything is read.
+void check_references(WorldSpec& world) {
+  for (const auto& joint : world.joints) {
+    for (const std::string* body : {&joint.body1, &joint.body2}) {
+      if (body->empty()) continue;
+      if (!world.object(*body)) {
+        throw WorldFileError(joint.source.file, joint.source.line,
+                             "joint '" + joint.name + "' refers to unknown object '" + *body + "'");
+      }
+    }
+    if (!world.object(joint.body1)->portable) {
+      throw WorldFileError(joint.source.file, joint.source.line,
+                           "joint '" + joint.name + "': <BODY1> '" + joint.body1 +
+                               "' must be a PORTABLE object (it is the moving part)");
+    }
+  }
+  auto set_kind = [&](const std::string& name, ObjectKind kind) {
+    for (auto& o : world.objects) {
+      if (o.name == name) o.kind = kind;
+    }
+  };
+  for (const auto& door : world.doors) {
+    set_kind(door.leaf, ObjectKind::DoorLeaf);
+    set_kind(door.frame, ObjectKind::DoorFrame);
+    set_kind(door.switch_platform, ObjectKind::SwitchPlatform);
+    set_kind(door.switch_base, ObjectKind::SwitchBase);
+  }
 }
 
 }  // namespace
@@ -304,14 +792,22 @@ WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
   }
   tinyxml2::XMLDocument doc;
   doc.LoadFile(path.c_str());
-  return parse(doc, path, warn);
+  Loader loader(warn);
+  loader.load_root(doc, path);
+  WorldSpec world = loader.take();
+  check_references(world);
+  return world;
 }
 
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
                             const WarningSink& warn) {
   tinyxml2::XMLDocument doc;
   doc.Parse(xml.c_str(), xml.size());
-  return parse(doc, name, warn);
+  Loader loader(warn);
+  loader.load_root(doc, name);
+  WorldSpec world = loader.take();
+  check_references(world);
+  return world;
 }
 
 }  // namespace macsim

@@ -50,8 +50,8 @@ TEST(Simulation, SameWorldAndCommandsGiveBitIdenticalStates) {
     const Pose p = sim.world().robot("kurt")->base_footprint_pose();
     state.insert(state.end(), p.position.data(), p.position.data() + 3);
     state.insert(state.end(), p.orientation.coeffs().data(), p.orientation.coeffs().data() + 4);
-    for (const auto& object : sim.world().objects()) {
-      const Pose o = sim.world().object_pose(object);
+    for (ObjectId id : sim.world().object_ids()) {
+      const Pose o = sim.world().object_state(id).value.pose;
       state.insert(state.end(), o.position.data(), o.position.data() + 3);
     }
     return state;

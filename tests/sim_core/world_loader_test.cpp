@@ -33,8 +33,8 @@ TEST(WorldLoader, LoadsTheSmallRoom) {
   EXPECT_EQ(spec.robots[0].type, "kurt3d");
   ASSERT_EQ(spec.objects.size(), 4u);
   EXPECT_FALSE(spec.objects[0].portable);
-  EXPECT_EQ(spec.objects[2].shape, Shape::Cylinder);
-  EXPECT_DOUBLE_EQ(*spec.objects[2].mass, 0.04);
+  EXPECT_EQ(spec.objects[2].components.at(0).shape, Shape::Cylinder);
+  EXPECT_DOUBLE_EQ(spec.objects[2].mass(), 0.04);
   EXPECT_DOUBLE_EQ(spec.physics.step, 0.001);
 }
 

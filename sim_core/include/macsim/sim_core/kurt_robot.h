@@ -35,7 +35,21 @@ struct KurtBodyParams {
 /// One KURT3D in an ODE world. Commands are set-points; the motors act in before_step().
 class KurtRobot {
  public:
-  KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int owner,
+  /// Everything of the robot that changes besides its bodies: commands, encoders, odometry.
+  struct ControllerState {
+    WheelSpeeds commanded{};
+    WheelSpeeds active{};
+    double last_command_time = -1e9;
+    std::array<double, 2> encoder_angle{};     ///< unwrapped middle-wheel angles
+    std::array<double, 2> last_hinge_angle{};  ///< wrapped, for unwrapping
+    std::array<EncoderCounter, 2> encoders;
+    KurtOdometry odometry;
+    double next_frame_time;
+    uint64_t frames = 0;
+  };
+
+  /// Builds the robot at its spec's pose; geoms carry `collision_group` (no self-contacts).
+  KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int collision_group,
             KurtDriveParams drive = {}, KurtBodyParams body = {});
   ~KurtRobot();
   KurtRobot(const KurtRobot&) = delete;
@@ -60,13 +74,19 @@ class KurtRobot {
   Eigen::Vector3d angular_velocity() const;
 
   /// Odometry from the simulated encoders, as the real driver computes it.
-  PlanarOdometry odometry() const { return odometry_.estimate(); }
+  PlanarOdometry odometry() const { return state_.odometry.estimate(); }
   /// Number of ENCODER frames so far; a new odometry estimate exists when it grows.
-  uint64_t odometry_frames() const { return frames_; }
+  uint64_t odometry_frames() const { return state_.frames; }
   /// Wheel speeds the motors currently try to hold (m/s; zero after a timeout).
-  WheelSpeeds active_wheel_speeds() const { return active_; }
+  WheelSpeeds active_wheel_speeds() const { return state_.active; }
   /// Unwrapped angle (rad) of the middle wheel of the left (0) or right (1) side.
-  double wheel_angle(int side) const { return encoder_angle_[side]; }
+  double wheel_angle(int side) const { return state_.encoder_angle[side]; }
+
+  /// The chassis and the six wheels.
+  std::array<dBodyID, 7> bodies() const;
+  const ControllerState& controller_state() const { return state_; }
+  void set_controller_state(const ControllerState& state) { state_ = state; }
+  const RobotSpec& spec() const { return spec_; }
 
   const KurtDriveParams& drive_params() const { return drive_; }
   const KurtBodyParams& body_params() const { return body_; }
@@ -75,6 +95,7 @@ class KurtRobot {
   void update_wheel_angles();
 
   std::string name_;
+  RobotSpec spec_;
   KurtDriveParams drive_;
   KurtBodyParams body_;
   dBodyID chassis_ = nullptr;
@@ -82,16 +103,7 @@ class KurtRobot {
   std::array<dJointID, 6> hinges_{};
   std::array<dGeomID, 7> geoms_{};
   std::unique_ptr<detail::GeomTag> chassis_tag_, wheel_tag_;
-
-  WheelSpeeds commanded_{};
-  WheelSpeeds active_{};
-  double last_command_time_ = -1e9;
-  std::array<double, 2> encoder_angle_{};       // unwrapped middle-wheel angles
-  std::array<double, 2> last_hinge_angle_{};    // wrapped, for unwrapping
-  std::array<EncoderCounter, 2> encoders_;
-  KurtOdometry odometry_;
-  double next_frame_time_;
-  uint64_t frames_ = 0;
+  ControllerState state_;
 };
 
 }  // namespace macsim

@@ -1,16 +1,19 @@
-// What ODE holds: a world built from a WorldSpec, stepped at a fixed step.
+// What ODE holds: a world built from a WorldSpec, stepped at a fixed step, changed on the fly
+// through the supervisor operations (the seed's "Simulation Control Interface").
 #pragma once
 
 #include <ode/common.h>
 
 #include <cstdint>
-#include <deque>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world_spec.h"
+#include "macsim/sim_core/world_state.h"
 
 namespace macsim {
 
@@ -18,14 +21,86 @@ namespace detail {
 struct GeomTag;
 }
 
-/// A body or fixed geometry built from an ObjectSpec.
-struct WorldObject {
-  ObjectSpec spec;
-  dBodyID body = nullptr;  ///< null for fixed objects
-  dGeomID geom = nullptr;
+/// Stable id of an object: never reused while the world lives (list indices shift, ids do not).
+using ObjectId = uint32_t;
+
+/// Why a supervisor operation failed.
+enum class ErrorCode {
+  Ok = 0,
+  UnknownObject,    ///< no object (or door) with that id, index or name
+  WrongGeometry,    ///< e.g. set a cylinder's size on a box
+  InvalidArgument,  ///< NaN, infinity, negative or zero size, out of range ...
+  NotApplicable,    ///< e.g. set the mass of a fixed object
+  Penetration,      ///< the change would put the object inside another (refused)
+  BadTexture,       ///< not a BMP of 2^n x 2^n pixels with n < 11
+  BadFile,          ///< an environment file that cannot be loaded
 };
 
-/// The ODE world of one simulation: bodies, geoms, joints, robots, contacts, sim time.
+/// Outcome of a supervisor operation. On error the world is unchanged.
+struct Status {
+  ErrorCode code = ErrorCode::Ok;
+  std::string message;
+  std::vector<std::string> penetrated;  ///< objects the change penetrates (when allowed)
+  bool ok() const { return code == ErrorCode::Ok; }
+  static Status error(ErrorCode code, std::string message) { return {code, std::move(message), {}}; }
+};
+
+/// A value or an error.
+template <class T>
+struct Result {
+  Status status;
+  T value{};
+  bool ok() const { return status.ok(); }
+};
+
+/// What to do when a relocated, resized or created object would penetrate another.
+enum class PenetrationPolicy {
+  Refuse,  ///< leave the world unchanged and return ErrorCode::Penetration
+  Allow,   ///< apply it and list the penetrated objects in Status::penetrated
+};
+
+/// Pose and velocities of an object (world frame; the pose is the object's frame).
+struct ObjectState {
+  Pose pose;
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+};
+
+/// How far a door is open (the seed's DoorGapAmount).
+enum class DoorGap { Closed, Half, Open };
+
+/// The state of a door-switch structure.
+struct DoorState {
+  bool triggered = false;          ///< pressed fully, or triggered virtually
+  bool virtually_triggered = false;
+  DoorGap gap = DoorGap::Closed;
+  double opening = 0.0;            ///< 0 closed .. 1 fully open
+  double switch_travel = 0.0;      ///< 0 up .. 1 pressed fully
+};
+
+/// The objects a door is made of.
+struct DoorParts {
+  ObjectId leaf = 0, frame = 0;
+  std::optional<ObjectId> platform, base;  ///< absent for a door without a switch
+};
+
+/// Something that happened during a step or an operation, for the supervisor's clients.
+struct WorldEvent {
+  enum class Type { SwitchTriggered, SwitchReleased, DoorOpened, DoorClosed, Penetration, Instability };
+  Type type;
+  double time = 0.0;
+  std::string subject;  ///< object or door name
+  std::string detail;
+};
+
+/// How much reset() puts back.
+enum class ResetScope {
+  Poses,          ///< poses and velocities of loaded objects and robots; time goes on
+  PosesAndTime,   ///< that, plus sim time 0 and the random seed
+  Everything,     ///< the world as loaded: spawned objects removed, destroyed ones back
+};
+
+/// The ODE world of one simulation.
 class World {
  public:
   /// Builds the world; throws WorldFileError (with the spec's file and line) on what cannot be
@@ -35,36 +110,184 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  /// Advances one fixed step: robots' motors, collisions, QuickStep, encoders.
+  // ---- stepping ------------------------------------------------------------------------
+  /// Advances one fixed step: doors and robots' motors, collisions, QuickStep, encoders,
+  /// instability check (a body gone NaN or wild is put back and reported).
   void step();
-
   double time() const { return static_cast<double>(steps_) * spec_.physics.step; }
   uint64_t steps() const { return steps_; }
   double step_size() const { return spec_.physics.step; }
+  /// The world as loaded.
   const WorldSpec& spec() const { return spec_; }
-
-  /// The robot of that name, or nullptr.
-  KurtRobot* robot(const std::string& name);
-  const std::vector<std::unique_ptr<KurtRobot>>& robots() const { return robots_; }
-  const std::vector<WorldObject>& objects() const { return objects_; }
-  /// Ground truth pose of an object (fixed objects report their geometry's pose).
-  Pose object_pose(const WorldObject& object) const;
   /// Contact points created in the last step.
   int contact_count() const { return contacts_; }
 
- private:
-  static void near_callback(void* data, dGeomID a, dGeomID b);
-  void add_object(const ObjectSpec& spec, int owner);
+  // ---- robots --------------------------------------------------------------------------
+  /// The robot of that name, or nullptr.
+  KurtRobot* robot(const std::string& name);
+  const std::vector<std::unique_ptr<KurtRobot>>& robots() const { return robots_; }
 
-  WorldSpec spec_;
+  // ---- objects: finding ----------------------------------------------------------------
+  int object_count() const { return static_cast<int>(objects_.size()); }
+  /// Id of the object at a list index (indices shift when objects are destroyed).
+  std::optional<ObjectId> object_at(int index) const;
+  /// List index of an object.
+  std::optional<int> index_of(ObjectId id) const;
+  /// Id of the object with that name (e.g. "doors/door_00/door_component/leaf").
+  std::optional<ObjectId> find_object(const std::string& name) const;
+  /// Ids of the objects with that user data, in list order.
+  std::vector<ObjectId> find_by_user_data(const std::string& user_data) const;
+  /// Ids of every object, in list order.
+  std::vector<ObjectId> object_ids() const;
+
+  // ---- objects: reading ----------------------------------------------------------------
+  /// The object's current description (components, density, colours, flags), or nullptr.
+  const ObjectSpec* object(ObjectId id) const;
+  /// Pose and velocities.
+  Result<ObjectState> object_state(ObjectId id) const;
+  /// Mass in kg (portable objects).
+  Result<double> object_mass(ObjectId id) const;
+  /// Inertia tensor about the centre of mass, world-aligned object frame (portable objects).
+  Result<Eigen::Matrix3d> object_inertia(ObjectId id) const;
+  /// Centre of mass in the object's frame.
+  Result<Eigen::Vector3d> object_center_of_mass(ObjectId id) const;
+  /// Force and torque accumulated for the next step (world frame).
+  Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> object_wrench(ObjectId id) const;
+  /// Texture id (unique per file, 0: none) and file of a component.
+  Result<std::pair<int, std::string>> object_texture(ObjectId id, int component = 0) const;
+
+  // ---- objects: creating and destroying ------------------------------------------------
+  /// Adds a basic, composite or ramp object (name made unique if empty).
+  Result<ObjectId> create_object(ObjectSpec spec,
+                                 PenetrationPolicy policy = PenetrationPolicy::Allow);
+  /// Adds every object, joint and door of an environment file, as an <IMPORT> with that id
+  /// and pose would; returns the new objects' ids. All or nothing.
+  Result<std::vector<ObjectId>> import_environment(const std::string& file, const std::string& id,
+                                                   const Pose& pose);
+  Status destroy_object(ObjectId id);
+  /// Destroys the objects with that user data; returns how many.
+  int destroy_objects(const std::string& user_data);
+  int destroy_all_objects();
+  int destroy_all_portable_objects();
+  int destroy_all_fixed_objects();
+
+  // ---- objects: changing ---------------------------------------------------------------
+  Status set_pose(ObjectId id, const Pose& pose, PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_position(ObjectId id, const Eigen::Vector3d& position,
+                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
+                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// Sizes of a box component (full sizes, m).
+  Status set_box_size(ObjectId id, int component, const Eigen::Vector3d& size,
+                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_cylinder_size(ObjectId id, int component, double radius, double height,
+                           PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_sphere_size(ObjectId id, int component, double radius,
+                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// A ramp's width, height and angle (depth follows: height / tan angle).
+  Status set_ramp(ObjectId id, const RampGeometry& ramp,
+                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// Colour of one component, or of all (component -1).
+  Status set_color(ObjectId id, const Color& color, int component = -1);
+  /// Texture of one component, or of all (component -1); empty path removes it.
+  Status set_texture(ObjectId id, const std::string& path, int component = -1);
+  /// Mass (kg); the density follows, mass and inertia are recomputed exactly.
+  Status set_mass(ObjectId id, double mass);
+  /// Density (kg/m^3); the mass follows, mass and inertia are recomputed exactly.
+  Status set_density(ObjectId id, double density);
+  Status set_linear_velocity(ObjectId id, const Eigen::Vector3d& velocity);
+  Status set_angular_velocity(ObjectId id, const Eigen::Vector3d& velocity);
+  /// A force (N, world frame, at the centre of mass) acting during the next step only.
+  Status add_force(ObjectId id, const Eigen::Vector3d& force);
+  /// A torque (N m, world frame) acting during the next step only.
+  Status add_torque(ObjectId id, const Eigen::Vector3d& torque);
+  /// Frozen objects stay where they are (others still collide with them).
+  Status set_frozen(ObjectId id, bool frozen);
+  Status set_magnetizable(ObjectId id, bool magnetizable);
+  Status set_user_data(ObjectId id, const std::string& user_data);
+  /// User-defined colour and shape labels (need not match the object's looks).
+  Status set_user_labels(ObjectId id, int user_color, int user_shape);
+
+  // ---- doors ---------------------------------------------------------------------------
+  int door_count() const { return static_cast<int>(doors_.size()); }
+  std::optional<int> find_door(const std::string& name) const;
+  Result<DoorState> door_state(int door) const;
+  Result<DoorParts> door_parts(int door) const;
+  const std::string& door_name(int door) const;
+  /// Presses the switch virtually (the door opens) or hands it back to physics.
+  Status set_switch_triggered(int door, bool triggered);
+  /// Moves the door's leaf there (position of the leaf's frame); the frame moves along.
+  Status set_door_position(int door, const Eigen::Vector3d& position);
+  /// Moves the switch's platform there; the base moves along.
+  Status set_switch_position(int door, const Eigen::Vector3d& position);
+
+  // ---- events, state, reset ------------------------------------------------------------
+  /// Events since the last call.
+  std::vector<WorldEvent> take_events();
+  /// The complete, restorable state (description and dynamics).
+  WorldSnapshot snapshot() const;
+  /// Puts the world back to a snapshot of this world; the run continues bit-identically.
+  Status restore(const WorldSnapshot& snapshot);
+  void reset(ResetScope scope);
+  /// Hash of the dynamic state (time, every body, robots, doors): equal states, equal hashes.
+  uint64_t state_hash() const;
+
+ private:
+  struct Object;
+  struct Joint;
+  struct Door;
+  friend struct WorldAccess;
+
+  void build();
+  void refresh_bodies();
+  void clear_ode();
+  void build_object(Object& object);
+  void destroy_ode_object(Object& object);
+  void build_joint(Joint& joint);
+  Object* find(ObjectId id) const;
+  Joint* joint_named(const std::string& name);
+  Status check_object_id(ObjectId id, const Object*& out) const;
+  std::vector<std::string> penetrations(const Object& object) const;
+  /// Runs `change` on a copy of the object's description and rebuilds; refuses (restoring the
+  /// old description and pose) when it penetrates and the policy says so.
+  Status change_object(ObjectId id, PenetrationPolicy policy,
+                       const std::function<Status(ObjectSpec&, Pose&)>& change);
+  /// Rebuilds an object from `spec` at `state`, re-attaching its joints where they were.
+  void rebuild_object(Object& object, const ObjectSpec& spec, const ObjectState& state);
+  Status validate_new_object(ObjectSpec& spec) const;
+  void erase_object(ObjectId id);
+  int destroy_matching(const std::function<bool(const ObjectSpec&)>& match);
+  Status resize_component(ObjectId id, int component, Shape shape, const Eigen::Vector3d& size,
+                          PenetrationPolicy policy);
+  Status dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
+                      dBodyID& body) const;
+  Status check_door(int door) const;
+  Status move_door_part(int door, bool leaf, const Eigen::Vector3d& position);
+  void update_doors();
+  DoorState door_state_of(const Door& door) const;
+  void check_stability();
+  void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail = "");
+  Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
+  static void near_callback(void* data, dGeomID a, dGeomID b);
+
+  WorldSpec spec_;                                   // as loaded
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
   void* threading_ = nullptr;
   dGeomID ground_ = nullptr;
-  std::deque<detail::GeomTag> tags_;  // stable addresses for geom user data
-  std::vector<WorldObject> objects_;
+  std::unique_ptr<detail::GeomTag> ground_tag_;
+  std::vector<std::unique_ptr<Object>> objects_;     // list order = the seed's indices
+  std::vector<std::unique_ptr<Joint>> joints_;
+  std::vector<std::unique_ptr<Door>> doors_;
   std::vector<std::unique_ptr<KurtRobot>> robots_;
+  std::vector<dBodyID> bodies_;                      // every body, for the stability check
+  std::vector<std::string> body_names_;              // owner of each body, for reports
+  std::vector<BodyState> last_good_;
+  std::vector<WorldEvent> events_;
+  mutable std::vector<std::string> textures_;        // texture id - 1 -> file
+  WorldSnapshot initial_;
+  ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
   int contacts_ = 0;
 };

@@ -14,6 +14,16 @@ namespace macsim {
 struct Pose {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+
+  /// This pose applied after `inner`: the pose of a child given in this frame.
+  Pose operator*(const Pose& inner) const {
+    return {position + orientation * inner.position, orientation * inner.orientation};
+  }
+  /// The inverse transform.
+  Pose inverse() const {
+    const Eigen::Quaterniond q = orientation.conjugate();
+    return {q * -position, q};
+  }
 };
 
 /// Where a spec element was written, for error messages.
@@ -21,6 +31,9 @@ struct SourceLocation {
   std::string file;
   int line = 0;
 };
+
+/// RGBA colour, each channel in [0, 1].
+using Color = std::array<float, 4>;
 
 /// Global physics settings of a world.
 struct PhysicsSpec {
@@ -32,21 +45,102 @@ struct PhysicsSpec {
   uint32_t seed = 1;                             ///< ODE random seed (QuickStep reordering)
 };
 
+/// A named surface: friction, restitution and a default density for objects made of it.
+struct MaterialSpec {
+  std::string name;
+  double friction = 1.0;         ///< Coulomb mu; a contact uses the geometric mean of both
+  double bounce = 0.0;           ///< restitution in [0, 1]; a contact uses the larger
+  double bounce_velocity = 0.1;  ///< m/s, slower impacts do not bounce
+  double density = 100.0;        ///< kg/m^3, default for objects of this material
+};
+
 /// Collision shapes of the seed: box, cylinder (axis along local z) and sphere.
 enum class Shape { Box, Cylinder, Sphere };
 
-/// One primitive object: fixed (geometry only) or portable (a rigid body).
-struct ObjectSpec {
-  std::string id;                     ///< unique within the world
-  bool portable = true;
+/// Name of a shape as written in world files ("BOX", ...).
+const char* shape_name(Shape shape);
+
+/// One geometry of an object, placed relative to the object's frame.
+struct ComponentSpec {
   Shape shape = Shape::Box;
-  Eigen::Vector3d size = Eigen::Vector3d::Constant(0.1);  ///< box: x,y,z; cylinder: r,-,h; sphere: r
-  Pose pose;
-  double density = 100.0;             ///< kg/m^3 (seed default 0.1 kg/L)
-  std::optional<double> mass;         ///< kg; overrides density when given
-  std::array<float, 4> color{0.5f, 0.5f, 0.5f, 1.0f};  ///< RGBA in [0,1] (seed default gray)
-  double friction = 1.0;              ///< Coulomb mu
-  std::string user_data;
+  /// Box: full sizes x, y, z. Cylinder: radius, unused, height. Sphere: radius, unused, unused.
+  Eigen::Vector3d size = Eigen::Vector3d::Constant(0.1);
+  Pose pose;                                    ///< relative to the object's frame
+  Color color{0.5f, 0.5f, 0.5f, 1.0f};          ///< seed default: gray
+  std::string texture;                          ///< BMP path (resolved), empty for none
+};
+
+/// Volume of one component in m^3.
+double component_volume(const ComponentSpec& component);
+
+/// What role an object plays; all of them are objects the supervisor can reach.
+enum class ObjectKind {
+  Object,        ///< a basic (one component) or composite object
+  Wall,          ///< a fixed box standing on the floor
+  Ramp,          ///< a box rotated and embedded in the ground
+  SwitchBase,    ///< the fixed base of a door switch
+  SwitchPlatform,///< the moving platform of a door switch
+  DoorFrame,     ///< the fixed part of a door
+  DoorLeaf,      ///< the moving (sliding or swinging) part of a door
+};
+
+/// A ramp described as the seed does: width plus height (or depth) and slope angle.
+struct RampGeometry {
+  double width = 1.0;   ///< m, across the slope
+  double height = 0.1;  ///< m, of the top edge above the floor
+  double angle = 0.2;   ///< rad, slope
+  /// Horizontal run from the foot to the top edge: height / tan(angle).
+  double depth() const;
+  /// Length of the sloped surface.
+  double length() const;
+  /// The embedded box: its sizes and its pose relative to the ramp's foot frame.
+  ComponentSpec box() const;
+};
+
+/// One object: basic (one component) or composite (several on one rigid body).
+struct ObjectSpec {
+  std::string name;                   ///< unique path, e.g. "doors/door_00/switch_component/base"
+  ObjectKind kind = ObjectKind::Object;
+  bool portable = true;               ///< portable: a rigid body; fixed: geometry only
+  std::vector<ComponentSpec> components;
+  Pose pose;                          ///< of the object's frame in the world
+  double density = 100.0;             ///< kg/m^3 (seed default 0.1 kg/L); mass = density * volume
+  std::string material = "default";
+  bool magnetizable = false;          ///< the crane's magnet can hold it
+  bool frozen = false;                ///< held in place (kinematic) although portable
+  std::string user_data;              ///< free text; objects can be looked up by it
+  int user_color = 0;                 ///< user-defined colour label (need not match the colour)
+  int user_shape = 0;                 ///< user-defined shape label (need not match the shape)
+  std::optional<RampGeometry> ramp;   ///< set for ramps: the component is derived from it
+  SourceLocation source;
+
+  /// Total volume of the components (overlaps count twice, as ODE's mass sum does).
+  double volume() const;
+  /// density * volume, in kg.
+  double mass() const { return density * volume(); }
+};
+
+/// A joint between two objects (or an object and the world), e.g. a switch's slider.
+struct JointSpec {
+  enum class Type { Slider, Hinge };
+  std::string name;                  ///< unique path, like object names
+  Type type = Type::Slider;
+  std::string body1;                 ///< the moving object's name
+  std::string body2;                 ///< the other object's name; empty or fixed: the world
+  Eigen::Vector3d axis{0, 0, 1};     ///< in the world frame
+  Eigen::Vector3d anchor{0, 0, 0};   ///< hinge anchor, world frame
+  double lo = 0.0, hi = 0.0;         ///< stops: m (slider) or rad (hinge)
+  double max_force = 0.0;            ///< motor force (N) or torque (N m); 0: no motor
+  double velocity = 0.0;             ///< motor set-point, m/s or rad/s
+  SourceLocation source;
+};
+
+/// A door-switch structure (the seed's door_%02d): an automatic door opened while its switch
+/// is pressed fully (or triggered virtually). Parts refer to objects and joints by name.
+struct DoorSpec {
+  std::string name;          ///< e.g. "door_00"
+  std::string switch_base, switch_platform, switch_joint;  ///< empty when it has no switch
+  std::string frame, leaf, door_joint;
   SourceLocation source;
 };
 
@@ -58,15 +152,22 @@ struct RobotSpec {
   SourceLocation source;
 };
 
-/// A whole world: physics settings, a ground plane, objects and robots.
+/// A whole world: physics settings, ground plane, materials, objects, joints, doors, robots.
 struct WorldSpec {
   std::string name;
   std::string file;  ///< the world file it was loaded from (empty if built in code)
   PhysicsSpec physics;
-  bool ground = true;           ///< infinite plane z = 0
-  double ground_friction = 1.0;
+  double ground_friction = 1.0;        ///< the plane z = 0
+  std::vector<MaterialSpec> materials; ///< always holds "default"
   std::vector<ObjectSpec> objects;
+  std::vector<JointSpec> joints;
+  std::vector<DoorSpec> doors;
   std::vector<RobotSpec> robots;
+
+  /// The material of that name, or nullptr.
+  const MaterialSpec* material(const std::string& name) const;
+  /// The object of that name, or nullptr.
+  const ObjectSpec* object(const std::string& name) const;
 };
 
 }  // namespace macsim

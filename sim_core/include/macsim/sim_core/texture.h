@@ -1,0 +1,13 @@
+// BMP textures as MACSim accepts them: square, 2^n x 2^n pixels with n < 11.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace macsim {
+
+/// Why `path` is not a usable texture, or nullopt when it is a readable BMP of 2^n x 2^n
+/// pixels with n < 11 (decoded with OpenCV).
+std::optional<std::string> texture_problem(const std::string& path);
+
+}  // namespace macsim

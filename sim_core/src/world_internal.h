@@ -1,0 +1,51 @@
+// Internal records of World, shared by its implementation files.
+#pragma once
+
+#include <ode/ode.h>
+
+#include "macsim/sim_core/world.h"
+#include "ode_support.h"
+
+namespace macsim {
+
+/// An object as ODE holds it, beside its current description.
+struct World::Object {
+  ObjectId id = 0;
+  ObjectSpec spec;   // pose: where it was placed (for jointed bodies: the joint's zero)
+  dBodyID body = nullptr;
+  std::vector<dGeomID> geoms;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();  // centre of mass in the object's frame
+  detail::GeomTag tag;
+  int door = -1;     // index of the door it belongs to, -1 if none
+};
+
+/// A joint and, while it is being rebuilt, the position it had.
+struct World::Joint {
+  JointSpec spec;
+  dJointID joint = nullptr;
+  double position = 0.0;  // slider m / hinge rad, kept across a rebuild
+};
+
+/// A door-switch structure and its runtime state.
+struct World::Door {
+  DoorSpec spec;
+  Joint* door_joint = nullptr;
+  Joint* switch_joint = nullptr;
+  bool virtual_trigger = false;
+  bool triggered = false;
+  DoorGap gap = DoorGap::Closed;
+};
+
+namespace detail {
+
+/// Pose of a body's centre of mass and its velocities.
+BodyState body_state(dBodyID body);
+void set_body_state(dBodyID body, const BodyState& state);
+/// True if every number of the state is finite and the speeds are physically plausible.
+bool plausible(const BodyState& state);
+/// Is `value` finite in every coefficient?
+inline bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+}  // namespace detail
+
+}  // namespace macsim

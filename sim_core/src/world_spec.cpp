@@ -1,0 +1,62 @@
+#include "macsim/sim_core/world_spec.h"
+
+#include <cmath>
+
+namespace macsim {
+
+const char* shape_name(Shape shape) {
+  switch (shape) {
+    case Shape::Box: return "BOX";
+    case Shape::Cylinder: return "CYLINDER";
+    case Shape::Sphere: return "SPHERE";
+  }
+  return "?";
+}
+
+double component_volume(const ComponentSpec& c) {
+  switch (c.shape) {
+    case Shape::Box: return c.size.x() * c.size.y() * c.size.z();
+    case Shape::Cylinder: return M_PI * c.size.x() * c.size.x() * c.size.z();
+    case Shape::Sphere: return 4.0 / 3.0 * M_PI * std::pow(c.size.x(), 3);
+  }
+  return 0.0;
+}
+
+double RampGeometry::depth() const { return height / std::tan(angle); }
+
+double RampGeometry::length() const { return std::hypot(depth(), height); }
+
+ComponentSpec RampGeometry::box() const {
+  // The top face runs from the foot (0, 0) up to (depth, height); the box is just thick
+  // enough (height / cos angle) for its high end to reach the floor, the rest is buried.
+  const double thickness = height / std::cos(angle);
+  ComponentSpec box;
+  box.shape = Shape::Box;
+  box.size = {length(), width, thickness};
+  box.pose.position = {depth() / 2 + thickness / 2 * std::sin(angle), 0.0,
+                       height / 2 - thickness / 2 * std::cos(angle)};
+  box.pose.orientation = Eigen::AngleAxisd(-angle, Eigen::Vector3d::UnitY());
+  return box;
+}
+
+double ObjectSpec::volume() const {
+  double v = 0.0;
+  for (const auto& c : components) v += component_volume(c);
+  return v;
+}
+
+const MaterialSpec* WorldSpec::material(const std::string& name) const {
+  for (const auto& m : materials) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+const ObjectSpec* WorldSpec::object(const std::string& name) const {
+  for (const auto& o : objects) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
+}
+
+}  // namespace macsim

@@ -1,0 +1,790 @@
+// World: the supervisor operations (find, read, create, destroy, change objects and doors).
+// Every operation checks its arguments before touching ODE: on error the world is unchanged.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "macsim/sim_core/texture.h"
+#include "macsim/sim_core/world.h"
+#include "macsim/sim_core/world_loader.h"
+#include "world_internal.h"
+
+namespace macsim {
+
+namespace {
+
+Status invalid(const std::string& message) {
+  return Status::error(ErrorCode::InvalidArgument, message);
+}
+
+bool finite_pose(const Pose& p) {
+  return p.position.allFinite() && p.orientation.coeffs().allFinite() &&
+         p.orientation.norm() > 1e-9;
+}
+
+std::string describe(const Eigen::Vector3d& v) {
+  char text[96];
+  std::snprintf(text, sizeof(text), "(%g, %g, %g)", v.x(), v.y(), v.z());
+  return text;
+}
+
+/// Why a component's size is unusable for its shape, or empty.
+std::string size_problem(const ComponentSpec& c) {
+  const bool box_ok = c.size.allFinite() && (c.size.array() > 0).all();
+  const bool cylinder_ok = std::isfinite(c.size.x()) && std::isfinite(c.size.z()) &&
+                           c.size.x() > 0 && c.size.z() > 0;
+  const bool sphere_ok = std::isfinite(c.size.x()) && c.size.x() > 0;
+  switch (c.shape) {
+    case Shape::Box: return box_ok ? "" : "box sizes must be finite and positive, got " + describe(c.size);
+    case Shape::Cylinder:
+      return cylinder_ok ? "" : "cylinder radius and height must be finite and positive";
+    case Shape::Sphere: return sphere_ok ? "" : "sphere radius must be finite and positive";
+  }
+  return "unknown shape";
+}
+
+std::string ramp_problem(const RampGeometry& r) {
+  if (!std::isfinite(r.width) || !std::isfinite(r.height) || !std::isfinite(r.angle) ||
+      r.width <= 0 || r.height <= 0) {
+    return "ramp width and height must be finite and positive";
+  }
+  if (r.angle <= 0 || r.angle >= M_PI / 2) return "ramp angle must lie in (0, pi/2) rad";
+  return "";
+}
+
+bool valid_name(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-' || c == '.' || c == '/';
+  });
+}
+
+}  // namespace
+
+// ---- finding ---------------------------------------------------------------------------
+
+World::Object* World::find(ObjectId id) const {
+  for (const auto& o : objects_) {
+    if (o->id == id) return o.get();
+  }
+  return nullptr;
+}
+
+Status World::check_object_id(ObjectId id, const Object*& out) const {
+  out = find(id);
+  if (!out) return Status::error(ErrorCode::UnknownObject, "no object with id " + std::to_string(id));
+  return {};
+}
+
+std::optional<ObjectId> World::object_at(int index) const {
+  if (index < 0 || index >= object_count()) return std::nullopt;
+  return objects_[index]->id;
+}
+
+std::optional<int> World::index_of(ObjectId id) const {
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    if (objects_[i]->id == id) return static_cast<int>(i);
+  }
+  return std::nullopt;
+}
+
+std::optional<ObjectId> World::find_object(const std::string& name) const {
+  for (const auto& o : objects_) {
+    if (o->spec.name == name) return o->id;
+  }
+  return std::nullopt;
+}
+
+std::vector<ObjectId> World::find_by_user_data(const std::string& user_data) const {
+  std::vector<ObjectId> ids;
+  for (const auto& o : objects_) {
+    if (o->spec.user_data == user_data) ids.push_back(o->id);
+  }
+  return ids;
+}
+
+std::vector<ObjectId> World::object_ids() const {
+  std::vector<ObjectId> ids;
+  for (const auto& o : objects_) ids.push_back(o->id);
+  return ids;
+}
+
+// ---- reading ---------------------------------------------------------------------------
+
+const ObjectSpec* World::object(ObjectId id) const {
+  const Object* o = find(id);
+  return o ? &o->spec : nullptr;
+}
+
+Result<ObjectState> World::object_state(ObjectId id) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return {s};
+  ObjectState state;
+  state.pose = o->spec.pose;
+  if (o->body) {
+    const BodyState b = detail::body_state(o->body);
+    state.pose = Pose{b.position, b.orientation} * Pose{-o->com, Eigen::Quaterniond::Identity()};
+    state.linear_velocity = b.linear_velocity;
+    state.angular_velocity = b.angular_velocity;
+  }
+  return {{}, state};
+}
+
+Result<double> World::object_mass(ObjectId id) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return {s};
+  if (!o->body) return {Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no mass")};
+  dMass m;
+  dBodyGetMass(o->body, &m);
+  return {{}, m.mass};
+}
+
+Result<Eigen::Matrix3d> World::object_inertia(ObjectId id) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return {s};
+  if (!o->body) return {Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no inertia")};
+  dMass m;
+  dBodyGetMass(o->body, &m);
+  Eigen::Matrix3d inertia;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) inertia(r, c) = m.I[r * 4 + c];
+  }
+  return {{}, inertia};
+}
+
+Result<Eigen::Vector3d> World::object_center_of_mass(ObjectId id) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return {s};
+  return {{}, o->com};
+}
+
+Result<std::pair<int, std::string>> World::object_texture(ObjectId id, int component) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return {s};
+  if (component < 0 || component >= static_cast<int>(o->spec.components.size())) {
+    return {invalid("component " + std::to_string(component) + " out of range")};
+  }
+  const std::string& file = o->spec.components[component].texture;
+  if (file.empty()) return {{}, {0, ""}};
+  auto found = std::find(textures_.begin(), textures_.end(), file);
+  if (found == textures_.end()) {
+    textures_.push_back(file);
+    found = textures_.end() - 1;
+  }
+  return {{}, {static_cast<int>(found - textures_.begin()) + 1, file}};
+}
+
+Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> World::object_wrench(ObjectId id) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return {s};
+  if (!o->body) return {Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed")};
+  return {{}, {detail::vec(dBodyGetForce(o->body)), detail::vec(dBodyGetTorque(o->body))}};
+}
+
+// ---- creating and destroying -------------------------------------------------------------
+
+Status World::validate_new_object(ObjectSpec& spec) const {
+  if (spec.kind != ObjectKind::Object && spec.kind != ObjectKind::Wall &&
+      spec.kind != ObjectKind::Ramp) {
+    return invalid("door and switch parts are created with import_environment(), not alone");
+  }
+  if (spec.ramp) {
+    if (auto p = ramp_problem(*spec.ramp); !p.empty()) return invalid(p);
+    spec.kind = ObjectKind::Ramp;
+    spec.portable = false;
+    ComponentSpec box = spec.ramp->box();
+    if (!spec.components.empty()) {
+      box.color = spec.components.front().color;
+      box.texture = spec.components.front().texture;
+    }
+    spec.components = {box};
+  } else if (spec.kind == ObjectKind::Ramp) {
+    return invalid("a ramp needs its ramp geometry (width, height, angle)");
+  }
+  if (spec.components.empty()) return invalid("an object needs at least one component");
+  for (const auto& c : spec.components) {
+    if (auto p = size_problem(c); !p.empty()) return invalid(p);
+    if (!finite_pose(c.pose)) return invalid("a component's pose is not finite");
+    for (float channel : c.color) {
+      if (!std::isfinite(channel) || channel < 0 || channel > 1) return invalid("colour channels must lie in [0, 1]");
+    }
+    if (!c.texture.empty()) {
+      if (auto p = texture_problem(c.texture)) return Status::error(ErrorCode::BadTexture, *p);
+    }
+  }
+  if (!finite_pose(spec.pose)) return invalid("the object's pose is not finite");
+  spec.pose.orientation.normalize();
+  if (!std::isfinite(spec.density) || spec.density <= 0) {
+    return invalid("density must be finite and positive");
+  }
+  if (!spec_.material(spec.material)) return invalid("unknown material '" + spec.material + "'");
+  if (!spec.name.empty() && !valid_name(spec.name)) {
+    return invalid("object name '" + spec.name + "' may hold only letters, digits, _ - . and /");
+  }
+  if (!spec.name.empty() && find_object(spec.name)) {
+    return invalid("an object named '" + spec.name + "' exists already");
+  }
+  return {};
+}
+
+Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy) {
+  if (Status s = validate_new_object(spec); !s.ok()) return {s};
+  auto record = std::make_unique<Object>();
+  record->id = next_id_++;
+  if (spec.name.empty()) spec.name = "object_" + std::to_string(record->id);
+  record->spec = std::move(spec);
+  Object& o = *record;
+  objects_.push_back(std::move(record));
+  build_object(o);
+  Status status;
+  status.penetrated = penetrations(o);
+  if (!status.penetrated.empty()) {
+    if (policy == PenetrationPolicy::Refuse) {
+      destroy_ode_object(o);
+      objects_.pop_back();
+      return {Status::error(ErrorCode::Penetration, "'" + o.spec.name + "' would penetrate " +
+                                                        status.penetrated.front())};
+    }
+    emit(WorldEvent::Type::Penetration, o.spec.name, "created inside " + status.penetrated.front());
+  }
+  refresh_bodies();
+  return {status, o.id};
+}
+
+Status World::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
+  if (!fragment.robots.empty()) return invalid("robots cannot be added to a running world");
+  for (const auto& object : fragment.objects) {
+    if (find_object(object.name)) return invalid("an object named '" + object.name + "' exists already");
+  }
+  for (const auto& m : fragment.materials) {
+    if (!spec_.material(m.name)) spec_.materials.push_back(m);
+  }
+  std::vector<Object*> added;
+  for (auto& object : fragment.objects) {
+    auto record = std::make_unique<Object>();
+    record->id = next_id_++;
+    record->spec = std::move(object);
+    added.push_back(record.get());
+    objects_.push_back(std::move(record));
+  }
+  std::vector<Joint*> new_joints;
+  for (auto& joint : fragment.joints) {
+    joints_.push_back(std::make_unique<Joint>(Joint{std::move(joint), nullptr, 0.0}));
+    new_joints.push_back(joints_.back().get());
+  }
+  for (auto& door : fragment.doors) {
+    auto record = std::make_unique<Door>();
+    record->spec = std::move(door);
+    record->door_joint = joint_named(record->spec.door_joint);
+    record->switch_joint =
+        record->spec.switch_joint.empty() ? nullptr : joint_named(record->spec.switch_joint);
+    const int index = static_cast<int>(doors_.size());
+    for (const std::string* part : {&record->spec.leaf, &record->spec.frame,
+                                    &record->spec.switch_platform, &record->spec.switch_base}) {
+      for (Object* o : added) {
+        if (o->spec.name == *part) o->door = index;
+      }
+    }
+    doors_.push_back(std::move(record));
+  }
+  for (Object* o : added) {
+    build_object(*o);
+    if (ids) ids->push_back(o->id);
+  }
+  for (Joint* j : new_joints) build_joint(*j);
+  refresh_bodies();
+  return {};
+}
+
+Result<std::vector<ObjectId>> World::import_environment(const std::string& file,
+                                                        const std::string& id, const Pose& pose) {
+  if (!finite_pose(pose)) return {invalid("the import's pose is not finite")};
+  if (!valid_name(id) || id.find('/') != std::string::npos) {
+    return {invalid("import id '" + id + "' may hold only letters, digits, _ - and .")};
+  }
+  WorldSpec fragment;
+  try {
+    const std::string path = std::filesystem::absolute(file).string();
+    fragment = load_world_string("<WORLD><IMPORT><ID>" + id + "</ID><NAME>" + path +
+                                     "</NAME></IMPORT></WORLD>",
+                                 path);
+  } catch (const WorldFileError& e) {
+    return {Status::error(ErrorCode::BadFile, e.what())};
+  }
+  Pose frame = pose;
+  frame.orientation.normalize();
+  for (auto& object : fragment.objects) object.pose = frame * object.pose;
+  for (auto& joint : fragment.joints) {
+    joint.axis = frame.orientation * joint.axis;
+    joint.anchor = frame.position + frame.orientation * joint.anchor;
+  }
+  std::vector<ObjectId> ids;
+  if (Status s = add_spec_objects(std::move(fragment), &ids); !s.ok()) return {s};
+  return {{}, ids};
+}
+
+void World::erase_object(ObjectId id) {
+  Object* o = find(id);
+  if (!o) return;
+  for (auto it = joints_.begin(); it != joints_.end();) {
+    if ((*it)->spec.body1 == o->spec.name || (*it)->spec.body2 == o->spec.name) {
+      if ((*it)->joint) dJointDestroy((*it)->joint);
+      it = joints_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  destroy_ode_object(*o);
+  objects_.erase(objects_.begin() + *index_of(id));
+}
+
+Status World::destroy_object(ObjectId id) {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  if (o->door >= 0) {
+    // A door part takes its whole door-switch structure with it.
+    const int door = o->door;
+    const DoorSpec parts = doors_[door]->spec;
+    for (const std::string* part : {&parts.leaf, &parts.frame, &parts.switch_platform, &parts.switch_base}) {
+      if (auto part_id = find_object(*part)) erase_object(*part_id);
+    }
+    doors_.erase(doors_.begin() + door);
+    for (auto& other : objects_) {
+      if (other->door > door) {
+        --other->door;
+        other->tag.group = 1'000'000 + other->door;
+      }
+    }
+    for (auto& d : doors_) {
+      d->door_joint = joint_named(d->spec.door_joint);
+      d->switch_joint = d->spec.switch_joint.empty() ? nullptr : joint_named(d->spec.switch_joint);
+    }
+  } else {
+    erase_object(id);
+  }
+  refresh_bodies();
+  return {};
+}
+
+int World::destroy_matching(const std::function<bool(const ObjectSpec&)>& match) {
+  int destroyed = 0;
+  for (bool again = true; again;) {
+    again = false;
+    for (const auto& o : objects_) {
+      if (match(o->spec)) {
+        const int before = object_count();
+        destroy_object(o->id);
+        destroyed += before - object_count();
+        again = true;
+        break;
+      }
+    }
+  }
+  return destroyed;
+}
+
+int World::destroy_objects(const std::string& user_data) {
+  return destroy_matching([&](const ObjectSpec& s) { return s.user_data == user_data; });
+}
+
+int World::destroy_all_objects() {
+  return destroy_matching([](const ObjectSpec&) { return true; });
+}
+
+int World::destroy_all_portable_objects() {
+  return destroy_matching([](const ObjectSpec& s) { return s.portable; });
+}
+
+int World::destroy_all_fixed_objects() {
+  return destroy_matching([](const ObjectSpec& s) { return !s.portable; });
+}
+
+// ---- changing --------------------------------------------------------------------------
+
+void World::rebuild_object(Object& o, const ObjectSpec& spec, const ObjectState& state) {
+  std::vector<Joint*> attached;
+  for (auto& j : joints_) {
+    if (j->joint && (j->spec.body1 == o.spec.name || j->spec.body2 == o.spec.name)) {
+      j->position = j->spec.type == JointSpec::Type::Slider ? dJointGetSliderPosition(j->joint)
+                                                            : dJointGetHingeAngle(j->joint);
+      dJointDestroy(j->joint);
+      j->joint = nullptr;
+      attached.push_back(j.get());
+    }
+  }
+  destroy_ode_object(o);
+  o.spec = spec;
+  if (attached.empty()) {
+    o.spec.pose = state.pose;  // a jointed body keeps its joint's zero as its reference pose
+  }
+  build_object(o);
+  if (o.body) {
+    const Pose body = state.pose * Pose{o.com, Eigen::Quaterniond::Identity()};
+    detail::set_body_state(o.body, {body.position, body.orientation, state.linear_velocity,
+                                    state.angular_velocity});
+  }
+  for (Joint* j : attached) build_joint(*j);
+}
+
+Status World::change_object(ObjectId id, PenetrationPolicy policy,
+                            const std::function<Status(ObjectSpec&, Pose&)>& change) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  Object& o = *find(id);
+  const ObjectSpec old_spec = o.spec;
+  const ObjectState old_state = object_state(id).value;
+  ObjectSpec spec = o.spec;
+  Pose pose = old_state.pose;
+  if (Status s = change(spec, pose); !s.ok()) return s;
+  ObjectState state = old_state;
+  state.pose = pose;
+  rebuild_object(o, spec, state);
+  Status status;
+  status.penetrated = penetrations(o);
+  if (!status.penetrated.empty()) {
+    if (policy == PenetrationPolicy::Refuse) {
+      rebuild_object(o, old_spec, old_state);
+      refresh_bodies();
+      Status refused = Status::error(ErrorCode::Penetration, "refused: '" + o.spec.name +
+                                                                 "' would penetrate '" +
+                                                                 status.penetrated.front() + "'");
+      refused.penetrated = status.penetrated;
+      return refused;
+    }
+    emit(WorldEvent::Type::Penetration, o.spec.name, "penetrates " + status.penetrated.front());
+  }
+  refresh_bodies();
+  return status;
+}
+
+Status World::set_pose(ObjectId id, const Pose& pose, PenetrationPolicy policy) {
+  if (!finite_pose(pose)) return invalid("the pose is not finite");
+  const Object* o = find(id);
+  if (o && o->door >= 0) {
+    return Status::error(ErrorCode::NotApplicable,
+                         "'" + o->spec.name + "' is part of door '" + doors_[o->door]->spec.name +
+                             "': move it with set_door_position or set_switch_position");
+  }
+  Pose target = pose;
+  target.orientation.normalize();
+  return change_object(id, policy, [&](ObjectSpec&, Pose& p) {
+    p = target;
+    return Status{};
+  });
+}
+
+Status World::set_position(ObjectId id, const Eigen::Vector3d& position, PenetrationPolicy policy) {
+  auto state = object_state(id);
+  if (!state.ok()) return state.status;
+  Pose pose = state.value.pose;
+  pose.position = position;
+  return set_pose(id, pose, policy);
+}
+
+Status World::set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
+                              PenetrationPolicy policy) {
+  auto state = object_state(id);
+  if (!state.ok()) return state.status;
+  Pose pose = state.value.pose;
+  pose.orientation = orientation;
+  return set_pose(id, pose, policy);
+}
+
+Status World::resize_component(ObjectId id, int component, Shape shape,
+                               const Eigen::Vector3d& size, PenetrationPolicy policy) {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  if (o->spec.kind == ObjectKind::Ramp) {
+    return Status::error(ErrorCode::WrongGeometry,
+                         "'" + o->spec.name + "' is a ramp: change it with set_ramp");
+  }
+  if (component < 0 || component >= static_cast<int>(o->spec.components.size())) {
+    return invalid("'" + o->spec.name + "' has no component " + std::to_string(component) +
+                   " (it has " + std::to_string(o->spec.components.size()) + ")");
+  }
+  const Shape actual = o->spec.components[component].shape;
+  if (actual != shape) {
+    return Status::error(ErrorCode::WrongGeometry,
+                         "component " + std::to_string(component) + " of '" + o->spec.name +
+                             "' is a " + shape_name(actual) + ", not a " + shape_name(shape));
+  }
+  ComponentSpec probe = o->spec.components[component];
+  probe.size = size;
+  if (auto p = size_problem(probe); !p.empty()) return invalid(p);
+  const bool wall = o->spec.kind == ObjectKind::Wall;
+  return change_object(id, policy, [&](ObjectSpec& spec, Pose&) {
+    spec.components[component].size = size;
+    if (wall) spec.components[component].pose.position.z() = size.z() / 2;  // stays on the floor
+    return Status{};
+  });
+}
+
+Status World::set_box_size(ObjectId id, int component, const Eigen::Vector3d& size,
+                           PenetrationPolicy policy) {
+  return resize_component(id, component, Shape::Box, size, policy);
+}
+
+Status World::set_cylinder_size(ObjectId id, int component, double radius, double height,
+                                PenetrationPolicy policy) {
+  return resize_component(id, component, Shape::Cylinder, {radius, 0.0, height}, policy);
+}
+
+Status World::set_sphere_size(ObjectId id, int component, double radius,
+                              PenetrationPolicy policy) {
+  return resize_component(id, component, Shape::Sphere, {radius, 0.0, 0.0}, policy);
+}
+
+Status World::set_ramp(ObjectId id, const RampGeometry& ramp, PenetrationPolicy policy) {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  if (o->spec.kind != ObjectKind::Ramp) {
+    return Status::error(ErrorCode::WrongGeometry, "'" + o->spec.name + "' is not a ramp");
+  }
+  if (auto p = ramp_problem(ramp); !p.empty()) return invalid(p);
+  return change_object(id, policy, [&](ObjectSpec& spec, Pose&) {
+    ComponentSpec box = ramp.box();
+    box.color = spec.components.front().color;
+    box.texture = spec.components.front().texture;
+    spec.components = {box};
+    spec.ramp = ramp;
+    return Status{};
+  });
+}
+
+Status World::set_color(ObjectId id, const Color& color, int component) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  for (float channel : color) {
+    if (!std::isfinite(channel) || channel < 0 || channel > 1) return invalid("colour channels must lie in [0, 1]");
+  }
+  Object& o = *find(id);
+  if (component < -1 || component >= static_cast<int>(o.spec.components.size())) {
+    return invalid("'" + o.spec.name + "' has no component " + std::to_string(component));
+  }
+  for (int i = 0; i < static_cast<int>(o.spec.components.size()); ++i) {
+    if (component == -1 || component == i) o.spec.components[i].color = color;
+  }
+  return {};
+}
+
+Status World::set_texture(ObjectId id, const std::string& path, int component) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  Object& o = *find(id);
+  if (component < -1 || component >= static_cast<int>(o.spec.components.size())) {
+    return invalid("'" + o.spec.name + "' has no component " + std::to_string(component));
+  }
+  std::string file;
+  if (!path.empty()) {
+    if (auto p = texture_problem(path)) return Status::error(ErrorCode::BadTexture, *p);
+    file = std::filesystem::absolute(path).lexically_normal().string();
+  }
+  for (int i = 0; i < static_cast<int>(o.spec.components.size()); ++i) {
+    if (component == -1 || component == i) o.spec.components[i].texture = file;
+  }
+  return {};
+}
+
+Status World::set_mass(ObjectId id, double mass) {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  if (!std::isfinite(mass) || mass <= 0) return invalid("mass must be finite and positive");
+  if (!o->spec.portable) {
+    return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no mass");
+  }
+  return change_object(id, PenetrationPolicy::Allow, [&](ObjectSpec& spec, Pose&) {
+    spec.density = mass / spec.volume();
+    return Status{};
+  });
+}
+
+Status World::set_density(ObjectId id, double density) {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  if (!std::isfinite(density) || density <= 0) return invalid("density must be finite and positive");
+  if (!o->spec.portable) {
+    return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no density");
+  }
+  return change_object(id, PenetrationPolicy::Allow, [&](ObjectSpec& spec, Pose&) {
+    spec.density = density;
+    return Status{};
+  });
+}
+
+Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
+                           dBodyID& body) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  if (!value.allFinite()) return invalid(std::string(what) + " must be finite");
+  if (!o->body) {
+    return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: no " + what);
+  }
+  if (o->spec.frozen) {
+    return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is frozen: no " + what);
+  }
+  body = o->body;
+  return {};
+}
+
+Status World::set_linear_velocity(ObjectId id, const Eigen::Vector3d& v) {
+  dBodyID body = nullptr;
+  if (Status s = dynamic_body(id, v, "linear velocity", body); !s.ok()) return s;
+  dBodySetLinearVel(body, v.x(), v.y(), v.z());
+  return {};
+}
+
+Status World::set_angular_velocity(ObjectId id, const Eigen::Vector3d& w) {
+  dBodyID body = nullptr;
+  if (Status s = dynamic_body(id, w, "angular velocity", body); !s.ok()) return s;
+  dBodySetAngularVel(body, w.x(), w.y(), w.z());
+  return {};
+}
+
+Status World::add_force(ObjectId id, const Eigen::Vector3d& f) {
+  dBodyID body = nullptr;
+  if (Status s = dynamic_body(id, f, "force", body); !s.ok()) return s;
+  dBodyAddForce(body, f.x(), f.y(), f.z());
+  return {};
+}
+
+Status World::add_torque(ObjectId id, const Eigen::Vector3d& t) {
+  dBodyID body = nullptr;
+  if (Status s = dynamic_body(id, t, "torque", body); !s.ok()) return s;
+  dBodyAddTorque(body, t.x(), t.y(), t.z());
+  return {};
+}
+
+Status World::set_frozen(ObjectId id, bool frozen) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  Object& o = *find(id);
+  if (!o.body) return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is fixed already");
+  if (o.door >= 0) return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is part of a door");
+  o.spec.frozen = frozen;
+  if (frozen) {
+    dBodySetLinearVel(o.body, 0, 0, 0);
+    dBodySetAngularVel(o.body, 0, 0, 0);
+    dBodySetKinematic(o.body);
+  } else {
+    dBodySetDynamic(o.body);
+  }
+  return {};
+}
+
+Status World::set_magnetizable(ObjectId id, bool magnetizable) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  find(id)->spec.magnetizable = magnetizable;
+  return {};
+}
+
+Status World::set_user_data(ObjectId id, const std::string& user_data) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  find(id)->spec.user_data = user_data;
+  return {};
+}
+
+Status World::set_user_labels(ObjectId id, int user_color, int user_shape) {
+  const Object* found = nullptr;
+  if (Status s = check_object_id(id, found); !s.ok()) return s;
+  find(id)->spec.user_color = user_color;
+  find(id)->spec.user_shape = user_shape;
+  return {};
+}
+
+// ---- doors -----------------------------------------------------------------------------
+
+std::optional<int> World::find_door(const std::string& name) const {
+  for (std::size_t i = 0; i < doors_.size(); ++i) {
+    if (doors_[i]->spec.name == name) return static_cast<int>(i);
+  }
+  return std::nullopt;
+}
+
+Status World::check_door(int door) const {
+  if (door < 0 || door >= door_count()) {
+    return Status::error(ErrorCode::UnknownObject, "no door with index " + std::to_string(door) +
+                                                       " (there are " + std::to_string(door_count()) + ")");
+  }
+  return {};
+}
+
+const std::string& World::door_name(int door) const { return doors_.at(door)->spec.name; }
+
+Result<DoorState> World::door_state(int door) const {
+  if (Status s = check_door(door); !s.ok()) return {s};
+  return {{}, door_state_of(*doors_[door])};
+}
+
+Result<DoorParts> World::door_parts(int door) const {
+  if (Status s = check_door(door); !s.ok()) return {s};
+  const DoorSpec& s = doors_[door]->spec;
+  DoorParts parts;
+  parts.leaf = find_object(s.leaf).value_or(0);
+  parts.frame = find_object(s.frame).value_or(0);
+  parts.platform = find_object(s.switch_platform);
+  parts.base = find_object(s.switch_base);
+  return {{}, parts};
+}
+
+Status World::set_switch_triggered(int door, bool triggered) {
+  if (Status s = check_door(door); !s.ok()) return s;
+  doors_[door]->virtual_trigger = triggered;
+  return {};
+}
+
+Status World::move_door_part(int door, bool leaf, const Eigen::Vector3d& position) {
+  if (Status s = check_door(door); !s.ok()) return s;
+  if (!position.allFinite()) return invalid("the position is not finite");
+  Door& d = *doors_[door];
+  const std::string moving_name = leaf ? d.spec.leaf : d.spec.switch_platform;
+  const std::string fixed_name = leaf ? d.spec.frame : d.spec.switch_base;
+  Joint* joint = leaf ? d.door_joint : d.switch_joint;
+  const auto moving = find_object(moving_name);
+  if (!moving || !joint) {
+    return Status::error(ErrorCode::NotApplicable, "door '" + d.spec.name + "' has no switch");
+  }
+  const Eigen::Vector3d delta = position - object_state(*moving).value.pose.position;
+  // The moving part, its fixed part and their joint move together.
+  joint->position = joint->spec.type == JointSpec::Type::Slider
+                        ? dJointGetSliderPosition(joint->joint)
+                        : dJointGetHingeAngle(joint->joint);
+  dJointDestroy(joint->joint);
+  joint->joint = nullptr;
+  joint->spec.anchor += delta;
+  Status status;
+  for (const std::string* name : {&moving_name, &fixed_name}) {
+    auto id = find_object(*name);
+    if (!id) continue;
+    Object& o = *find(*id);
+    ObjectState state = object_state(*id).value;
+    state.pose.position += delta;
+    o.spec.pose.position += delta;
+    const ObjectSpec spec = o.spec;
+    destroy_ode_object(o);
+    o.spec = spec;
+    build_object(o);
+    if (o.body) {
+      const Pose body = state.pose * Pose{o.com, Eigen::Quaterniond::Identity()};
+      detail::set_body_state(o.body, {body.position, body.orientation, state.linear_velocity,
+                                      state.angular_velocity});
+    }
+    for (const auto& hit : penetrations(o)) status.penetrated.push_back(hit);
+  }
+  build_joint(*joint);
+  refresh_bodies();
+  if (!status.penetrated.empty()) {
+    emit(WorldEvent::Type::Penetration, d.spec.name, "moved into " + status.penetrated.front());
+  }
+  return status;
+}
+
+Status World::set_door_position(int door, const Eigen::Vector3d& position) {
+  return move_door_part(door, true, position);
+}
+
+Status World::set_switch_position(int door, const Eigen::Vector3d& position) {
+  return move_door_part(door, false, position);
+}
+
+}  // namespace macsim
