@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <thread>
 
 #include "macsim/dds/command_line.h"
@@ -19,12 +20,23 @@ std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop.store(true); }
 
 void print_summary(const macsim::WorldSpec& spec) {
+  std::map<std::string, int> kinds;
   int portable = 0;
-  for (const auto& o : spec.objects) portable += o.portable ? 1 : 0;
-  std::cout << "world '" << spec.name << "' from " << spec.file << ": "
-            << spec.objects.size() << " objects (" << portable << " portable, "
-            << spec.objects.size() - portable << " fixed), " << spec.robots.size()
-            << " robots";
+  for (const auto& o : spec.objects) {
+    portable += o.portable ? 1 : 0;
+    static const char* names[] = {"objects", "walls", "ramps", "switch bases", "switch platforms",
+                                  "door frames", "door leaves"};
+    ++kinds[names[static_cast<int>(o.kind)]];
+  }
+  std::cout << "world '" << spec.name << "' from " << spec.file << ": " << spec.objects.size()
+            << " objects (" << portable << " portable, " << spec.objects.size() - portable
+            << " fixed; ";
+  bool first = true;
+  for (const auto& [kind, count] : kinds) {
+    std::cout << (first ? "" : ", ") << count << " " << kind;
+    first = false;
+  }
+  std::cout << "), " << spec.doors.size() << " doors, " << spec.robots.size() << " robots";
   for (const auto& r : spec.robots) std::cout << " [" << r.name << ": " << r.type << "]";
   std::cout << ", step " << spec.physics.step * 1e3 << " ms" << std::endl;
 }

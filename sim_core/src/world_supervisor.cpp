@@ -621,6 +621,10 @@ Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char
   if (o->spec.frozen) {
     return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is frozen: no " + what);
   }
+  if (o->door >= 0) {
+    return Status::error(ErrorCode::NotApplicable,
+                         "'" + o->spec.name + "' is driven by its door's joint: no " + what);
+  }
   body = o->body;
   return {};
 }

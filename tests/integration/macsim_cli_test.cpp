@@ -69,7 +69,7 @@ TEST(MacsimCli, UsageErrorsExitTwo) {
 TEST(MacsimCli, ValidatePrintsASummaryAndExitsZero) {
   ChildProcess p({bin("macsim"), "--world", source("worlds/small_room.xml"), "--validate"});
   ASSERT_EQ(p.wait_for_exit(20s), 0) << p.output();
-  EXPECT_NE(p.output().find("4 objects (3 portable, 1 fixed), 1 robots [kurt: kurt3d]"),
+  EXPECT_NE(p.output().find("4 objects (3 portable, 1 fixed; 4 objects), 0 doors, 1 robots [kurt: kurt3d]"),
             std::string::npos)
       << p.output();
 }

@@ -1,0 +1,68 @@
+// Helpers for sim_core tests: load shipped worlds, step for a while, make simple objects.
+#pragma once
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "macsim/sim_core/world.h"
+#include "macsim/sim_core/world_loader.h"
+#include "support/child_process.h"
+
+namespace macsim::test {
+
+/// A shipped world file, e.g. "DemoWorld_v1.xml".
+inline WorldSpec shipped_world(const std::string& file) {
+  return load_world_file(source("worlds/" + file));
+}
+
+/// Steps `seconds` of sim time.
+inline void run_for(World& world, double seconds) {
+  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
+  for (long i = 0; i < steps; ++i) world.step();
+}
+
+/// A one-component object of the given shape and size at `position`.
+inline ObjectSpec primitive(Shape shape, const Eigen::Vector3d& size, const Eigen::Vector3d& position,
+                            bool portable = true) {
+  ObjectSpec spec;
+  spec.portable = portable;
+  ComponentSpec c;
+  c.shape = shape;
+  c.size = size;
+  spec.components.push_back(c);
+  spec.pose.position = position;
+  return spec;
+}
+
+/// The id of a named object, failing the test if it is missing.
+inline ObjectId id_of(const World& world, const std::string& name) {
+  auto id = world.find_object(name);
+  if (!id) throw std::runtime_error("no object named " + name);
+  return *id;
+}
+
+/// Height of an object's frame once it has settled.
+inline double settled_z(World& world, ObjectId id, double seconds = 1.5) {
+  run_for(world, seconds);
+  return world.object_state(id).value.pose.position.z();
+}
+
+/// A fresh temporary directory for test files.
+inline std::filesystem::path temp_dir(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() /
+             ("macsim-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+}  // namespace macsim::test
