@@ -122,6 +122,9 @@ void World::build() {
   dWorldSetCFM(world_, spec_.physics.cfm);
   dWorldSetQuickStepNumIterations(world_, spec_.physics.solver_iterations);
   dWorldSetContactSurfaceLayer(world_, 0.001);
+  // Deep penetrations (an object placed or grown into another, when allowed) are resolved
+  // at a walking pace instead of an explosion.
+  dWorldSetContactMaxCorrectingVel(world_, 1.0);
   // Each world gets its own threading implementation: ODE's shared default is not safe when
   // two worlds step at once (see the research notes).
   auto impl = dThreadingAllocateSelfThreadedImplementation();
@@ -354,6 +357,7 @@ void penetration_callback(void* data, dGeomID a, dGeomID b) {
   const auto* tb = static_cast<const GeomTag*>(dGeomGetData(b));
   if (ta->group == tb->group) return;
   dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+  if (!ba && !bb) return;  // fixed against fixed (or the ground): no physical meaning
   if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
   dContactGeom contacts[kMaxContacts];
   const int n = dCollide(a, b, kMaxContacts, contacts, sizeof(dContactGeom));

@@ -195,8 +195,10 @@ struct FileContents {
 /// Loads a world file and its <IMPORT> tree into one WorldSpec.
 class Loader {
  public:
-  explicit Loader(const WarningSink& warn) : warn_(warn) {
-    world_.materials.push_back(MaterialSpec{"default"});
+  explicit Loader(const WarningSink& warn, const std::vector<MaterialSpec>& materials = {})
+      : warn_(warn) {
+    world_.materials = materials;
+    if (!world_.material("default")) world_.materials.insert(world_.materials.begin(), MaterialSpec{"default"});
   }
 
   WorldSpec take() { return std::move(world_); }
@@ -794,6 +796,22 @@ WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
   doc.LoadFile(path.c_str());
   Loader loader(warn);
   loader.load_root(doc, path);
+  WorldSpec world = loader.take();
+  check_references(world);
+  return world;
+}
+
+WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
+                                const std::vector<MaterialSpec>& materials,
+                                const WarningSink& warn) {
+  // The file becomes the one import of a world file that would sit beside it.
+  const fs::path absolute = fs::absolute(path);
+  const std::string xml = "<WORLD><IMPORT><ID>" + import_id + "</ID><NAME>" + absolute.string() +
+                          "</NAME></IMPORT></WORLD>";
+  tinyxml2::XMLDocument doc;
+  doc.Parse(xml.c_str(), xml.size());
+  Loader loader(warn, materials);
+  loader.load_root(doc, (absolute.parent_path() / "<import_environment>").string());
   WorldSpec world = loader.take();
   check_references(world);
   return world;

@@ -303,10 +303,7 @@ Result<std::vector<ObjectId>> World::import_environment(const std::string& file,
   }
   WorldSpec fragment;
   try {
-    const std::string path = std::filesystem::absolute(file).string();
-    fragment = load_world_string("<WORLD><IMPORT><ID>" + id + "</ID><NAME>" + path +
-                                     "</NAME></IMPORT></WORLD>",
-                                 path);
+    fragment = load_environment_file(file, id, spec_.materials);
   } catch (const WorldFileError& e) {
     return {Status::error(ErrorCode::BadFile, e.what())};
   }

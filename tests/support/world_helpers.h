@@ -25,6 +25,11 @@ inline void run_for(World& world, double seconds) {
   for (long i = 0; i < steps; ++i) world.step();
 }
 
+/// A pose at (x, y, z) without rotation.
+inline Pose at(double x, double y, double z) {
+  return {{x, y, z}, Eigen::Quaterniond::Identity()};
+}
+
 /// A one-component object of the given shape and size at `position`.
 inline ObjectSpec primitive(Shape shape, const Eigen::Vector3d& size, const Eigen::Vector3d& position,
                             bool portable = true) {

@@ -29,6 +29,12 @@ using WarningSink = std::function<void(const std::string&)>;
 /// Loads a world file; throws WorldFileError and never returns a half-loaded world.
 WorldSpec load_world_file(const std::string& path, const WarningSink& warn = {});
 
+/// Loads an environment file as an <IMPORT> of that id at the origin would, resolving material
+/// names against `materials` too (for adding it to a running world).
+WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
+                                const std::vector<MaterialSpec>& materials,
+                                const WarningSink& warn = {});
+
 /// Loads a world from XML text; `name` stands for the file in messages and relative paths.
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
                             const WarningSink& warn = {});
