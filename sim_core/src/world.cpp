@@ -89,7 +89,7 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
     record->spec = door;
     doors_.push_back(std::move(record));
   }
-  dRandSetSeed(spec_.physics.seed);
+  random_seed_ = spec_.physics.seed;
   build();
   initial_ = snapshot();
 }
@@ -351,6 +351,26 @@ struct PenetrationQuery {
   std::vector<const detail::GeomTag*> hits;
 };
 
+/// How deep a point lies inside a geom (negative: outside). ODE's colliders miss some deep,
+/// concentric overlaps (a box centred in a cylinder gives no contact), this catches them.
+double point_depth(dGeomID g, const dReal* p) {
+  switch (dGeomGetClass(g)) {
+    case dBoxClass: return dGeomBoxPointDepth(g, p[0], p[1], p[2]);
+    case dSphereClass: return dGeomSpherePointDepth(g, p[0], p[1], p[2]);
+    case dPlaneClass: return dGeomPlanePointDepth(g, p[0], p[1], p[2]);
+    case dCylinderClass: {
+      dReal radius, length;
+      dGeomCylinderGetParams(g, &radius, &length);
+      dVector3 local;
+      dGeomGetPosRelPoint(g, p[0], p[1], p[2], local);
+      const double radial = radius - std::hypot(local[0], local[1]);
+      const double axial = length / 2 - std::fabs(local[2]);
+      return std::min(radial, axial);
+    }
+    default: return -1.0;
+  }
+}
+
 void penetration_callback(void* data, dGeomID a, dGeomID b) {
   auto* q = static_cast<PenetrationQuery*>(data);
   const auto* ta = static_cast<const GeomTag*>(dGeomGetData(a));
@@ -361,12 +381,13 @@ void penetration_callback(void* data, dGeomID a, dGeomID b) {
   if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
   dContactGeom contacts[kMaxContacts];
   const int n = dCollide(a, b, kMaxContacts, contacts, sizeof(dContactGeom));
-  for (int i = 0; i < n; ++i) {
-    if (contacts[i].depth > kPenetrationDepth) {
-      q->hits.push_back(ta == q->tag ? tb : ta);
-      return;
-    }
-  }
+  auto centre_inside = [](dGeomID outer, dGeomID inner) {
+    return dGeomGetClass(inner) != dPlaneClass &&
+           point_depth(outer, dGeomGetPosition(inner)) > kPenetrationDepth;
+  };
+  bool deep = centre_inside(a, b) || centre_inside(b, a);
+  for (int i = 0; i < n && !deep; ++i) deep = contacts[i].depth > kPenetrationDepth;
+  if (deep) q->hits.push_back(ta == q->tag ? tb : ta);
 }
 
 }  // namespace
@@ -459,7 +480,11 @@ void World::step() {
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
   dSpaceCollide(space_, this, &World::near_callback);
+  // QuickStep reorders constraints with ODE's one global random generator: give it this
+  // world's own state, so worlds in one process never disturb each other's runs.
+  dRandSetSeed(random_seed_);
   dWorldQuickStep(world_, spec_.physics.step);
+  random_seed_ = dRandGetSeed();
   dJointGroupEmpty(contact_group_);
   ++steps_;
   check_stability();

@@ -1,4 +1,5 @@
 // World: snapshot, restore, reset and the state hash.
+#include <algorithm>
 #include <cstring>
 #include <map>
 
@@ -32,16 +33,6 @@ class Hasher {
   uint64_t hash_ = 14695981039346656037ull;
 };
 
-/// Body states of a snapshot's portable objects, by id.
-std::map<uint32_t, BodyState> object_bodies(const WorldSnapshot& s) {
-  std::map<uint32_t, BodyState> out;
-  std::size_t next = 0;
-  for (const auto& [id, spec] : s.objects) {
-    if (spec.portable) out[id] = s.bodies.at(next++);
-  }
-  return out;
-}
-
 std::size_t portable_count(const WorldSnapshot& s) {
   std::size_t n = 0;
   for (const auto& object : s.objects) n += object.second.portable ? 1 : 0;
@@ -51,7 +42,7 @@ std::size_t portable_count(const WorldSnapshot& s) {
 }  // namespace
 
 WorldSnapshot World::snapshot() const {
-  WorldSnapshot s{steps_, dRandGetSeed(), next_id_, {}, {}, {}, {}, {}, {}};
+  WorldSnapshot s{steps_, random_seed_, next_id_, {}, {}, {}, {}, {}, {}};
   for (const auto& o : objects_) s.objects.emplace_back(o->id, o->spec);
   for (const auto& j : joints_) s.joints.push_back(j->spec);
   for (const auto& d : doors_) {
@@ -64,12 +55,7 @@ WorldSnapshot World::snapshot() const {
   return s;
 }
 
-Status World::restore(const WorldSnapshot& s) {
-  const std::size_t expected_bodies = portable_count(s) + 7 * robots_.size();
-  if (s.robots.size() != robots_.size() || s.bodies.size() != expected_bodies ||
-      s.door_flags.size() != s.doors.size()) {
-    return Status::error(ErrorCode::InvalidArgument, "the snapshot is not one of this world");
-  }
+void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, bool fresh_robots) {
   clear_ode();
   objects_.clear();
   for (const auto& [id, spec] : s.objects) {
@@ -90,56 +76,66 @@ Status World::restore(const WorldSnapshot& s) {
     doors_.push_back(std::move(record));
   }
   build();  // bodies at their reference poses: joints take their zero there
-  for (std::size_t i = 0; i < bodies_.size(); ++i) detail::set_body_state(bodies_[i], s.bodies[i]);
-  for (std::size_t i = 0; i < robots_.size(); ++i) robots_[i]->set_controller_state(s.robots[i]);
+  std::size_t body = 0;
+  for (const auto& [id, spec] : s.objects) {
+    if (!spec.portable) continue;
+    if (std::find(fresh.begin(), fresh.end(), id) == fresh.end()) {
+      detail::set_body_state(find(id)->body, s.bodies[body]);
+    }
+    ++body;
+  }
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (fresh_robots) continue;
+    for (dBodyID b : robots_[i]->bodies()) detail::set_body_state(b, s.bodies[body++]);
+    robots_[i]->set_controller_state(s.robots[i]);
+  }
   refresh_bodies();
   steps_ = s.steps;
   next_id_ = s.next_id;
-  dRandSetSeed(s.random_seed);
+  random_seed_ = s.random_seed;
   events_.clear();
+}
+
+Status World::restore(const WorldSnapshot& s) {
+  const std::size_t expected_bodies = portable_count(s) + 7 * robots_.size();
+  if (s.robots.size() != robots_.size() || s.bodies.size() != expected_bodies ||
+      s.door_flags.size() != s.doors.size()) {
+    return Status::error(ErrorCode::InvalidArgument, "the snapshot is not one of this world");
+  }
+  rebuild(s, {}, false);
   return {};
 }
 
 void World::reset(ResetScope scope) {
-  if (scope == ResetScope::Everything) {
-    restore(initial_);
-    return;
-  }
-  // Poses: what was loaded goes back to its loaded pose and rest; what was spawned stays.
-  WorldSnapshot s = snapshot();
-  const auto initial_bodies = object_bodies(initial_);
-  auto current_bodies = object_bodies(s);
+  // What was loaded is rebuilt exactly as loading built it (at rest at its loaded pose);
+  // only objects spawned since keep their current state.
+  WorldSnapshot s = scope == ResetScope::Everything ? initial_ : snapshot();
+  std::vector<ObjectId> loaded;
   std::map<uint32_t, const ObjectSpec*> initial_specs;
   for (const auto& [id, spec] : initial_.objects) initial_specs[id] = &spec;
   for (auto& [id, spec] : s.objects) {
     auto initial = initial_specs.find(id);
     if (initial == initial_specs.end()) continue;
     spec.pose = initial->second->pose;
-    if (auto body = initial_bodies.find(id); body != initial_bodies.end()) current_bodies[id] = body->second;
+    loaded.push_back(id);
   }
   for (auto& joint : s.joints) {
     for (const auto& original : initial_.joints) {
       if (original.name == joint.name) joint.anchor = original.anchor;
     }
   }
-  s.bodies.clear();
-  for (const auto& [id, spec] : s.objects) {
-    if (spec.portable) s.bodies.push_back(current_bodies.at(id));
-  }
-  const std::size_t robot_bodies = 7 * robots_.size();
-  s.bodies.insert(s.bodies.end(), initial_.bodies.end() - robot_bodies, initial_.bodies.end());
-  s.robots = initial_.robots;
-  if (scope == ResetScope::PosesAndTime) {
+  std::fill(s.door_flags.begin(), s.door_flags.end(), 0);  // doors shut, switches released
+  if (scope != ResetScope::Poses) {
     s.steps = 0;
     s.random_seed = initial_.random_seed;
   }
-  restore(s);
+  rebuild(s, loaded, true);
 }
 
 uint64_t World::state_hash() const {
   Hasher h;
   h.add(steps_);
-  h.add(dRandGetSeed());
+  h.add(random_seed_);
   std::size_t body = 0;
   for (const auto& o : objects_) {
     h.add(o->id);

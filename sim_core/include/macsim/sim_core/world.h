@@ -226,8 +226,11 @@ class World {
   std::vector<WorldEvent> take_events();
   /// The complete, restorable state (description and dynamics).
   WorldSnapshot snapshot() const;
-  /// Puts the world back to a snapshot of this world; the run continues bit-identically.
+  /// Puts the world back to a snapshot of this world: description, time, random state and
+  /// every body (orientations to within ODE's quaternion renormalization, about 1e-16).
   Status restore(const WorldSnapshot& snapshot);
+  /// Resets the scope; a reset of everything (or of poses and time, when nothing was spawned)
+  /// is bit-identical to loading the world afresh.
   void reset(ResetScope scope);
   /// Hash of the dynamic state (time, every body, robots, doors): equal states, equal hashes.
   uint64_t state_hash() const;
@@ -239,6 +242,9 @@ class World {
   friend struct WorldAccess;
 
   void build();
+  /// Rebuilds ODE from a snapshot's description; bodies of `fresh` objects (and the robots,
+  /// if `fresh_robots`) stay as built, at rest at their reference poses.
+  void rebuild(const WorldSnapshot& snapshot, const std::vector<ObjectId>& fresh, bool fresh_robots);
   void refresh_bodies();
   void clear_ode();
   void build_object(Object& object);
@@ -287,6 +293,7 @@ class World {
   std::vector<WorldEvent> events_;
   mutable std::vector<std::string> textures_;        // texture id - 1 -> file
   WorldSnapshot initial_;
+  unsigned long random_seed_ = 0;                    // this world's dRand state
   ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
   int contacts_ = 0;

@@ -1,0 +1,130 @@
+// Trials: snapshot and restore, reset scopes, determinism and the state hash.
+#include <gtest/gtest.h>
+
+#include "support/world_helpers.h"
+
+namespace macsim::test {
+namespace {
+
+// A trial: the robot drives an arc, an object is pushed, the door opens.
+void trial(World& world, double seconds) {
+  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
+  for (long i = 0; i < steps; ++i) {
+    if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.3, world.time());
+    if (i == 200) world.set_switch_triggered(0, true);
+    if (i == 300) world.add_force(id_of(world, "environment_01/ball_green"), {0, 300, 0});
+    world.step();
+  }
+}
+
+TEST(WorldState, SameWorldAndCommandsGiveTheSameHash) {
+  World a(shipped_world("DemoWorld_v1.xml"));
+  World b(shipped_world("DemoWorld_v1.xml"));
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+  trial(a, 1.5);
+  trial(b, 1.5);
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+  b.step();
+  EXPECT_NE(a.state_hash(), b.state_hash());
+}
+
+TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  trial(world, 1.0);
+  // Structural changes before the snapshot must be restored too.
+  auto spawned = world.create_object(primitive(Shape::Box, {0.1, 0.1, 0.1}, {-0.5, 0.3, 0.4}));
+  ASSERT_TRUE(spawned.ok());
+  ASSERT_TRUE(world.destroy_object(id_of(world, "environment_01/box_yellow")).ok());
+  const WorldSnapshot snapshot = world.snapshot();
+  trial(world, 1.0);
+  const WorldSnapshot after_first_run = world.snapshot();
+
+  // Change a lot, then go back.
+  world.destroy_all_portable_objects();
+  world.set_switch_triggered(0, false);
+  ASSERT_TRUE(world.restore(snapshot).ok());
+  EXPECT_EQ(world.time(), 1.0);
+  EXPECT_EQ(world.object_ids(), [&] {
+    std::vector<ObjectId> ids;
+    for (const auto& o : snapshot.objects) ids.push_back(o.first);
+    return ids;
+  }());
+  EXPECT_FALSE(world.find_object("environment_01/box_yellow").has_value());
+  EXPECT_TRUE(world.door_state(0).value.virtually_triggered);
+  const WorldSnapshot restored = world.snapshot();
+  ASSERT_EQ(restored.bodies.size(), snapshot.bodies.size());
+  for (std::size_t i = 0; i < restored.bodies.size(); ++i) {
+    // Positions and velocities exactly; orientations to ODE's quaternion renormalization.
+    EXPECT_EQ(restored.bodies[i].position, snapshot.bodies[i].position) << i;
+    EXPECT_EQ(restored.bodies[i].linear_velocity, snapshot.bodies[i].linear_velocity) << i;
+    EXPECT_TRUE(restored.bodies[i].orientation.coeffs().isApprox(
+        snapshot.bodies[i].orientation.coeffs(), 1e-15)) << i;
+  }
+  // The continuation follows the first run (to within what an ulp grows into in one second).
+  trial(world, 1.0);
+  const WorldSnapshot after_second_run = world.snapshot();
+  for (std::size_t i = 0; i < after_first_run.bodies.size(); ++i) {
+    EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(), 1e-3) << i;
+  }
+}
+
+TEST(WorldState, ResetEverythingGivesTheLoadedWorldBack) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  const uint64_t loaded = world.state_hash();
+  const auto ids = world.object_ids();
+  trial(world, 1.0);
+  world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5}));
+  world.destroy_object(id_of(world, "environment_01/post"));
+  world.set_color(id_of(world, "environment_00/can_00"), {0, 1, 0, 1});
+  world.reset(ResetScope::Everything);
+  EXPECT_EQ(world.state_hash(), loaded);
+  EXPECT_EQ(world.object_ids(), ids);
+  EXPECT_EQ(world.time(), 0.0);
+  EXPECT_NE(world.object(id_of(world, "environment_00/can_00"))->components[0].color[1], 1.0f);
+  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Closed);
+  // And the next trial is the same as the first one.
+  World fresh(shipped_world("DemoWorld_v1.xml"));
+  trial(world, 1.0);
+  trial(fresh, 1.0);
+  EXPECT_EQ(world.state_hash(), fresh.state_hash());
+}
+
+TEST(WorldState, ResetPosesKeepsSpawnedObjectsAndTime) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  const ObjectId ball = id_of(world, "environment_01/ball_green");
+  const Pose ball_at_load = world.object_state(ball).value.pose;
+  trial(world, 1.0);
+  auto spawned = world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5}));
+  ASSERT_TRUE(spawned.ok());
+  const double time = world.time();
+  world.reset(ResetScope::Poses);
+  EXPECT_EQ(world.time(), time);
+  EXPECT_TRUE(world.object(spawned.value) != nullptr);
+  EXPECT_TRUE(world.object_state(ball).value.pose.position.isApprox(ball_at_load.position, 1e-12));
+  EXPECT_EQ(world.object_state(ball).value.linear_velocity, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(world.robot("kurt")->base_footprint_pose().position.x(), -2.0, 1e-3);
+  EXPECT_EQ(world.robot("kurt")->odometry().x, 0.0);
+}
+
+TEST(WorldState, ResetPosesAndTimeRewindsTheClockAndTheRandomSeed) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  const uint64_t loaded = world.state_hash();
+  trial(world, 1.0);
+  world.set_switch_triggered(0, false);  // the door closes again by itself
+  run_for(world, 4.0);
+  world.reset(ResetScope::PosesAndTime);
+  EXPECT_EQ(world.time(), 0.0);
+  EXPECT_EQ(world.state_hash(), loaded);  // nothing was spawned: exactly the loaded state
+}
+
+TEST(WorldState, ASnapshotOfAnotherWorldIsRefused) {
+  World demo(shipped_world("DemoWorld_v1.xml"));
+  World two_robots(load_world_string(R"(<WORLD>
+      <ROBOT><ID>a</ID><TYPE>kurt3d</TYPE></ROBOT>
+      <ROBOT><ID>b</ID><TYPE>kurt3d</TYPE><POS>2,0,0</POS></ROBOT></WORLD>)", "two.xml"));
+  EXPECT_EQ(demo.restore(two_robots.snapshot()).code, ErrorCode::InvalidArgument);
+  EXPECT_EQ(demo.object_count(), 24);  // untouched
+}
+
+}  // namespace
+}  // namespace macsim::test
