@@ -31,7 +31,8 @@ void ensure_ode_ready() {
 
 BodyState body_state(dBodyID body) {
   return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
-          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body))};
+          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)),
+          dBodyIsEnabled(body) != 0};
 }
 
 void set_body_state(dBodyID body, const BodyState& s) {
@@ -39,6 +40,11 @@ void set_body_state(dBodyID body, const BodyState& s) {
   dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
   dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(),
                      s.angular_velocity.z());
+  if (s.enabled) {
+    dBodyEnable(body);
+  } else {
+    dBodyDisable(body);
+  }
 }
 
 bool plausible(const BodyState& s) {
@@ -125,6 +131,12 @@ void World::build() {
   // Deep penetrations (an object placed or grown into another, when allowed) are resolved
   // at a walking pace instead of an explosion.
   dWorldSetContactMaxCorrectingVel(world_, 1.0);
+  // Objects at rest sleep until something touches them: a room full of objects costs little.
+  dWorldSetAutoDisableFlag(world_, 1);
+  dWorldSetAutoDisableLinearThreshold(world_, 0.005);
+  dWorldSetAutoDisableAngularThreshold(world_, 0.01);
+  dWorldSetAutoDisableSteps(world_, 50);
+  dWorldSetAutoDisableTime(world_, 0);
   // Each world gets its own threading implementation: ODE's shared default is not safe when
   // two worlds step at once (see the research notes).
   auto impl = dThreadingAllocateSelfThreadedImplementation();
@@ -174,6 +186,12 @@ void World::refresh_bodies() {
   }
   last_good_.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) last_good_[i] = detail::body_state(bodies_[i]);
+}
+
+void World::structure_changed() {
+  refresh_bodies();
+  // Something appeared, vanished or moved: whatever slept on it must notice.
+  for (dBodyID body : bodies_) dBodyEnable(body);
 }
 
 void World::build_object(Object& o) {
@@ -285,6 +303,7 @@ void World::build_joint(Joint& j) {
     j.joint = dJointCreateHinge(world_, nullptr);
   }
   detail::set_body_state(moving->body, zero);
+  dBodySetAutoDisableFlag(moving->body, 0);  // a mechanism must answer its motor at any time
   dJointAttach(j.joint, moving->body, other);
   if (j.spec.type == JointSpec::Type::Slider) {
     dJointSetSliderAxis(j.joint, axis.x(), axis.y(), axis.z());

@@ -246,7 +246,7 @@ Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy)
     }
     emit(WorldEvent::Type::Penetration, o.spec.name, "created inside " + status.penetrated.front());
   }
-  refresh_bodies();
+  structure_changed();
   return {status, o.id};
 }
 
@@ -291,7 +291,7 @@ Status World::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
     if (ids) ids->push_back(o->id);
   }
   for (Joint* j : new_joints) build_joint(*j);
-  refresh_bodies();
+  structure_changed();
   return {};
 }
 
@@ -358,7 +358,7 @@ Status World::destroy_object(ObjectId id) {
   } else {
     erase_object(id);
   }
-  refresh_bodies();
+  structure_changed();
   return {};
 }
 
@@ -440,7 +440,7 @@ Status World::change_object(ObjectId id, PenetrationPolicy policy,
   if (!status.penetrated.empty()) {
     if (policy == PenetrationPolicy::Refuse) {
       rebuild_object(o, old_spec, old_state);
-      refresh_bodies();
+      structure_changed();
       Status refused = Status::error(ErrorCode::Penetration, "refused: '" + o.spec.name +
                                                                  "' would penetrate '" +
                                                                  status.penetrated.front() + "'");
@@ -449,7 +449,7 @@ Status World::change_object(ObjectId id, PenetrationPolicy policy,
     }
     emit(WorldEvent::Type::Penetration, o.spec.name, "penetrates " + status.penetrated.front());
   }
-  refresh_bodies();
+  structure_changed();
   return status;
 }
 
@@ -623,6 +623,7 @@ Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char
                          "'" + o->spec.name + "' is driven by its door's joint: no " + what);
   }
   body = o->body;
+  dBodyEnable(body);  // wake it: it is about to move
   return {};
 }
 
@@ -667,6 +668,7 @@ Status World::set_frozen(ObjectId id, bool frozen) {
     dBodySetKinematic(o.body);
   } else {
     dBodySetDynamic(o.body);
+    dBodyEnable(o.body);
   }
   return {};
 }
@@ -773,7 +775,7 @@ Status World::move_door_part(int door, bool leaf, const Eigen::Vector3d& positio
     for (const auto& hit : penetrations(o)) status.penetrated.push_back(hit);
   }
   build_joint(*joint);
-  refresh_bodies();
+  structure_changed();
   if (!status.penetrated.empty()) {
     emit(WorldEvent::Type::Penetration, d.spec.name, "moved into " + status.penetrated.front());
   }

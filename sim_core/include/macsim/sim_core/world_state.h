@@ -17,6 +17,7 @@ struct BodyState {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  bool enabled = true;  ///< false while ODE lets it sleep at rest
 };
 
 /// Everything needed to put a world back exactly: its current description (objects may have
