@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Sets up (Debian packages), builds, and runs the main job: the simulator on a world and the
 # helloKurt controller as two DDS participants on this machine.
-#   deploy/run_demo.sh [WORLD_FILE]   (default: worlds/small_room.xml)
+#   deploy/run_demo.sh [WORLD_FILE]   (default: worlds/DemoWorld_v1.xml)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
-world="${1:-$MACSIM_ROOT/worlds/small_room.xml}"
+world="${1:-$MACSIM_ROOT/worlds/DemoWorld_v1.xml}"
 domain="${MACSIM_DOMAIN:-42}"
 macsim_setup_and_build
 bin="$MACSIM_BUILD/bin"

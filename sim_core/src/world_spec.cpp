@@ -22,6 +22,40 @@ double component_volume(const ComponentSpec& c) {
   return 0.0;
 }
 
+RampGeometry RampGeometry::from_depth(double width, double depth, double angle) {
+  return {width, depth * std::tan(angle), angle};
+}
+
+namespace {
+ObjectSpec primitive(Shape shape, const Eigen::Vector3d& position, const Eigen::Vector3d& size,
+                     bool portable, const std::string& user_data) {
+  ObjectSpec spec;
+  spec.portable = portable;
+  spec.user_data = user_data;
+  spec.pose.position = position;
+  ComponentSpec c;
+  c.shape = shape;
+  c.size = size;
+  spec.components.push_back(c);
+  return spec;
+}
+}  // namespace
+
+ObjectSpec box_object(const Eigen::Vector3d& position, const Eigen::Vector3d& size,
+                      bool portable, const std::string& user_data) {
+  return primitive(Shape::Box, position, size, portable, user_data);
+}
+
+ObjectSpec cylinder_object(const Eigen::Vector3d& position, double radius, double height,
+                           bool portable, const std::string& user_data) {
+  return primitive(Shape::Cylinder, position, {radius, 0.0, height}, portable, user_data);
+}
+
+ObjectSpec sphere_object(const Eigen::Vector3d& position, double radius, bool portable,
+                         const std::string& user_data) {
+  return primitive(Shape::Sphere, position, {radius, 0.0, 0.0}, portable, user_data);
+}
+
 double RampGeometry::depth() const { return height / std::tan(angle); }
 
 double RampGeometry::length() const { return std::hypot(depth(), height); }
@@ -45,16 +79,16 @@ double ObjectSpec::volume() const {
   return v;
 }
 
-const MaterialSpec* WorldSpec::material(const std::string& name) const {
+const MaterialSpec* WorldSpec::material(const std::string& material_name) const {
   for (const auto& m : materials) {
-    if (m.name == name) return &m;
+    if (m.name == material_name) return &m;
   }
   return nullptr;
 }
 
-const ObjectSpec* WorldSpec::object(const std::string& name) const {
+const ObjectSpec* WorldSpec::object(const std::string& object_name) const {
   for (const auto& o : objects) {
-    if (o.name == name) return &o;
+    if (o.name == object_name) return &o;
   }
   return nullptr;
 }

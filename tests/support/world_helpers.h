@@ -33,14 +33,12 @@ inline Pose at(double x, double y, double z) {
 /// A one-component object of the given shape and size at `position`.
 inline ObjectSpec primitive(Shape shape, const Eigen::Vector3d& size, const Eigen::Vector3d& position,
                             bool portable = true) {
-  ObjectSpec spec;
-  spec.portable = portable;
-  ComponentSpec c;
-  c.shape = shape;
-  c.size = size;
-  spec.components.push_back(c);
-  spec.pose.position = position;
-  return spec;
+  switch (shape) {
+    case Shape::Box: return box_object(position, size, portable);
+    case Shape::Cylinder: return cylinder_object(position, size.x(), size.z(), portable);
+    case Shape::Sphere: break;
+  }
+  return sphere_object(position, size.x(), portable);
 }
 
 /// The id of a named object, failing the test if it is missing.

@@ -89,6 +89,8 @@ struct RampGeometry {
   double width = 1.0;   ///< m, across the slope
   double height = 0.1;  ///< m, of the top edge above the floor
   double angle = 0.2;   ///< rad, slope
+  /// A ramp given by width, horizontal run and angle (the seed's WidthDepthAngle).
+  static RampGeometry from_depth(double width, double depth, double angle);
   /// Horizontal run from the foot to the top edge: height / tan(angle).
   double depth() const;
   /// Length of the sloped surface.
@@ -119,6 +121,16 @@ struct ObjectSpec {
   /// density * volume, in kg.
   double mass() const { return density * volume(); }
 };
+
+/// A box object (the seed's create{Box}{Portable,Fixed}Object), centred at `position`.
+ObjectSpec box_object(const Eigen::Vector3d& position, const Eigen::Vector3d& size,
+                      bool portable = true, const std::string& user_data = "");
+/// A cylinder object (axis along z), centred at `position`.
+ObjectSpec cylinder_object(const Eigen::Vector3d& position, double radius, double height,
+                           bool portable = true, const std::string& user_data = "");
+/// A sphere object, centred at `position`.
+ObjectSpec sphere_object(const Eigen::Vector3d& position, double radius, bool portable = true,
+                         const std::string& user_data = "");
 
 /// A joint between two objects (or an object and the world), e.g. a switch's slider.
 struct JointSpec {
@@ -165,9 +177,9 @@ struct WorldSpec {
   std::vector<RobotSpec> robots;
 
   /// The material of that name, or nullptr.
-  const MaterialSpec* material(const std::string& name) const;
+  const MaterialSpec* material(const std::string& material_name) const;
   /// The object of that name, or nullptr.
-  const ObjectSpec* object(const std::string& name) const;
+  const ObjectSpec* object(const std::string& object_name) const;
 };
 
 }  // namespace macsim
