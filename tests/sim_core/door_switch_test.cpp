@@ -126,6 +126,31 @@ TEST_F(DoorSwitch, DoorPartsCannotBeMovedOneByOne) {
   EXPECT_NE(s.message.find("set_door_position"), std::string::npos);
 }
 
+TEST(DoorOrientation, ARotatedDoorSwitchStructureWorksAlongItsOwnAxes) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  // A second door-switch structure turned by -90 degrees: its leaf slides along world +x.
+  const Pose pose{{-2.6, -0.4, 0}, Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()))};
+  auto ids = world.import_environment(source("worlds/DemoEnvironment_v1/doors/door_switch.xml"),
+                                      "door_01", pose);
+  ASSERT_TRUE(ids.ok()) << ids.status.message;
+  const int door = *world.find_door("door_01");
+  const DoorParts parts = world.door_parts(door).value;
+  const Eigen::Vector3d leaf0 = world.object_state(parts.leaf).value.pose.position;
+  // Its switch is turned with it: 1 m in front of the door and 0.8 m aside, in its own frame.
+  const Eigen::Vector3d platform = world.object_state(*parts.platform).value.pose.position;
+  EXPECT_TRUE(platform.isApprox(pose.position + pose.orientation * Eigen::Vector3d(-1.0, 0.8, 0), 1e-9));
+  // Press it with 0.1 kg.
+  ObjectSpec weight = primitive(Shape::Box, Eigen::Vector3d::Constant(0.05), platform + Eigen::Vector3d(0, 0, 0.097));
+  weight.density = 0.1 / (0.05 * 0.05 * 0.05);
+  ASSERT_TRUE(world.create_object(weight).ok());
+  run_for(world, 4.0);
+  EXPECT_TRUE(world.door_state(door).value.triggered);
+  EXPECT_EQ(world.door_state(door).value.gap, DoorGap::Open);
+  const Eigen::Vector3d moved = world.object_state(parts.leaf).value.pose.position - leaf0;
+  EXPECT_TRUE(moved.isApprox(pose.orientation * Eigen::Vector3d(0, 0.85, 0), 0.02)) << moved.transpose();
+  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Closed);  // the other door is not involved
+}
+
 TEST(DoorHinge, AHingeJointInTheDoorFileMakesASwingingDoor) {
   const auto dir = temp_dir("hinge-door");
   write_file(dir / "door.xml", R"(<ENVIRONMENT>
