@@ -66,4 +66,34 @@ PlanarOdometry KurtOdometry::estimate() const {
 
 void KurtOdometry::reset() { *this = KurtOdometry(params_); }
 
+double ir_range_from_raw(int raw) {
+  if (raw < 100 || raw > 800) return kInvalidRange;
+  // The driver keeps whole centimetres: (int)((30000 / (raw - 10))^(1/1.4) - 10).
+  const int cm = static_cast<int>(std::pow(30000.0 / (raw - 10.0), 1.0 / 1.4) - 10.0);
+  return cm / 100.0;
+}
+
+int ir_raw_from_range(double range) {
+  const double cm = range * 100.0;
+  return static_cast<int>(std::lround(30000.0 / std::pow(cm + 10.0, 1.4) + 10.0));
+}
+
+double sonar_range_from_raw(int raw) {
+  if (raw < 100 || raw > 1000) return kInvalidRange;
+  const int cm = static_cast<int>(0.110652 * raw + 11.9231);
+  return cm / 100.0;
+}
+
+int sonar_raw_from_range(double range) {
+  return static_cast<int>(std::lround((range * 100.0 - 11.9231) / 0.110652));
+}
+
+int rotunit_speed_command(double speed) {
+  return static_cast<int>(speed / (2.0 * M_PI) * 10240 / 20);
+}
+
+double rotunit_speed_from_command(int command) { return command * 2.0 * M_PI * 20 / 10240; }
+
+double rotunit_angle_from_ticks(int ticks) { return ticks * 2.0 * M_PI / 10240; }
+
 }  // namespace macsim

@@ -2,9 +2,11 @@
 
 #include <ode/ode.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "ode_support.h"
+#include "ray_caster.h"
 
 namespace macsim {
 
@@ -16,86 +18,196 @@ namespace {
 
 constexpr int kLeftMiddle = 1;
 constexpr int kRightMiddle = 4;
+constexpr double kMagnetHeight = 0.03;
+constexpr double kRotunitTicks = 10240;
 
-double wrap_difference(double a, double b) {
-  return std::remainder(a - b, 2.0 * M_PI);
+double wrap_difference(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
+
+double wrap(double angle) { return std::remainder(angle, 2.0 * M_PI); }
+
+double yaw_of(const Eigen::Quaterniond& q) {
+  const Eigen::Vector3d x = q * Eigen::Vector3d::UnitX();
+  return std::atan2(x.y(), x.x());
+}
+
+/// A position motor: velocity towards the target, limited in speed.
+double servo_velocity(double target, double position, double max_speed) {
+  return std::clamp(5.0 * (target - position), -max_speed, max_speed);
+}
+
+dBodyID make_body(dWorldID world, const Pose& pose, const dMass& mass) {
+  dBodyID body = dBodyCreate(world);
+  dBodySetMass(body, &mass);
+  set_body_pose(body, pose);
+  dBodySetAutoDisableFlag(body, 0);  // robots never sleep
+  return body;
 }
 
 }  // namespace
 
+const std::array<RangeSensorSpec, 8>& kurt_range_sensors() {
+  // kurt_driver's infrared_sonar.urdf.xacro poses; ranges and cones from kurt.h.
+  constexpr double kIrFov = 0.07486, kSonarFov = 0.17809;
+  static const std::array<RangeSensorSpec, 8> sensors{{
+      {"ultrasound_front", 0.217, 0.0, 0.0, true, 0.10, 1.00, kSonarFov},
+      {"ir_left_front", 0.203, 0.153, M_PI / 4, false, 0.10, 0.80, kIrFov},
+      {"ir_left", 0.0, 0.165, M_PI / 2, false, 0.10, 0.80, kIrFov},
+      {"ir_left_back", -0.203, 0.153, 3 * M_PI / 4, false, 0.10, 0.80, kIrFov},
+      {"ir_back", -0.217, 0.0, M_PI, false, 0.10, 0.80, kIrFov},
+      {"ir_right_back", -0.203, -0.153, 5 * M_PI / 4, false, 0.10, 0.80, kIrFov},
+      {"ir_right", 0.0, -0.165, 3 * M_PI / 2, false, 0.10, 0.80, kIrFov},
+      {"ir_right_front", 0.203, -0.153, 7 * M_PI / 4, false, 0.10, 0.80, kIrFov},
+  }};
+  return sensors;
+}
+
 KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int collision_group,
-                     KurtDriveParams drive, KurtBodyParams body)
+                     const KurtConfig& config)
     : name_(spec.name),
       spec_(spec),
-      drive_(drive),
-      body_(body),
-      chassis_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.5, 0.0, 0.1})),
+      config_(config),
+      world_(world),
+      space_(space),
+      chassis_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.5, 0.0, 0.1, nullptr})),
       wheel_tag_(std::make_unique<GeomTag>(
-          GeomTag{collision_group, body.wheel_friction, 0.0, 0.1})),
+          GeomTag{collision_group, config.body.wheel_friction, 0.0, 0.1, nullptr})),
+      crane_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.8, 0.0, 0.1, nullptr})),
+      rays_(std::make_unique<detail::RayCaster>(space, collision_group)),
       state_{{}, {}, -1e9, {}, {},
-             {EncoderCounter(drive.ticks_per_turn), EncoderCounter(drive.ticks_per_turn)},
-             KurtOdometry(drive), drive.frame_period, 0} {
+             {EncoderCounter(config.drive.ticks_per_turn), EncoderCounter(config.drive.ticks_per_turn)},
+             KurtOdometry(config.drive), config.drive.frame_period, 0,
+             0.0, 0.0, 0.0, {}, false, "", 0.0, 0.0, 0.0, 0.0, 0, 0,
+             std::mt19937(config.noise_seed), std::normal_distribution<double>(0.0, 1.0)} {
   detail::ensure_ode_ready();
-  const double r = drive_.wheel_radius();
+  const KurtBodyParams& body = config_.body;
+  const double r = config_.drive.wheel_radius();
   const Eigen::Quaterniond q = spec.pose.orientation;
   const Eigen::Vector3d base_link =
-      spec.pose.position + q * Eigen::Vector3d(0, 0, body_.wheel_axle_below_base_link + r);
+      spec.pose.position + q * Eigen::Vector3d(0, 0, body.wheel_axle_below_base_link + r);
 
   // Chassis: one body at the centre of mass, the collision box centred on base_link.
-  chassis_ = dBodyCreate(world);
-  set_body_pose(chassis_, {base_link + q * Eigen::Vector3d(0, 0, -body_.com_below_base_link), q});
   dMass mass;
-  dMassSetParameters(&mass, body_.base_mass, 0, 0, 0, body_.base_inertia.x(),
-                     body_.base_inertia.y(), body_.base_inertia.z(), 0, 0, 0);
-  dBodySetMass(chassis_, &mass);
-  dBodySetAutoDisableFlag(chassis_, 0);
-  geoms_[6] = dCreateBox(space, body_.base_size.x(), body_.base_size.y(), body_.base_size.z());
-  dGeomSetBody(geoms_[6], chassis_);
-  dGeomSetOffsetPosition(geoms_[6], 0, 0, body_.com_below_base_link);
-  dGeomSetData(geoms_[6], chassis_tag_.get());
+  dMassSetParameters(&mass, body.base_mass, 0, 0, 0, body.base_inertia.x(), body.base_inertia.y(),
+                     body.base_inertia.z(), 0, 0, 0);
+  chassis_ = make_body(world, {base_link + q * Eigen::Vector3d(0, 0, -body.com_below_base_link), q}, mass);
+  dGeomID box = dCreateBox(space, body.base_size.x(), body.base_size.y(), body.base_size.z());
+  dGeomSetBody(box, chassis_);
+  dGeomSetOffsetPosition(box, 0, 0, body.com_below_base_link);
+  dGeomSetData(box, chassis_tag_.get());
+  geoms_.push_back(box);
 
   // Wheels: cylinders (ODE's axis is local z, turned onto the robot's y) on hinge motors.
   const Eigen::Quaterniond wheel_q =
       q * Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()));
   const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitY();
-  const double xs[3] = {body_.wheel_x, 0.0, -body_.wheel_x};
+  const double xs[3] = {body.wheel_x, 0.0, -body.wheel_x};
   for (int i = 0; i < 6; ++i) {
-    const double y = i < 3 ? body_.wheel_y : -body_.wheel_y;
+    const double y = i < 3 ? body.wheel_y : -body.wheel_y;
     const Eigen::Vector3d centre =
-        base_link + q * Eigen::Vector3d(xs[i % 3], y, -body_.wheel_axle_below_base_link);
-    dBodyID wheel = dBodyCreate(world);
-    set_body_pose(wheel, {centre, wheel_q});
+        base_link + q * Eigen::Vector3d(xs[i % 3], y, -body.wheel_axle_below_base_link);
     dMass wheel_mass;
-    dMassSetCylinderTotal(&wheel_mass, body_.wheel_mass, 3, r, body_.wheel_width);
-    dBodySetMass(wheel, &wheel_mass);
-    dBodySetAutoDisableFlag(wheel, 0);
-    dGeomID geom = dCreateCylinder(space, r, body_.wheel_width);
+    dMassSetCylinderTotal(&wheel_mass, body.wheel_mass, 3, r, body.wheel_width);
+    dBodyID wheel = make_body(world, {centre, wheel_q}, wheel_mass);
+    dGeomID geom = dCreateCylinder(space, r, body.wheel_width);
     dGeomSetBody(geom, wheel);
     dGeomSetData(geom, wheel_tag_.get());
-
     // Attached (wheel, chassis): the motor's velocity is the wheel's rate about +y relative
     // to the chassis, so a positive rate rolls the robot forwards.
     dJointID hinge = dJointCreateHinge(world, nullptr);
     dJointAttach(hinge, wheel, chassis_);
     dJointSetHingeAnchor(hinge, centre.x(), centre.y(), centre.z());
     dJointSetHingeAxis(hinge, axis.x(), axis.y(), axis.z());
-    dJointSetHingeParam(hinge, dParamFMax, body_.wheel_torque);
+    dJointSetHingeParam(hinge, dParamFMax, body.wheel_torque);
     dJointSetHingeParam(hinge, dParamVel, 0.0);
     wheels_[i] = wheel;
     hinges_[i] = hinge;
-    geoms_[i] = geom;
+    geoms_.push_back(geom);
   }
+  if (config_.crane) build_crane(world, space, {base_link, q});
+  state_.start_yaw = state_.last_yaw = yaw_of(q);
+  command_rotunit(config_.rotunit_speed);
+  state_.next_scan_time = 1.0 / config_.laser_rate;
+}
+
+void KurtRobot::build_crane(dWorldID world, dSpaceID space, const Pose& base_link) {
+  const CraneParams& c = config_.crane_params;
+  const Eigen::Quaterniond q = base_link.orientation;
+  const double box_top = config_.body.base_size.z() / 2;
+  auto at = [&](double x, double y, double z) -> Eigen::Vector3d {
+    return base_link.position + q * Eigen::Vector3d(x, y, z);
+  };
+  auto add_geom = [&](dGeomID g, dBodyID b) {
+    dGeomSetBody(g, b);
+    dGeomSetData(g, crane_tag_.get());
+    geoms_.push_back(g);
+  };
+
+  // Turret on the chassis roof, slewing about the vertical.
+  const double turret_height = c.pivot_height - box_top;
+  dMass m;
+  dMassSetCylinderTotal(&m, 1.0, 3, 0.05, turret_height);
+  turret_ = make_body(world, {at(c.pivot_x, 0, box_top + turret_height / 2), q}, m);
+  add_geom(dCreateCylinder(space, 0.05, turret_height), turret_);
+  slew_ = dJointCreateHinge(world, nullptr);
+  dJointAttach(slew_, turret_, chassis_);
+  const Eigen::Vector3d slew_anchor = at(c.pivot_x, 0, box_top);
+  const Eigen::Vector3d up = q * Eigen::Vector3d::UnitZ();
+  dJointSetHingeAnchor(slew_, slew_anchor.x(), slew_anchor.y(), slew_anchor.z());
+  dJointSetHingeAxis(slew_, up.x(), up.y(), up.z());
+
+  // Boom from the pivot forwards; lifting turns it about -y (the tip goes up).
+  dMassSetBoxTotal(&m, 0.5, c.boom_length, 0.04, 0.04);
+  boom_ = make_body(world, {at(c.pivot_x + c.boom_length / 2, 0, c.pivot_height), q}, m);
+  add_geom(dCreateBox(space, c.boom_length, 0.04, 0.04), boom_);
+  lift_ = dJointCreateHinge(world, nullptr);
+  dJointAttach(lift_, boom_, turret_);
+  const Eigen::Vector3d pivot = at(c.pivot_x, 0, c.pivot_height);
+  const Eigen::Vector3d lift_axis = q * -Eigen::Vector3d::UnitY();
+  dJointSetHingeAnchor(lift_, pivot.x(), pivot.y(), pivot.z());
+  dJointSetHingeAxis(lift_, lift_axis.x(), lift_axis.y(), lift_axis.z());
+  dJointSetHingeParam(lift_, dParamLoStop, -0.6);
+  dJointSetHingeParam(lift_, dParamHiStop, 0.8);
+
+  // The magnet hangs below the boom tip on the hoist (a slider along the boom's down axis).
+  dMassSetCylinderTotal(&m, c.magnet_mass, 3, c.magnet_radius, kMagnetHeight);
+  magnet_ = make_body(world, {at(c.pivot_x + c.boom_length, 0, c.pivot_height - 0.02 - kMagnetHeight / 2), q}, m);
+  add_geom(dCreateCylinder(space, c.magnet_radius, kMagnetHeight), magnet_);
+  hoist_ = dJointCreateSlider(world, nullptr);
+  dJointAttach(hoist_, magnet_, boom_);
+  const Eigen::Vector3d down = q * -Eigen::Vector3d::UnitZ();
+  dJointSetSliderAxis(hoist_, down.x(), down.y(), down.z());
+  dJointSetSliderParam(hoist_, dParamLoStop, 0.0);
+  dJointSetSliderParam(hoist_, dParamHiStop, c.max_hoist);
+
+  capture_ = dCreateCylinder(nullptr, c.magnet_radius + c.capture_distance,
+                             kMagnetHeight + 2 * c.capture_distance);
+  hold_feedback_ = std::make_unique<dJointFeedback>();
 }
 
 KurtRobot::~KurtRobot() {
+  if (hold_) dJointDestroy(hold_);
   for (dJointID h : hinges_) dJointDestroy(h);
+  for (dJointID j : {slew_, lift_, hoist_}) {
+    if (j) dJointDestroy(j);
+  }
   for (dGeomID g : geoms_) dGeomDestroy(g);
-  for (dBodyID b : wheels_) dBodyDestroy(b);
-  dBodyDestroy(chassis_);
+  if (capture_) dGeomDestroy(capture_);
+  for (dBodyID b : bodies()) dBodyDestroy(b);
 }
 
+std::vector<dBodyID> KurtRobot::bodies() const {
+  std::vector<dBodyID> all{chassis_};
+  all.insert(all.end(), wheels_.begin(), wheels_.end());
+  for (dBodyID b : {turret_, boom_, magnet_}) {
+    if (b) all.push_back(b);
+  }
+  return all;
+}
+
+// ---- commands ----------------------------------------------------------------------------
+
 void KurtRobot::command_twist(double linear, double angular, double now) {
-  command_wheel_speeds(wheel_speeds_from_twist(linear, angular, drive_), now);
+  command_wheel_speeds(wheel_speeds_from_twist(linear, angular, config_.drive), now);
 }
 
 void KurtRobot::command_wheel_speeds(WheelSpeeds speeds, double now) {
@@ -103,14 +215,43 @@ void KurtRobot::command_wheel_speeds(WheelSpeeds speeds, double now) {
   state_.last_command_time = now;
 }
 
+void KurtRobot::command_crane(const CraneCommand& target) {
+  const CraneParams& c = config_.crane_params;
+  state_.crane.slew = std::clamp(target.slew, -M_PI, M_PI);
+  state_.crane.lift = std::clamp(target.lift, -0.6, 0.8);
+  state_.crane.hoist = std::clamp(target.hoist, 0.0, c.max_hoist);
+}
+
+void KurtRobot::command_magnet(bool on) {
+  state_.magnet_on = on;
+  if (!on && hold_) release("magnet switched off");
+}
+
+void KurtRobot::command_rotunit(double speed) {
+  state_.rotunit_speed = rotunit_speed_from_command(rotunit_speed_command(speed));
+}
+
+// ---- stepping ----------------------------------------------------------------------------
+
 void KurtRobot::before_step(double now) {
-  const bool fresh = now - state_.last_command_time < drive_.command_timeout;
+  const bool fresh = now - state_.last_command_time < config_.drive.command_timeout;
   state_.active = fresh ? state_.commanded : WheelSpeeds{};
-  const double r = drive_.wheel_radius();
+  const double r = config_.drive.wheel_radius();
   for (int i = 0; i < 6; ++i) {
     const double rim_speed = i < 3 ? state_.active.left : state_.active.right;
     dJointSetHingeParam(hinges_[i], dParamVel, rim_speed / r);
   }
+  if (!config_.crane) return;
+  const CraneParams& c = config_.crane_params;
+  dJointSetHingeParam(slew_, dParamFMax, c.slew_torque);
+  dJointSetHingeParam(slew_, dParamVel,
+                      servo_velocity(state_.crane.slew, dJointGetHingeAngle(slew_), c.slew_speed));
+  dJointSetHingeParam(lift_, dParamFMax, c.lift_torque);
+  dJointSetHingeParam(lift_, dParamVel,
+                      servo_velocity(state_.crane.lift, dJointGetHingeAngle(lift_), c.lift_speed));
+  dJointSetSliderParam(hoist_, dParamFMax, c.hoist_force);
+  dJointSetSliderParam(hoist_, dParamVel, servo_velocity(state_.crane.hoist,
+                                                         dJointGetSliderPosition(hoist_), c.hoist_speed));
 }
 
 void KurtRobot::update_wheel_angles() {
@@ -122,26 +263,212 @@ void KurtRobot::update_wheel_angles() {
   }
 }
 
-void KurtRobot::after_step(double now) {
+void KurtRobot::after_step(double now, double step) {
   update_wheel_angles();
+  const double yaw = yaw_of(base_link_pose().orientation);
+  state_.yaw_unwrapped += wrap_difference(yaw, state_.last_yaw);
+  state_.last_yaw = yaw;
+  if (config_.crane) run_magnet();
+  if (config_.laser == LaserMount::Rotating) {
+    // The unit turns at its commanded speed (its own controller holds it).
+    state_.rotunit_angle += state_.rotunit_speed * step;
+  }
+  if (config_.laser != LaserMount::None && now + 1e-9 >= state_.next_scan_time) {
+    state_.next_scan_time += 1.0 / config_.laser_rate;
+    sweep_laser(now);
+  }
   if (now + 1e-9 < state_.next_frame_time) return;
-  state_.next_frame_time += drive_.frame_period;
+  state_.next_frame_time += config_.drive.frame_period;
   const int left = state_.encoders[0].ticks_since_last(state_.encoder_angle[0]);
   const int right = state_.encoders[1].ticks_since_last(state_.encoder_angle[1]);
   state_.odometry.integrate_frame(left, right);
+  read_frame_sensors(now);
   ++state_.frames;
 }
 
-std::array<dBodyID, 7> KurtRobot::bodies() const {
-  return {chassis_, wheels_[0], wheels_[1], wheels_[2], wheels_[3], wheels_[4], wheels_[5]};
+void KurtRobot::read_frame_sensors(double now) {
+  const Pose base = base_link_pose();
+  for (std::size_t i = 0; i < ranges_.size(); ++i) {
+    const RangeSensorSpec& s = kurt_range_sensors()[i];
+    const Eigen::Vector3d origin = base.position + base.orientation * Eigen::Vector3d(s.x, s.y, 0);
+    // Three rays across the cone: the nearest echo wins, as the real sensors report.
+    double nearest = std::numeric_limits<double>::infinity();
+    for (double offset : {-s.field_of_view / 2, 0.0, s.field_of_view / 2}) {
+      const Eigen::Vector3d dir =
+          base.orientation * Eigen::Vector3d(std::cos(s.yaw + offset), std::sin(s.yaw + offset), 0);
+      if (auto hit = rays_->cast(origin, dir, s.max_range + 0.05)) nearest = std::min(nearest, *hit);
+    }
+    const bool valid = nearest >= s.min_range && nearest <= s.max_range;
+    ranges_[i] = {&s, valid ? nearest : kInvalidRange};
+  }
+  double noise = 0.0;
+  if (config_.gyro_noise > 0) noise = config_.gyro_noise * state_.noise(state_.noise_rng);
+  const Eigen::Vector3d x = base.orientation * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d y = base.orientation * Eigen::Vector3d::UnitY();
+  imu_.yaw = wrap(state_.yaw_unwrapped - state_.start_yaw + config_.gyro_drift * now + noise);
+  imu_.yaw_rate = angular_velocity().z();
+  imu_.pitch = -std::asin(std::clamp(x.z(), -1.0, 1.0));
+  imu_.roll = std::asin(std::clamp(y.z(), -1.0, 1.0));
+  imu_.yaw_variance = config_.gyro_noise * config_.gyro_noise;
+}
+
+void KurtRobot::sweep_laser(double now) {
+  const Pose base = base_link_pose();
+  const bool rotating = config_.laser == LaserMount::Rotating;
+  // KURT360: the LMS200 on the rotating unit behind the crane, 0.35 m above base_link;
+  // KURT2: fixed at the front, 0.11 m above base_link (kurt_driver's URDFs).
+  scan_.origin = rotating ? Eigen::Vector3d(-0.10, 0, 0.35) : Eigen::Vector3d(0.145, 0, 0.11);
+  scan_.stamp = now;
+  scan_.angle_min = -M_PI / 2;
+  scan_.angle_increment = M_PI / 180;
+  scan_.rotunit_angle = rotunit_angle();
+  scan_.ranges.assign(181, std::numeric_limits<float>::infinity());
+  const Eigen::Vector3d origin = base.position + base.orientation * scan_.origin;
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(scan_.rotunit_angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (int i = 0; i < 181; ++i) {
+    const double a = scan_.angle_min + i * scan_.angle_increment;
+    const Eigen::Vector3d local = rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
+                                           : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+    const auto hit = rays_->cast(origin, base.orientation * local, scan_.range_max);
+    if (!hit || *hit < scan_.range_min) continue;
+    const double range = *hit + config_.laser_noise * state_.noise(state_.noise_rng);
+    scan_.ranges[i] = static_cast<float>(range);
+    if (rotating) cloud_in_progress_.points.push_back((scan_.origin + local * range).cast<float>());
+  }
+  ++state_.scans;
+  if (rotating && std::fabs(state_.rotunit_angle - state_.cloud_start_angle) >= 2 * M_PI) {
+    cloud_in_progress_.stamp = now;
+    cloud_ = std::move(cloud_in_progress_);
+    cloud_in_progress_ = PointCloud{};
+    state_.cloud_start_angle = state_.rotunit_angle;
+    ++state_.clouds;
+  }
+}
+
+double KurtRobot::rotunit_angle() const {
+  const double turn = std::fmod(state_.rotunit_angle, 2 * M_PI);
+  const double positive = turn < 0 ? turn + 2 * M_PI : turn;
+  return std::floor(positive / (2 * M_PI) * kRotunitTicks) * 2 * M_PI / kRotunitTicks;
+}
+
+// ---- magnet ------------------------------------------------------------------------------
+
+namespace {
+
+struct CaptureQuery {
+  int group;
+  dBodyID found = nullptr;
+  std::string name;
+};
+
+void capture_callback(void* data, dGeomID capture, dGeomID geom) {
+  auto* q = static_cast<CaptureQuery*>(data);
+  if (q->found) return;
+  const auto* tag = static_cast<const GeomTag*>(dGeomGetData(geom));
+  if (!tag || tag->group == q->group || !tag->object || !tag->object->magnetizable) return;
+  dBodyID body = dGeomGetBody(geom);
+  if (!body) return;
+  dContactGeom contact;
+  if (dCollide(capture, geom, 1, &contact, sizeof(dContactGeom)) > 0) {
+    q->found = body;
+    q->name = tag->object->name;
+  }
+}
+
+}  // namespace
+
+void KurtRobot::run_magnet() {
+  if (hold_) {
+    // The magnet lets go when what it holds pulls harder than its holding force.
+    const Eigen::Vector3d pull(hold_feedback_->f1[0], hold_feedback_->f1[1], hold_feedback_->f1[2]);
+    if (pull.norm() > config_.crane_params.holding_force) release("overload");
+    return;
+  }
+  if (!state_.magnet_on) return;
+  const Pose magnet = body_pose(magnet_);
+  dGeomSetPosition(capture_, magnet.position.x(), magnet.position.y(), magnet.position.z());
+  dQuaternion q;
+  detail::to_ode(magnet.orientation, q);
+  dGeomSetQuaternion(capture_, q);
+  CaptureQuery query{chassis_tag_->group, nullptr, {}};
+  dSpaceCollide2(capture_, reinterpret_cast<dGeomID>(space_), &query, &capture_callback);
+  if (!query.found) return;
+  held_body_ = query.found;
+  state_.held_object = query.name;
+  reattach(held_body_);
+  events_.emplace_back("attached", query.name);
+}
+
+void KurtRobot::reattach(dBodyID body) {
+  if (hold_) dJointDestroy(hold_);
+  held_body_ = body;
+  dBodyEnable(body);
+  hold_ = dJointCreateFixed(world_, nullptr);
+  dJointAttach(hold_, magnet_, body);
+  dJointSetFixed(hold_);
+  dJointSetFeedback(hold_, hold_feedback_.get());
+}
+
+void KurtRobot::release(const std::string& why) {
+  if (hold_) dJointDestroy(hold_);
+  hold_ = nullptr;
+  held_body_ = nullptr;
+  events_.emplace_back("released", state_.held_object + " (" + why + ")");
+  state_.held_object.clear();
+}
+
+void KurtRobot::forget_body(dBodyID body) {
+  if (hold_ && held_body_ == body) release("object removed");
+}
+
+std::vector<std::pair<std::string, std::string>> KurtRobot::take_events() {
+  std::vector<std::pair<std::string, std::string>> out;
+  out.swap(events_);
+  return out;
+}
+
+void KurtRobot::set_controller_state(const ControllerState& state) {
+  if (hold_) {
+    dJointDestroy(hold_);
+    hold_ = nullptr;
+    held_body_ = nullptr;
+  }
+  state_ = state;
+}
+
+CraneState KurtRobot::crane_state() const {
+  CraneState s;
+  s.magnet_on = state_.magnet_on;
+  s.held_object = state_.held_object;
+  if (config_.crane) {
+    s.slew = dJointGetHingeAngle(slew_);
+    s.lift = dJointGetHingeAngle(lift_);
+    s.hoist = dJointGetSliderPosition(hoist_);
+  }
+  return s;
+}
+
+Pose KurtRobot::magnet_pose() const {
+  if (!magnet_) return base_link_pose();
+  Pose p = body_pose(magnet_);
+  p.position += p.orientation * Eigen::Vector3d(0, 0, -kMagnetHeight / 2);
+  return p;
+}
+
+// ---- ground truth ------------------------------------------------------------------------
+
+Pose KurtRobot::base_link_pose() const {
+  Pose com = body_pose(chassis_);
+  com.position += com.orientation * Eigen::Vector3d(0, 0, config_.body.com_below_base_link);
+  return com;
 }
 
 Pose KurtRobot::base_footprint_pose() const {
-  Pose com = body_pose(chassis_);
-  const double drop =
-      body_.com_below_base_link - body_.wheel_axle_below_base_link - drive_.wheel_radius();
-  com.position += com.orientation * Eigen::Vector3d(0, 0, drop);
-  return com;
+  Pose link = base_link_pose();
+  const double drop = config_.body.wheel_axle_below_base_link + config_.drive.wheel_radius();
+  link.position += link.orientation * Eigen::Vector3d(0, 0, -drop);
+  return link;
 }
 
 Eigen::Vector3d KurtRobot::linear_velocity() const {

@@ -13,6 +13,7 @@ struct GeomTag {
   double friction = 1.0;         ///< Coulomb mu; a contact uses the geometric mean of both
   double bounce = 0.0;           ///< restitution; a contact uses the larger
   double bounce_velocity = 0.1;  ///< m/s below which nothing bounces
+  const ObjectSpec* object = nullptr;  ///< the object it belongs to (magnetizable, name)
 };
 
 /// Process-wide ODE set-up (dInitODE2, message handler) and per-thread data; idempotent.

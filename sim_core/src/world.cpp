@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdarg>
 
+#include "macsim/sim_core/robot_types.h"
 #include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
 
@@ -71,9 +72,11 @@ constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1
 World::World(WorldSpec spec) : spec_(std::move(spec)) {
   detail::ensure_ode_ready();
   for (const auto& robot : spec_.robots) {
-    if (robot.type != "kurt3d") {
+    if (!find_robot_type(robot.type)) {
+      std::string known;
+      for (const auto& name : robot_type_names()) known += (known.empty() ? "" : ", ") + name;
       throw WorldFileError(robot.source.file, robot.source.line,
-                           "unknown robot type '" + robot.type + "' (known: kurt3d)");
+                           "unknown robot type '" + robot.type + "' (known: " + known + ")");
     }
   }
   WorldSpec fragment;
@@ -146,7 +149,7 @@ void World::build() {
   contact_group_ = dJointGroupCreate(0);
 
   ground_ = dCreatePlane(space_, 0, 0, 1, 0);
-  ground_tag_ = std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1});
+  ground_tag_ = std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1, nullptr});
   dGeomSetData(ground_, ground_tag_.get());
 
   for (auto& door : doors_) {
@@ -164,7 +167,9 @@ void World::build() {
   for (auto& joint : joints_) build_joint(*joint);
   int group = kRobotGroupBase;
   for (const auto& robot : spec_.robots) {
-    robots_.push_back(std::make_unique<KurtRobot>(world_, space_, robot, group--));
+    KurtConfig config = *find_robot_type(robot.type);
+    config.noise_seed = spec_.physics.seed + static_cast<uint32_t>(robots_.size());
+    robots_.push_back(std::make_unique<KurtRobot>(world_, space_, robot, group--, config));
   }
   refresh_bodies();
 }
@@ -200,7 +205,7 @@ void World::build_object(Object& o) {
   if (!material) material = &spec_.materials.front();
   // Collision group: an object, or a whole door-switch structure, never collides with itself.
   const int group = o.door >= 0 ? 1'000'000 + o.door : static_cast<int>(o.id);
-  o.tag = GeomTag{group, material->friction, material->bounce, material->bounce_velocity};
+  o.tag = GeomTag{group, material->friction, material->bounce, material->bounce_velocity, &o.spec};
 
   // Mass of the components, each rotated and moved into the object's frame (ODE applies the
   // parallel axis theorem), then about the combined centre of mass.
@@ -261,6 +266,9 @@ void World::build_object(Object& o) {
 }
 
 void World::destroy_ode_object(Object& o) {
+  for (auto& robot : robots_) {
+    if (o.body) robot->forget_body(o.body);
+  }
   for (dGeomID g : o.geoms) dGeomDestroy(g);
   o.geoms.clear();
   if (o.body) dBodyDestroy(o.body);
@@ -507,7 +515,13 @@ void World::step() {
   dJointGroupEmpty(contact_group_);
   ++steps_;
   check_stability();
-  for (auto& robot : robots_) robot->after_step(time());
+  for (auto& robot : robots_) {
+    robot->after_step(time(), spec_.physics.step);
+    for (auto& [type, detail] : robot->take_events()) {
+      emit(type == "attached" ? WorldEvent::Type::ObjectAttached : WorldEvent::Type::ObjectReleased,
+           robot->name(), detail);
+    }
+  }
   for (auto& door : doors_) {
     const DoorGap before = door->gap;
     door->gap = door_state_of(*door).gap;

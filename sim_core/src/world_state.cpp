@@ -88,6 +88,9 @@ void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, 
     if (fresh_robots) continue;
     for (dBodyID b : robots_[i]->bodies()) detail::set_body_state(b, s.bodies[body++]);
     robots_[i]->set_controller_state(s.robots[i]);
+    if (!s.robots[i].held_object.empty()) {
+      if (auto held = find_object(s.robots[i].held_object)) robots_[i]->reattach(find(*held)->body);
+    }
   }
   refresh_bodies();
   steps_ = s.steps;
@@ -97,7 +100,9 @@ void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, 
 }
 
 Status World::restore(const WorldSnapshot& s) {
-  const std::size_t expected_bodies = portable_count(s) + 7 * robots_.size();
+  std::size_t robot_bodies = 0;
+  for (const auto& r : robots_) robot_bodies += r->bodies().size();
+  const std::size_t expected_bodies = portable_count(s) + robot_bodies;
   if (s.robots.size() != robots_.size() || s.bodies.size() != expected_bodies ||
       s.door_flags.size() != s.doors.size()) {
     return Status::error(ErrorCode::InvalidArgument, "the snapshot is not one of this world");

@@ -96,10 +96,16 @@ TEST_F(WorldObjects, RelocatingIntoAnotherObjectCanBeAllowedAndIsReported) {
   bool reported = false;
   for (const auto& e : world.take_events()) reported |= e.type == WorldEvent::Type::Penetration;
   EXPECT_TRUE(reported);
-  run_for(world, 2.0);  // the solver pushes it out, gently; nothing goes NaN
-  const ObjectState state = world.object_state(box).value;
-  EXPECT_TRUE(state.pose.position.allFinite());
-  EXPECT_LT(state.linear_velocity.norm(), 0.1);
+  // The solver pushes it out at a walking pace (contacts correct at most 1 m/s); nothing
+  // explodes and nothing goes NaN.
+  double fastest = 0;
+  for (int i = 0; i < 2000; ++i) {
+    world.step();
+    fastest = std::max(fastest, world.object_state(box).value.linear_velocity.norm());
+  }
+  EXPECT_TRUE(world.object_state(box).value.pose.position.allFinite());
+  EXPECT_LT(fastest, 2.0);
+  for (const auto& e : world.take_events()) EXPECT_NE(e.type, WorldEvent::Type::Instability);
 }
 
 TEST_F(WorldObjects, GrowingIntoANeighbourIsRefused) {

@@ -73,4 +73,25 @@ class KurtOdometry {
   double linear_ = 0.0, angular_ = 0.0;
 };
 
+/// A range reading the real driver reports as invalid (kurt_base publishes -1 cm).
+inline constexpr double kInvalidRange = -0.01;
+
+/// IR range (m) from a Sharp GP2D12 ADC value, as the driver converts it; kInvalidRange
+/// outside raw 100..800.
+double ir_range_from_raw(int raw);
+/// The ADC value the IR sensor gives at a distance (m), the inverse of ir_range_from_raw.
+int ir_raw_from_range(double range);
+/// Ultrasound range (m) from an ADC value, as the driver converts it; kInvalidRange outside
+/// raw 100..1000.
+double sonar_range_from_raw(int raw);
+/// The ADC value the ultrasound sensor gives at a distance (m).
+int sonar_raw_from_range(double range);
+
+/// Rotunit speed command as the driver sends it: speed / 2 pi * 10240 / 20, truncated.
+int rotunit_speed_command(double speed);
+/// The speed (rad/s) a rotunit command value means: value * 2 pi * 20 / 10240.
+double rotunit_speed_from_command(int command);
+/// Rotunit angle (rad) from its encoder value: ticks * 2 pi / 10240.
+double rotunit_angle_from_ticks(int ticks);
+
 }  // namespace macsim

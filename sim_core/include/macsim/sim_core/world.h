@@ -86,7 +86,16 @@ struct DoorParts {
 
 /// Something that happened during a step or an operation, for the supervisor's clients.
 struct WorldEvent {
-  enum class Type { SwitchTriggered, SwitchReleased, DoorOpened, DoorClosed, Penetration, Instability };
+  enum class Type {
+    SwitchTriggered,
+    SwitchReleased,
+    DoorOpened,
+    DoorClosed,
+    Penetration,
+    Instability,
+    ObjectAttached,  ///< a robot's magnet grabbed an object (subject: robot, detail: object)
+    ObjectReleased,  ///< a robot's magnet let go (detail: object and why)
+  };
   Type type;
   double time = 0.0;
   std::string subject;  ///< object or door name
