@@ -298,8 +298,12 @@ void KurtRobot::read_frame_sensors(double now) {
           base.orientation * Eigen::Vector3d(std::cos(s.yaw + offset), std::sin(s.yaw + offset), 0);
       if (auto hit = rays_->cast(origin, dir, s.max_range + 0.05)) nearest = std::min(nearest, *hit);
     }
-    const bool valid = nearest >= s.min_range && nearest <= s.max_range;
-    ranges_[i] = {&s, valid ? nearest : kInvalidRange};
+    // The sensor gives an ADC value and the driver converts it back (whole centimetres,
+    // invalid outside its raw window), so readings carry the real robot's quirks: IR valid
+    // from 0.10 only up to 0.53 m, ultrasound only from 0.23 m.
+    const bool echo = nearest >= s.min_range && nearest <= s.max_range;
+    const int raw = !echo ? 0 : s.sonar ? sonar_raw_from_range(nearest) : ir_raw_from_range(nearest);
+    ranges_[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
   }
   double noise = 0.0;
   if (config_.gyro_noise > 0) noise = config_.gyro_noise * state_.noise(state_.noise_rng);

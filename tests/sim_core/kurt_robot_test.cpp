@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "macsim/sim_core/robot_types.h"
 #include "macsim/sim_core/simulation.h"
 #include "macsim/sim_core/world_loader.h"
 
@@ -108,6 +109,91 @@ TEST(KurtRobot, StopsWhenCommandsStopForTheTimeout) {
   EXPECT_EQ(kurt.active_wheel_speeds().right, 0.0);
   idle(world, 0.5);
   EXPECT_LT(kurt.linear_velocity().norm(), 0.01);
+}
+
+// Drives at 0.3 m/s towards a 0.2 m high ramp of `degrees`; returns the highest footprint z.
+double climb(const std::string& type, double degrees) {
+  World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>" + type +
+                                    "</TYPE></ROBOT><RAMP><ID>r</ID><POS>0.6,0,0</POS><WIDTH>1"
+                                    "</WIDTH><HEIGHT>0.2</HEIGHT><ANGLE>" +
+                                    std::to_string(degrees) + "</ANGLE></RAMP></WORLD>",
+                                "ramp.xml"));
+  KurtRobot& kurt = *world.robot("kurt");
+  double highest = 0;
+  for (int i = 0; i < 10000; ++i) {
+    if (i % 100 == 0) kurt.command_twist(0.3, 0.0, world.time());
+    world.step();
+    highest = std::max(highest, kurt.base_footprint_pose().position.z());
+  }
+  return highest;
+}
+
+TEST(KurtRobot, ClimbsAFifteenDegreeRamp) {
+  EXPECT_GT(climb("kurt3d", 15), 0.195);  // reaches the top edge at 0.2 m
+}
+
+TEST(KurtRobot, WheelTorqueLimitsTheSlopeItCanClimb) {
+  // With 1 N m per wheel the six motors push 6 / 0.0603 = 99.5 N; the 19.7 kg robot needs
+  // m g sin(theta) of it on a slope: the limit is asin(99.5 / 193) = 31 degrees.
+  KurtConfig weak = *find_robot_type("kurt3d");
+  weak.body.wheel_torque = 1.0;
+  register_robot_type("kurt3d_weak_motors", weak);
+  EXPECT_GT(climb("kurt3d_weak_motors", 20), 0.195);
+  EXPECT_LT(climb("kurt3d_weak_motors", 36), 0.1);  // stalls on the slope
+  // The shipped robot (4 N m per wheel, mu 1) climbs 40 degrees; friction and tipping, not
+  // torque, stop it at 45.
+  EXPECT_GT(climb("kurt3d", 40), 0.195);
+}
+
+TEST(KurtRobot, OdometryErrorOverAMetreSquareIsWhatTheSlipFactorPredicts) {
+  World world(flat_world());
+  idle(world, 0.5);
+  KurtRobot& kurt = *world.robot("kurt");
+  // How much does this robot skid when it turns? Turning in place at w = 0.4 commands wheel
+  // speeds -+0.28 w: kinematically 2 w; the true rate over the kinematic one is the slip.
+  drive(world, 0.0, 0.4, 1.0);  // spin up
+  const double yaw_before = yaw_of(kurt.base_footprint_pose());
+  drive(world, 0.0, 0.4, 2.0);
+  const double slip = std::remainder(yaw_of(kurt.base_footprint_pose()) - yaw_before, 2 * M_PI) / (2 * 0.4 * 2.0);
+  EXPECT_NEAR(slip, 0.69, 0.1);  // the order of the real robot's turning adaptation (0.63 here)
+  kurt.command_twist(0.0, 0.0, world.time());
+  idle(world, 0.5);
+  const PlanarOdometry origin = kurt.odometry();
+  const Eigen::Vector2d start_position = kurt.base_footprint_pose().position.head<2>();
+  // Drive a 1 m square by odometry: straight 1 m, turn +90 degrees, four times.
+  double true_turn = 0, last_yaw = yaw_of(kurt.base_footprint_pose());
+  auto track = [&] {
+    const double yaw = yaw_of(kurt.base_footprint_pose());
+    true_turn += std::remainder(yaw - last_yaw, 2 * M_PI);
+    last_yaw = yaw;
+  };
+  for (int side = 0; side < 4; ++side) {
+    const PlanarOdometry start = kurt.odometry();
+    while (std::hypot(kurt.odometry().x - start.x, kurt.odometry().y - start.y) < 1.0) {
+      kurt.command_twist(0.3, 0.0, world.time());
+      world.step();
+      track();
+    }
+    const double heading = start.yaw + M_PI / 2;
+    while (std::remainder(heading - kurt.odometry().yaw, 2 * M_PI) > 0) {
+      kurt.command_twist(0.0, 0.4, world.time());
+      world.step();
+      track();
+    }
+    kurt.command_twist(0.0, 0.0, world.time());
+    idle(world, 0.5);
+    track();
+  }
+  // Odometry scales turns by the driver's 0.69 where the robot really turns by `slip`: the
+  // square's 2 pi of turning is off by 2 pi (1 - slip / 0.69), plus what starting and stopping
+  // each turn adds.
+  const double predicted = std::fabs(2 * M_PI * (1 - slip / 0.69));
+  const double heading_error = std::fabs(2 * M_PI - true_turn);
+  EXPECT_NEAR(heading_error, predicted, 0.5 * predicted + 0.03) << "slip " << slip;
+  const Eigen::Vector2d end = kurt.base_footprint_pose().position.head<2>();
+  EXPECT_LT((end - start_position).norm(), 0.35);
+  EXPECT_NEAR(kurt.odometry().x, origin.x, 0.05);  // odometry believes it closed the square
+  EXPECT_NEAR(kurt.odometry().y, origin.y, 0.05);
 }
 
 }  // namespace
