@@ -57,6 +57,12 @@ void CommandLine::option(const std::string& name, const std::string& value_name,
        true});
 }
 
+void CommandLine::repeated_option(const std::string& name, const std::string& value_name,
+                                  const std::string& help, std::vector<std::string>* target) {
+  add({name, value_name, help + " (repeatable)",
+       [target](const std::string& v) { target->push_back(v); return true; }, true});
+}
+
 void CommandLine::participant_options(ParticipantOptions* options) {
   add({"domain", "N", "DDS domain id, 0.." + std::to_string(kMaxDomainId) + " (default 0)",
        [options](const std::string& v) {

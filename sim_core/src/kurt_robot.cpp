@@ -460,6 +460,39 @@ Pose KurtRobot::magnet_pose() const {
   return p;
 }
 
+std::vector<ShapeView> KurtRobot::shapes() const {
+  std::vector<ShapeView> out;
+  for (dGeomID g : geoms_) {
+    ShapeView v;
+    dQuaternion q;
+    dGeomGetQuaternion(g, q);
+    v.pose = {detail::vec(dGeomGetPosition(g)), detail::from_ode(q)};
+    const dBodyID body = dGeomGetBody(g);
+    if (dGeomGetClass(g) == dBoxClass) {
+      dVector3 sides;
+      dGeomBoxGetLengths(g, sides);
+      v.shape = Shape::Box;
+      v.size = detail::vec(sides);
+    } else {
+      dReal radius, length;
+      dGeomCylinderGetParams(g, &radius, &length);
+      v.shape = Shape::Cylinder;
+      v.size = {radius, 0.0, length};
+    }
+    if (body == chassis_) {
+      v.color = {0.25f, 0.3f, 0.35f, 1.0f};
+    } else if (body == magnet_) {
+      v.color = {0.75f, 0.1f, 0.1f, 1.0f};
+    } else if (body == turret_ || body == boom_) {
+      v.color = {0.95f, 0.75f, 0.1f, 1.0f};
+    } else {
+      v.color = {0.08f, 0.08f, 0.08f, 1.0f};  // tyres
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
 // ---- ground truth ------------------------------------------------------------------------
 
 Pose KurtRobot::base_link_pose() const {

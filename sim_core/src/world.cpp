@@ -447,6 +447,24 @@ std::vector<std::string> World::penetrations(const Object& object) const {
   return names;
 }
 
+std::vector<ShapeView> World::shapes() const {
+  std::vector<ShapeView> out;
+  for (const auto& o : objects_) {
+    for (std::size_t i = 0; i < o->geoms.size(); ++i) {
+      const ComponentSpec& c = o->spec.components[i];
+      dQuaternion q;
+      dGeomGetQuaternion(o->geoms[i], q);
+      out.push_back({c.shape, c.size, {detail::vec(dGeomGetPosition(o->geoms[i])), detail::from_ode(q)},
+                     c.color, c.texture});
+    }
+  }
+  for (const auto& r : robots_) {
+    auto parts = r->shapes();
+    out.insert(out.end(), parts.begin(), parts.end());
+  }
+  return out;
+}
+
 void World::emit(WorldEvent::Type type, const std::string& subject, const std::string& detail) {
   events_.push_back({type, time(), subject, detail});
 }

@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "support/child_process.h"
 #include "support/test_domain.h"
 
@@ -135,6 +137,31 @@ TEST(DdsProfile, TheShippedProfileKeepsEverySocketOnLoopback) {
     // 127.0.0.1 is 0100007F; the SPDP multicast group 239.255.0.1 (joined on lo) is 0100FFEF.
     EXPECT_TRUE(a == "0100007F" || a == "0100FFEF") << "a UDP socket bound to " << a;
   }
+}
+
+TEST(MacsimCli, SnapshotsRenderEveryCameraModeOffscreen) {
+  std::vector<std::string> argv{bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"),
+                                "--settle", "0.2", "--snapshot-size", "320x240"};
+  const std::vector<std::string> modes{"MouseOnly", "MouseKeyboard", "FixedFollow", "Follow",
+                                       "Inside", "LeftCamera", "RightCamera", "Manual"};
+  for (const auto& mode : modes) {
+    argv.push_back("--snapshot");
+    argv.push_back(mode + ":" + ::testing::TempDir() + "snapshot_" + mode + ".png");
+  }
+  ChildProcess p(argv);
+  ASSERT_EQ(p.wait_for_exit(60s), 0) << p.output();
+  for (const auto& mode : modes) {
+    const cv::Mat image = cv::imread(::testing::TempDir() + "snapshot_" + mode + ".png");
+    ASSERT_FALSE(image.empty()) << mode;
+    EXPECT_EQ(image.size(), cv::Size(320, 240)) << mode;
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(image, mean, stddev);
+    EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 20) << mode << " is featureless";
+  }
+  ChildProcess bad({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--snapshot",
+                    "Fisheye:x.png"});
+  EXPECT_EQ(bad.wait_for_exit(20s), 2);
+  EXPECT_NE(bad.output().find("MODE one of MouseOnly"), std::string::npos) << bad.output();
 }
 
 TEST(HelloKurtCli, WithoutASimulatorItSaysSoAndExitsTwo) {

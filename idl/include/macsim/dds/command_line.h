@@ -24,6 +24,9 @@ class CommandLine {
               double* target);
   void option(const std::string& name, const std::string& value_name, const std::string& help,
               int* target);
+  /// An option that may be given several times; each value is appended.
+  void repeated_option(const std::string& name, const std::string& value_name,
+                       const std::string& help, std::vector<std::string>* target);
   /// --domain N (0..232) and --profile FILE, bound to the participant options.
   void participant_options(ParticipantOptions* options);
 

@@ -179,6 +179,8 @@ class KurtRobot {
   /// Pose of the magnet's underside centre (ground truth).
   Pose magnet_pose() const;
 
+  /// The robot's shapes where they are now, for drawing.
+  std::vector<ShapeView> shapes() const;
   /// Every body: the chassis, the six wheels, then the crane's (turret, boom, magnet).
   std::vector<dBodyID> bodies() const;
   const ControllerState& controller_state() const { return state_; }

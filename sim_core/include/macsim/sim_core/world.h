@@ -230,6 +230,9 @@ class World {
   /// Moves the switch's platform there; the base moves along.
   Status set_switch_position(int door, const Eigen::Vector3d& position);
 
+  /// Every object's and robot's shapes as they stand now, with their looks (for renderers).
+  std::vector<ShapeView> shapes() const;
+
   // ---- events, state, reset ------------------------------------------------------------
   /// Events since the last call.
   std::vector<WorldEvent> take_events();

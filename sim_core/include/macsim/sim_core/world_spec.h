@@ -70,6 +70,15 @@ struct ComponentSpec {
   std::string texture;                          ///< BMP path (resolved), empty for none
 };
 
+/// A shape as it stands in the world right now, with its looks: what a renderer draws.
+struct ShapeView {
+  Shape shape = Shape::Box;
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< as ComponentSpec::size
+  Pose pose;                                       ///< of the shape's centre, world frame
+  Color color{0.5f, 0.5f, 0.5f, 1.0f};
+  std::string texture;
+};
+
 /// Volume of one component in m^3.
 double component_volume(const ComponentSpec& component);
 

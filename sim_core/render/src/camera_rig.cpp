@@ -1,0 +1,75 @@
+#include "macsim/render/camera_rig.h"
+
+#include <iostream>
+
+namespace macsim::render {
+
+CameraRig::CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics, Callback on_frame)
+    : robot_(robot), intrinsics_(intrinsics), on_frame_(std::move(on_frame)), thread_([this] { run(); }) {}
+
+CameraRig::~CameraRig() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void CameraRig::submit(Scene scene) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (pending_) ++dropped_;
+    pending_ = std::move(scene);
+  }
+  wake_.notify_one();
+}
+
+void CameraRig::wait_idle() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  idle_.wait(lock, [this] { return (!pending_ && !busy_) || stop_; });
+}
+
+uint64_t CameraRig::rendered() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return rendered_;
+}
+
+uint64_t CameraRig::dropped() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return dropped_;
+}
+
+void CameraRig::run() {
+  // The GL context belongs to this thread: made, used and destroyed here.
+  std::unique_ptr<OffscreenRenderer> renderer;
+  try {
+    renderer = std::make_unique<OffscreenRenderer>(intrinsics_.width, intrinsics_.height);
+  } catch (const RenderError& e) {
+    std::cerr << "camera rig for '" << robot_ << "': " << e.what() << std::endl;
+  }
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [this] { return stop_ || pending_.has_value(); });
+    if (stop_) break;
+    Scene scene = std::move(*pending_);
+    pending_.reset();
+    busy_ = true;
+    lock.unlock();
+    if (renderer) {
+      for (const auto& r : scene.robots) {
+        if (r.name != robot_) continue;
+        StereoFrame frame{scene.time, robot_, renderer->render(scene, r.left_camera, intrinsics_),
+                          renderer->render(scene, r.right_camera, intrinsics_)};
+        on_frame_(frame);
+      }
+    }
+    lock.lock();
+    busy_ = false;
+    ++rendered_;
+    idle_.notify_all();
+  }
+  idle_.notify_all();
+}
+
+}  // namespace macsim::render
