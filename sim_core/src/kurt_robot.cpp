@@ -288,7 +288,7 @@ void KurtRobot::after_step(double now, double step) {
 
 void KurtRobot::read_frame_sensors(double now) {
   const Pose base = base_link_pose();
-  for (std::size_t i = 0; i < ranges_.size(); ++i) {
+  for (std::size_t i = 0; i < ranges_.size() && config_.range_sensors; ++i) {
     const RangeSensorSpec& s = kurt_range_sensors()[i];
     const Eigen::Vector3d origin = base.position + base.orientation * Eigen::Vector3d(s.x, s.y, 0);
     // Three rays across the cone: the nearest echo wins, as the real sensors report.

@@ -68,6 +68,7 @@ struct KurtConfig {
   KurtBodyParams body;
   bool crane = true;
   CraneParams crane_params;
+  bool range_sensors = true;       ///< IR and sonar, read with every encoder frame (100 Hz)
   LaserMount laser = LaserMount::Rotating;
   double laser_rate = 75.0;        ///< Hz, LMS200 sweeps
   double laser_noise = 0.005;      ///< m, Gaussian sigma of each beam

@@ -1,0 +1,117 @@
+// The robot's sensors and cameras against the same world without them, at a 1 ms step:
+// step rates and real-time factors, laser rays per second, camera frames per second.
+// Prints `name value unit` lines.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "macsim/render/camera_rig.h"
+#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/world.h"
+#include "macsim/sim_core/world_loader.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+struct Setup {
+  std::string name;
+  bool ranges, laser;
+  int camera_width = 0, camera_height = 0;  // 0: no cameras
+};
+
+/// Steps the demo world with the robot driving an arc for `seconds` of sim time; returns
+/// steps per wall second (median of 3 runs).
+double step_rate(const macsim::WorldSpec& base, const Setup& setup, double seconds) {
+  macsim::KurtConfig config = *macsim::find_robot_type("kurt3d");
+  config.range_sensors = setup.ranges;
+  config.laser = setup.laser ? macsim::LaserMount::Rotating : macsim::LaserMount::None;
+  config.rotunit_speed = M_PI / 6;
+  macsim::register_robot_type("bench_" + setup.name, config);
+  macsim::WorldSpec spec = base;
+  for (auto& robot : spec.robots) robot.type = "bench_" + setup.name;
+  std::vector<double> rates;
+  for (int run = 0; run < 3; ++run) {
+    macsim::World world(spec);
+    std::unique_ptr<macsim::render::CameraRig> rig;
+    if (setup.camera_width > 0) {
+      macsim::render::CameraIntrinsics in;
+      in.width = setup.camera_width;
+      in.height = setup.camera_height;
+      rig = std::make_unique<macsim::render::CameraRig>("kurt", in, [](const macsim::render::StereoFrame&) {});
+    }
+    const long steps = static_cast<long>(seconds / world.step_size());
+    const long camera_every = static_cast<long>(1.0 / 15 / world.step_size());  // 15 Hz
+    const auto start = Clock::now();
+    for (long i = 0; i < steps; ++i) {
+      if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.2, world.time());
+      world.step();
+      if (rig && i % camera_every == 0) rig->submit(macsim::render::capture_scene(world));
+    }
+    if (rig) rig->wait_idle();
+    rates.push_back(steps / seconds_since(start));
+    if (rig && run == 2) {
+      std::printf("camera_frames_rendered.%s %.0f %% of submitted\n", setup.name.c_str(),
+                  100.0 * rig->rendered() / (rig->rendered() + rig->dropped()));
+    }
+  }
+  return median(rates);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string world_file = argc > 1 ? argv[1] : "worlds/DemoWorld_v1.xml";
+  if (world_file == "--help") {
+    std::printf("usage: bench_robot [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
+    return 0;
+  }
+  const macsim::WorldSpec spec = macsim::load_world_file(world_file);
+  const double seconds = 10.0;
+  const std::vector<Setup> setups = {
+      {"no_sensors", false, false},
+      {"ir_sonar_100hz", true, false},
+      {"ir_sonar_laser_75hz", true, true},
+      {"ir_sonar_laser_cameras_320x240_15hz", true, true, 320, 240},
+      {"ir_sonar_laser_cameras_640x480_15hz", true, true, 640, 480},
+  };
+  std::vector<double> rates;
+  for (const auto& setup : setups) {
+    rates.push_back(step_rate(spec, setup, seconds));
+    std::printf("step_rate.%s %.0f steps/s\n", setup.name.c_str(), rates.back());
+    std::printf("real_time_factor.%s %.1f x\n", setup.name.c_str(), rates.back() * 0.001);
+  }
+  // Laser: 181 rays x 75 sweeps per sim second; their cost is what the laser adds per step.
+  const double laser_wall_per_sim_second = 1000.0 / rates[2] - 1000.0 / rates[1];
+  std::printf("laser_rays_per_second %.0f rays/s\n", 181 * 75 / laser_wall_per_sim_second);
+  const double ranges_wall_per_sim_second = 1000.0 / rates[1] - 1000.0 / rates[0];
+  std::printf("ir_sonar_rays_per_second %.0f rays/s\n", 8 * 3 * 100 / ranges_wall_per_sim_second);
+
+  macsim::World world(spec);
+  // Cameras: stereo pairs per second on one thread.
+  for (auto [w, h] : {std::pair{320, 240}, std::pair{640, 480}}) {
+    macsim::render::OffscreenRenderer renderer(w, h);
+    macsim::render::CameraIntrinsics in;
+    in.width = w;
+    in.height = h;
+    const auto scene = macsim::render::capture_scene(world);
+    for (int i = 0; i < 5; ++i) renderer.render(scene, scene.robots[0].left_camera, in);
+    const auto t0 = Clock::now();
+    const int frames = 60;
+    for (int i = 0; i < frames; ++i) renderer.render(scene, scene.robots[0].left_camera, in);
+    std::printf("camera_fps.%dx%d %.0f frames/s\n", w, h, frames / seconds_since(t0));
+  }
+  return 0;
+}
