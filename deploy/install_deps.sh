@@ -13,6 +13,8 @@ PACKAGES=(
   libode-dev libtinyxml2-dev libeigen3-dev libopencv-dev
   # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  # the interactive window (freeglut on X) and a virtual X server for its tests
+  libglut-dev xvfb xauth
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

@@ -1,18 +1,19 @@
 // macsim: loads a world, steps it and serves it over Fast DDS.
 #include <atomic>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <map>
-#include <thread>
-
+#include <mutex>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "macsim/dds/command_line.h"
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
+#include "macsim/render/viewer.h"
 #include "macsim/sim_core/simulation.h"
 #include "macsim/sim_core/world_loader.h"
 #include "sim_bridge.h"
@@ -28,8 +29,8 @@ void print_summary(const macsim::WorldSpec& spec) {
   int portable = 0;
   for (const auto& o : spec.objects) {
     portable += o.portable ? 1 : 0;
-    static const char* names[] = {"objects", "walls", "ramps", "switch bases", "switch platforms",
-                                  "door frames", "door leaves"};
+    static const char* names[] = {"objects",          "walls",       "ramps",      "switch bases",
+                                  "switch platforms", "door frames", "door leaves"};
     ++kinds[names[static_cast<int>(o.kind)]];
   }
   std::cout << "world '" << spec.name << "' from " << spec.file << ": " << spec.objects.size()
@@ -64,12 +65,14 @@ int write_snapshots(macsim::Simulation& simulation, const std::vector<std::strin
   std::vector<std::pair<render::CameraMode, std::string>> jobs;
   for (const auto& request : requests) {
     const auto colon = request.find(':');
-    const auto mode = colon == std::string::npos ? std::nullopt
-                                                 : render::camera_mode_from_name(request.substr(0, colon));
+    const auto mode = colon == std::string::npos
+                          ? std::nullopt
+                          : render::camera_mode_from_name(request.substr(0, colon));
     if (!mode || colon + 1 >= request.size()) {
       std::cerr << "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, "
                    "MouseKeyboard, FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual; "
-                   "got '" << request << "'\n";
+                   "got '"
+                << request << "'\n";
       return 2;
     }
     jobs.emplace_back(*mode, request.substr(colon + 1));
@@ -95,8 +98,8 @@ int write_snapshots(macsim::Simulation& simulation, const std::vector<std::strin
         std::cerr << "macsim: cannot write '" << file << "'\n";
         return 1;
       }
-      std::cout << "macsim: wrote " << render::camera_mode_name(mode) << " view to " << file
-                << " (" << intrinsics.width << "x" << intrinsics.height << ", " << renderer.gl_renderer()
+      std::cout << "macsim: wrote " << render::camera_mode_name(mode) << " view to " << file << " ("
+                << intrinsics.width << "x" << intrinsics.height << ", " << renderer.gl_renderer()
                 << ")" << std::endl;
     }
   } catch (const render::RenderError& e) {
@@ -120,15 +123,17 @@ int main(int argc, char** argv) {
   std::vector<std::string> snapshots;
   double settle = 1.0;
   std::string snapshot_size = "640x480";
+  bool viewer = false;
+  std::string camera_mode = "MouseKeyboard";
+  std::string viewer_screenshot;
 
-  macsim::dds::CommandLine cli(
-      "macsim", "Loads a MACSim world, steps its physics and serves it over DDS.");
+  macsim::dds::CommandLine cli("macsim",
+                               "Loads a MACSim world, steps its physics and serves it over DDS.");
   cli.option("world", "FILE", "world file to load (required)", &world_file);
   cli.participant_options(&participant);
   cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &realtime);
   cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &rtf);
-  cli.flag("as-fast-as-possible", "step without waiting for the wall clock",
-           &as_fast_as_possible);
+  cli.flag("as-fast-as-possible", "step without waiting for the wall clock", &as_fast_as_possible);
   cli.option("duration", "SECONDS", "stop after this much sim time (default: run until SIGINT)",
              &duration);
   cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
@@ -141,6 +146,11 @@ int main(int argc, char** argv) {
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
              &settle);
   cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)", &snapshot_size);
+  cli.flag("viewer", "open a window on the world (needs an X display)", &viewer);
+  cli.option("camera-mode", "MODE", "the window's first camera mode (default MouseKeyboard)",
+             &camera_mode);
+  cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
+             &viewer_screenshot);
   cli.flag("validate", "load the world, print a summary and exit", &validate);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (world_file.empty()) {
@@ -168,6 +178,16 @@ int main(int argc, char** argv) {
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  macsim::render::ViewerOptions viewer_options;
+  if (viewer) {
+    auto mode = macsim::render::camera_mode_from_name(camera_mode);
+    if (!mode) {
+      std::cerr << "macsim: unknown --camera-mode '" << camera_mode << "'\n";
+      return 2;
+    }
+    viewer_options.mode = *mode;
+    viewer_options.screenshot = viewer_screenshot;
+  }
 
   try {
     macsim::dds::Participant dds(participant);
@@ -190,30 +210,59 @@ int main(int argc, char** argv) {
     auto next = start;
     auto next_status = start;
     const uint64_t last_step =
-        duration > 0 ? static_cast<uint64_t>(std::llround(duration /
-                                                          simulation->world().step_size()))
-                     : UINT64_MAX;
-    while (!g_stop.load() && simulation->world().steps() < last_step) {
-      simulation->step();
-      bridge.publish();
-      if (status_period > 0 && Clock::now() >= next_status) {
-        print_status(simulation->world());
-        next_status += std::chrono::duration_cast<Clock::duration>(
-            std::chrono::duration<double>(status_period));
+        duration > 0
+            ? static_cast<uint64_t>(std::llround(duration / simulation->world().step_size()))
+            : UINT64_MAX;
+    // The viewer (if any) gets a copy of the scene about 30 times a second of wall time.
+    std::mutex scene_mutex;
+    macsim::render::Scene latest_scene = macsim::render::capture_scene(simulation->world());
+    auto next_scene = start;
+    std::atomic<bool> finished{false};
+    auto loop = [&] {
+      while (!g_stop.load() && simulation->world().steps() < last_step) {
+        simulation->step();
+        bridge.publish();
+        if (viewer && Clock::now() >= next_scene) {
+          std::lock_guard<std::mutex> lock(scene_mutex);
+          latest_scene = macsim::render::capture_scene(simulation->world());
+          next_scene = Clock::now() + std::chrono::milliseconds(33);
+        }
+        if (status_period > 0 && Clock::now() >= next_status) {
+          print_status(simulation->world());
+          next_status += std::chrono::duration_cast<Clock::duration>(
+              std::chrono::duration<double>(status_period));
+        }
+        if (!as_fast_as_possible) {
+          next += wall_step;
+          const auto now = Clock::now();
+          if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
+          std::this_thread::sleep_until(next);
+        }
       }
-      if (!as_fast_as_possible) {
-        next += wall_step;
-        const auto now = Clock::now();
-        if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
-        std::this_thread::sleep_until(next);
-      }
+      finished.store(true);
+    };
+    if (viewer) {
+      std::thread physics(loop);
+      const int code = macsim::render::run_viewer(
+          viewer_options,
+          [&] {
+            std::lock_guard<std::mutex> lock(scene_mutex);
+            return latest_scene;
+          },
+          [&] { return g_stop.load() || finished.load(); });
+      g_stop.store(true);
+      physics.join();
+      if (code != 0) return code;
+    } else {
+      loop();
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     const auto& world = simulation->world();
-    std::printf("macsim: stopped at sim time %.3f s after %llu steps in %.3f s wall: %.0f steps/s, "
-                "real-time factor %.2f\n",
-                world.time(), static_cast<unsigned long long>(world.steps()), wall,
-                world.steps() / wall, world.time() / wall);
+    std::printf(
+        "macsim: stopped at sim time %.3f s after %llu steps in %.3f s wall: %.0f steps/s, "
+        "real-time factor %.2f\n",
+        world.time(), static_cast<unsigned long long>(world.steps()), wall, world.steps() / wall,
+        world.time() / wall);
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "macsim: DDS error: " << e.what() << std::endl;
     return 3;

@@ -5,7 +5,9 @@
 #include <dirent.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
+#include <thread>
 #include <set>
 #include <sstream>
 
@@ -162,6 +164,38 @@ TEST(MacsimCli, SnapshotsRenderEveryCameraModeOffscreen) {
                     "Fisheye:x.png"});
   EXPECT_EQ(bad.wait_for_exit(20s), 2);
   EXPECT_NE(bad.output().find("MODE one of MouseOnly"), std::string::npos) << bad.output();
+}
+
+TEST(MacsimCli, TheViewerOpensARealWindowOnAnXServer) {
+  // A private X server (Xvfb) on a display number derived from a reserved DDS domain.
+  const int domain = unique_test_domain();
+  const std::string display = ":" + std::to_string(domain);
+  ChildProcess xvfb({"/usr/bin/Xvfb", display, "-screen", "0", "1024x768x24", "-nolisten", "tcp"});
+  ASSERT_TRUE(std::filesystem::exists("/usr/bin/Xvfb"));
+  std::this_thread::sleep_for(1s);
+  ASSERT_TRUE(xvfb.running()) << xvfb.output();
+  const std::string shot = ::testing::TempDir() + "viewer_window.png";
+  std::filesystem::remove(shot);
+  setenv("DISPLAY", display.c_str(), 1);
+  ChildProcess viewer({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
+                       std::to_string(domain), "--viewer", "--camera-mode", "FixedFollow",
+                       "--viewer-screenshot", shot, "--duration", "2.0"});
+  unsetenv("DISPLAY");
+  ASSERT_EQ(viewer.wait_for_exit(60s), 0) << viewer.output();
+  const cv::Mat image = cv::imread(shot);
+  ASSERT_FALSE(image.empty()) << viewer.output();
+  EXPECT_EQ(image.size(), cv::Size(960, 720));
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(image, mean, stddev);
+  EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 20);
+}
+
+TEST(MacsimCli, TheViewerWithoutADisplaySaysSo) {
+  unsetenv("DISPLAY");
+  ChildProcess viewer({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                       std::to_string(unique_test_domain()), "--viewer"});
+  EXPECT_EQ(viewer.wait_for_exit(30s), 1);
+  EXPECT_NE(viewer.output().find("no X display"), std::string::npos) << viewer.output();
 }
 
 TEST(HelloKurtCli, WithoutASimulatorItSaysSoAndExitsTwo) {

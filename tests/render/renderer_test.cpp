@@ -8,6 +8,7 @@
 
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/camera_rig.h"
+#include "macsim/render/viewer.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -127,6 +128,31 @@ TEST(CameraModes, EveryModeHasANameAndAPose) {
   const Pose fixed = render::camera_pose(CameraMode::FixedFollow, scene);
   const Eigen::Vector3d facing = fixed.orientation * Eigen::Vector3d::UnitX();
   EXPECT_NEAR(facing.dot((robot - fixed.position).normalized()), 1.0, 1e-9);
+}
+
+TEST(FreeCamera, MouseAndKeysMoveItAsTheSeedsViewerDid) {
+  render::FreeCamera camera;
+  camera.position = {0, 0, 2};
+  camera.yaw = 0;
+  camera.pitch = 0;
+  camera.drag(render::MouseButton::Right, 0, -100);  // right button, mouse up: forwards
+  EXPECT_NEAR(camera.position.x(), 1.0, 1e-12);
+  camera.drag(render::MouseButton::Right, -100, 0);  // mouse left: to the left
+  EXPECT_NEAR(camera.position.y(), 1.0, 1e-12);
+  camera.drag(render::MouseButton::Middle, 0, -50);  // middle button, mouse up: rises
+  EXPECT_NEAR(camera.position.z(), 2.5, 1e-12);
+  camera.drag(render::MouseButton::Left, -100, 60);  // left button: turns left, tilts down
+  EXPECT_NEAR(camera.yaw, 0.5, 1e-12);
+  EXPECT_NEAR(camera.pitch, 0.3, 1e-12);
+  const Eigen::Vector3d before = camera.position;
+  EXPECT_TRUE(camera.key('w', 0.1));
+  EXPECT_NEAR((camera.position - before).norm(), 0.1, 1e-12);
+  EXPECT_NEAR(camera.position.z(), before.z(), 1e-12);  // stays in its plane
+  EXPECT_FALSE(camera.key('x'));
+  // A pose and back.
+  const render::FreeCamera again = render::FreeCamera::from_pose(camera.pose());
+  EXPECT_NEAR(again.yaw, camera.yaw, 1e-12);
+  EXPECT_NEAR(again.pitch, camera.pitch, 1e-12);
 }
 
 TEST(CameraRig, RendersOnItsOwnThreadAndKeepsTheNewestScene) {
