@@ -111,6 +111,38 @@ TEST(KurtRobot, StopsWhenCommandsStopForTheTimeout) {
   EXPECT_LT(kurt.linear_velocity().norm(), 0.01);
 }
 
+TEST(KurtRobot, SeveralRobotsShareAWorldAndObeyTheirOwnCommands) {
+  World world(load_world_string(R"(<WORLD>
+      <ROBOT><ID>alpha</ID><TYPE>kurt3d</TYPE><POS>0,0,0</POS></ROBOT>
+      <ROBOT><ID>beta</ID><TYPE>kurt2</TYPE><POS>0,2,0</POS><ROT>0,0,90</ROT></ROBOT></WORLD>)",
+                                "two.xml"));
+  ASSERT_EQ(world.robots().size(), 2u);
+  EXPECT_TRUE(world.robot("alpha")->config().crane);
+  EXPECT_FALSE(world.robot("beta")->config().crane);
+  for (int i = 0; i < 2000; ++i) {
+    if (i % 100 == 0) world.robot("beta")->command_twist(0.3, 0.0, world.time());
+    world.step();
+  }
+  EXPECT_LT(world.robot("alpha")->base_footprint_pose().position.head<2>().norm(), 0.01);
+  // beta faces +y: it drove along y.
+  const Eigen::Vector3d beta = world.robot("beta")->base_footprint_pose().position;
+  EXPECT_GT(beta.y(), 2.4);
+  EXPECT_NEAR(beta.x(), 0.0, 0.05);
+  EXPECT_GT(world.robot("beta")->odometry().x, 0.4);  // its own odometry frame: forward is x
+}
+
+TEST(KurtRobot, UnknownRobotTypesAreNamedWithTheKnownOnes) {
+  WorldSpec spec = load_world_string("<WORLD>\n<ROBOT><ID>r</ID><TYPE>kurt9</TYPE></ROBOT></WORLD>", "w.xml");
+  try {
+    World world(std::move(spec));
+    FAIL();
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("known: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("kurt3d"), std::string::npos) << e.what();
+  }
+}
+
 // Drives at 0.3 m/s towards a 0.2 m high ramp of `degrees`; returns the highest footprint z.
 double climb(const std::string& type, double degrees) {
   World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>" + type +
