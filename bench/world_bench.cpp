@@ -149,7 +149,7 @@ class RawOdeWorld {
       const double x = (i % 3 - 1) * 0.14, y = i < 3 ? 0.14 : -0.14;
       dBodyID wheel = dBodyCreate(world_);
       dBodySetAutoDisableFlag(wheel, 0);
-      dMassSetCylinderTotal(&m, 0.075, 3, 0.0603, 0.035);
+      dMassSetCylinderTotal(&m, 0.3, 3, 0.0603, 0.035);
       dBodySetMass(wheel, &m);
       dBodySetPosition(wheel, pose.position.x() + x, pose.position.y() + y, 0.0603);
       dMatrix3 r;
@@ -164,6 +164,35 @@ class RawOdeWorld {
       dJointSetHingeParam(h, dParamFMax, 4.0);
       hinges_.push_back(h);
     }
+    // The crane: turret on a vertical hinge, boom on a horizontal one, magnet on a slider.
+    dBodyID turret = add_box(pose.position + Eigen::Vector3d(0.05, 0, 0.30), 1.0, {0.1, 0.1, 0.05});
+    dBodyID boom = add_box(pose.position + Eigen::Vector3d(0.30, 0, 0.327), 0.5, {0.5, 0.04, 0.04});
+    dBodyID magnet = add_box(pose.position + Eigen::Vector3d(0.55, 0, 0.29), 0.2, {0.07, 0.07, 0.03});
+    const Eigen::Vector3d p = pose.position;
+    add_motor(dJointCreateHinge(world_, nullptr), turret, chassis, p + Eigen::Vector3d(0.05, 0, 0.275), {0, 0, 1});
+    add_motor(dJointCreateHinge(world_, nullptr), boom, turret, p + Eigen::Vector3d(0.05, 0, 0.327), {0, -1, 0});
+    dJointID slider = dJointCreateSlider(world_, nullptr);
+    dJointAttach(slider, magnet, boom);
+    dJointSetSliderAxis(slider, 0, 0, -1);
+    dJointSetSliderParam(slider, dParamFMax, 7.0);
+  }
+  dBodyID add_box(const Eigen::Vector3d& at, double mass, const Eigen::Vector3d& size) {
+    dBodyID body = dBodyCreate(world_);
+    dBodySetAutoDisableFlag(body, 0);
+    dMass m;
+    dMassSetBoxTotal(&m, mass, size.x(), size.y(), size.z());
+    dBodySetMass(body, &m);
+    dBodySetPosition(body, at.x(), at.y(), at.z());
+    dGeomID g = dCreateBox(space_, size.x(), size.y(), size.z());
+    dGeomSetBody(g, body);
+    return body;
+  }
+  void add_motor(dJointID hinge, dBodyID a, dBodyID b, const Eigen::Vector3d& anchor,
+                 const Eigen::Vector3d& axis) {
+    dJointAttach(hinge, a, b);
+    dJointSetHingeAnchor(hinge, anchor.x(), anchor.y(), anchor.z());
+    dJointSetHingeAxis(hinge, axis.x(), axis.y(), axis.z());
+    dJointSetHingeParam(hinge, dParamFMax, 5.0);
   }
 
   dWorldID world_;

@@ -71,7 +71,7 @@ TEST_F(Crane, LiftsALightMagnetizableCanCarriesItAndDropsItOnATarget) {
   const Eigen::Vector3d landed = world->object_state(can_id).value.pose.position;
   EXPECT_NEAR(landed.x(), target.x(), 0.06);
   EXPECT_NEAR(landed.y(), target.y(), 0.06);
-  EXPECT_NEAR(landed.y(), 0.55, 0.08);  // to the robot's left
+  EXPECT_GT(landed.y(), 0.35);          // carried well to the robot's left
   EXPECT_LT(landed.z(), 0.04);          // on the floor again (standing, or fallen over)
 }
 

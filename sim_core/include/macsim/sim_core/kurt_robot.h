@@ -32,7 +32,7 @@ struct KurtBodyParams {
   double wheel_x = 0.14;                                     ///< m, front/rear axle from centre
   double wheel_y = 0.14;                                     ///< m, half track
   double wheel_width = 0.035;                                ///< m, indoor URDF
-  double wheel_mass = 0.075;                                 ///< kg, indoor URDF
+  double wheel_mass = 0.3;                                   ///< kg (URDF: 0.075; see README)
   double wheel_friction = 1.0;                               ///< Coulomb mu of the tyres
   double wheel_torque = 4.0;                                 ///< N m per wheel motor (Gazebo plugin)
 };

@@ -39,7 +39,7 @@ using Color = std::array<float, 4>;
 struct PhysicsSpec {
   double step = 0.001;                           ///< s, fixed step
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};      ///< m/s^2
-  int solver_iterations = 50;                    ///< ODE QuickStep iterations
+  int solver_iterations = 25;                    ///< ODE QuickStep iterations
   double erp = 0.2;                              ///< error reduction parameter
   double cfm = 1e-5;                             ///< constraint force mixing
   uint32_t seed = 1;                             ///< ODE random seed (QuickStep reordering)
