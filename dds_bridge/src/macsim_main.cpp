@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> snapshots;
   double settle = 1.0;
   std::string snapshot_size = "640x480";
+  std::string cameras = "320x240";
+  double camera_rate = 15.0;
   bool viewer = false;
   std::string camera_mode = "MouseKeyboard";
   std::string viewer_screenshot;
@@ -146,6 +148,11 @@ int main(int argc, char** argv) {
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
              &settle);
   cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)", &snapshot_size);
+  cli.option("cameras", "WxH|off",
+             "render and publish each robot's stereo cameras at this size (default 320x240)",
+             &cameras);
+  cli.option("camera-rate", "HZ", "camera frames per second of sim time (default 15)",
+             &camera_rate);
   cli.flag("viewer", "open a window on the world (needs an X display)", &viewer);
   cli.option("camera-mode", "MODE", "the window's first camera mode (default MouseKeyboard)",
              &camera_mode);
@@ -191,7 +198,20 @@ int main(int argc, char** argv) {
 
   try {
     macsim::dds::Participant dds(participant);
-    macsim::SimBridge bridge(dds, *simulation);
+    macsim::BridgeOptions bridge_options;
+    bridge_options.cameras = cameras != "off";
+    bridge_options.camera_rate = camera_rate;
+    if (bridge_options.cameras &&
+        (std::sscanf(cameras.c_str(), "%dx%d", &bridge_options.camera.width,
+                     &bridge_options.camera.height) != 2 ||
+         bridge_options.camera.width <= 0 || bridge_options.camera.height <= 0 ||
+         camera_rate <= 0)) {
+      std::cerr << "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive "
+                   "rate; got '"
+                << cameras << "'\n";
+      return 2;
+    }
+    macsim::SimBridge bridge(dds, *simulation, bridge_options);
     std::cout << "macsim: serving on DDS domain " << participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
     if (as_fast_as_possible) {

@@ -1,22 +1,59 @@
 #include "sim_bridge.h"
 
-#include <cfloat>
 #include <cmath>
+#include <cstring>
+#include <iostream>
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
+#include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/rosgraph_msgsPubSubTypes.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/render/camera_rig.h"
 
 namespace macsim {
 
 namespace gm = geometry_msgs::msg::dds_;
 namespace nm = nav_msgs::msg::dds_;
+namespace sm = sensor_msgs::msg::dds_;
+namespace km = kurt_msgs::msg::dds_;
+using dds::QosFamily;
+
+struct SimBridge::Clock {
+  dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> writer;
+};
 
 struct SimBridge::RobotTopics {
+  RobotTopics(dds::Participant& p, const std::string& robot, bool rotating_laser)
+      : name(robot),
+        odom(p, dds::topics::odom(robot), QosFamily::Sensor),
+        ground_truth(p, dds::topics::ground_truth(robot), QosFamily::Sensor),
+        joint_states(p, dds::topics::joint_states(robot), QosFamily::Sensor),
+        range(p, dds::topics::range(robot), QosFamily::Sensor),
+        imu(p, dds::topics::imu(robot), QosFamily::Sensor),
+        scan(p, dds::topics::scan(robot, rotating_laser), QosFamily::Sensor),
+        points(p, dds::topics::points(robot), QosFamily::Sensor),
+        crane_state(p, dds::topics::crane_state(robot), QosFamily::Sensor) {}
+
   std::string name;
-  uint64_t published_frames = 0;
-  std::unique_ptr<dds::Writer<nm::Odometry_PubSubType>> odom;
-  std::unique_ptr<dds::Writer<nm::Odometry_PubSubType>> ground_truth;
-  std::unique_ptr<dds::Reader<gm::Twist_PubSubType>> cmd_vel;
+  uint64_t frames = 0, scans = 0, clouds = 0;
+  double next_camera_time = 0.0;
+  dds::Writer<nm::Odometry_PubSubType> odom, ground_truth;
+  dds::Writer<sm::JointState_PubSubType> joint_states;
+  dds::Writer<sm::Range_PubSubType> range;
+  dds::Writer<sm::Imu_PubSubType> imu;
+  dds::Writer<sm::LaserScan_PubSubType> scan;
+  dds::Writer<sm::PointCloud2_PubSubType> points;
+  dds::Writer<km::CraneState_PubSubType> crane_state;
+  std::unique_ptr<dds::Writer<sm::Image_PubSubType>> left_image, right_image;
+  std::unique_ptr<dds::Writer<sm::CameraInfo_PubSubType>> left_info, right_info;
+  // Readers last: they are destroyed first, so no callback outlives what it queues into.
+  std::unique_ptr<dds::Reader<gm::Twist_PubSubType>> cmd_vel, rot_vel;
+  std::unique_ptr<dds::Reader<km::CraneCommand_PubSubType>> crane_command;
+  std::unique_ptr<dds::Reader<km::MagnetCommand_PubSubType>> magnet;
+  std::unique_ptr<render::CameraRig> cameras;
 };
 
 namespace {
@@ -24,8 +61,7 @@ namespace {
 /// Odometry as the real driver publishes it (kurt_base: frames, covariance).
 nm::Odometry_ odometry_message(const PlanarOdometry& odom, double stamp) {
   nm::Odometry_ msg;
-  msg.header().stamp(dds::to_time(stamp));
-  msg.header().frame_id("odom_combined");
+  msg.header(dds::header(stamp, "odom_combined"));
   msg.child_frame_id("base_footprint");
   msg.pose().pose().position().x(odom.x);
   msg.pose().pose().position().y(odom.y);
@@ -42,8 +78,7 @@ nm::Odometry_ ground_truth_message(const KurtRobot& robot, double stamp) {
   const Eigen::Vector3d v = pose.orientation.conjugate() * robot.linear_velocity();
   const Eigen::Vector3d w = pose.orientation.conjugate() * robot.angular_velocity();
   nm::Odometry_ msg;
-  msg.header().stamp(dds::to_time(stamp));
-  msg.header().frame_id("world");
+  msg.header(dds::header(stamp, "world"));
   msg.child_frame_id("base_footprint");
   msg.pose().pose().position(dds::point(pose.position.x(), pose.position.y(), pose.position.z()));
   const auto& q = pose.orientation;
@@ -53,32 +88,181 @@ nm::Odometry_ ground_truth_message(const KurtRobot& robot, double stamp) {
   return msg;
 }
 
+/// The six wheel joints, each side's angle as the driver accumulates it (wrapped to +-pi).
+sm::JointState_ wheel_joints(const KurtRobot& robot, double stamp) {
+  sm::JointState_ msg;
+  msg.header(dds::header(stamp, ""));
+  const double left = std::remainder(robot.wheel_angle(0), 2 * M_PI);
+  const double right = std::remainder(robot.wheel_angle(1), 2 * M_PI);
+  for (const char* side : {"left", "right"}) {
+    for (const char* wheel : {"front", "middle", "rear"}) {
+      msg.name().push_back(std::string(side) + "_" + wheel + "_wheel_joint");
+      msg.position().push_back(side[0] == 'l' ? left : right);
+    }
+  }
+  return msg;
+}
+
+sm::Imu_ imu_message(const ImuReading& imu, double stamp) {
+  sm::Imu_ msg;
+  msg.header(dds::header(stamp, "base_link"));
+  const Eigen::Quaterniond q = Eigen::AngleAxisd(imu.yaw, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(imu.pitch, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(imu.roll, Eigen::Vector3d::UnitX());
+  msg.orientation(dds::quaternion(q.x(), q.y(), q.z(), q.w()));
+  std::array<double, 9> orientation_covariance{};
+  orientation_covariance[8] = imu.yaw_variance;
+  msg.orientation_covariance(orientation_covariance);
+  msg.angular_velocity(dds::vector3(0, 0, imu.yaw_rate));
+  std::array<double, 9> unknown{};
+  unknown[0] = -1;  // as the KURT driver: rates and accelerations are not provided
+  msg.angular_velocity_covariance(unknown);
+  msg.linear_acceleration_covariance(unknown);
+  return msg;
+}
+
+sm::LaserScan_ scan_message(const LaserScan& scan, const std::string& frame, double rate) {
+  sm::LaserScan_ msg;
+  msg.header(dds::header(scan.stamp, frame));
+  msg.angle_min(static_cast<float>(scan.angle_min));
+  msg.angle_max(
+      static_cast<float>(scan.angle_min + scan.angle_increment * (scan.ranges.size() - 1)));
+  msg.angle_increment(static_cast<float>(scan.angle_increment));
+  msg.scan_time(static_cast<float>(1.0 / rate));
+  msg.time_increment(
+      static_cast<float>(1.0 / rate / 2 / scan.ranges.size()));  // half a turn of the mirror
+  msg.range_min(static_cast<float>(scan.range_min));
+  msg.range_max(static_cast<float>(scan.range_max));
+  msg.ranges(scan.ranges);
+  return msg;
+}
+
+sm::PointCloud2_ cloud_message(const PointCloud& cloud) {
+  sm::PointCloud2_ msg;
+  msg.header(dds::header(cloud.stamp, "base_link"));
+  uint32_t offset = 0;
+  for (const char* axis : {"x", "y", "z"}) {
+    sm::PointField_ field;
+    field.name(axis);
+    field.offset(offset);
+    field.datatype(7);  // FLOAT32
+    field.count(1);
+    msg.fields().push_back(field);
+    offset += 4;
+  }
+  msg.height(1);
+  msg.width(static_cast<uint32_t>(cloud.points.size()));
+  msg.point_step(12);
+  msg.row_step(12 * msg.width());
+  msg.is_bigendian(false);
+  msg.is_dense(true);
+  msg.data().resize(cloud.points.size() * 12);
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    std::memcpy(msg.data().data() + 12 * i, cloud.points[i].data(), 12);
+  }
+  return msg;
+}
+
+sm::Image_ image_message(const cv::Mat& bgr, double stamp, const std::string& frame) {
+  sm::Image_ msg;
+  msg.header(dds::header(stamp, frame));
+  msg.height(bgr.rows);
+  msg.width(bgr.cols);
+  msg.encoding("bgr8");
+  msg.step(bgr.cols * 3);
+  msg.data().assign(bgr.data, bgr.data + bgr.total() * 3);
+  return msg;
+}
+
+/// Pinhole calibration; the right camera's projection carries the baseline.
+sm::CameraInfo_ camera_info(const render::CameraIntrinsics& in, double stamp,
+                            const std::string& frame, double baseline) {
+  sm::CameraInfo_ msg;
+  msg.header(dds::header(stamp, frame));
+  msg.height(in.height);
+  msg.width(in.width);
+  msg.distortion_model("plumb_bob");
+  msg.d({0, 0, 0, 0, 0});
+  const double f = in.focal(), cx = in.width / 2.0, cy = in.height / 2.0;
+  msg.k({f, 0, cx, 0, f, cy, 0, 0, 1});
+  msg.r({1, 0, 0, 0, 1, 0, 0, 0, 1});
+  msg.p({f, 0, cx, -f * baseline, 0, f, cy, 0, 0, 0, 1, 0});
+  return msg;
+}
+
 }  // namespace
 
-SimBridge::SimBridge(dds::Participant& participant, Simulation& simulation)
-    : simulation_(simulation) {
-  clock_ = std::make_unique<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
-      participant, dds::topics::kClock, dds::QosFamily::Sensor);
+SimBridge::SimBridge(dds::Participant& participant, Simulation& simulation,
+                     const BridgeOptions& options)
+    : simulation_(simulation),
+      options_(options),
+      clock_(new Clock{{participant, dds::topics::kClock, QosFamily::Sensor}}) {
+  CommandQueue& queue = simulation.commands();
   for (const auto& robot : simulation.world().robots()) {
-    auto topics = std::make_unique<RobotTopics>();
-    topics->name = robot->name();
-    topics->odom = std::make_unique<dds::Writer<nm::Odometry_PubSubType>>(
-        participant, dds::topics::odom(robot->name()), dds::QosFamily::Sensor);
-    topics->ground_truth = std::make_unique<dds::Writer<nm::Odometry_PubSubType>>(
-        participant, dds::topics::ground_truth(robot->name()), dds::QosFamily::Sensor);
-    CommandQueue& queue = simulation.commands();
     const std::string name = robot->name();
-    // Runs on Fast DDS's thread: copy the numbers, queue the command, touch nothing else.
+    auto topics = std::make_unique<RobotTopics>(participant, name,
+                                                robot->config().laser == LaserMount::Rotating);
+    // Reader callbacks run on Fast DDS's threads: copy the numbers, queue a command, nothing else.
     topics->cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
-        participant, dds::topics::cmd_vel(name), dds::QosFamily::Command,
+        participant, dds::topics::cmd_vel(name), QosFamily::Command,
         [&queue, name](const gm::Twist_& twist) {
-          const double linear = twist.linear().x();
-          const double angular = twist.angular().z();
+          const double linear = twist.linear().x(), angular = twist.angular().z();
           if (!std::isfinite(linear) || !std::isfinite(angular)) return;  // never into ODE
           queue.push([name, linear, angular](World& world) {
             if (KurtRobot* r = world.robot(name)) r->command_twist(linear, angular, world.time());
           });
         });
+    topics->rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
+        participant, dds::topics::rot_vel(name), QosFamily::Command,
+        [&queue, name](const gm::Twist_& twist) {
+          const double speed = twist.angular().z();
+          if (!std::isfinite(speed)) return;
+          queue.push([name, speed](World& world) {
+            if (KurtRobot* r = world.robot(name)) r->command_rotunit(speed);
+          });
+        });
+    topics->crane_command = std::make_unique<dds::Reader<km::CraneCommand_PubSubType>>(
+        participant, dds::topics::crane_command(name), QosFamily::Command,
+        [&queue, name](const km::CraneCommand_& c) {
+          const CraneCommand target{c.slew(), c.lift(), c.hoist()};
+          if (!std::isfinite(target.slew) || !std::isfinite(target.lift) ||
+              !std::isfinite(target.hoist)) {
+            return;
+          }
+          queue.push([name, target](World& world) {
+            if (KurtRobot* r = world.robot(name)) r->command_crane(target);
+          });
+        });
+    topics->magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
+        participant, dds::topics::crane_magnet(name), QosFamily::Command,
+        [&queue, name](const km::MagnetCommand_& m) {
+          const bool on = m.on();
+          queue.push([name, on](World& world) {
+            if (KurtRobot* r = world.robot(name)) r->command_magnet(on);
+          });
+        });
+    if (options_.cameras) {
+      auto* t = topics.get();
+      t->left_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(
+          participant, dds::topics::image(name, "left"), QosFamily::Sensor);
+      t->right_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(
+          participant, dds::topics::image(name, "right"), QosFamily::Sensor);
+      t->left_info = std::make_unique<dds::Writer<sm::CameraInfo_PubSubType>>(
+          participant, dds::topics::camera_info(name, "left"), QosFamily::Sensor);
+      t->right_info = std::make_unique<dds::Writer<sm::CameraInfo_PubSubType>>(
+          participant, dds::topics::camera_info(name, "right"), QosFamily::Sensor);
+      const render::CameraIntrinsics in = options_.camera;
+      const double baseline =
+          (render::left_camera_mount().position - render::right_camera_mount().position).norm();
+      // Runs on the render thread: writers are thread-safe, the world is never touched.
+      t->cameras = std::make_unique<render::CameraRig>(
+          name, in, [t, in, baseline](const render::StereoFrame& f) {
+            t->left_image->write(image_message(f.left, f.stamp, "left_camera_optical_frame"));
+            t->right_image->write(image_message(f.right, f.stamp, "right_camera_optical_frame"));
+            t->left_info->write(camera_info(in, f.stamp, "left_camera_optical_frame", 0.0));
+            t->right_info->write(camera_info(in, f.stamp, "right_camera_optical_frame", baseline));
+          });
+    }
     robots_.push_back(std::move(topics));
   }
 }
@@ -91,24 +275,90 @@ void SimBridge::publish() {
   if (now + 1e-9 >= next_clock_time_) {
     rosgraph_msgs::msg::dds_::Clock_ clock;
     clock.clock(dds::to_time(now));
-    clock_->write(clock);
+    clock_->writer.write(clock);
     next_clock_time_ += 0.01;
   }
   for (auto& topics : robots_) {
-    KurtRobot* robot = world.robot(topics->name);
-    if (!robot || robot->odometry_frames() == topics->published_frames) continue;
-    topics->published_frames = robot->odometry_frames();
-    topics->odom->write(odometry_message(robot->odometry(), now));
-    topics->ground_truth->write(ground_truth_message(*robot, now));
+    if (KurtRobot* robot = world.robot(topics->name)) publish_robot(*topics, *robot, now);
+  }
+}
+
+void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
+  if (robot.odometry_frames() != t.frames) {  // every 10 ms encoder frame
+    t.frames = robot.odometry_frames();
+    t.odom.write(odometry_message(robot.odometry(), now));
+    t.ground_truth.write(ground_truth_message(robot, now));
+    t.joint_states.write(wheel_joints(robot, now));
+    t.imu.write(imu_message(robot.imu(), now));
+    for (const RangeReading& r : robot.ranges()) {
+      if (!robot.config().range_sensors) break;
+      sm::Range_ msg;
+      msg.header(dds::header(now, r.sensor->frame));
+      msg.radiation_type(r.sensor->sonar ? 0 : 1);
+      msg.field_of_view(static_cast<float>(r.sensor->field_of_view));
+      msg.min_range(static_cast<float>(r.sensor->min_range));
+      msg.max_range(static_cast<float>(r.sensor->max_range));
+      msg.range(static_cast<float>(r.range));
+      t.range.write(msg);
+    }
+    const CraneState crane = robot.crane_state();
+    km::CraneState_ state;
+    state.header(dds::header(now, "base_link"));
+    state.slew(crane.slew);
+    state.lift(crane.lift);
+    state.hoist(crane.hoist);
+    state.magnet_on(crane.magnet_on);
+    state.held_object(crane.held_object);
+    t.crane_state.write(state);
+  }
+  if (robot.laser_scans() != t.scans) {
+    t.scans = robot.laser_scans();
+    const bool rotating = robot.config().laser == LaserMount::Rotating;
+    t.scan.write(scan_message(robot.laser_scan(), rotating ? "laser360" : "laser",
+                              robot.config().laser_rate));
+    if (rotating) {  // the driver publishes the rotunit in joint_states messages of its own
+      sm::JointState_ rot;
+      rot.header(dds::header(now, ""));
+      rot.name({"laser_rot_joint"});
+      rot.position({robot.rotunit_angle()});
+      t.joint_states.write(rot);
+    }
+  }
+  if (robot.point_clouds() != t.clouds) {
+    t.clouds = robot.point_clouds();
+    t.points.write(cloud_message(robot.point_cloud()));
+  }
+  if (t.cameras && now + 1e-9 >= t.next_camera_time) {
+    t.next_camera_time += 1.0 / options_.camera_rate;
+    t.cameras->submit(render::capture_scene(simulation_.world()));
   }
 }
 
 std::vector<std::string> SimBridge::topic_names() const {
   std::vector<std::string> names{dds::topics::kClock + " (rosgraph_msgs/Clock, out)"};
-  for (const auto& topics : robots_) {
-    names.push_back(dds::topics::cmd_vel(topics->name) + " (geometry_msgs/Twist, in)");
-    names.push_back(dds::topics::odom(topics->name) + " (nav_msgs/Odometry, out)");
-    names.push_back(dds::topics::ground_truth(topics->name) + " (nav_msgs/Odometry, out)");
+  for (const auto& t : robots_) {
+    const auto& n = t->name;
+    for (const auto& [topic, what] : std::vector<std::pair<std::string, std::string>>{
+             {dds::topics::cmd_vel(n), "geometry_msgs/Twist, in"},
+             {dds::topics::rot_vel(n), "geometry_msgs/Twist, in"},
+             {dds::topics::crane_command(n), "kurt_msgs/CraneCommand, in"},
+             {dds::topics::crane_magnet(n), "kurt_msgs/MagnetCommand, in"},
+             {dds::topics::odom(n), "nav_msgs/Odometry, out"},
+             {dds::topics::ground_truth(n), "nav_msgs/Odometry, out"},
+             {dds::topics::joint_states(n), "sensor_msgs/JointState, out"},
+             {dds::topics::range(n), "sensor_msgs/Range, out"},
+             {dds::topics::imu(n), "sensor_msgs/Imu, out"},
+             {t->scan.topic_name(), "sensor_msgs/LaserScan, out"},
+             {dds::topics::points(n), "sensor_msgs/PointCloud2, out"},
+             {dds::topics::crane_state(n), "kurt_msgs/CraneState, out"}}) {
+      names.push_back(topic + " (" + what + ")");
+    }
+    if (t->cameras) {
+      for (const char* side : {"left", "right"}) {
+        names.push_back(dds::topics::image(n, side) + " (sensor_msgs/Image, out)");
+        names.push_back(dds::topics::camera_info(n, side) + " (sensor_msgs/CameraInfo, out)");
+      }
+    }
   }
   return names;
 }

@@ -6,33 +6,40 @@
 #include <vector>
 
 #include "macsim/dds/participant.h"
-#include "macsim/msg/geometry_msgs.h"
-#include "macsim/msg/geometry_msgsPubSubTypes.h"
-#include "macsim/msg/nav_msgs.h"
-#include "macsim/msg/nav_msgsPubSubTypes.h"
-#include "macsim/msg/rosgraph_msgs.h"
-#include "macsim/msg/rosgraph_msgsPubSubTypes.h"
+#include "macsim/render/renderer.h"
 #include "macsim/sim_core/simulation.h"
 
 namespace macsim {
 
+/// What the bridge serves besides the robots' basic topics.
+struct BridgeOptions {
+  bool cameras = true;                    ///< render and publish the stereo cameras
+  render::CameraIntrinsics camera;        ///< their image size and field of view
+  double camera_rate = 15.0;              ///< Hz of sim time
+};
+
 /// Serves a simulation over DDS. Reader callbacks only push commands onto the simulation's
-/// queue; publish() runs on the simulation thread after each step.
+/// queue; publish() runs on the simulation thread after each step. Camera images are rendered
+/// and published on a thread of their own from copies of the scene.
 class SimBridge {
  public:
-  SimBridge(dds::Participant& participant, Simulation& simulation);
+  SimBridge(dds::Participant& participant, Simulation& simulation, const BridgeOptions& options);
   ~SimBridge();
 
-  /// Publishes what the last step produced (clock and odometry every 10 ms of sim time).
+  /// Publishes what the last step produced (clock, odometry, sensors; cameras handed over).
   void publish();
   /// Topic names this bridge serves, for the start-up banner.
   std::vector<std::string> topic_names() const;
 
  private:
   struct RobotTopics;
+  void publish_robot(RobotTopics& topics, KurtRobot& robot, double now);
+
   Simulation& simulation_;
+  BridgeOptions options_;
   double next_clock_time_ = 0.0;
-  std::unique_ptr<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>> clock_;
+  struct Clock;
+  std::unique_ptr<Clock> clock_;
   std::vector<std::unique_ptr<RobotTopics>> robots_;
 };
 

@@ -4,7 +4,6 @@
 #include <signal.h>
 
 #include <cmath>
-#include <mutex>
 #include <thread>
 
 #include "macsim/dds/convert.h"
@@ -12,6 +11,7 @@
 #include "macsim/dds/topics.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "support/child_process.h"
+#include "support/latest_sample.h"
 #include "support/test_domain.h"
 
 namespace macsim::test {
@@ -20,32 +20,20 @@ namespace {
 using namespace std::chrono_literals;
 using Odometry = nav_msgs::msg::dds_::Odometry_;
 
-/// Keeps the latest sample of an odometry topic.
+/// An odometry topic's samples, waited for by their sim-time stamp.
 class LatestOdometry {
  public:
-  LatestOdometry(dds::Participant& p, const std::string& topic)
-      : reader_(p, topic, dds::QosFamily::Sensor, [this](const Odometry& o) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          latest_ = o;
-        }) {}
-  std::optional<Odometry> get() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return latest_;
-  }
+  LatestOdometry(dds::Participant& p, const std::string& topic) : samples_(p, topic, 50) {}
+  std::optional<Odometry> get() { return samples_.latest(); }
   // Waits for a sample stamped at or after `sim_time`.
   std::optional<Odometry> wait_newer_than(double sim_time, std::chrono::seconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (auto o = get(); o && dds::to_seconds(o->header().stamp()) >= sim_time) return o;
-      std::this_thread::sleep_for(10ms);
-    }
-    return std::nullopt;
+    return samples_.wait_for(
+        [sim_time](const Odometry& o) { return dds::to_seconds(o.header().stamp()) >= sim_time; },
+        timeout);
   }
 
  private:
-  std::mutex mutex_;
-  std::optional<Odometry> latest_;
-  dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> reader_;
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> samples_;
 };
 
 double stamp(const Odometry& o) { return dds::to_seconds(o.header().stamp()); }

@@ -7,6 +7,9 @@
 #include "macsim/msg/builtin_interfaces.h"
 #include "macsim/msg/geometry_msgs.h"
 #include "macsim/msg/nav_msgs.h"
+#include "macsim/msg/std_msgs.h"
+
+#include <string>
 
 namespace macsim::dds {
 
@@ -22,6 +25,14 @@ inline builtin_interfaces::msg::dds_::Time_ to_time(double seconds) {
 /// builtin_interfaces/Time to seconds.
 inline double to_seconds(const builtin_interfaces::msg::dds_::Time_& t) {
   return t.sec() + t.nanosec() * 1e-9;
+}
+
+/// A header with a stamp (s) and a frame.
+inline std_msgs::msg::dds_::Header_ header(double stamp, const std::string& frame) {
+  std_msgs::msg::dds_::Header_ h;
+  h.stamp(to_time(stamp));
+  h.frame_id(frame);
+  return h;
 }
 
 inline geometry_msgs::msg::dds_::Vector3_ vector3(double x, double y, double z) {

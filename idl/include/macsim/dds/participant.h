@@ -79,7 +79,7 @@ class Writer {
   using Data = typename PubSubType::type;
 
   Writer(Participant& participant, const std::string& topic_name, QosFamily family)
-      : participant_(participant) {
+      : participant_(participant), topic_name_(topic_name) {
     writer_ = participant.publisher()->create_datawriter(
         participant.topic<PubSubType>(topic_name), writer_qos(family, participant.publisher()));
     if (!writer_) throw DdsError("cannot create a writer on " + topic_name);
@@ -96,9 +96,11 @@ class Writer {
     writer_->get_publication_matched_status(status);
     return status.current_count;
   }
+  const std::string& topic_name() const { return topic_name_; }
 
  private:
   Participant& participant_;
+  std::string topic_name_;
   fdds::DataWriter* writer_ = nullptr;
 };
 

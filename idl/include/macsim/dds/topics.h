@@ -22,4 +22,32 @@ inline std::string ground_truth(const std::string& robot_name) {
   return robot(robot_name, "ground_truth");
 }
 
+/// IR and ultrasound readings (sensor_msgs/Range), one topic told apart by frame_id.
+inline std::string range(const std::string& r) { return robot(r, "range"); }
+/// Gyro yaw and rates (sensor_msgs/Imu).
+inline std::string imu(const std::string& r) { return robot(r, "imu"); }
+/// Wheel joints, and laser_rot_joint in messages of its own (sensor_msgs/JointState).
+inline std::string joint_states(const std::string& r) { return robot(r, "joint_states"); }
+/// Sweeps of the LMS200: "scan" when fixed, "scan360" on the rotating unit (sensor_msgs/LaserScan).
+inline std::string scan(const std::string& r, bool rotating) {
+  return robot(r, rotating ? "scan360" : "scan");
+}
+/// Assembled 3D clouds of one rotunit revolution, in base_link (sensor_msgs/PointCloud2).
+inline std::string points(const std::string& r) { return robot(r, "points"); }
+/// Rotating unit speed in angular.z, rad/s (geometry_msgs/Twist), as the real driver's rot_vel.
+inline std::string rot_vel(const std::string& r) { return robot(r, "rot_vel"); }
+/// Crane joint targets (kurt_msgs/CraneCommand).
+inline std::string crane_command(const std::string& r) { return robot(r, "crane/command"); }
+/// The crane's magnet on/off (kurt_msgs/MagnetCommand).
+inline std::string crane_magnet(const std::string& r) { return robot(r, "crane/magnet"); }
+/// Crane joints, magnet and what it holds (kurt_msgs/CraneState).
+inline std::string crane_state(const std::string& r) { return robot(r, "crane/state"); }
+/// A stereo camera's images and calibration; side is "left" or "right".
+inline std::string image(const std::string& r, const std::string& side) {
+  return robot(r, "camera/" + side + "/image_raw");
+}
+inline std::string camera_info(const std::string& r, const std::string& side) {
+  return robot(r, "camera/" + side + "/camera_info");
+}
+
 }  // namespace macsim::dds::topics
