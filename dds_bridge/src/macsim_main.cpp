@@ -17,6 +17,7 @@
 #include "macsim/sim_core/simulation.h"
 #include "macsim/sim_core/world_loader.h"
 #include "sim_bridge.h"
+#include "supervisor_server.h"
 
 namespace {
 
@@ -212,8 +213,10 @@ int main(int argc, char** argv) {
       return 2;
     }
     macsim::SimBridge bridge(dds, *simulation, bridge_options);
+    macsim::SupervisorServer supervisor(dds, *simulation);
     std::cout << "macsim: serving on DDS domain " << participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
+    for (const auto& topic : macsim::SupervisorServer::topic_names()) std::cout << "  " << topic << "\n";
     if (as_fast_as_possible) {
       std::printf("macsim: stepping as fast as possible");
     } else {
@@ -242,6 +245,7 @@ int main(int argc, char** argv) {
       while (!g_stop.load() && simulation->world().steps() < last_step) {
         simulation->step();
         bridge.publish();
+      supervisor.publish();
         if (viewer && Clock::now() >= next_scene) {
           std::lock_guard<std::mutex> lock(scene_mutex);
           latest_scene = macsim::render::capture_scene(simulation->world());

@@ -30,6 +30,11 @@ void apply(const Policies& p, Qos& qos) {
   qos.durability().kind = p.durability;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   qos.history().depth = p.depth;
+  // Keyed topics (one instance per object) need more than Fast DDS's default 10 instances.
+  constexpr int kMaxInstances = 10000;
+  qos.resource_limits().max_instances = kMaxInstances;
+  qos.resource_limits().max_samples_per_instance = p.depth;
+  qos.resource_limits().max_samples = kMaxInstances * p.depth;
 }
 
 }  // namespace

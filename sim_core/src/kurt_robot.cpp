@@ -124,6 +124,7 @@ KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int 
     geoms_.push_back(geom);
   }
   if (config_.crane) build_crane(world, space, {base_link, q});
+  for (std::size_t i = 0; i < ranges_.size(); ++i) ranges_[i] = {&kurt_range_sensors()[i], kInvalidRange};
   state_.start_yaw = state_.last_yaw = yaw_of(q);
   command_rotunit(config_.rotunit_speed);
   state_.next_scan_time = 1.0 / config_.laser_rate;

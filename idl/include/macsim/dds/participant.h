@@ -90,6 +90,11 @@ class Writer {
 
   /// Publishes one sample; false if Fast DDS refused it.
   bool write(const Data& sample) { return writer_->write(const_cast<Data*>(&sample)); }
+  /// Disposes the instance of a keyed topic that `sample`'s key names.
+  bool dispose(const Data& sample) {
+    return writer_->dispose(const_cast<Data*>(&sample), fdds::HANDLE_NIL) ==
+           ReturnCode_t::RETCODE_OK;
+  }
   /// Number of readers currently matched.
   int matched() const {
     fdds::PublicationMatchedStatus status;
@@ -112,9 +117,11 @@ class Reader : private fdds::DataReaderListener {
   using Data = typename PubSubType::type;
   using Callback = std::function<void(const Data&)>;
 
+  /// `on_gone`, if given, hears of instances disposed or left without writers (keyed topics):
+  /// it gets the instance's last sample.
   Reader(Participant& participant, const std::string& topic_name, QosFamily family,
-         Callback on_sample)
-      : participant_(participant), on_sample_(std::move(on_sample)) {
+         Callback on_sample, Callback on_gone = {})
+      : participant_(participant), on_sample_(std::move(on_sample)), on_gone_(std::move(on_gone)) {
     reader_ = participant.subscriber()->create_datareader(
         participant.topic<PubSubType>(topic_name), reader_qos(family, participant.subscriber()),
         this);
@@ -135,7 +142,17 @@ class Reader : private fdds::DataReaderListener {
     Data sample;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
-      if (info.valid_data) on_sample_(sample);
+      if (info.valid_data) {
+        if (on_gone_) last_[info.instance_handle] = sample;
+        on_sample_(sample);
+      } else if (on_gone_ && info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
+        // Fast DDS 2.9 cannot give the key of a handle: remember each instance's last sample.
+        auto last = last_.find(info.instance_handle);
+        if (last != last_.end()) {
+          on_gone_(last->second);
+          last_.erase(last);
+        }
+      }
     }
   }
   void on_subscription_matched(fdds::DataReader*,
@@ -144,7 +161,8 @@ class Reader : private fdds::DataReaderListener {
   }
 
   Participant& participant_;
-  Callback on_sample_;
+  Callback on_sample_, on_gone_;
+  std::map<fdds::InstanceHandle_t, Data> last_;  // only with on_gone_
   std::atomic<int> matched_{0};
   fdds::DataReader* reader_ = nullptr;
 };

@@ -8,6 +8,16 @@ namespace macsim::dds::topics {
 /// The simulation clock (rosgraph_msgs/Clock).
 inline const std::string kClock = "rt/clock";
 
+/// The supervisor's requests and replies (macsim_msgs/SupervisorRequest, SupervisorReply).
+inline const std::string kSupervisorRequest = "rt/macsim/supervisor/request";
+inline const std::string kSupervisorReply = "rt/macsim/supervisor/reply";
+/// The world state, one instance per object id (macsim_msgs/ObjectState; disposed = destroyed).
+inline const std::string kWorldObjects = "rt/macsim/world/objects";
+/// Door and switch states, one instance per door (macsim_msgs/DoorState).
+inline const std::string kWorldDoors = "rt/macsim/world/doors";
+/// Events: switch triggered, door opened, object attached, penetration, ... (macsim_msgs/WorldEvent).
+inline const std::string kWorldEvents = "rt/macsim/world/events";
+
 /// rt/<robot>/<name>: a topic of one robot.
 inline std::string robot(const std::string& robot_name, const std::string& name) {
   return "rt/" + robot_name + "/" + name;

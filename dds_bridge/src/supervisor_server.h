@@ -1,0 +1,48 @@
+// The supervisor over DDS: requests in (queued for the simulation thread), replies out; the
+// world state (one instance per object), door states and events out.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "macsim/dds/participant.h"
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
+#include "macsim/sim_core/simulation.h"
+
+namespace macsim {
+
+/// Serves sim_core's supervisor operations. Requests are executed on the simulation thread,
+/// between two steps, in arrival order; each gets exactly one reply.
+class SupervisorServer {
+ public:
+  SupervisorServer(dds::Participant& participant, Simulation& simulation);
+  ~SupervisorServer();
+
+  /// Publishes the world state every 0.1 s of sim time, and the events of the last step.
+  void publish();
+  /// Topic names it serves, for the start-up banner.
+  static std::vector<std::string> topic_names();
+
+ private:
+  using Request = macsim_msgs::msg::dds_::SupervisorRequest_;
+  using Reply = macsim_msgs::msg::dds_::SupervisorReply_;
+
+  void execute(const Request& request, World& world);
+  void publish_world_state(World& world);
+
+  Simulation& simulation_;
+  double next_state_time_ = 0.0;
+  std::set<uint32_t> published_ids_;
+  std::map<std::string, WorldSnapshot> snapshots_;
+  std::map<std::string, Reply> last_reply_;  // by client: a repeated request gets its reply again
+  dds::Writer<macsim_msgs::msg::dds_::SupervisorReply_PubSubType> replies_;
+  dds::Writer<macsim_msgs::msg::dds_::ObjectState_PubSubType> objects_;
+  dds::Writer<macsim_msgs::msg::dds_::DoorState_PubSubType> doors_;
+  dds::Writer<macsim_msgs::msg::dds_::WorldEvent_PubSubType> events_;
+  std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>> requests_;
+};
+
+}  // namespace macsim
