@@ -11,12 +11,14 @@
 #include <thread>
 
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/topics.h"
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
 #include "macsim/render/viewer.h"
 #include "macsim/sim_core/simulation.h"
 #include "macsim/sim_core/world_loader.h"
 #include "sim_bridge.h"
+#include "simulation_server.h"
 #include "supervisor_server.h"
 
 namespace {
@@ -120,6 +122,8 @@ int main(int argc, char** argv) {
   bool as_fast_as_possible = false;
   bool realtime = false;
   bool validate = false;
+  bool paused = false;
+  bool lockstep = false;
   double status_period = 0.0;
   std::vector<std::string> snapshots;
   double settle = 1.0;
@@ -137,6 +141,9 @@ int main(int argc, char** argv) {
   cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &realtime);
   cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &rtf);
   cli.flag("as-fast-as-possible", "step without waiting for the wall clock", &as_fast_as_possible);
+  cli.flag("paused", "start paused (run, pause and step with simulation requests)", &paused);
+  cli.flag("lockstep", "step only when a controller asks (SIM_STEP requests); implies --paused",
+           &lockstep);
   cli.option("duration", "SECONDS", "stop after this much sim time (default: run until SIGINT)",
              &duration);
   cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
@@ -214,10 +221,21 @@ int main(int argc, char** argv) {
     }
     macsim::SimBridge bridge(dds, *simulation, bridge_options);
     macsim::SupervisorServer supervisor(dds, *simulation);
+    macsim::SimulationServer control(
+        dds, *simulation,
+        macsim::LoopControl{paused || lockstep, as_fast_as_possible ? 0.0 : rtf, 0});
     std::cout << "macsim: serving on DDS domain " << participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
-    for (const auto& topic : macsim::SupervisorServer::topic_names()) std::cout << "  " << topic << "\n";
-    if (as_fast_as_possible) {
+    for (const auto& topic : macsim::SupervisorServer::topic_names())
+      std::cout << "  " << topic << "\n";
+    std::cout << "  " << macsim::dds::topics::kSimulationRequest
+              << " (macsim_msgs/SimulationRequest, in)\n  " << macsim::dds::topics::kSimulationReply
+              << " (macsim_msgs/SimulationReply, out)\n";
+    if (lockstep) {
+      std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
+    } else if (paused) {
+      std::printf("macsim: stepping paused until a SIM_RUN request");
+    } else if (as_fast_as_possible) {
       std::printf("macsim: stepping as fast as possible");
     } else {
       std::printf("macsim: stepping at real-time factor %g", rtf);
@@ -227,8 +245,6 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
 
     using Clock = std::chrono::steady_clock;
-    const auto wall_step = std::chrono::duration_cast<Clock::duration>(
-        std::chrono::duration<double>(simulation->world().step_size() / rtf));
     const auto start = Clock::now();
     auto next = start;
     auto next_status = start;
@@ -243,9 +259,16 @@ int main(int argc, char** argv) {
     std::atomic<bool> finished{false};
     auto loop = [&] {
       while (!g_stop.load() && simulation->world().steps() < last_step) {
+        if (!control.should_step()) {  // paused or waiting for lock-step requests
+          simulation->apply_commands();
+          std::this_thread::sleep_for(std::chrono::microseconds(200));
+          next = Clock::now();
+          continue;
+        }
         simulation->step();
         bridge.publish();
-      supervisor.publish();
+        supervisor.publish();
+        control.after_publish();  // lock-step: the step is done once its data is out
         if (viewer && Clock::now() >= next_scene) {
           std::lock_guard<std::mutex> lock(scene_mutex);
           latest_scene = macsim::render::capture_scene(simulation->world());
@@ -256,8 +279,10 @@ int main(int argc, char** argv) {
           next_status += std::chrono::duration_cast<Clock::duration>(
               std::chrono::duration<double>(status_period));
         }
-        if (!as_fast_as_possible) {
-          next += wall_step;
+        const double pace = control.control().real_time_factor;
+        if (pace > 0 && control.control().pending_steps == 0) {
+          next += std::chrono::duration_cast<Clock::duration>(
+              std::chrono::duration<double>(simulation->world().step_size() / pace));
           const auto now = Clock::now();
           if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
           std::this_thread::sleep_until(next);

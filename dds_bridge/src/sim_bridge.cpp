@@ -272,6 +272,14 @@ SimBridge::~SimBridge() = default;
 void SimBridge::publish() {
   World& world = simulation_.world();
   const double now = world.time();
+  if (now < last_time_) {  // reset or a new world: start the schedules again
+    next_clock_time_ = now;
+    for (auto& t : robots_) {
+      t->next_camera_time = now;
+      t->frames = t->scans = t->clouds = UINT64_MAX;
+    }
+  }
+  last_time_ = now;
   if (now + 1e-9 >= next_clock_time_) {
     rosgraph_msgs::msg::dds_::Clock_ clock;
     clock.clock(dds::to_time(now));

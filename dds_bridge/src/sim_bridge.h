@@ -38,6 +38,7 @@ class SimBridge {
   Simulation& simulation_;
   BridgeOptions options_;
   double next_clock_time_ = 0.0;
+  double last_time_ = 0.0;
   struct Clock;
   std::unique_ptr<Clock> clock_;
   std::vector<std::unique_ptr<RobotTopics>> robots_;

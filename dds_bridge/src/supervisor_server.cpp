@@ -308,6 +308,8 @@ void SupervisorServer::publish() {
     event.detail(e.detail);
     events_.write(event);
   }
+  if (world.time() < last_time_) next_state_time_ = world.time();  // reset or a new world
+  last_time_ = world.time();
   if (world.time() + 1e-9 >= next_state_time_) {
     next_state_time_ = world.time() + 0.1;
     publish_world_state(world);

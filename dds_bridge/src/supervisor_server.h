@@ -35,6 +35,7 @@ class SupervisorServer {
 
   Simulation& simulation_;
   double next_state_time_ = 0.0;
+  double last_time_ = 0.0;
   std::set<uint32_t> published_ids_;
   std::map<std::string, WorldSnapshot> snapshots_;
   std::map<std::string, Reply> last_reply_;  // by client: a repeated request gets its reply again

@@ -12,6 +12,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -102,6 +103,13 @@ class Writer {
     return status.current_count;
   }
   const std::string& topic_name() const { return topic_name_; }
+  /// Waits until every matched reliable reader acknowledged what was written (lock-step:
+  /// the command is in the simulator's queue before the next step request).
+  bool wait_acknowledged(std::chrono::milliseconds timeout) {
+    eprosima::fastrtps::Duration_t max_wait(static_cast<int32_t>(timeout.count() / 1000),
+                                            static_cast<uint32_t>((timeout.count() % 1000) * 1000000));
+    return writer_->wait_for_acknowledgments(max_wait) == ReturnCode_t::RETCODE_OK;
+  }
 
  private:
   Participant& participant_;

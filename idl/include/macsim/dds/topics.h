@@ -18,6 +18,10 @@ inline const std::string kWorldDoors = "rt/macsim/world/doors";
 /// Events: switch triggered, door opened, object attached, penetration, ... (macsim_msgs/WorldEvent).
 inline const std::string kWorldEvents = "rt/macsim/world/events";
 
+/// Simulation control: pause, run, real-time factor, lock-step, load world, features.
+inline const std::string kSimulationRequest = "rt/macsim/simulation/request";
+inline const std::string kSimulationReply = "rt/macsim/simulation/reply";
+
 /// rt/<robot>/<name>: a topic of one robot.
 inline std::string robot(const std::string& robot_name, const std::string& name) {
   return "rt/" + robot_name + "/" + name;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -28,20 +29,25 @@ class CommandQueue {
 /// The simulation loop's core: drain the queue once, then step the world once.
 class Simulation {
  public:
-  explicit Simulation(WorldSpec spec) : world_(std::move(spec)) {}
+  explicit Simulation(WorldSpec spec) : world_(std::make_unique<World>(std::move(spec))) {}
 
   /// Applies the queued commands, then advances one fixed step.
   void step() {
-    commands_.drain(world_);
-    world_.step();
+    commands_.drain(*world_);
+    world_->step();
   }
+  /// Applies the queued commands without stepping (while paused).
+  void apply_commands() { commands_.drain(*world_); }
+  /// Replaces the world by a new one (built before the old one goes: a bad world changes
+  /// nothing). Call on the simulation thread, e.g. from a command.
+  void load(WorldSpec spec) { world_ = std::make_unique<World>(std::move(spec)); }
 
   CommandQueue& commands() { return commands_; }
-  World& world() { return world_; }
-  const World& world() const { return world_; }
+  World& world() { return *world_; }
+  const World& world() const { return *world_; }
 
  private:
-  World world_;
+  std::unique_ptr<World> world_;
   CommandQueue commands_;
 };
 

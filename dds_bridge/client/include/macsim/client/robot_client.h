@@ -27,6 +27,11 @@ class RobotClient {
   /// Publishes a velocity command (m/s forward, rad/s counter-clockwise) on cmd_vel.
   /// The robot stops by itself 0.6 s after the last command, so repeat it while moving.
   bool drive(double linear, double angular);
+  /// Waits until the robot's participant has received every command sent so far (lock-step:
+  /// call it before asking the simulator for the next step).
+  bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
+    return cmd_vel_.wait_acknowledged(timeout);
+  }
   /// Publishes a zero velocity command.
   bool stop() { return drive(0.0, 0.0); }
 

@@ -1,0 +1,108 @@
+// Lock-step over DDS: macsim advances only on step requests, answers each with the sim time
+// and the state hash; the same requests on the same world give bit-identical runs, across
+// processes. Also pause/run, real-time factor, world loading and the features query.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include "macsim/client/robot_client.h"
+#include "macsim/client/supervisor_client.h"
+#include "support/child_process.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace mm = macsim_msgs::msg::dds_;
+
+/// One lock-step run: a robot driving an arc, a ball pushed, the door triggered; returns the
+/// state hash after every step request.
+std::vector<uint64_t> lockstep_run() {
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
+                       std::to_string(domain), "--lockstep", "--cameras", "off"});
+  EXPECT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  std::vector<uint64_t> hashes;
+  {
+    dds::Participant p({domain, "", "lockstep_test"});
+    client::SimulationClient sim(p);
+    client::SupervisorClient supervisor(p);
+    client::RobotClient kurt(p, "kurt");
+    EXPECT_TRUE(sim.wait_for_server(20s));
+    EXPECT_TRUE(supervisor.wait_for_server(20s));
+    for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);
+    for (int k = 0; k < 12; ++k) {
+      kurt.drive(0.3, 0.4);
+      EXPECT_TRUE(kurt.wait_delivered());
+      if (k == 3) {
+        auto find = client::SupervisorClient::request(mm::OP_FIND_OBJECT);
+        find.name("environment_01/ball_green");
+        const uint32_t ball = supervisor.call(find)->object_id();
+        EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_ADD_FORCE, ball, {0, 400, 0}))->code(),
+                  mm::ERR_OK);
+      }
+      auto reply = sim.step(100);
+      EXPECT_TRUE(reply.has_value());
+      if (!reply) break;
+      EXPECT_EQ(reply->steps(), 100u * (k + 1));
+      EXPECT_NEAR(reply->sim_time(), 0.1 * (k + 1), 1e-9);
+      hashes.push_back(reply->state_hash());
+    }
+  }
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0);
+  return hashes;
+}
+
+TEST(Lockstep, TwoRunsInTwoProcessesGiveIdenticalHashes) {
+  const auto first = lockstep_run();
+  const auto second = lockstep_run();
+  ASSERT_EQ(first.size(), 12u);
+  EXPECT_EQ(first, second);
+  EXPECT_NE(first.front(), first.back());  // and the world did change
+}
+
+TEST(Lockstep, PauseRunRateLoadAndFeatures) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                       std::to_string(domain), "--paused", "--cameras", "off"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping paused", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "control_test"});
+  client::SimulationClient sim(p);
+  ASSERT_TRUE(sim.wait_for_server(20s));
+  using Req = client::SimulationClient;
+  auto status = sim.call(Req::request(mm::SIM_STATUS));
+  ASSERT_TRUE(status);
+  EXPECT_TRUE(status->paused());
+  const uint64_t paused_at = status->steps();
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(sim.call(Req::request(mm::SIM_STATUS))->steps(), paused_at);  // paused: no steps
+
+  auto fast = Req::request(mm::SIM_SET_RTF);
+  fast.real_time_factor(0.0);  // as fast as possible
+  ASSERT_EQ(sim.call(fast)->code(), mm::ERR_OK);
+  ASSERT_EQ(sim.call(Req::request(mm::SIM_RUN))->code(), mm::ERR_OK);
+  std::this_thread::sleep_for(500ms);
+  EXPECT_GT(sim.call(Req::request(mm::SIM_STATUS))->sim_time(), 1.0);  // much faster than 0.5 s
+
+  auto features = sim.call(Req::request(mm::SIM_FEATURES));
+  EXPECT_NE(features->features().find("lockstep"), std::string::npos);
+
+  auto load = Req::request(mm::SIM_LOAD_WORLD);
+  load.world_file(source("worlds/DemoWorld_v1.xml"));
+  const auto loaded = sim.call(load);
+  ASSERT_EQ(loaded->code(), mm::ERR_OK) << loaded->message();
+  client::SupervisorClient supervisor(p);
+  EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_LIST_OBJECTS))->count(), 24);
+
+  auto bad = Req::request(mm::SIM_LOAD_WORLD);
+  bad.world_file("no/such/world.xml");
+  const auto refused = sim.call(bad);
+  EXPECT_EQ(refused->code(), mm::ERR_BAD_FILE);
+  EXPECT_NE(refused->message().find("no/such/world.xml"), std::string::npos);
+  EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_LIST_OBJECTS))->count(), 24);
+  EXPECT_TRUE(macsim.running());
+}
+
+}  // namespace
+}  // namespace macsim::test
