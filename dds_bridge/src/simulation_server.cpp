@@ -42,6 +42,16 @@ SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
 }
 
 void SimulationServer::execute(const Request& q) {
+  // A client that did not hear its reply sends the same request again: answer, do not redo.
+  if (stepping_ && stepping_->client_id() == q.client_id() &&
+      stepping_->sequence_number() == q.sequence_number()) {
+    return;  // still stepping for it: the reply comes when the steps are done
+  }
+  if (auto last = last_reply_.find(q.client_id());
+      last != last_reply_.end() && last->second.sequence_number() == q.sequence_number()) {
+    replies_.write(last->second);
+    return;
+  }
   switch (q.command()) {
     case mm::SIM_PAUSE:
       control_.paused = true;
@@ -76,8 +86,7 @@ void SimulationServer::execute(const Request& q) {
                                   "the new world must have the same robots (names) as this one"));
           return;
         }
-        simulation_.load(std::move(spec));
-        world_changed_ = true;
+        simulation_.load(std::move(spec));  // publishers restart their schedules by themselves
       } catch (const WorldFileError& e) {
         replies_.write(reply_to(q, mm::ERR_BAD_FILE, e.what()));
         return;
@@ -91,21 +100,20 @@ void SimulationServer::execute(const Request& q) {
                               "unknown simulation command " + std::to_string(q.command())));
       return;
   }
-  replies_.write(reply_to(q, mm::ERR_OK, ""));
+  send(reply_to(q, mm::ERR_OK, ""));
+}
+
+void SimulationServer::send(const Reply& reply) {
+  last_reply_[reply.client_id()] = reply;
+  replies_.write(reply);
 }
 
 void SimulationServer::after_publish() {
   if (!stepping_ || control_.pending_steps == 0) return;
   if (--control_.pending_steps == 0) {
-    replies_.write(reply_to(*stepping_, mm::ERR_OK, ""));
+    send(reply_to(*stepping_, mm::ERR_OK, ""));
     stepping_.reset();
   }
-}
-
-bool SimulationServer::take_world_changed() {
-  const bool changed = world_changed_;
-  world_changed_ = false;
-  return changed;
 }
 
 }  // namespace macsim

@@ -1,6 +1,7 @@
 // Simulation control over DDS: pause, run, real-time factor, lock-step, load world, features.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,8 +31,6 @@ class SimulationServer {
   /// After a step and its publishing: counts lock-step steps down and replies when done.
   void after_publish();
   const LoopControl& control() const { return control_; }
-  /// Set when a world was loaded: the loop resets its pacing and publishers.
-  bool take_world_changed();
 
  private:
   using Request = macsim_msgs::msg::dds_::SimulationRequest_;
@@ -39,11 +38,12 @@ class SimulationServer {
 
   void execute(const Request& request);
   Reply reply_to(const Request& request, int code, const std::string& message) const;
+  void send(const Reply& reply);
 
   Simulation& simulation_;
   LoopControl control_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
-  bool world_changed_ = false;
+  std::map<std::string, Reply> last_reply_;  // by client
   dds::Writer<macsim_msgs::msg::dds_::SimulationReply_PubSubType> replies_;
   std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SimulationRequest_PubSubType>> requests_;
 };

@@ -31,6 +31,9 @@ std::vector<uint64_t> lockstep_run() {
     EXPECT_TRUE(sim.wait_for_server(20s));
     EXPECT_TRUE(supervisor.wait_for_server(20s));
     for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);
+    // Discovery completes on each side separately: give macsim's cmd_vel reader time to match
+    // this writer, or the first command (volatile) would be missed.
+    std::this_thread::sleep_for(1s);
     for (int k = 0; k < 12; ++k) {
       kurt.drive(0.3, 0.4);
       EXPECT_TRUE(kurt.wait_delivered());
