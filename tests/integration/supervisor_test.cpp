@@ -4,9 +4,9 @@
 #include <signal.h>
 
 #include <cmath>
-#include <map>
 
 #include "macsim/client/supervisor_client.h"
+#include "macsim/client/world_state.h"
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 #include "support/child_process.h"
@@ -19,43 +19,7 @@ using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 using client::SupervisorClient;
 
-/// The world state as a late-joining observer sees it: objects by id, and disposed ids.
-class WorldObserver {
- public:
-  explicit WorldObserver(dds::Participant& p)
-      : reader_(
-            p, dds::topics::kWorldObjects, dds::QosFamily::Latched,
-            [this](const mm::ObjectState_& s) {
-              std::lock_guard<std::mutex> lock(mutex_);
-              objects_[s.id()] = s;
-            },
-            [this](const mm::ObjectState_& s) {
-              std::lock_guard<std::mutex> lock(mutex_);
-              objects_.erase(s.id());
-              gone_.insert(s.id());
-            }) {}
-
-  // Waits until `check` holds for the current map of objects.
-  bool wait(const std::function<bool(const std::map<uint32_t, mm::ObjectState_>&,
-                                     const std::set<uint32_t>&)>& check,
-            std::chrono::seconds timeout = 10s) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (check(objects_, gone_)) return true;
-      }
-      std::this_thread::sleep_for(20ms);
-    }
-    return false;
-  }
-
- private:
-  std::mutex mutex_;
-  std::map<uint32_t, mm::ObjectState_> objects_;
-  std::set<uint32_t> gone_;
-  dds::Reader<mm::ObjectState_PubSubType> reader_;
-};
+using WorldObserver = client::WorldStateClient;
 
 class Supervisor : public ::testing::Test {
  protected:
