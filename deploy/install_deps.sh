@@ -15,8 +15,8 @@ PACKAGES=(
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # the interactive window (freeglut on X) and a virtual X server for its tests
   libglut-dev xvfb xauth
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test
+  libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
 )
 
 missing=()
