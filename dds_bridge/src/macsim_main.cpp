@@ -260,8 +260,10 @@ int main(int argc, char** argv) {
     auto loop = [&] {
       while (!g_stop.load() && simulation->world().steps() < last_step) {
         if (!control.should_step()) {  // paused or waiting for lock-step requests
-          simulation->apply_commands();
-          std::this_thread::sleep_for(std::chrono::microseconds(200));
+          // Requests are served as they come (between steps), not on a polling tick.
+          if (simulation->commands().wait_until(Clock::now() + std::chrono::milliseconds(50))) {
+            simulation->apply_commands();
+          }
           next = Clock::now();
           continue;
         }
@@ -280,12 +282,17 @@ int main(int argc, char** argv) {
               std::chrono::duration<double>(status_period));
         }
         const double pace = control.control().real_time_factor;
-        if (pace > 0 && control.control().pending_steps == 0) {
+        // Lock-step and paused stepping are paced by the requests, not by the clock.
+        if (pace > 0 && !control.control().paused && control.control().pending_steps == 0) {
           next += std::chrono::duration_cast<Clock::duration>(
               std::chrono::duration<double>(simulation->world().step_size() / pace));
           const auto now = Clock::now();
           if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
-          std::this_thread::sleep_until(next);
+          // Until the next step is due, serve requests as they come (between steps).
+          while (simulation->commands().wait_until(next)) {
+            simulation->apply_commands();
+            if (control.control().pending_steps > 0) break;  // a step request: go now
+          }
         }
       }
       finished.store(true);

@@ -1,6 +1,8 @@
 // A world plus its command queue: commands from any thread are applied at one point per step.
 #pragma once
 
+#include <chrono>
+#include <condition_variable>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -19,9 +21,12 @@ class CommandQueue {
   void push(Command command);
   /// Runs every queued command on `world`, in arrival order; returns how many ran.
   std::size_t drain(World& world);
+  /// Blocks until a command is queued or `deadline` passes; true if commands wait.
+  bool wait_until(std::chrono::steady_clock::time_point deadline);
 
  private:
   std::mutex mutex_;
+  std::condition_variable arrived_;
   std::vector<Command> pending_;
   std::vector<Command> running_;
 };
