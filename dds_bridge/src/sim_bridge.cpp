@@ -51,6 +51,7 @@ struct SimBridge::RobotTopics {
   std::unique_ptr<dds::Writer<sm::CameraInfo_PubSubType>> left_info, right_info;
   // Readers last: they are destroyed first, so no callback outlives what it queues into.
   std::unique_ptr<dds::Reader<gm::Twist_PubSubType>> cmd_vel, rot_vel;
+  std::unique_ptr<dds::Reader<km::WheelSpeeds_PubSubType>> wheel_speeds;
   std::unique_ptr<dds::Reader<km::CraneCommand_PubSubType>> crane_command;
   std::unique_ptr<dds::Reader<km::MagnetCommand_PubSubType>> magnet;
   std::unique_ptr<render::CameraRig> cameras;
@@ -212,6 +213,15 @@ SimBridge::SimBridge(dds::Participant& participant, Simulation& simulation,
             if (KurtRobot* r = world.robot(name)) r->command_twist(linear, angular, world.time());
           });
         });
+    topics->wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
+        participant, dds::topics::wheel_speeds(name), QosFamily::Command,
+        [&queue, name](const km::WheelSpeeds_& w) {
+          const WheelSpeeds speeds{w.left(), w.right()};
+          if (!std::isfinite(speeds.left) || !std::isfinite(speeds.right)) return;
+          queue.push([name, speeds](World& world) {
+            if (KurtRobot* r = world.robot(name)) r->command_wheel_speeds(speeds, world.time());
+          });
+        });
     topics->rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
         participant, dds::topics::rot_vel(name), QosFamily::Command,
         [&queue, name](const gm::Twist_& twist) {
@@ -348,6 +358,7 @@ std::vector<std::string> SimBridge::topic_names() const {
     const auto& n = t->name;
     for (const auto& [topic, what] : std::vector<std::pair<std::string, std::string>>{
              {dds::topics::cmd_vel(n), "geometry_msgs/Twist, in"},
+             {dds::topics::wheel_speeds(n), "kurt_msgs/WheelSpeeds, in"},
              {dds::topics::rot_vel(n), "geometry_msgs/Twist, in"},
              {dds::topics::crane_command(n), "kurt_msgs/CraneCommand, in"},
              {dds::topics::crane_magnet(n), "kurt_msgs/MagnetCommand, in"},

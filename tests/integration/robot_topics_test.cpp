@@ -10,6 +10,7 @@
 #include "macsim/dds/topics.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/latest_sample.h"
@@ -118,6 +119,22 @@ TEST_F(RobotTopics, TheCraneAndItsMagnetObeyAndReport) {
   }
   ASSERT_TRUE(there) << (crane.latest() ? std::to_string(crane.latest()->slew()) : "no state");
   EXPECT_TRUE(there->held_object().empty());  // nothing magnetizable below it
+}
+
+TEST_F(RobotTopics, WheelSpeedCommandsTurnTheRobot) {
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"), 5);
+  dds::Writer<km::WheelSpeeds_PubSubType> wheels(*participant_, dds::topics::wheel_speeds("kurt"),
+                                                dds::QosFamily::Command);
+  km::WheelSpeeds_ spin;
+  spin.left(-0.1);
+  spin.right(0.1);
+  std::optional<nav_msgs::msg::dds_::Odometry_> turned;
+  for (int i = 0; i < 100 && !turned; ++i) {  // repeated, as a controller does (0.6 s timeout)
+    wheels.write(spin);
+    turned = odom.wait_for([](const auto& o) { return o.twist().twist().angular().z() > 0.2; }, 100ms);
+  }
+  ASSERT_TRUE(turned) << "the robot did not turn counter-clockwise";
+  EXPECT_NEAR(turned->twist().twist().linear().x(), 0.0, 0.02);
 }
 
 TEST_F(RobotTopics, StereoImagesAndCalibrationArrive) {

@@ -48,6 +48,8 @@ inline std::string scan(const std::string& r, bool rotating) {
 }
 /// Assembled 3D clouds of one rotunit revolution, in base_link (sensor_msgs/PointCloud2).
 inline std::string points(const std::string& r) { return robot(r, "points"); }
+/// Left and right wheel speeds in m/s (kurt_msgs/WheelSpeeds), instead of a twist.
+inline std::string wheel_speeds(const std::string& r) { return robot(r, "wheel_speeds"); }
 /// Rotating unit speed in angular.z, rad/s (geometry_msgs/Twist), as the real driver's rot_vel.
 inline std::string rot_vel(const std::string& r) { return robot(r, "rot_vel"); }
 /// Crane joint targets (kurt_msgs/CraneCommand).
