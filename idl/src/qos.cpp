@@ -39,14 +39,31 @@ void apply(const Policies& p, Qos& qos) {
 
 }  // namespace
 
+const char* profile_name(QosFamily family) {
+  switch (family) {
+    case QosFamily::Command: return "macsim_command";
+    case QosFamily::Sensor: return "macsim_sensor";
+    case QosFamily::Latched: return "macsim_latched";
+  }
+  return "";
+}
+
 fdds::DataWriterQos writer_qos(QosFamily family, fdds::Publisher* publisher) {
-  fdds::DataWriterQos qos = publisher->get_default_datawriter_qos();
+  fdds::DataWriterQos qos;
+  if (publisher->get_datawriter_qos_from_profile(profile_name(family), qos) == ReturnCode_t::RETCODE_OK) {
+    return qos;  // the loaded XML profiles decide
+  }
+  qos = publisher->get_default_datawriter_qos();
   apply(policies(family), qos);
   return qos;
 }
 
 fdds::DataReaderQos reader_qos(QosFamily family, fdds::Subscriber* subscriber) {
-  fdds::DataReaderQos qos = subscriber->get_default_datareader_qos();
+  fdds::DataReaderQos qos;
+  if (subscriber->get_datareader_qos_from_profile(profile_name(family), qos) == ReturnCode_t::RETCODE_OK) {
+    return qos;
+  }
+  qos = subscriber->get_default_datareader_qos();
   apply(policies(family), qos);
   return qos;
 }

@@ -15,10 +15,13 @@ enum class QosFamily {
   Latched,  ///< state a late joiner must see: reliable, transient local, keep last 1
 };
 
-/// Writer QoS of a family, starting from the publisher's (XML-configurable) default.
+/// The XML profile name of a family's data writers and readers ("macsim_command", ...).
+const char* profile_name(QosFamily family);
+/// Writer QoS of a family: the loaded XML profile of that name if there is one, else the
+/// family's policies on the publisher's default.
 eprosima::fastdds::dds::DataWriterQos writer_qos(QosFamily family,
                                                  eprosima::fastdds::dds::Publisher* publisher);
-/// Reader QoS of a family, starting from the subscriber's (XML-configurable) default.
+/// Reader QoS of a family, likewise.
 eprosima::fastdds::dds::DataReaderQos reader_qos(QosFamily family,
                                                  eprosima::fastdds::dds::Subscriber* subscriber);
 

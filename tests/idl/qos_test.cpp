@@ -1,0 +1,52 @@
+// QoS families: the XML profiles that ship decide them; a user's profile can change them.
+// (ctest runs each test in a process of its own: Fast DDS keeps loaded profiles per process.)
+#include "macsim/dds/qos.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "macsim/dds/participant.h"
+#include "support/child_process.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+
+TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
+  dds::Participant p({unique_test_domain(), source("deploy/dds/localhost.xml"), "qos_test"});
+  const auto command = dds::writer_qos(dds::QosFamily::Command, p.publisher());
+  EXPECT_EQ(command.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(command.durability().kind, fdds::VOLATILE_DURABILITY_QOS);
+  EXPECT_EQ(command.history().depth, 10);
+  const auto sensor = dds::reader_qos(dds::QosFamily::Sensor, p.subscriber());
+  EXPECT_EQ(sensor.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
+  EXPECT_EQ(sensor.history().depth, 5);
+  const auto latched = dds::writer_qos(dds::QosFamily::Latched, p.publisher());
+  EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  EXPECT_EQ(latched.history().depth, 1);
+  EXPECT_EQ(latched.resource_limits().max_instances, 10000);  // one instance per object
+}
+
+TEST(QosFamilies, AUsersProfileChangesAFamily) {
+  const std::string path = ::testing::TempDir() + "macsim_qos_profile.xml";
+  std::ofstream(path) << R"(<?xml version="1.0"?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>
+  <data_writer profile_name="macsim_sensor">
+    <topic><historyQos><kind>KEEP_LAST</kind><depth>7</depth></historyQos></topic>
+    <qos><reliability><kind>RELIABLE</kind></reliability></qos>
+  </data_writer>
+</profiles></dds>)";
+  dds::Participant p({unique_test_domain(), path, "qos_test"});
+  const auto sensor = dds::writer_qos(dds::QosFamily::Sensor, p.publisher());
+  EXPECT_EQ(sensor.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(sensor.history().depth, 7);
+  // A family the profile does not name keeps the built-in policies.
+  const auto latched = dds::writer_qos(dds::QosFamily::Latched, p.publisher());
+  EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+}
+
+}  // namespace
+}  // namespace macsim::test
