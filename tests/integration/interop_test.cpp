@@ -47,5 +47,24 @@ TEST(Interop, ACycloneDdsProgramReadsOdometryAndDrivesTheRobot) {
   EXPECT_EQ(macsim.wait_for_exit(10s), 0);
 }
 
+TEST(Interop, CycloneDdsReadsTheRobotAndWorldTopicsAndCommandsTheCrane) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
+                       std::to_string(domain), "--cameras", "off"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
+  setenv("CYCLONEDDS_URI",
+         "<General><Interfaces><NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>"
+         "</General><Discovery><SPDPInterval>1s</SPDPInterval></Discovery>",
+         1);
+  ChildProcess cyclone({bin("cyclone_listen"), std::to_string(domain), "5"});
+  unsetenv("CYCLONEDDS_URI");
+  // Every topic delivered something (ranges, IMU, scan360, joint states, crane state, the keyed
+  // world state and door states), and Cyclone's crane command lifted the boom.
+  EXPECT_EQ(cyclone.wait_for_exit(60s), 0) << cyclone.output();
+  EXPECT_NE(cyclone.output().find("rt/macsim/world/objects"), std::string::npos) << cyclone.output();
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0);
+}
+
 }  // namespace
 }  // namespace macsim::test

@@ -15,8 +15,8 @@ namespace {
 using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 
-/// One lock-step run: a robot driving an arc, a ball pushed, the door triggered; returns the
-/// state hash after every step request.
+/// One lock-step run: the robot drives an arc until its command times out, a ball is pushed;
+/// returns the state hash after every step request.
 std::vector<uint64_t> lockstep_run() {
   const int domain = unique_test_domain();
   ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
@@ -31,12 +31,16 @@ std::vector<uint64_t> lockstep_run() {
     EXPECT_TRUE(sim.wait_for_server(20s));
     EXPECT_TRUE(supervisor.wait_for_server(20s));
     for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);
-    // Discovery completes on each side separately: give macsim's cmd_vel reader time to match
-    // this writer, or the first command (volatile) would be missed.
-    std::this_thread::sleep_for(1s);
-    for (int k = 0; k < 12; ++k) {
+    // Discovery completes on each side separately, and a command sent before macsim's cmd_vel
+    // reader matched this writer is lost (volatile). While paused every command lands at sim
+    // time 0 and leaves the same state however many arrive: repeat it until discovery settled.
+    for (int i = 0; i < 40; ++i) {
       kurt.drive(0.3, 0.4);
-      EXPECT_TRUE(kurt.wait_delivered());
+      std::this_thread::sleep_for(50ms);
+    }
+    // The twist given at sim time 0 drives the robot for 0.6 s (the command timeout); the ball
+    // is pushed through the supervisor, whose replies order it before the next step.
+    for (int k = 0; k < 12; ++k) {
       if (k == 3) {
         auto find = client::SupervisorClient::request(mm::OP_FIND_OBJECT);
         find.name("environment_01/ball_green");
