@@ -129,7 +129,7 @@ TEST_F(HelloKurtTest, KillingTheControllerStopsTheRobotAndANewControllerWorks) {
   const auto [odom_before, truth_before] = settled_samples();
   EXPECT_LT(distance(truth_before, *stopped), 0.005);  // and stays stopped
 
-  auto second = hello_kurt({"--distance", "0.5"});
+  auto second = hello_kurt({"--distance", "0.5", "--discovery-timeout", "30"});
   ASSERT_EQ(second->wait_for_exit(90s), 0) << second->output();
   const auto [odom_after, truth_after] = settled_samples();
   EXPECT_NEAR(distance(truth_after, truth_before), 0.5, 0.03);
