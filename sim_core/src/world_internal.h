@@ -43,9 +43,6 @@ BodyState body_state(dBodyID body);
 void set_body_state(dBodyID body, const BodyState& state);
 /// True if every number of the state is finite and the speeds are physically plausible.
 bool plausible(const BodyState& state);
-/// Is `value` finite in every coefficient?
-inline bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
-
 }  // namespace detail
 
 }  // namespace macsim

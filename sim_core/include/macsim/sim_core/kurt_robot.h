@@ -186,8 +186,6 @@ class KurtRobot {
   std::vector<dBodyID> bodies() const;
   const ControllerState& controller_state() const { return state_; }
   void set_controller_state(const ControllerState& state);
-  const KurtDriveParams& drive_params() const { return config_.drive; }
-  const KurtBodyParams& body_params() const { return config_.body; }
 
  private:
   void build_crane(dWorldID world, dSpaceID space, const Pose& base_link);

@@ -49,7 +49,6 @@ class CameraRig {
   std::optional<Scene> pending_;
   bool busy_ = false, stop_ = false;
   uint64_t rendered_ = 0, dropped_ = 0;
-  std::string error_;
   std::thread thread_;
 };
 
