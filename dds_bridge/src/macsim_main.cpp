@@ -267,6 +267,7 @@ int main(int argc, char** argv) {
           next = Clock::now();
           continue;
         }
+        bridge.poll_commands();
         simulation->step();
         bridge.publish();
         supervisor.publish();

@@ -279,6 +279,16 @@ SimBridge::SimBridge(dds::Participant& participant, Simulation& simulation,
 
 SimBridge::~SimBridge() = default;
 
+void SimBridge::poll_commands() {
+  for (auto& t : robots_) {
+    t->cmd_vel->poll();
+    t->wheel_speeds->poll();
+    t->rot_vel->poll();
+    t->crane_command->poll();
+    t->magnet->poll();
+  }
+}
+
 void SimBridge::publish() {
   World& world = simulation_.world();
   const double now = world.time();

@@ -26,6 +26,9 @@ class SimBridge {
   SimBridge(dds::Participant& participant, Simulation& simulation, const BridgeOptions& options);
   ~SimBridge();
 
+  /// Queues every robot command already received (call right before a step: a command its
+  /// writer saw acknowledged before asking for the step lands in that step, in lock-step too).
+  void poll_commands();
   /// Publishes what the last step produced (clock, odometry, sensors; cameras handed over).
   void publish();
   /// Topic names this bridge serves, for the start-up banner.

@@ -15,8 +15,8 @@ namespace {
 using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 
-/// One lock-step run: the robot drives an arc until its command times out, a ball is pushed;
-/// returns the state hash after every step request.
+/// One lock-step run: the robot drives an arc until its command times out, a ball is pushed,
+/// the robot is given two more twists between steps; returns the state hash after every step request.
 std::vector<uint64_t> lockstep_run() {
   const int domain = unique_test_domain();
   ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
@@ -39,8 +39,14 @@ std::vector<uint64_t> lockstep_run() {
       std::this_thread::sleep_for(50ms);
     }
     // The twist given at sim time 0 drives the robot for 0.6 s (the command timeout); the ball
-    // is pushed through the supervisor, whose replies order it before the next step.
+    // is pushed through the supervisor, whose replies order it before the next step. Later
+    // twists are ordered with the steps by waiting until macsim acknowledged them: macsim takes
+    // every received command right before it steps.
     for (int k = 0; k < 12; ++k) {
+      if (k == 7 || k == 9) {
+        EXPECT_TRUE(kurt.drive(k == 7 ? -0.2 : 0.25, k == 7 ? 0.6 : -0.3));
+        EXPECT_TRUE(kurt.wait_delivered());
+      }
       if (k == 3) {
         auto find = client::SupervisorClient::request(mm::OP_FIND_OBJECT);
         find.name("environment_01/ball_green");

@@ -16,6 +16,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -144,9 +145,13 @@ class Reader : private fdds::DataReaderListener {
 
   /// Number of writers currently matched.
   int matched() const { return matched_.load(); }
+  /// Hands every sample already received to the callback now, on the caller's thread (the
+  /// simulation's drain point: whatever a writer saw acknowledged is taken in this step).
+  void poll() { on_data_available(reader_); }
 
  private:
   void on_data_available(fdds::DataReader* reader) override {
+    std::lock_guard<std::mutex> lock(mutex_);  // listener and poll() take in turn, in order
     Data sample;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
@@ -170,6 +175,7 @@ class Reader : private fdds::DataReaderListener {
 
   Participant& participant_;
   Callback on_sample_, on_gone_;
+  std::mutex mutex_;
   std::map<fdds::InstanceHandle_t, Data> last_;  // only with on_gone_
   std::atomic<int> matched_{0};
   fdds::DataReader* reader_ = nullptr;
