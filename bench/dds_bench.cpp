@@ -1,16 +1,23 @@
 // Round trips over DDS, each beside its baseline in the same run (machines here are noisy):
-// a bare Fast DDS ping-pong between two processes with the supervisor's payload types, the
-// supervisor's request/reply against macsim, and a lock-step Step(1) against macsim.
-// Prints `name value unit` lines.   bench_dds [ROUND_TRIPS]   (from the repository root)
+// a bare Fast DDS ping-pong between two processes with the same payload types, then the same
+// exchange through macsim: supervisor request/reply, lock-step Step(1), twist -> odometry, and
+// 640x480 stereo images. Prints `name value unit` lines.
+//   bench_dds [ROUND_TRIPS]   (from the repository root)
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <mutex>
 #include <chrono>
+#include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -18,14 +25,21 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
+#include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 
 namespace {
 
 namespace mm = macsim_msgs::msg::dds_;
+namespace gm = geometry_msgs::msg::dds_;
+namespace nm = nav_msgs::msg::dds_;
+namespace sm = sensor_msgs::msg::dds_;
 using Clock = std::chrono::steady_clock;
+using macsim::dds::QosFamily;
 
 double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<std::size_t>(p * v.size()))];
 }
@@ -35,23 +49,62 @@ void report(const std::string& name, const std::vector<double>& us) {
               percentile(us, 0.99));
 }
 
-/// The bare baseline's echo: every request comes back as a reply with the same correlation.
+void ratio(const std::string& name, const std::vector<double>& us, const std::vector<double>& bare) {
+  std::printf("%s_over_bare.p50 %.2f x\n", name.c_str(), percentile(us, 0.5) / percentile(bare, 0.5));
+}
+
+double micros_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+/// The bare baselines' echo process: a supervisor request comes back as a reply with the same
+/// correlation; a twist comes back as an odometry message (the sizes of the real exchanges).
 [[noreturn]] void pong(int domain) {
   macsim::dds::Participant p({domain, "", "bench_pong"});
-  macsim::dds::Writer<mm::SupervisorReply_PubSubType> replies(p, "bench/pong", macsim::dds::QosFamily::Command);
+  macsim::dds::Writer<mm::SupervisorReply_PubSubType> replies(p, "bench/pong", QosFamily::Command);
   macsim::dds::Reader<mm::SupervisorRequest_PubSubType> requests(
-      p, "bench/ping", macsim::dds::QosFamily::Command, [&](const mm::SupervisorRequest_& r) {
+      p, "bench/ping", QosFamily::Command, [&](const mm::SupervisorRequest_& r) {
         mm::SupervisorReply_ reply;
         reply.client_id(r.client_id());
         reply.sequence_number(r.sequence_number());
         replies.write(reply);
       });
+  macsim::dds::Writer<nm::Odometry_PubSubType> odom(p, "bench/odom", QosFamily::Sensor);
+  macsim::dds::Reader<gm::Twist_PubSubType> twists(
+      p, "bench/cmd_vel", QosFamily::Command, [&](const gm::Twist_& twist) {
+        nm::Odometry_ o;
+        o.twist().twist(twist);
+        odom.write(o);
+      });
   while (true) std::this_thread::sleep_for(std::chrono::seconds(1));
 }
 
+/// The images' bare baseline: 640x480 bgr8 images at 30 Hz, stamped with the sending time on
+/// the steady clock (CLOCK_MONOTONIC, the same in every process of the machine).
+[[noreturn]] void image_source(int domain) {
+  macsim::dds::Participant p({domain, "", "bench_images"});
+  macsim::dds::Writer<sm::Image_PubSubType> writer(p, "bench/image", QosFamily::Sensor);
+  sm::Image_ image;
+  image.height(480);
+  image.width(640);
+  image.encoding("bgr8");
+  image.step(640 * 3);
+  image.data().assign(640 * 480 * 3, 128);
+  auto next = Clock::now();
+  while (true) {
+    next += std::chrono::microseconds(33333);
+    std::this_thread::sleep_until(next);
+    image.header().stamp(macsim::dds::to_time(
+        std::chrono::duration<double>(Clock::now().time_since_epoch()).count()));
+    writer.write(image);
+  }
+}
+
 pid_t spawn(const std::vector<std::string>& argv) {
+  std::fflush(stdout);
   const pid_t pid = fork();
   if (pid == 0) {
+    if (!std::freopen("/dev/null", "w", stdout)) _exit(126);  // keep the figures readable
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
@@ -79,8 +132,48 @@ std::vector<double> round_trips(Client& client, int n, Call call) {
       std::fprintf(stderr, "bench_dds: a call got no reply\n");
       continue;
     }
-    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    us.push_back(micros_since(t0));
   }
+  return us;
+}
+
+/// Twist out, the first odometry whose twist shows it back (us per trial). Trials alternate
+/// forward and backward at 0.2 m/s; between trials the robot is stopped and left to settle.
+std::vector<double> twist_to_odometry(macsim::dds::Participant& p, const std::string& cmd_topic,
+                                      const std::string& odom_topic, int trials) {
+  std::mutex mutex;
+  std::condition_variable seen;
+  double direction = 0.0;  // the trial's commanded direction; 0: no trial running
+  std::optional<Clock::time_point> sent;
+  std::vector<double> us;
+  bool matched_odom = false;
+  macsim::dds::Writer<gm::Twist_PubSubType> cmd(p, cmd_topic, QosFamily::Command);
+  macsim::dds::Reader<nm::Odometry_PubSubType> odom(
+      p, odom_topic, QosFamily::Sensor, [&](const nm::Odometry_& o) {
+        std::lock_guard<std::mutex> lock(mutex);
+        matched_odom = true;
+        if (sent && o.twist().twist().linear().x() * direction > 0) {
+          us.push_back(micros_since(*sent));
+          sent.reset();
+          seen.notify_all();
+        }
+      });
+  for (int i = 0; i < 200 && cmd.matched() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  for (int i = 0; i < trials + 10; ++i) {
+    cmd.write(macsim::dds::planar_twist(0.0, 0.0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(60));  // at rest again
+    std::unique_lock<std::mutex> lock(mutex);
+    direction = i % 2 ? -1.0 : 1.0;
+    sent = Clock::now();
+    cmd.write(macsim::dds::planar_twist(0.2 * direction, 0.0));
+    if (!seen.wait_for(lock, std::chrono::seconds(2), [&] { return !sent; })) {
+      std::fprintf(stderr, "bench_dds: no odometry answered a twist\n");
+      sent.reset();
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  if (us.size() > 10) us.erase(us.begin(), us.begin() + 10);  // warm-up
   return us;
 }
 
@@ -91,80 +184,148 @@ int main(int argc, char** argv) {
     std::printf("usage: bench_dds [ROUND_TRIPS]  (default 1000; run from the repository root)\n");
     return 0;
   }
+  // The shipped loopback + shared-memory profile, for this process and every child, unless the
+  // caller chose one.
+  if (!std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE")) {
+    setenv("FASTRTPS_DEFAULT_PROFILES_FILE", "deploy/dds/localhost.xml", 1);
+  }
   if (argc > 2 && std::string(argv[1]) == "--pong") pong(std::atoi(argv[2]));
+  if (argc > 2 && std::string(argv[1]) == "--images") image_source(std::atoi(argv[2]));
+  std::printf("profile %s\n", std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"));
   const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
-  const int domain = 200 + getpid() % 30;
+  const int domain = 200 + getpid() % 25;
+  auto start_macsim = [&](int offset, const std::string& world, std::vector<std::string> extra) {
+    std::vector<std::string> args{bin + "/macsim", "--world", world, "--domain",
+                                  std::to_string(domain + offset), "--cameras", "off"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return spawn(args);
+  };
 
-  // 1. The bare baseline: the same payload types, a plain echo process.
-  std::vector<double> bare;
+  // 1. The bare baselines: the same payload types, a plain echo process.
+  std::vector<double> bare, bare_twist;
   {
     const pid_t echo = spawn({bin + "/bench_dds", "--pong", std::to_string(domain)});
     macsim::dds::Participant p({domain, "", "bench_ping"});
     macsim::client::RequestReply<mm::SupervisorRequest_PubSubType, mm::SupervisorReply_PubSubType>
         ping(p, "bench/ping", "bench/pong", "bench");
     bare = round_trips(ping, n, [&] { return ping.call({}, std::chrono::seconds(5)).has_value(); });
+    bare_twist = twist_to_odometry(p, "bench/cmd_vel", "bench/odom", std::max(100, n / 5));
     stop(echo);
   }
   report("bare_ping_pong_rtt", bare);
+  report("bare_twist_odometry_rtt", bare_twist);
 
   // 2. The supervisor against macsim (the same types, one operation executed per call).
-  std::vector<double> supervisor, step;
   {
-    const pid_t macsim = spawn({bin + "/macsim", "--world", "worlds/small_room.xml", "--domain",
-                                std::to_string(domain + 1), "--cameras", "off"});
+    const pid_t macsim = start_macsim(1, "worlds/small_room.xml", {});
     macsim::dds::Participant p({domain + 1, "", "bench_supervisor"});
     macsim::client::SupervisorClient client(p);
     const auto request = macsim::client::SupervisorClient::request(mm::OP_GET_OBJECT, 1);
-    supervisor = round_trips(client, n, [&] { return client.call(request).has_value(); });
+    const auto supervisor = round_trips(client, n, [&] { return client.call(request).has_value(); });
     stop(macsim);
+    report("supervisor_rtt", supervisor);
+    ratio("supervisor_rtt", supervisor, bare);
   }
-  report("supervisor_rtt", supervisor);
-  std::printf("supervisor_rtt_over_bare.p50 %.2f x\n", percentile(supervisor, 0.5) / percentile(bare, 0.5));
 
-  // 3. Lock-step: Step(1) at a 1 ms step.
-  {
-    const pid_t macsim = spawn({bin + "/macsim", "--world", "worlds/small_room.xml", "--domain",
-                                std::to_string(domain + 2), "--cameras", "off", "--lockstep"});
+  // 3. Lock-step: Step(1) at a 1 ms step, on a nearly empty world (the protocol's cost) and on
+  //    the small room with the KURT3D (plus its physics, sensors and publishing).
+  for (const auto& [name, world] : {std::pair{"lockstep_step1_rtt.empty_floor", "bench/worlds/empty_floor.xml"},
+                                    std::pair{"lockstep_step1_rtt.small_room", "worlds/small_room.xml"}}) {
+    const pid_t macsim = start_macsim(2, world, {"--lockstep"});
     macsim::dds::Participant p({domain + 2, "", "bench_lockstep"});
     macsim::client::SimulationClient client(p);
-    step = round_trips(client, n, [&] { return client.step(1).has_value(); });
+    const auto step = round_trips(client, n, [&] { return client.step(1).has_value(); });
     stop(macsim);
+    report(name, step);
+    ratio(name, step, bare);
   }
-  report("lockstep_step1_rtt", step);
-  std::printf("lockstep_step1_rtt_over_bare.p50 %.2f x\n", percentile(step, 0.5) / percentile(bare, 0.5));
 
-  // 4. Stereo images 640x480 at 30 Hz in real time: the rate they arrive at, and how late each
-  //    is beyond the earliest one (sim time runs with the wall clock, so stamp + offset is when
-  //    it was due; the smallest offset seen is rendering + transport at its best).
+  // 4. Twist -> macsim applies it at its next 1 ms step -> odometry of that step (encoder
+  //    frames every step in this world) -> received. Goal: p99 <= bare p99 + one step.
+  {
+    const pid_t macsim = start_macsim(3, "bench/worlds/kurt_1khz_encoders.xml", {"--realtime"});
+    macsim::dds::Participant p({domain + 3, "", "bench_twist"});
+    const auto twist = twist_to_odometry(p, macsim::dds::topics::cmd_vel("kurt"),
+                                         macsim::dds::topics::odom("kurt"), std::max(100, n / 5));
+    stop(macsim);
+    report("twist_to_odometry", twist);
+    std::printf("twist_to_odometry.p99_minus_bare_p99 %.1f us (goal <= one step, 1000 us)\n",
+                percentile(twist, 0.99) - percentile(bare_twist, 0.99));
+  }
+
+  // 5. The images' bare baseline: DDS delivery alone, write to callback.
+  {
+    const pid_t source = spawn({bin + "/bench_dds", "--images", std::to_string(domain + 5)});
+    macsim::dds::Participant p({domain + 5, "", "bench_image_sink"});
+    std::mutex mutex;
+    std::vector<double> latency;
+    macsim::dds::Reader<sm::Image_PubSubType> reader(
+        p, "bench/image", QosFamily::Sensor, [&](const sm::Image_& image) {
+          const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+          std::lock_guard<std::mutex> lock(mutex);
+          latency.push_back((now - macsim::dds::to_seconds(image.header().stamp())) * 1e6);
+        });
+    std::this_thread::sleep_for(std::chrono::seconds(6));
+    stop(source);
+    std::lock_guard<std::mutex> lock(mutex);
+    std::printf("bare_images_640x480.received %zu of about %d\n", latency.size(), 30 * 6);
+    if (latency.size() > 10) latency.erase(latency.begin(), latency.begin() + 10);
+    report("bare_images_640x480.latency", latency);
+  }
+
+  // 6. Stereo images 640x480 at 30 Hz in real time: the rate they arrive at and their latency.
+  //    Stamps are sim time, which runs with the wall clock from an unknown offset; odometry of
+  //    the same run (published right after its step) gives that offset: its smallest
+  //    arrival - stamp is the step's wall time plus one small sample's transport, so image
+  //    latency = arrival - stamp - that offset (from the end of the step that was rendered,
+  //    short by one small sample's transport, about 30-50 us).
   {
     const pid_t macsim = spawn({bin + "/macsim", "--world", "worlds/DemoWorld_v1.xml", "--domain",
-                                std::to_string(domain + 3), "--cameras", "640x480", "--camera-rate", "30"});
-    macsim::dds::Participant p({domain + 3, "", "bench_images"});
+                                std::to_string(domain + 4), "--cameras", "640x480", "--camera-rate",
+                                "30"});
+    macsim::dds::Participant p({domain + 4, "", "bench_images"});
     std::mutex mutex;
-    std::vector<std::pair<double, double>> arrivals;  // wall s, stamp s
+    std::map<std::string, std::vector<std::pair<double, double>>> images;  // eye: wall s, stamp s
+    double odom_offset = 1e9;
     const auto t0 = Clock::now();
-    macsim::dds::Reader<sensor_msgs::msg::dds_::Image_PubSubType> images(
-        p, macsim::dds::topics::image("kurt", "left"), macsim::dds::QosFamily::Sensor,
-        [&](const sensor_msgs::msg::dds_::Image_& image) {
-          const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    auto wall = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    std::vector<std::unique_ptr<macsim::dds::Reader<sm::Image_PubSubType>>> readers;
+    for (const std::string eye : {"left", "right"}) {
+      readers.push_back(std::make_unique<macsim::dds::Reader<sm::Image_PubSubType>>(
+          p, macsim::dds::topics::image("kurt", eye), QosFamily::Sensor,
+          [&, eye](const sm::Image_& image) {
+            const double now = wall();
+            std::lock_guard<std::mutex> lock(mutex);
+            images[eye].emplace_back(now, macsim::dds::to_seconds(image.header().stamp()));
+          }));
+    }
+    macsim::dds::Reader<nm::Odometry_PubSubType> odom(
+        p, macsim::dds::topics::odom("kurt"), QosFamily::Sensor, [&](const nm::Odometry_& o) {
+          const double now = wall();
           std::lock_guard<std::mutex> lock(mutex);
-          arrivals.emplace_back(wall, macsim::dds::to_seconds(image.header().stamp()));
+          odom_offset = std::min(odom_offset, now - macsim::dds::to_seconds(o.header().stamp()));
         });
     std::this_thread::sleep_for(std::chrono::seconds(8));
     stop(macsim);
     std::lock_guard<std::mutex> lock(mutex);
-    if (arrivals.size() > 30) {
+    for (auto& [eye, arrivals] : images) {
+      const std::string name = "images_640x480." + eye;
+      if (arrivals.size() < 30) {
+        std::printf("%s.rate %.1f Hz (too few images)\n", name.c_str(), arrivals.size() / 8.0);
+        continue;
+      }
       arrivals.erase(arrivals.begin(), arrivals.begin() + 10);  // start-up
       const double span = arrivals.back().first - arrivals.front().first;
-      std::printf("images_640x480.rate %.1f Hz\n", (arrivals.size() - 1) / span);
-      double best = 1e9;
-      for (const auto& [wall, stamp] : arrivals) best = std::min(best, wall - stamp);
-      std::vector<double> late;
-      for (const auto& [wall, stamp] : arrivals) late.push_back((wall - stamp - best) * 1e6);
-      report("images_640x480.latency_beyond_best", late);
-    } else {
-      std::printf("images_640x480.rate %.1f Hz (too few images)\n", arrivals.size() / 8.0);
+      std::printf("%s.rate %.1f Hz\n", name.c_str(), (arrivals.size() - 1) / span);
+      int missing = 0;  // stamps 1/30 s apart: a wider gap is a frame not rendered or lost
+      for (std::size_t i = 1; i < arrivals.size(); ++i)
+        missing += static_cast<int>(std::lround((arrivals[i].second - arrivals[i - 1].second) * 30.0)) - 1;
+      std::printf("%s.missing %d frames of %d\n", name.c_str(), missing,
+                  missing + static_cast<int>(arrivals.size()));
+      std::vector<double> latency;
+      for (const auto& [arrival, stamp] : arrivals) latency.push_back((arrival - stamp - odom_offset) * 1e6);
+      report(name + ".latency", latency);
     }
   }
   return 0;

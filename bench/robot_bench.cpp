@@ -50,7 +50,7 @@ double step_rate(const macsim::WorldSpec& base, const Setup& setup, double secon
       macsim::render::CameraIntrinsics in;
       in.width = setup.camera_width;
       in.height = setup.camera_height;
-      rig = std::make_unique<macsim::render::CameraRig>("kurt", in, [](const macsim::render::StereoFrame&) {});
+      rig = std::make_unique<macsim::render::CameraRig>("kurt", in, [](const macsim::render::CameraImage&) {});
     }
     const long steps = static_cast<long>(seconds / world.step_size());
     const long camera_every = static_cast<long>(1.0 / 15 / world.step_size());  // 15 Hz

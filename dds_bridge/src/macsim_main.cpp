@@ -320,6 +320,7 @@ int main(int argc, char** argv) {
         "real-time factor %.2f\n",
         world.time(), static_cast<unsigned long long>(world.steps()), wall, world.steps() / wall,
         world.time() / wall);
+    std::printf("%s", bridge.camera_summary().c_str());
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "macsim: DDS error: " << e.what() << std::endl;
     return 3;

@@ -54,7 +54,7 @@ struct SimBridge::RobotTopics {
   std::unique_ptr<dds::Reader<km::WheelSpeeds_PubSubType>> wheel_speeds;
   std::unique_ptr<dds::Reader<km::CraneCommand_PubSubType>> crane_command;
   std::unique_ptr<dds::Reader<km::MagnetCommand_PubSubType>> magnet;
-  std::unique_ptr<render::CameraRig> cameras;
+  std::vector<std::unique_ptr<render::CameraRig>> cameras;  // one per eye, rendering in parallel
 };
 
 namespace {
@@ -265,13 +265,20 @@ SimBridge::SimBridge(dds::Participant& participant, Simulation& simulation,
       const double baseline =
           (render::left_camera_mount().position - render::right_camera_mount().position).norm();
       // Runs on the render thread: writers are thread-safe, the world is never touched.
-      t->cameras = std::make_unique<render::CameraRig>(
-          name, in, [t, in, baseline](const render::StereoFrame& f) {
-            t->left_image->write(image_message(f.left, f.stamp, "left_camera_optical_frame"));
-            t->right_image->write(image_message(f.right, f.stamp, "right_camera_optical_frame"));
-            t->left_info->write(camera_info(in, f.stamp, "left_camera_optical_frame", 0.0));
-            t->right_info->write(camera_info(in, f.stamp, "right_camera_optical_frame", baseline));
-          });
+      auto publish = [t, in, baseline](const render::CameraImage& f) {
+        // Each image goes out as soon as it is rendered, with its camera info.
+        if (f.eye == render::Eye::Left) {
+          t->left_image->write(image_message(f.image, f.stamp, "left_camera_optical_frame"));
+          t->left_info->write(camera_info(in, f.stamp, "left_camera_optical_frame", 0.0));
+        } else {
+          t->right_image->write(image_message(f.image, f.stamp, "right_camera_optical_frame"));
+          t->right_info->write(camera_info(in, f.stamp, "right_camera_optical_frame", baseline));
+        }
+      };
+      for (const render::Eye eye : {render::Eye::Left, render::Eye::Right}) {
+        t->cameras.push_back(
+            std::make_unique<render::CameraRig>(name, in, publish, std::vector<render::Eye>{eye}));
+      }
     }
     robots_.push_back(std::move(topics));
   }
@@ -356,10 +363,23 @@ void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
     t.clouds = robot.point_clouds();
     t.points.write(cloud_message(robot.point_cloud()));
   }
-  if (t.cameras && now + 1e-9 >= t.next_camera_time) {
+  if (!t.cameras.empty() && now + 1e-9 >= t.next_camera_time) {
     t.next_camera_time += 1.0 / options_.camera_rate;
-    t.cameras->submit(render::capture_scene(simulation_.world()));
+    const render::Scene scene = render::capture_scene(simulation_.world());
+    for (auto& rig : t.cameras) rig->submit(scene);
   }
+}
+
+std::string SimBridge::camera_summary() const {
+  std::string summary;
+  for (const auto& t : robots_) {
+    for (std::size_t eye = 0; eye < t->cameras.size(); ++eye) {
+      summary += "macsim: " + t->name + "'s " + (eye == 0 ? "left" : "right") +
+                 " camera: " + std::to_string(t->cameras[eye]->rendered()) + " images rendered, " +
+                 std::to_string(t->cameras[eye]->dropped()) + " dropped (the renderer was busy)\n";
+    }
+  }
+  return summary;
 }
 
 std::vector<std::string> SimBridge::topic_names() const {
@@ -382,7 +402,7 @@ std::vector<std::string> SimBridge::topic_names() const {
              {dds::topics::crane_state(n), "kurt_msgs/CraneState, out"}}) {
       names.push_back(topic + " (" + what + ")");
     }
-    if (t->cameras) {
+    if (!t->cameras.empty()) {
       for (const char* side : {"left", "right"}) {
         names.push_back(dds::topics::image(n, side) + " (sensor_msgs/Image, out)");
         names.push_back(dds::topics::camera_info(n, side) + " (sensor_msgs/CameraInfo, out)");

@@ -31,6 +31,8 @@ class SimBridge {
   void poll_commands();
   /// Publishes what the last step produced (clock, odometry, sensors; cameras handed over).
   void publish();
+  /// One line per robot with cameras: stereo frames rendered and dropped (renderer busy).
+  std::string camera_summary() const;
   /// Topic names this bridge serves, for the start-up banner.
   std::vector<std::string> topic_names() const;
 

@@ -640,6 +640,8 @@ class Loader {
         spec.pose.position = r.vector3(e);
       } else if (tag == "ROT") {
         spec.pose.orientation = r.rotation(e);
+      } else if (tag == "ENCODER_RATE") {
+        spec.encoder_rate = r.positive(e);
       } else {
         r.unknown(e, "ROBOT");
       }

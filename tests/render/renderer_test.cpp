@@ -161,8 +161,8 @@ TEST(CameraRig, RendersOnItsOwnThreadAndKeepsTheNewestScene) {
   in.width = 320;
   in.height = 240;
   std::mutex mutex;
-  std::vector<render::StereoFrame> frames;
-  render::CameraRig rig("kurt", in, [&](const render::StereoFrame& f) {
+  std::vector<render::CameraImage> frames;
+  render::CameraRig rig("kurt", in, [&](const render::CameraImage& f) {
     std::lock_guard<std::mutex> lock(mutex);
     frames.push_back(f);
   });
@@ -173,10 +173,13 @@ TEST(CameraRig, RendersOnItsOwnThreadAndKeepsTheNewestScene) {
   rig.wait_idle();
   std::lock_guard<std::mutex> lock(mutex);
   EXPECT_EQ(rig.rendered() + rig.dropped(), 5u);
-  ASSERT_FALSE(frames.empty());
+  ASSERT_EQ(frames.size(), 2 * rig.rendered());  // left, then right, of every scene rendered
   EXPECT_NEAR(frames.back().stamp, 0.25, 1e-9);  // the newest scene is always rendered
-  EXPECT_EQ(frames.back().left.size(), cv::Size(320, 240));
-  EXPECT_EQ(frames.back().right.size(), cv::Size(320, 240));
+  EXPECT_EQ(frames[frames.size() - 2].eye, render::Eye::Left);
+  EXPECT_EQ(frames.back().eye, render::Eye::Right);
+  EXPECT_EQ(frames[frames.size() - 2].stamp, frames.back().stamp);
+  EXPECT_EQ(frames[frames.size() - 2].image.size(), cv::Size(320, 240));
+  EXPECT_EQ(frames.back().image.size(), cv::Size(320, 240));
 }
 
 }  // namespace

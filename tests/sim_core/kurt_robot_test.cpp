@@ -143,6 +143,35 @@ TEST(KurtRobot, UnknownRobotTypesAreNamedWithTheKnownOnes) {
   }
 }
 
+TEST(KurtRobot, EncoderRateSetsHowOftenFramesComeAndIsChecked) {
+  World fast(load_world_string(
+      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><ENCODER_RATE>1000</ENCODER_RATE></ROBOT>"
+      "</WORLD>",
+      "fast.xml"));
+  World standard(load_world_string(
+      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "standard.xml"));
+  for (int i = 0; i < 100; ++i) {
+    fast.robot("kurt")->command_twist(0.3, 0.0, fast.time());
+    standard.robot("kurt")->command_twist(0.3, 0.0, standard.time());
+    fast.step();
+    standard.step();
+  }
+  EXPECT_NEAR(static_cast<double>(fast.robot("kurt")->odometry_frames()), 100.0, 1.0);
+  EXPECT_NEAR(static_cast<double>(standard.robot("kurt")->odometry_frames()), 10.0, 1.0);
+  // The odometry integrates with the frame period as its time step: both see the same motion.
+  EXPECT_NEAR(fast.robot("kurt")->odometry().x, standard.robot("kurt")->odometry().x, 0.005);
+  EXPECT_GT(fast.robot("kurt")->odometry().x, 0.01);
+  try {
+    load_world_string("<WORLD>\n<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE>\n"
+                      "<ENCODER_RATE>-5</ENCODER_RATE></ROBOT></WORLD>",
+                      "bad.xml");
+    FAIL() << "a negative encoder rate was accepted";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("ENCODER_RATE"), std::string::npos) << e.what();
+  }
+}
+
 // Drives at 0.3 m/s towards a 0.2 m high ramp of `degrees`; returns the highest footprint z.
 double climb(const std::string& type, double degrees) {
   World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>" + type +

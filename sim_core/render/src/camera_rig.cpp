@@ -4,8 +4,13 @@
 
 namespace macsim::render {
 
-CameraRig::CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics, Callback on_frame)
-    : robot_(robot), intrinsics_(intrinsics), on_frame_(std::move(on_frame)), thread_([this] { run(); }) {}
+CameraRig::CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics, Callback on_frame,
+                     std::vector<Eye> eyes)
+    : robot_(robot),
+      intrinsics_(intrinsics),
+      on_frame_(std::move(on_frame)),
+      eyes_(std::move(eyes)),
+      thread_([this] { run(); }) {}
 
 CameraRig::~CameraRig() {
   {
@@ -59,9 +64,10 @@ void CameraRig::run() {
     if (renderer) {
       for (const auto& r : scene.robots) {
         if (r.name != robot_) continue;
-        StereoFrame frame{scene.time, robot_, renderer->render(scene, r.left_camera, intrinsics_),
-                          renderer->render(scene, r.right_camera, intrinsics_)};
-        on_frame_(frame);
+        for (const Eye eye : eyes_) {
+          const Pose& camera = eye == Eye::Left ? r.left_camera : r.right_camera;
+          on_frame_({scene.time, robot_, eye, renderer->render(scene, camera, intrinsics_)});
+        }
       }
     }
     lock.lock();

@@ -17,8 +17,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "macsim/dds/qos.h"
 
@@ -145,26 +147,43 @@ class Reader : private fdds::DataReaderListener {
 
   /// Number of writers currently matched.
   int matched() const { return matched_.load(); }
-  /// Hands every sample already received to the callback now, on the caller's thread (the
+  /// Hands every sample already received to the callback now, on the caller's thread, and
+  /// returns once a sample the listener thread took meanwhile has been handed over too (the
   /// simulation's drain point: whatever a writer saw acknowledged is taken in this step).
-  void poll() { on_data_available(reader_); }
+  void poll() {
+    take_all(reader_);
+    while (listener_taking_.load() > 0) std::this_thread::yield();
+  }
 
  private:
   void on_data_available(fdds::DataReader* reader) override {
-    std::lock_guard<std::mutex> lock(mutex_);  // listener and poll() take in turn, in order
+    // No lock of ours here: Fast DDS may hold its own while it calls us (lock order).
+    ++listener_taking_;
+    take_all(reader);
+    --listener_taking_;
+  }
+  void take_all(fdds::DataReader* reader) {
     Data sample;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) {
-        if (on_gone_) last_[info.instance_handle] = sample;
+        if (on_gone_) {
+          std::lock_guard<std::mutex> lock(last_mutex_);
+          last_[info.instance_handle] = sample;
+        }
         on_sample_(sample);
       } else if (on_gone_ && info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
         // Fast DDS 2.9 cannot give the key of a handle: remember each instance's last sample.
-        auto last = last_.find(info.instance_handle);
-        if (last != last_.end()) {
-          on_gone_(last->second);
-          last_.erase(last);
+        std::optional<Data> gone;
+        {
+          std::lock_guard<std::mutex> lock(last_mutex_);
+          auto last = last_.find(info.instance_handle);
+          if (last != last_.end()) {
+            gone = std::move(last->second);
+            last_.erase(last);
+          }
         }
+        if (gone) on_gone_(*gone);
       }
     }
   }
@@ -175,7 +194,8 @@ class Reader : private fdds::DataReaderListener {
 
   Participant& participant_;
   Callback on_sample_, on_gone_;
-  std::mutex mutex_;
+  std::atomic<int> listener_taking_{0};
+  std::mutex last_mutex_;  // never held while calling into Fast DDS
   std::map<fdds::InstanceHandle_t, Data> last_;  // only with on_gone_
   std::atomic<int> matched_{0};
   fdds::DataReader* reader_ = nullptr;

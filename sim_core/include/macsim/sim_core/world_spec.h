@@ -170,6 +170,7 @@ struct RobotSpec {
   std::string name;  ///< namespace of its topics, e.g. "kurt"
   std::string type;  ///< robot type name
   Pose pose;         ///< pose of base_footprint (on the floor)
+  double encoder_rate = 100.0;  ///< Hz of encoder frames (odometry, IR/sonar, gyro); real: 100
   SourceLocation source;
 };
 

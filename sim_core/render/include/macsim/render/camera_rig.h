@@ -7,25 +7,33 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "macsim/render/renderer.h"
 
 namespace macsim::render {
 
-/// A stereo pair rendered from one scene.
-struct StereoFrame {
+/// Which camera of the stereo pair.
+enum class Eye { Left, Right };
+
+/// One camera's image of one scene.
+struct CameraImage {
   double stamp = 0.0;  ///< the scene's sim time
   std::string robot;
-  cv::Mat left, right;  ///< BGR
+  Eye eye = Eye::Left;
+  cv::Mat image;  ///< BGR
 };
 
 /// One render thread for a robot's left and right cameras. submit() never blocks: a scene
 /// submitted while the previous one renders replaces any scene still waiting (latest wins).
+/// Each image goes to the callback as soon as it is rendered (left first, then right).
 class CameraRig {
  public:
-  using Callback = std::function<void(const StereoFrame&)>;
+  using Callback = std::function<void(const CameraImage&)>;
 
-  CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics, Callback on_frame);
+  /// Renders the `eyes` given (both by default; one rig per eye renders them in parallel).
+  CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics, Callback on_frame,
+            std::vector<Eye> eyes = {Eye::Left, Eye::Right});
   ~CameraRig();
   CameraRig(const CameraRig&) = delete;
   CameraRig& operator=(const CameraRig&) = delete;
@@ -34,7 +42,7 @@ class CameraRig {
   void submit(Scene scene);
   /// Blocks until everything submitted so far has been rendered (for lock-step).
   void wait_idle();
-  /// Frames rendered so far, and scenes dropped because a newer one came first.
+  /// Stereo frames (scenes) rendered so far, and scenes dropped because a newer one came first.
   uint64_t rendered() const;
   uint64_t dropped() const;
 
@@ -44,6 +52,7 @@ class CameraRig {
   std::string robot_;
   CameraIntrinsics intrinsics_;
   Callback on_frame_;
+  std::vector<Eye> eyes_;
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   std::optional<Scene> pending_;
