@@ -47,21 +47,28 @@ TEST(Interop, ACycloneDdsProgramReadsOdometryAndDrivesTheRobot) {
   EXPECT_EQ(macsim.wait_for_exit(10s), 0);
 }
 
-TEST(Interop, CycloneDdsReadsTheRobotAndWorldTopicsAndCommandsTheCrane) {
+TEST(Interop, CycloneDdsReadsEveryRobotAndWorldTopicCommandsTheCraneAndCallsTheSupervisor) {
   const int domain = unique_test_domain();
   ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
-                       std::to_string(domain), "--cameras", "off"});
+                       std::to_string(domain), "--cameras", "160x120"});
   ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
   setenv("CYCLONEDDS_URI",
          "<General><Interfaces><NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>"
          "</General><Discovery><SPDPInterval>1s</SPDPInterval></Discovery>",
          1);
-  ChildProcess cyclone({bin("cyclone_listen"), std::to_string(domain), "5"});
+  ChildProcess cyclone({bin("cyclone_listen"), std::to_string(domain), "8"});
   unsetenv("CYCLONEDDS_URI");
-  // Every topic delivered something (ranges, IMU, scan360, joint states, crane state, the keyed
-  // world state and door states), and Cyclone's crane command lifted the boom.
+  // Every topic delivered something (clock, odometry, ground truth, ranges, IMU, scan360, clouds,
+  // joint states, crane state, images, camera info, the keyed world state and door states),
+  // Cyclone's crane command lifted the boom, and its supervisor and simulation requests were
+  // answered (the supervisor found the ball by name, then gave it back by that id).
   EXPECT_EQ(cyclone.wait_for_exit(60s), 0) << cyclone.output();
   EXPECT_NE(cyclone.output().find("rt/macsim/world/objects"), std::string::npos) << cyclone.output();
+  EXPECT_NE(cyclone.output().find("rt/kurt/camera/right/image_raw"), std::string::npos)
+      << cyclone.output();
+  EXPECT_NE(cyclone.output().find("GET_OBJECT"), std::string::npos) << cyclone.output();
+  EXPECT_NE(cyclone.output().find("name environment_01/ball_green"), std::string::npos)
+      << cyclone.output();
   macsim.signal(SIGTERM);
   EXPECT_EQ(macsim.wait_for_exit(10s), 0);
 }

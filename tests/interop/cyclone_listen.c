@@ -1,15 +1,21 @@
 /* Another vendor's DDS reads macsim's robot and world topics: subscribes with Cyclone DDS (types
- * from the same IDL, by idlc) to ranges, IMU, laser, joint states, crane state, the keyed world
- * state and the door states for `seconds`, writes a crane command, and prints how many samples
- * of each it took. Exit 0 if every topic delivered, 1 otherwise.
- *   cyclone_listen DOMAIN [SECONDS] */
+ * from the same IDL, by idlc) to the clock, odometry, ground truth, ranges, IMU, laser, point
+ * clouds, joint states, crane state, the stereo images and camera infos, the keyed world state
+ * and the door states for `seconds`; writes a crane command; calls the supervisor (find an
+ * object by name, then get it by the id found), turns the rotunit (for clouds) and the simulation control (features) through
+ * their request/reply topics; prints how many samples of each it took and the replies.
+ * Exit 0 if every topic delivered and every call was answered, 1 otherwise.
+ *   cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME] */
 #include <dds/dds.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "geometry_msgs.h"
 #include "kurt_msgs.h"
 #include "macsim_msgs.h"
+#include "nav_msgs.h"
+#include "rosgraph_msgs.h"
 #include "sensor_msgs.h"
 
 struct Subscription {
@@ -27,9 +33,17 @@ int main(int argc, char** argv) {
   }
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
   const int seconds = argc > 2 ? atoi(argv[2]) : 5;
+  const char* object_name = argc > 3 ? argv[3] : "environment_01/ball_green";
   dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
   if (participant < 0) return 1;
   struct Subscription subs[] = {
+      {"rt/clock", &rosgraph_msgs_msg_dds__Clock__desc, 0, 0, 0},
+      {"rt/kurt/odom", &nav_msgs_msg_dds__Odometry__desc, 0, 0, 0},
+      {"rt/kurt/ground_truth", &nav_msgs_msg_dds__Odometry__desc, 0, 0, 0},
+      {"rt/kurt/points", &sensor_msgs_msg_dds__PointCloud2__desc, 0, 0, 0},
+      {"rt/kurt/camera/left/image_raw", &sensor_msgs_msg_dds__Image__desc, 0, 0, 0},
+      {"rt/kurt/camera/right/image_raw", &sensor_msgs_msg_dds__Image__desc, 0, 0, 0},
+      {"rt/kurt/camera/left/camera_info", &sensor_msgs_msg_dds__CameraInfo__desc, 0, 0, 0},
       {"rt/kurt/range", &sensor_msgs_msg_dds__Range__desc, 0, 0, 0},
       {"rt/kurt/imu", &sensor_msgs_msg_dds__Imu__desc, 0, 0, 0},
       {"rt/kurt/scan360", &sensor_msgs_msg_dds__LaserScan__desc, 0, 0, 0},
@@ -58,19 +72,100 @@ int main(int argc, char** argv) {
   dds_entity_t crane_writer = dds_create_writer(participant, crane_topic, reliable, NULL);
   dds_delete_qos(reliable);
   kurt_msgs_msg_dds__CraneCommand_ lift = {0.0, 0.3, 0.0};
+  /* The rotunit turns the laser (no 3D clouds while it stands): 2 rad/s over rt/kurt/rot_vel. */
+  dds_qos_t* rot_qos = dds_create_qos();
+  dds_qset_reliability(rot_qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_entity_t rot_writer = dds_create_writer(
+      participant, dds_create_topic(participant, &geometry_msgs_msg_dds__Twist__desc,
+                                    "rt/kurt/rot_vel", NULL, NULL), rot_qos, NULL);
+  dds_delete_qos(rot_qos);
+  geometry_msgs_msg_dds__Twist_ turn;
+  memset(&turn, 0, sizeof turn);
+  turn.angular.z = 2.0;
+
+  /* The supervisor and the simulation control: request/reply pairs correlated in the payload
+   * (client id + sequence number), reliable and volatile. A request is repeated every tick
+   * until its reply comes (macsim answers a repeat without doing it again). */
+  dds_qos_t* rq = dds_create_qos();
+  dds_qset_reliability(rq, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_history(rq, DDS_HISTORY_KEEP_LAST, 10);
+  dds_entity_t sup_request = dds_create_writer(
+      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SupervisorRequest__desc,
+                                    "rt/macsim/supervisor/request", NULL, NULL), rq, NULL);
+  dds_entity_t sup_reply = dds_create_reader(
+      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SupervisorReply__desc,
+                                    "rt/macsim/supervisor/reply", NULL, NULL), rq, NULL);
+  dds_entity_t sim_request = dds_create_writer(
+      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SimulationRequest__desc,
+                                    "rt/macsim/simulation/request", NULL, NULL), rq, NULL);
+  dds_entity_t sim_reply = dds_create_reader(
+      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SimulationReply__desc,
+                                    "rt/macsim/simulation/reply", NULL, NULL), rq, NULL);
+  dds_delete_qos(rq);
+  macsim_msgs_msg_dds__SupervisorRequest_ request;
+  memset(&request, 0, sizeof request);
+  char empty[] = "";
+  request.client_id = (char*)"cyclone_listen";
+  request.sequence_number = 1;
+  request.operation = macsim_msgs_msg_dds__OP_FIND_OBJECT;
+  request.name = (char*)object_name;
+  request.text = empty;
+  request.object.name = empty;
+  request.object.material = empty;
+  request.object.user_data = empty;
+  macsim_msgs_msg_dds__SimulationRequest_ sim = {(char*)"cyclone_listen", 1,
+                                                 macsim_msgs_msg_dds__SIM_FEATURES, 0, 0.0, empty};
+  uint32_t found_id = 0;
+  int got_object = 0, got_features = 0;
 
   void* samples[8] = {NULL};
   dds_sample_info_t infos[8];
   double slew_seen = -1;
   for (int tick = 0; tick < seconds * 20; ++tick) {
     dds_write(crane_writer, &lift);
+    dds_write(rot_writer, &turn);
+    if (!got_object) dds_write(sup_request, &request);
+    if (!got_features) dds_write(sim_request, &sim);
+    int got;
+    while ((got = dds_take(sup_reply, samples, infos, 8, 8)) > 0) {
+      for (int k = 0; k < got; ++k) {
+        const macsim_msgs_msg_dds__SupervisorReply_* r = samples[k];
+        if (!infos[k].valid_data || strcmp(r->client_id, request.client_id) != 0 ||
+            r->sequence_number != request.sequence_number) {
+          continue;
+        }
+        if (request.operation == macsim_msgs_msg_dds__OP_FIND_OBJECT) {
+          printf("cyclone_listen: supervisor FIND_OBJECT %s: code %d, id %u\n", object_name,
+                 r->code, r->object_id);
+          if (r->code != macsim_msgs_msg_dds__ERR_OK) return 1;
+          found_id = r->object_id;
+          request.operation = macsim_msgs_msg_dds__OP_GET_OBJECT;
+          request.object_id = found_id;
+          request.sequence_number = 2;
+        } else {
+          printf("cyclone_listen: supervisor GET_OBJECT %u: code %d, name %s, mass %.3f kg\n",
+                 found_id, r->code, r->object.name, r->object.mass);
+          got_object = r->code == macsim_msgs_msg_dds__ERR_OK && strcmp(r->object.name, object_name) == 0;
+        }
+      }
+      dds_return_loan(sup_reply, samples, got);
+    }
+    while ((got = dds_take(sim_reply, samples, infos, 8, 8)) > 0) {
+      for (int k = 0; k < got; ++k) {
+        const macsim_msgs_msg_dds__SimulationReply_* r = samples[k];
+        if (!infos[k].valid_data || strcmp(r->client_id, sim.client_id) != 0) continue;
+        printf("cyclone_listen: simulation FEATURES: code %d, features \"%s\"\n", r->code,
+               r->features);
+        got_features = r->code == macsim_msgs_msg_dds__ERR_OK && strstr(r->features, "supervisor");
+      }
+      dds_return_loan(sim_reply, samples, got);
+    }
     for (int i = 0; i < n; ++i) {
-      int got;
       while ((got = dds_take(subs[i].reader, samples, infos, 8, 8)) > 0) {
         for (int k = 0; k < got; ++k) {
           if (!infos[k].valid_data) continue;
           ++subs[i].taken;
-          if (i == 4) slew_seen = ((kurt_msgs_msg_dds__CraneState_*)samples[k])->lift;
+          if (subs[i].type == &kurt_msgs_msg_dds__CraneState__desc) slew_seen = ((kurt_msgs_msg_dds__CraneState_*)samples[k])->lift;
         }
         dds_return_loan(subs[i].reader, samples, got);
       }
@@ -84,5 +179,5 @@ int main(int argc, char** argv) {
   }
   printf("cyclone_listen: crane lift after the command %.3f rad\n", slew_seen);
   dds_delete(participant);
-  return missing || slew_seen < 0.25 ? 1 : 0;
+  return missing || slew_seen < 0.25 || !got_object || !got_features ? 1 : 0;
 }
