@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "macsim/dds/convert.h"
+#include "macsim/dds/kurt_messages.h"
 #include "macsim/dds/topics.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
@@ -59,20 +60,6 @@ struct SimBridge::RobotTopics {
 
 namespace {
 
-/// Odometry as the real driver publishes it (kurt_base: frames, covariance).
-nm::Odometry_ odometry_message(const PlanarOdometry& odom, double stamp) {
-  nm::Odometry_ msg;
-  msg.header(dds::header(stamp, "odom_combined"));
-  msg.child_frame_id("base_footprint");
-  msg.pose().pose().position().x(odom.x);
-  msg.pose().pose().position().y(odom.y);
-  msg.pose().pose().orientation(dds::yaw_quaternion(odom.yaw));
-  msg.twist().twist().linear().x(odom.linear);
-  msg.twist().twist().angular().z(odom.angular);
-  dds::set_driver_covariance(msg, odom.linear, odom.angular);
-  return msg;
-}
-
 /// Ground truth of base_footprint in the world frame; twist in the robot frame (as ROS does).
 nm::Odometry_ ground_truth_message(const KurtRobot& robot, double stamp) {
   const Pose pose = robot.base_footprint_pose();
@@ -86,39 +73,6 @@ nm::Odometry_ ground_truth_message(const KurtRobot& robot, double stamp) {
   msg.pose().pose().orientation(dds::quaternion(q.x(), q.y(), q.z(), q.w()));
   msg.twist().twist().linear(dds::vector3(v.x(), v.y(), v.z()));
   msg.twist().twist().angular(dds::vector3(w.x(), w.y(), w.z()));
-  return msg;
-}
-
-/// The six wheel joints, each side's angle as the driver accumulates it (wrapped to +-pi).
-sm::JointState_ wheel_joints(const KurtRobot& robot, double stamp) {
-  sm::JointState_ msg;
-  msg.header(dds::header(stamp, ""));
-  const double left = std::remainder(robot.wheel_angle(0), 2 * M_PI);
-  const double right = std::remainder(robot.wheel_angle(1), 2 * M_PI);
-  for (const char* side : {"left", "right"}) {
-    for (const char* wheel : {"front", "middle", "rear"}) {
-      msg.name().push_back(std::string(side) + "_" + wheel + "_wheel_joint");
-      msg.position().push_back(side[0] == 'l' ? left : right);
-    }
-  }
-  return msg;
-}
-
-sm::Imu_ imu_message(const ImuReading& imu, double stamp) {
-  sm::Imu_ msg;
-  msg.header(dds::header(stamp, "base_link"));
-  const Eigen::Quaterniond q = Eigen::AngleAxisd(imu.yaw, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(imu.pitch, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(imu.roll, Eigen::Vector3d::UnitX());
-  msg.orientation(dds::quaternion(q.x(), q.y(), q.z(), q.w()));
-  std::array<double, 9> orientation_covariance{};
-  orientation_covariance[8] = imu.yaw_variance;
-  msg.orientation_covariance(orientation_covariance);
-  msg.angular_velocity(dds::vector3(0, 0, imu.yaw_rate));
-  std::array<double, 9> unknown{};
-  unknown[0] = -1;  // as the KURT driver: rates and accelerations are not provided
-  msg.angular_velocity_covariance(unknown);
-  msg.linear_acceleration_covariance(unknown);
   return msg;
 }
 
@@ -321,20 +275,17 @@ void SimBridge::publish() {
 void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
   if (robot.odometry_frames() != t.frames) {  // every 10 ms encoder frame
     t.frames = robot.odometry_frames();
-    t.odom.write(odometry_message(robot.odometry(), now));
+    const PlanarOdometry odom = robot.odometry();
+    t.odom.write(dds::kurt_odometry(odom.x, odom.y, odom.yaw, odom.linear, odom.angular, now));
     t.ground_truth.write(ground_truth_message(robot, now));
-    t.joint_states.write(wheel_joints(robot, now));
-    t.imu.write(imu_message(robot.imu(), now));
+    t.joint_states.write(dds::kurt_wheel_joints(std::remainder(robot.wheel_angle(0), 2 * M_PI),
+                                                std::remainder(robot.wheel_angle(1), 2 * M_PI),
+                                                now));
+    const ImuReading imu = robot.imu();
+    t.imu.write(dds::kurt_imu(imu.roll, imu.pitch, imu.yaw, imu.yaw_variance, imu.yaw_rate, now));
     for (const RangeReading& r : robot.ranges()) {
       if (!robot.config().range_sensors) break;
-      sm::Range_ msg;
-      msg.header(dds::header(now, r.sensor->frame));
-      msg.radiation_type(r.sensor->sonar ? 0 : 1);
-      msg.field_of_view(static_cast<float>(r.sensor->field_of_view));
-      msg.min_range(static_cast<float>(r.sensor->min_range));
-      msg.max_range(static_cast<float>(r.sensor->max_range));
-      msg.range(static_cast<float>(r.range));
-      t.range.write(msg);
+      t.range.write(dds::kurt_range(r.sensor->frame, r.sensor->sonar, r.range, now));
     }
     const CraneState crane = robot.crane_state();
     km::CraneState_ state;
@@ -352,11 +303,7 @@ void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
     t.scan.write(scan_message(robot.laser_scan(), rotating ? "laser360" : "laser",
                               robot.config().laser_rate));
     if (rotating) {  // the driver publishes the rotunit in joint_states messages of its own
-      sm::JointState_ rot;
-      rot.header(dds::header(now, ""));
-      rot.name({"laser_rot_joint"});
-      rot.position({robot.rotunit_angle()});
-      t.joint_states.write(rot);
+      t.joint_states.write(dds::kurt_rotunit_joint(robot.rotunit_angle(), now));
     }
   }
   if (robot.point_clouds() != t.clouds) {

@@ -1,0 +1,216 @@
+// kurt_adapter: the real KURT3D as a DDS participant. Speaks the robot's CAN protocol
+// (SocketCAN, or the userspace UDP bus) and serves the robot topics macsim serves for a KURT,
+// with the same names, types, QoS and frames, so a controller cannot tell them apart.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <deque>
+#include <functional>
+#include <iostream>
+#include <mutex>
+
+#include "macsim/dds/command_line.h"
+#include "macsim/dds/convert.h"
+#include "macsim/dds/kurt_messages.h"
+#include "macsim/dds/participant.h"
+#include "macsim/dds/topics.h"
+#include "macsim/kurt/kurt_driver.h"
+#include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
+
+namespace {
+
+namespace gm = geometry_msgs::msg::dds_;
+namespace km = kurt_msgs::msg::dds_;
+namespace nm = nav_msgs::msg::dds_;
+namespace sm = sensor_msgs::msg::dds_;
+using macsim::dds::QosFamily;
+using Clock = std::chrono::steady_clock;
+using namespace macsim::kurt;
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop.store(true); }
+
+double seconds(Clock::time_point t) {
+  return std::chrono::duration<double>(t.time_since_epoch()).count();
+}
+/// Message stamps: wall-clock time, as the real driver stamps with ROS time.
+double wall_stamp() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+/// A change for the driver, queued by a DDS callback and run on the CAN loop's thread.
+using Command = std::function<void(KurtDriver&, CanTransport&, double now)>;
+
+class CommandQueue {
+ public:
+  void push(Command c) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_.push_back(std::move(c));
+  }
+  void drain(KurtDriver& driver, CanTransport& can, double now) {
+    std::deque<Command> running;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      running.swap(pending_);
+    }
+    for (auto& c : running) c(driver, can, now);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<Command> pending_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  macsim::dds::ParticipantOptions participant{0, "", "kurt_adapter"};
+  std::string can_spec = "socketcan:can0";
+  std::string robot = "kurt";
+  macsim::dds::CommandLine cli(
+      "kurt_adapter",
+      "The real KURT3D on DDS: its CAN protocol on one side, the robot topics macsim serves on\n"
+      "the other (cmd_vel, wheel_speeds, rot_vel, crane/magnet in; odom, joint_states, imu,\n"
+      "range out). SPEED_CM every 10 ms; zero speed 0.6 s after the last command; a hard stop\n"
+      "on exit (SIGINT, SIGTERM).");
+  cli.participant_options(&participant);
+  cli.option("can", "BUS",
+             "socketcan:IFACE (the robot, default socketcan:can0) or udp:LOCAL_PORT:PEER_PORT "
+             "(the userspace bus, e.g. with kurt_emulator)",
+             &can_spec);
+  cli.option("robot", "NAME", "the robot's topic namespace (default kurt)", &robot);
+  if (auto code = cli.parse(argc, argv)) return *code;
+
+  std::unique_ptr<CanTransport> can;
+  try {
+    can = open_can(can_spec);
+  } catch (const CanError& e) {
+    std::cerr << "kurt_adapter: " << e.what() << std::endl;
+    return 1;
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  try {
+    macsim::dds::Participant dds(participant);
+    CommandQueue queue;
+    macsim::dds::Writer<nm::Odometry_PubSubType> odom(dds, macsim::dds::topics::odom(robot),
+                                                      QosFamily::Sensor);
+    macsim::dds::Writer<sm::JointState_PubSubType> joints(
+        dds, macsim::dds::topics::joint_states(robot), QosFamily::Sensor);
+    macsim::dds::Writer<sm::Imu_PubSubType> imu(dds, macsim::dds::topics::imu(robot),
+                                                 QosFamily::Sensor);
+    macsim::dds::Writer<sm::Range_PubSubType> range(dds, macsim::dds::topics::range(robot),
+                                                    QosFamily::Sensor);
+    // Callbacks only queue; the CAN loop runs the commands at its next 10 ms tick.
+    macsim::dds::Reader<gm::Twist_PubSubType> cmd_vel(
+        dds, macsim::dds::topics::cmd_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
+          const double v = t.linear().x(), w = t.angular().z();
+          if (!std::isfinite(v) || !std::isfinite(w)) return;
+          queue.push([v, w](KurtDriver& d, CanTransport&, double now) { d.command_twist(v, w, now); });
+        });
+    macsim::dds::Reader<km::WheelSpeeds_PubSubType> wheel_speeds(
+        dds, macsim::dds::topics::wheel_speeds(robot), QosFamily::Command,
+        [&](const km::WheelSpeeds_& w) {
+          const macsim::WheelSpeeds s{w.left(), w.right()};
+          if (!std::isfinite(s.left) || !std::isfinite(s.right)) return;
+          queue.push([s](KurtDriver& d, CanTransport&, double now) { d.command_wheel_speeds(s, now); });
+        });
+    macsim::dds::Reader<gm::Twist_PubSubType> rot_vel(
+        dds, macsim::dds::topics::rot_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
+          const double speed = t.angular().z();
+          if (!std::isfinite(speed)) return;
+          queue.push([speed](KurtDriver&, CanTransport& bus, double) {
+            bus.send(encode_rotunit_speed(speed));
+          });
+        });
+    // Assumption (documented in README): the crane's magnet hangs on the controller's
+    // actuator output, switched by CONTROL ACTUATOR_ON / ACTUATOR_OFF.
+    macsim::dds::Reader<km::MagnetCommand_PubSubType> magnet(
+        dds, macsim::dds::topics::crane_magnet(robot), QosFamily::Command,
+        [&](const km::MagnetCommand_& m) {
+          const bool on = m.on();
+          queue.push([on](KurtDriver&, CanTransport& bus, double) { bus.send(encode_actuator(on)); });
+        });
+
+    std::cout << "kurt_adapter: CAN bus " << can_spec << "; serving on DDS domain "
+              << participant.domain << ":\n";
+    for (const auto& [topic, what] : std::vector<std::pair<std::string, std::string>>{
+             {macsim::dds::topics::cmd_vel(robot), "geometry_msgs/Twist, in"},
+             {macsim::dds::topics::wheel_speeds(robot), "kurt_msgs/WheelSpeeds, in"},
+             {macsim::dds::topics::rot_vel(robot), "geometry_msgs/Twist, in"},
+             {macsim::dds::topics::crane_magnet(robot), "kurt_msgs/MagnetCommand, in"},
+             {macsim::dds::topics::odom(robot), "nav_msgs/Odometry, out"},
+             {macsim::dds::topics::joint_states(robot), "sensor_msgs/JointState, out"},
+             {macsim::dds::topics::range(robot), "sensor_msgs/Range, out"},
+             {macsim::dds::topics::imu(robot), "sensor_msgs/Imu, out"}}) {
+      std::cout << "  " << topic << " (" << what << ")\n";
+    }
+    std::cout << std::flush;
+
+    KurtDriver driver;
+    double last_yaw = 0.0, last_imu_time = 0.0;
+    auto next_tick = Clock::now();
+    while (!g_stop.load()) {
+      // Frames from the robot until the next 10 ms tick.
+      while (true) {
+        const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - Clock::now());
+        auto frame = can->receive(std::max(wait, std::chrono::milliseconds(0)));
+        if (!frame) break;
+        const double stamp = wall_stamp();
+        switch (driver.handle(*frame)) {
+          case Update::Odometry: {
+            const auto o = driver.odometry();
+            odom.write(macsim::dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, stamp));
+            joints.write(macsim::dds::kurt_wheel_joints(driver.wheel_angle(0), driver.wheel_angle(1), stamp));
+            break;
+          }
+          case Update::Ranges:
+            for (std::size_t i = 0; i < kRangeChannels.size(); ++i) {
+              range.write(macsim::dds::kurt_range(kRangeChannels[i].frame, kRangeChannels[i].sonar,
+                                                  driver.ranges()[i], stamp));
+            }
+            break;
+          case Update::Imu: {
+            const auto gyro = *driver.gyro();
+            const auto tilt = driver.tilt().value_or(Tilt{});
+            const double dt = last_imu_time > 0 ? stamp - last_imu_time : 0.0;
+            const double rate = dt > 0 ? std::remainder(gyro.yaw - last_yaw, 2 * M_PI) / dt : 0.0;
+            last_yaw = gyro.yaw;
+            last_imu_time = stamp;
+            imu.write(macsim::dds::kurt_imu(tilt.roll_deg * M_PI / 180, tilt.pitch_deg * M_PI / 180,
+                                            gyro.yaw, gyro.variance, rate, stamp));
+            break;
+          }
+          case Update::Rotunit:
+            joints.write(macsim::dds::kurt_rotunit_joint(*driver.rotunit_angle(), stamp));
+            break;
+          default:
+            break;
+        }
+        if (Clock::now() >= next_tick) break;
+      }
+      // The tick: commands, then the set-point (zero once the last command is 0.6 s old).
+      const double now = seconds(Clock::now());
+      queue.drain(driver, *can, now);
+      can->send(driver.control_frame(now));
+      next_tick += std::chrono::milliseconds(10);
+      if (Clock::now() > next_tick + std::chrono::milliseconds(100)) next_tick = Clock::now();
+    }
+    // Exit: the robot must not roll on. Hard stop first, then the rotunit to rest.
+    can->send(encode_hard_stop());
+    can->send(encode_rotunit_speed(0.0));
+    std::cout << "kurt_adapter: hard stop sent, exiting" << std::endl;
+  } catch (const macsim::dds::DdsError& e) {
+    can->send(encode_hard_stop());
+    std::cerr << "kurt_adapter: DDS error: " << e.what() << std::endl;
+    return 3;
+  }
+  return 0;
+}
