@@ -162,7 +162,7 @@ std::vector<double> twist_to_odometry(macsim::dds::Participant& p, const std::st
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   for (int i = 0; i < trials + 10; ++i) {
     cmd.write(macsim::dds::planar_twist(0.0, 0.0));
-    std::this_thread::sleep_for(std::chrono::milliseconds(60));  // at rest again
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));  // at rest again
     std::unique_lock<std::mutex> lock(mutex);
     direction = i % 2 ? -1.0 : 1.0;
     sent = Clock::now();
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
     macsim::client::RequestReply<mm::SupervisorRequest_PubSubType, mm::SupervisorReply_PubSubType>
         ping(p, "bench/ping", "bench/pong", "bench");
     bare = round_trips(ping, n, [&] { return ping.call({}, std::chrono::seconds(5)).has_value(); });
-    bare_twist = twist_to_odometry(p, "bench/cmd_vel", "bench/odom", std::max(100, n / 5));
+    bare_twist = twist_to_odometry(p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
     stop(echo);
   }
   report("bare_ping_pong_rtt", bare);
@@ -247,7 +247,7 @@ int main(int argc, char** argv) {
     const pid_t macsim = start_macsim(3, "bench/worlds/kurt_1khz_encoders.xml", {"--realtime"});
     macsim::dds::Participant p({domain + 3, "", "bench_twist"});
     const auto twist = twist_to_odometry(p, macsim::dds::topics::cmd_vel("kurt"),
-                                         macsim::dds::topics::odom("kurt"), std::max(100, n / 5));
+                                         macsim::dds::topics::odom("kurt"), std::max(100, n / 2));
     stop(macsim);
     report("twist_to_odometry", twist);
     std::printf("twist_to_odometry.p99_minus_bare_p99 %.1f us (goal <= one step, 1000 us)\n",
