@@ -20,6 +20,7 @@
 #include "macsim/kurt/kurt_driver.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 
@@ -27,11 +28,15 @@ namespace {
 
 namespace gm = geometry_msgs::msg::dds_;
 namespace km = kurt_msgs::msg::dds_;
+namespace mm = macsim_msgs::msg::dds_;
 namespace nm = nav_msgs::msg::dds_;
 namespace sm = sensor_msgs::msg::dds_;
 using macsim::dds::QosFamily;
 using Clock = std::chrono::steady_clock;
 using namespace macsim::kurt;
+
+/// What SIM_FEATURES answers: a robot, not a simulator.
+constexpr const char* kFeatures = "robot,kurt3d,odometry,range,imu,rotunit,magnet_actuator";
 
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop.store(true); }
@@ -139,6 +144,29 @@ int main(int argc, char** argv) {
           queue.push([on](KurtDriver&, CanTransport& bus, double) { bus.send(encode_actuator(on)); });
         });
 
+    // The simulation control topic, answered as a real robot does: its features, and "not
+    // applicable" for everything that controls a simulation (pause, steps, worlds ...).
+    macsim::dds::Writer<mm::SimulationReply_PubSubType> sim_replies(
+        dds, macsim::dds::topics::kSimulationReply, QosFamily::Command);
+    macsim::dds::Reader<mm::SimulationRequest_PubSubType> sim_requests(
+        dds, macsim::dds::topics::kSimulationRequest, QosFamily::Command,
+        [&](const mm::SimulationRequest_& request) {
+          queue.push([&sim_replies, request](KurtDriver&, CanTransport&, double) {
+            mm::SimulationReply_ reply;
+            reply.client_id(request.client_id());
+            reply.sequence_number(request.sequence_number());
+            reply.features(kFeatures);
+            if (request.command() == mm::SIM_FEATURES) {
+              reply.code(mm::ERR_OK);
+            } else {
+              reply.code(mm::ERR_NOT_APPLICABLE);
+              reply.message("kurt_adapter drives the real robot: simulation command " +
+                            std::to_string(request.command()) + " does not apply");
+            }
+            sim_replies.write(reply);  // a repeat is answered again: nothing here has effects
+          });
+        });
+
     std::cout << "kurt_adapter: CAN bus " << can_spec << "; serving on DDS domain "
               << participant.domain << ":\n";
     for (const auto& [topic, what] : std::vector<std::pair<std::string, std::string>>{
@@ -149,7 +177,9 @@ int main(int argc, char** argv) {
              {macsim::dds::topics::odom(robot), "nav_msgs/Odometry, out"},
              {macsim::dds::topics::joint_states(robot), "sensor_msgs/JointState, out"},
              {macsim::dds::topics::range(robot), "sensor_msgs/Range, out"},
-             {macsim::dds::topics::imu(robot), "sensor_msgs/Imu, out"}}) {
+             {macsim::dds::topics::imu(robot), "sensor_msgs/Imu, out"},
+             {macsim::dds::topics::kSimulationRequest, "macsim_msgs/SimulationRequest, in: SIM_FEATURES"},
+             {macsim::dds::topics::kSimulationReply, "macsim_msgs/SimulationReply, out"}}) {
       std::cout << "  " << topic << " (" << what << ")\n";
     }
     std::cout << std::flush;

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "macsim/client/supervisor_client.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 
@@ -125,6 +126,24 @@ TEST(KurtAdapter, StoppingTheAdapterSendsAHardStopFirst) {
     EXPECT_EQ(after.find("speed_cm"), std::string::npos) << log;
     controller.signal(SIGTERM);
   }
+}
+
+TEST(KurtAdapter, AnswersTheFeaturesQueryAsARobotAndRefusesSimulationCommands) {
+  const int domain = unique_test_domain();
+  RealRobotSide robot(domain);
+  namespace mm = macsim_msgs::msg::dds_;
+  dds::Participant p({domain, "", "kurt_adapter_test"});
+  client::SimulationClient sim(p);
+  ASSERT_TRUE(sim.wait_for_server(20s));
+  const auto features = sim.call(client::SimulationClient::request(mm::SIM_FEATURES));
+  ASSERT_TRUE(features);
+  EXPECT_EQ(features->code(), mm::ERR_OK);
+  EXPECT_NE(features->features().find("robot"), std::string::npos) << features->features();
+  EXPECT_EQ(features->features().find("simulator"), std::string::npos) << features->features();
+  const auto pause = sim.call(client::SimulationClient::request(mm::SIM_PAUSE));
+  ASSERT_TRUE(pause);
+  EXPECT_EQ(pause->code(), mm::ERR_NOT_APPLICABLE);
+  EXPECT_NE(pause->message().find("real robot"), std::string::npos) << pause->message();
 }
 
 TEST(KurtAdapter, ABusThatCannotBeOpenedIsAClearError) {
