@@ -33,11 +33,12 @@ sensor_msgs::msg::dds_::JointState_ kurt_wheel_joints(double left, double right,
   return msg;
 }
 
-sensor_msgs::msg::dds_::JointState_ kurt_rotunit_joint(double angle, double stamp) {
+sensor_msgs::msg::dds_::JointState_ kurt_rotunit_joint(double angle, double speed, double stamp) {
   sensor_msgs::msg::dds_::JointState_ msg;
   msg.header(header(stamp, ""));
   msg.name({"laser_rot_joint"});
   msg.position({angle});
+  msg.velocity({speed});
   return msg;
 }
 

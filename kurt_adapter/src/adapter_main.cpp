@@ -131,8 +131,8 @@ int main(int argc, char** argv) {
         dds, macsim::dds::topics::rot_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
           const double speed = t.angular().z();
           if (!std::isfinite(speed)) return;
-          queue.push([speed](KurtDriver&, CanTransport& bus, double) {
-            bus.send(encode_rotunit_speed(speed));
+          queue.push([speed](KurtDriver& d, CanTransport& bus, double) {
+            bus.send(d.command_rotunit(speed));
           });
         });
     // Assumption (documented in README): the crane's magnet hangs on the controller's
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
             break;
           }
           case Update::Rotunit:
-            joints.write(macsim::dds::kurt_rotunit_joint(*driver.rotunit_angle(), stamp));
+            joints.write(macsim::dds::kurt_rotunit_joint(*driver.rotunit_angle(), driver.rotunit_speed(), stamp));
             break;
           default:
             break;
@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
     }
     // Exit: the robot must not roll on. Hard stop first, then the rotunit to rest.
     can->send(encode_hard_stop());
-    can->send(encode_rotunit_speed(0.0));
+    can->send(driver.command_rotunit(0.0));
     std::cout << "kurt_adapter: hard stop sent, exiting" << std::endl;
   } catch (const macsim::dds::DdsError& e) {
     can->send(encode_hard_stop());

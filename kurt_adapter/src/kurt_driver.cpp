@@ -19,6 +19,11 @@ WheelSpeeds KurtDriver::commanded(double now) const {
 
 CanFrame KurtDriver::control_frame(double now) const { return encode_speed_cm(commanded(now)); }
 
+CanFrame KurtDriver::command_rotunit(double speed) {
+  rotunit_speed_ = rotunit_speed_from_command(rotunit_speed_command(speed));
+  return encode_rotunit_speed(speed);
+}
+
 Update KurtDriver::handle(const CanFrame& frame) {
   if (auto ticks = decode_encoder(frame)) {
     odometry_.integrate_frame(ticks->left, ticks->right);

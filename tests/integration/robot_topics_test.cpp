@@ -89,6 +89,8 @@ TEST_F(RobotTopics, TheRotatingUnitTurnsOnRotVelAndCloudsAreAssembled) {
   }
   ASSERT_TRUE(turning) << "laser_rot_joint never turned";
   EXPECT_EQ(turning->name()[0], "laser_rot_joint");
+  ASSERT_EQ(turning->velocity().size(), 1u);  // the speed as the rotunit's units quantize it
+  EXPECT_DOUBLE_EQ(turning->velocity()[0], 42 * 2 * M_PI * 20 / 10240);
   auto cloud = clouds.wait_for([](const auto&) { return true; }, 30s);
   ASSERT_TRUE(cloud) << "no assembled cloud";
   EXPECT_EQ(cloud->fields().size(), 3u);

@@ -98,5 +98,14 @@ TEST(KurtDriver, CommandsMapAsTheDriverAndTimeOutAfterSixTenths) {
   EXPECT_EQ(decode_control(driver.control_frame(101.0))->left_cm, -25);
 }
 
+TEST(KurtDriver, RotunitCommandIsQuantizedAndItsAngleComesFromTheRotunitsFrames) {
+  KurtDriver driver;
+  EXPECT_EQ(driver.command_rotunit(M_PI / 6), encode_rotunit_speed(M_PI / 6));
+  EXPECT_DOUBLE_EQ(driver.rotunit_speed(), 42 * 2 * M_PI * 20 / 10240);  // 42 units, not pi/6
+  EXPECT_FALSE(driver.rotunit_angle());
+  ASSERT_EQ(driver.handle(encode_rotunit_angle(5120)), Update::Rotunit);
+  EXPECT_DOUBLE_EQ(*driver.rotunit_angle(), M_PI);
+}
+
 }  // namespace
 }  // namespace macsim::kurt

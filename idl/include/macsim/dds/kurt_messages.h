@@ -14,8 +14,8 @@ nav_msgs::msg::dds_::Odometry_ kurt_odometry(double x, double y, double yaw, dou
                                             double angular, double stamp);
 /// The six wheel joints; each side's three wheels share the side's angle (rad).
 sensor_msgs::msg::dds_::JointState_ kurt_wheel_joints(double left, double right, double stamp);
-/// The rotunit's joint state (laser_rot_joint), published on joint_states as the driver does.
-sensor_msgs::msg::dds_::JointState_ kurt_rotunit_joint(double angle, double stamp);
+/// The rotunit's joint state (laser_rot_joint: angle and speed), published on joint_states.
+sensor_msgs::msg::dds_::JointState_ kurt_rotunit_joint(double angle, double speed, double stamp);
 /// IMU in base_link: yaw (and tilt) as orientation with the yaw variance, the yaw rate; the
 /// other covariances marked unknown (-1), as the driver does.
 sensor_msgs::msg::dds_::Imu_ kurt_imu(double roll, double pitch, double yaw, double yaw_variance,

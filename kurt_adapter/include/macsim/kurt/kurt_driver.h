@@ -25,6 +25,10 @@ class KurtDriver {
   /// The SPEED_CM frame to send at `now` (every 10 ms): zero once the last command is older
   /// than the command timeout (0.6 s).
   CanFrame control_frame(double now) const;
+  /// The SETROTUNIT frame for a rotunit speed (rad/s); remembers the speed as quantized.
+  CanFrame command_rotunit(double speed);
+  /// The rotunit's commanded speed (rad/s, quantized as the rotunit receives it).
+  double rotunit_speed() const { return rotunit_speed_; }
   /// The wheel speeds control_frame() commands at `now`.
   WheelSpeeds commanded(double now) const;
 
@@ -56,6 +60,7 @@ class KurtDriver {
   std::optional<GyroReading> gyro_;
   std::optional<Tilt> tilt_;
   std::optional<double> rotunit_angle_;
+  double rotunit_speed_ = 0.0;
   uint64_t encoder_frames_ = 0;
 };
 

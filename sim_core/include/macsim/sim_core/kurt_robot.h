@@ -175,6 +175,8 @@ class KurtRobot {
   uint64_t point_clouds() const { return state_.clouds; }
   /// Rotunit angle (rad in [0, 2 pi)) as its encoder reports it, 10240 ticks per turn.
   double rotunit_angle() const;
+  /// The rotunit's speed (rad/s) as its last command was quantized.
+  double rotunit_speed() const { return state_.rotunit_speed; }
   /// The crane's joints and magnet.
   CraneState crane_state() const;
   /// Pose of the magnet's underside centre (ground truth).
