@@ -17,8 +17,8 @@ PACKAGES=(
   libglut-dev xvfb xauth
   # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test
   libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
-  # several hosts in tests: network namespaces joined by a veth pair
-  iproute2
+  # several hosts in tests: network namespaces joined by a veth pair; DDS Security certificates
+  iproute2 openssl
 )
 
 missing=()

@@ -17,6 +17,17 @@ namespace {
 
 using namespace std::chrono_literals;
 
+/// Cyclone on a host without other interfaces needs multicast on lo (see the DDS notes).
+constexpr const char* kCycloneOnLoopback =
+    "<General><Interfaces><NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>"
+    "</General><Discovery><SPDPInterval>1s</SPDPInterval></Discovery>";
+
+/// A Cyclone DDS program on loopback.
+ChildProcess cyclone_program(std::vector<std::string> argv) {
+  ScopedEnv uri("CYCLONEDDS_URI", kCycloneOnLoopback);
+  return ChildProcess(std::move(argv));
+}
+
 TEST(Interop, ACycloneDdsProgramReadsOdometryAndDrivesTheRobot) {
   const int domain = unique_test_domain();
   ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
@@ -27,13 +38,7 @@ TEST(Interop, ACycloneDdsProgramReadsOdometryAndDrivesTheRobot) {
   auto before = truth.wait_for([](const auto&) { return true; }, 20s);
   ASSERT_TRUE(before);
 
-  // Cyclone on a host without other interfaces needs multicast on lo (see the DDS notes).
-  setenv("CYCLONEDDS_URI",
-         "<General><Interfaces><NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>"
-         "</General><Discovery><SPDPInterval>1s</SPDPInterval></Discovery>",
-         1);
-  ChildProcess cyclone({bin("cyclone_drive"), std::to_string(domain), "kurt"});
-  unsetenv("CYCLONEDDS_URI");
+  ChildProcess cyclone = cyclone_program({bin("cyclone_drive"), std::to_string(domain), "kurt"});
   ASSERT_EQ(cyclone.wait_for_exit(60s), 0) << cyclone.output() << macsim.output();
   EXPECT_NE(cyclone.output().find("first odometry from rt/kurt/odom (frame odom_combined)"),
             std::string::npos)
@@ -52,12 +57,7 @@ TEST(Interop, CycloneDdsReadsEveryRobotAndWorldTopicCommandsTheCraneAndCallsTheS
   ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
                        std::to_string(domain), "--cameras", "160x120"});
   ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
-  setenv("CYCLONEDDS_URI",
-         "<General><Interfaces><NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>"
-         "</General><Discovery><SPDPInterval>1s</SPDPInterval></Discovery>",
-         1);
-  ChildProcess cyclone({bin("cyclone_listen"), std::to_string(domain), "8"});
-  unsetenv("CYCLONEDDS_URI");
+  ChildProcess cyclone = cyclone_program({bin("cyclone_listen"), std::to_string(domain), "8"});
   // Every topic delivered something (clock, odometry, ground truth, ranges, IMU, scan360, clouds,
   // joint states, crane state, images, camera info, the keyed world state and door states),
   // Cyclone's crane command lifted the boom, and its supervisor and simulation requests were

@@ -30,23 +30,6 @@ std::string ip_tool() {
 /// Runs a shell command quietly; true on exit status 0.
 bool run(const std::string& command) { return std::system((command + " >/dev/null 2>&1").c_str()) == 0; }
 
-/// Sets an environment variable for the children started while it lives.
-struct ScopedEnv {
-  ScopedEnv(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnv() {
-    if (old_.empty()) {
-      unsetenv(name_);
-    } else {
-      setenv(name_, old_.c_str(), 1);
-    }
-  }
-  const char* name_;
-  std::string old_;
-};
-
 class TwoHosts : public ::testing::Test {
  protected:
   void SetUp() override {
