@@ -181,7 +181,9 @@ std::vector<double> twist_to_odometry(macsim::dds::Participant& p, const std::st
 
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "--help") {
-    std::printf("usage: bench_dds [ROUND_TRIPS]  (default 1000; run from the repository root)\n");
+    std::printf(
+        "usage: bench_dds [ROUND_TRIPS] [round_trips|images]  (default 1000, both; run from the "
+        "repository root)\n");
     return 0;
   }
   // The shipped loopback + shared-memory profile, for this process and every child, unless the
@@ -193,6 +195,9 @@ int main(int argc, char** argv) {
   if (argc > 2 && std::string(argv[1]) == "--images") image_source(std::atoi(argv[2]));
   std::printf("profile %s\n", std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"));
   const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
+  const std::string only = argc > 2 ? argv[2] : "";
+  const bool round_trips_wanted = only.empty() || only == "round_trips";
+  const bool images_wanted = only.empty() || only == "images";
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
   const int domain = 200 + getpid() % 25;
   auto start_macsim = [&](int offset, const std::string& world, std::vector<std::string> extra) {
@@ -204,7 +209,7 @@ int main(int argc, char** argv) {
 
   // 1. The bare baselines: the same payload types, a plain echo process.
   std::vector<double> bare, bare_twist;
-  {
+  if (round_trips_wanted) {
     const pid_t echo = spawn({bin + "/bench_dds", "--pong", std::to_string(domain)});
     macsim::dds::Participant p({domain, "", "bench_ping"});
     macsim::client::RequestReply<mm::SupervisorRequest_PubSubType, mm::SupervisorReply_PubSubType>
@@ -213,6 +218,7 @@ int main(int argc, char** argv) {
     bare_twist = twist_to_odometry(p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
     stop(echo);
   }
+  if (round_trips_wanted) {
   report("bare_ping_pong_rtt", bare);
   report("bare_twist_odometry_rtt", bare_twist);
 
@@ -253,6 +259,9 @@ int main(int argc, char** argv) {
     std::printf("twist_to_odometry.p99_minus_bare_p99 %.1f us (goal <= one step, 1000 us)\n",
                 percentile(twist, 0.99) - percentile(bare_twist, 0.99));
   }
+
+  }  // round trips
+  if (!images_wanted) return 0;
 
   // 5. The images' bare baseline: DDS delivery alone, write to callback.
   {
