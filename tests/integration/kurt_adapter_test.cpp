@@ -9,6 +9,12 @@
 #include <sstream>
 
 #include "macsim/client/supervisor_client.h"
+#include "macsim/dds/convert.h"
+#include "macsim/dds/topics.h"
+#include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "support/latest_sample.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 
@@ -45,13 +51,18 @@ std::vector<double> log_times(const std::string& log, const std::string& what) {
 
 /// kurt_emulator and kurt_adapter joined by a userspace CAN bus on two free loopback ports.
 struct RealRobotSide {
-  explicit RealRobotSide(int domain)
+  explicit RealRobotSide(int domain, std::vector<std::string> emulator_options = {})
       : port(41000 + 2 * domain),
-        emulator({bin("kurt_emulator"), "--can", udp(port, port + 1)}),
+        emulator(with({bin("kurt_emulator"), "--can", udp(port, port + 1)}, emulator_options)),
         adapter({bin("kurt_adapter"), "--can", udp(port + 1, port), "--domain",
                  std::to_string(domain)}) {
     EXPECT_TRUE(emulator.wait_for_output("kurt_emulator: on", 10s)) << emulator.output();
     EXPECT_TRUE(adapter.wait_for_output("rt/kurt/imu", 20s)) << adapter.output();
+  }
+  static std::vector<std::string> with(std::vector<std::string> argv,
+                                       const std::vector<std::string>& more) {
+    argv.insert(argv.end(), more.begin(), more.end());
+    return argv;
   }
   static std::string udp(int local, int peer) {
     return "udp:" + std::to_string(local) + ":" + std::to_string(peer);
@@ -126,6 +137,57 @@ TEST(KurtAdapter, StoppingTheAdapterSendsAHardStopFirst) {
     EXPECT_EQ(after.find("speed_cm"), std::string::npos) << log;
     controller.signal(SIGTERM);
   }
+}
+
+TEST(KurtAdapter, PublishesRangesImuAndRotunitAndSwitchesTheMagnetActuator) {
+  namespace sm = sensor_msgs::msg::dds_;
+  const int domain = unique_test_domain();
+  RealRobotSide robot(domain, {"--range", "0.3", "--sensor-range", "ultrasound_front=0.6",
+                               "--sensor-range", "ir_back=2.0"});
+  dds::Participant p({domain, "", "kurt_adapter_test"});
+  Samples<sm::Range_PubSubType> ranges(p, dds::topics::range("kurt"));
+  Samples<sm::Imu_PubSubType> imu(p, dds::topics::imu("kurt"));
+  Samples<sm::JointState_PubSubType> joints(p, dds::topics::joint_states("kurt"));
+  // Ranges in the frames and limits macsim uses; the emulator's distances come back in whole
+  // cm through the ADC curves; 2 m is beyond the IR's reach: invalid (-0.01).
+  auto sonar = ranges.wait_for([](const auto& r) { return r.header().frame_id() == "ultrasound_front"; }, 20s);
+  ASSERT_TRUE(sonar);
+  EXPECT_NEAR(sonar->range(), 0.6, 0.011);
+  EXPECT_EQ(sonar->radiation_type(), 0);  // ultrasound
+  EXPECT_FLOAT_EQ(sonar->max_range(), 1.0f);
+  auto left = ranges.wait_for([](const auto& r) { return r.header().frame_id() == "ir_left"; }, 5s);
+  ASSERT_TRUE(left);
+  EXPECT_NEAR(left->range(), 0.3, 0.011);
+  auto back = ranges.wait_for([](const auto& r) { return r.header().frame_id() == "ir_back"; }, 5s);
+  ASSERT_TRUE(back);
+  EXPECT_FLOAT_EQ(back->range(), -0.01f);
+
+  // Turning in place: the gyro (after its first 100 frames) reports a counter-clockwise yaw.
+  dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> cmd_vel(p, dds::topics::cmd_vel("kurt"),
+                                                                  dds::QosFamily::Command);
+  dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel(p, dds::topics::rot_vel("kurt"),
+                                                                  dds::QosFamily::Command);
+  dds::Writer<kurt_msgs::msg::dds_::MagnetCommand_PubSubType> magnet(
+      p, dds::topics::crane_magnet("kurt"), dds::QosFamily::Command);
+  std::optional<sm::Imu_> turned;
+  std::optional<sm::JointState_> rotunit;
+  kurt_msgs::msg::dds_::MagnetCommand_ on;
+  on.on(true);
+  for (int i = 0; i < 60 && (!turned || !rotunit); ++i) {
+    cmd_vel.write(dds::planar_twist(0.0, 0.8));
+    rot_vel.write(dds::planar_twist(0.0, M_PI / 6));
+    magnet.write(on);
+    turned = imu.wait_for([](const auto& m) { return dds::yaw_of(m.orientation()) > 0.2; }, 100ms);
+    rotunit = joints.wait_for(
+        [](const auto& j) { return j.name().size() == 1 && j.position()[0] > 0.05; }, 100ms);
+  }
+  ASSERT_TRUE(turned) << "no yaw on rt/kurt/imu";
+  EXPECT_EQ(turned->header().frame_id(), "base_link");
+  ASSERT_TRUE(rotunit) << "laser_rot_joint never turned";
+  EXPECT_EQ(rotunit->name()[0], "laser_rot_joint");
+  EXPECT_DOUBLE_EQ(rotunit->velocity()[0], 42 * 2 * M_PI * 20 / 10240);  // quantized as sent
+  // The magnet's command reached the bus as the actuator output.
+  EXPECT_TRUE(robot.emulator.wait_for_output("actuator on", 5s)) << robot.emulator.output();
 }
 
 TEST(KurtAdapter, AnswersTheFeaturesQueryAsARobotAndRefusesSimulationCommands) {
