@@ -67,6 +67,7 @@ TEST(Interop, CycloneDdsReadsEveryRobotAndWorldTopicCommandsTheCraneAndCallsTheS
   EXPECT_NE(cyclone.output().find("rt/kurt/camera/right/image_raw"), std::string::npos)
       << cyclone.output();
   EXPECT_NE(cyclone.output().find("GET_OBJECT"), std::string::npos) << cyclone.output();
+  EXPECT_NE(cyclone.output().find("magnet on;"), std::string::npos) << cyclone.output();
   EXPECT_NE(cyclone.output().find("name environment_01/ball_green"), std::string::npos)
       << cyclone.output();
   macsim.signal(SIGTERM);

@@ -2,7 +2,8 @@
  * from the same IDL, by idlc) to the clock, odometry, ground truth, ranges, IMU, laser, point
  * clouds, joint states, crane state, the stereo images and camera infos, the keyed world state
  * and the door states for `seconds`; writes a crane command; calls the supervisor (find an
- * object by name, then get it by the id found), turns the rotunit (for clouds) and the simulation control (features) through
+ * object by name, then get it by the id found), turns the rotunit (for clouds), switches the
+ * magnet on (seen in the crane state), drives by wheel speeds for 2 s (seen in odometry) and the simulation control (features) through
  * their request/reply topics; prints how many samples of each it took and the replies.
  * Exit 0 if every topic delivered and every call was answered, 1 otherwise.
  *   cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME] */
@@ -79,6 +80,20 @@ int main(int argc, char** argv) {
       participant, dds_create_topic(participant, &geometry_msgs_msg_dds__Twist__desc,
                                     "rt/kurt/rot_vel", NULL, NULL), rot_qos, NULL);
   dds_delete_qos(rot_qos);
+  /* The magnet (crane state reports it) and the wheels (odometry shows them) for 2 s. */
+  dds_qos_t* cmd_qos = dds_create_qos();
+  dds_qset_reliability(cmd_qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_entity_t magnet_writer = dds_create_writer(
+      participant, dds_create_topic(participant, &kurt_msgs_msg_dds__MagnetCommand__desc,
+                                    "rt/kurt/crane/magnet", NULL, NULL), cmd_qos, NULL);
+  dds_entity_t wheels_writer = dds_create_writer(
+      participant, dds_create_topic(participant, &kurt_msgs_msg_dds__WheelSpeeds__desc,
+                                    "rt/kurt/wheel_speeds", NULL, NULL), cmd_qos, NULL);
+  dds_delete_qos(cmd_qos);
+  kurt_msgs_msg_dds__MagnetCommand_ magnet_on = {true};
+  kurt_msgs_msg_dds__WheelSpeeds_ wheels = {0.15, 0.15};
+  int magnet_seen = 0;
+  double fastest = 0.0;
   geometry_msgs_msg_dds__Twist_ turn;
   memset(&turn, 0, sizeof turn);
   turn.angular.z = 2.0;
@@ -124,6 +139,8 @@ int main(int argc, char** argv) {
   for (int tick = 0; tick < seconds * 20; ++tick) {
     dds_write(crane_writer, &lift);
     dds_write(rot_writer, &turn);
+    dds_write(magnet_writer, &magnet_on);
+    if (tick < 40) dds_write(wheels_writer, &wheels);
     if (!got_object) dds_write(sup_request, &request);
     if (!got_features) dds_write(sim_request, &sim);
     int got;
@@ -165,7 +182,15 @@ int main(int argc, char** argv) {
         for (int k = 0; k < got; ++k) {
           if (!infos[k].valid_data) continue;
           ++subs[i].taken;
-          if (subs[i].type == &kurt_msgs_msg_dds__CraneState__desc) slew_seen = ((kurt_msgs_msg_dds__CraneState_*)samples[k])->lift;
+          if (subs[i].type == &kurt_msgs_msg_dds__CraneState__desc) {
+            const kurt_msgs_msg_dds__CraneState_* crane = samples[k];
+            slew_seen = crane->lift;
+            if (crane->magnet_on) magnet_seen = 1;
+          }
+          if (strcmp(subs[i].topic, "rt/kurt/odom") == 0) {
+            const double v = ((nav_msgs_msg_dds__Odometry_*)samples[k])->twist.twist.linear.x;
+            if (v > fastest) fastest = v;
+          }
         }
         dds_return_loan(subs[i].reader, samples, got);
       }
@@ -178,6 +203,11 @@ int main(int argc, char** argv) {
     if (subs[i].taken == 0) missing = 1;
   }
   printf("cyclone_listen: crane lift after the command %.3f rad\n", slew_seen);
+  printf("cyclone_listen: magnet %s; fastest odometry on wheel_speeds 0.15 m/s: %.3f m/s\n",
+         magnet_seen ? "on" : "never on", fastest);
   dds_delete(participant);
-  return missing || slew_seen < 0.25 || !got_object || !got_features ? 1 : 0;
+  return missing || slew_seen < 0.25 || !got_object || !got_features || !magnet_seen ||
+                 fastest < 0.1
+             ? 1
+             : 0;
 }

@@ -20,6 +20,15 @@ std::string source(const std::string& relative) {
   return std::string(MACSIM_SOURCE_DIR) + "/" + relative;
 }
 
+namespace {
+// Tests talk over the shipped loopback profile even when started by hand (ctest sets it too):
+// no DDS packet leaves the machine, and every test process and child agrees on transports.
+const bool kLoopbackProfile = [] {
+  setenv("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/localhost.xml").c_str(), 0);
+  return true;
+}();
+}  // namespace
+
 ChildProcess::ChildProcess(std::vector<std::string> argv) {
   char path_template[] = "/tmp/macsim-test-output-XXXXXX";
   const int fd = mkstemp(path_template);
