@@ -19,6 +19,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
   # several hosts in tests: network namespaces joined by a veth pair; DDS Security certificates
   iproute2 openssl
+  # checking the service units (systemd-analyze verify)
+  systemd
 )
 
 missing=()
