@@ -1,5 +1,6 @@
 #include "sim_bridge.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -40,6 +41,7 @@ struct SimBridge::RobotTopics {
 
   std::string name;
   uint64_t frames = 0, scans = 0, clouds = 0;
+  uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
   double next_camera_time = 0.0;
   dds::Writer<nm::Odometry_PubSubType> odom, ground_truth;
   dds::Writer<sm::JointState_PubSubType> joint_states;
@@ -312,19 +314,25 @@ void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
   }
   if (!t.cameras.empty() && now + 1e-9 >= t.next_camera_time) {
     t.next_camera_time += 1.0 / options_.camera_rate;
-    const render::Scene scene = render::capture_scene(simulation_.world());
-    for (auto& rig : t.cameras) rig->submit(scene);
+    // Both eyes render the same scene or neither does: a stereo pair never mixes two instants.
+    const bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
+                                   [](const auto& rig) { return rig->idle(); });
+    if (ready) {
+      const render::Scene scene = render::capture_scene(simulation_.world());
+      for (auto& rig : t.cameras) rig->submit(scene);
+    } else {
+      ++t.stereo_skipped;
+    }
   }
 }
 
 std::string SimBridge::camera_summary() const {
   std::string summary;
   for (const auto& t : robots_) {
-    for (std::size_t eye = 0; eye < t->cameras.size(); ++eye) {
-      summary += "macsim: " + t->name + "'s " + (eye == 0 ? "left" : "right") +
-                 " camera: " + std::to_string(t->cameras[eye]->rendered()) + " images rendered, " +
-                 std::to_string(t->cameras[eye]->dropped()) + " dropped (the renderer was busy)\n";
-    }
+    if (t->cameras.empty()) continue;
+    summary += "macsim: " + t->name + "'s cameras: " + std::to_string(t->cameras[0]->rendered()) +
+               " stereo pairs rendered, " + std::to_string(t->stereo_skipped) +
+               " skipped (a renderer was busy)\n";
   }
   return summary;
 }

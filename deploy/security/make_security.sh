@@ -9,21 +9,31 @@
 # profile: FASTRTPS_DEFAULT_PROFILES_FILE=DIR/<identity>.xml (or --profile).
 #   deploy/security/make_security.sh DIR [--localhost]   (--localhost: stay on 127.0.0.1 + SHM)
 set -euo pipefail
+umask 077  # keys are never readable by others, not even for a moment
 if [[ $# -lt 1 || "$1" == "--help" ]]; then
   echo "usage: $0 DIR [--localhost]   writes ca.pem, <identity>.pem/.key/.xml, governance.p7s, permissions.p7s"
   [[ $# -ge 1 ]] && exit 0 || exit 2
 fi
 dir=$(mkdir -p "$1" && cd "$1" && pwd)
+if [[ "$dir" =~ [[:space:]\&\<\>\"\'] ]]; then
+  echo "make_security: DIR must not contain spaces or any of & < > \" ' (it goes into XML and URIs): $dir" >&2
+  exit 2
+fi
 localhost=false
 [[ "${2:-}" == "--localhost" ]] && localhost=true
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 cd "$dir"
 
-# The CA, and one ECDSA P-256 identity per role, valid for ten years.
-openssl ecparam -name prime256v1 -genkey -noout -out ca.key 2>/dev/null
-openssl req -new -x509 -key ca.key -out ca.pem -days 3650 -subj "/O=MACSim-DDS/CN=MACSim-DDS CA" \
-  2>/dev/null
+# The CA, and one ECDSA P-256 identity per role, valid for ten years. Run again (e.g. after
+# editing governance.xml or permissions.xml), the script keeps the CA and the identities it
+# finds, so identities already deployed stay valid; it re-signs the XML and rewrites profiles.
+if [[ ! -f ca.key ]]; then
+  openssl ecparam -name prime256v1 -genkey -noout -out ca.key 2>/dev/null
+  openssl req -new -x509 -key ca.key -out ca.pem -days 3650 -subj "/O=MACSim-DDS/CN=MACSim-DDS CA" \
+    2>/dev/null
+fi
 for id in macsim operator controller; do
+  [[ -f "$id.key" && -f "$id.pem" ]] && continue
   openssl ecparam -name prime256v1 -genkey -noout -out "$id.key" 2>/dev/null
   openssl req -new -key "$id.key" -out "$id.csr" -subj "/O=MACSim-DDS/CN=$id" 2>/dev/null
   openssl x509 -req -in "$id.csr" -CA ca.pem -CAkey ca.key -CAcreateserial -out "$id.pem" \
@@ -77,5 +87,5 @@ for id in macsim operator controller; do
 </dds>
 XML
 done
-chmod 600 ./*.key
+chmod 644 ca.pem ./*.pem ./*.xml ./*.p7s  # only the keys stay private
 echo "make_security: identities macsim, operator, controller in $dir"

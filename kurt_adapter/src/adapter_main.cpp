@@ -11,6 +11,7 @@
 #include <functional>
 #include <iostream>
 #include <mutex>
+#include <thread>
 
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/convert.h"
@@ -40,6 +41,21 @@ constexpr const char* kFeatures = "robot,kurt3d,odometry,range,imu,rotunit,magne
 
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop.store(true); }
+
+/// Sends the hard stop, retrying for up to 200 ms while the bus refuses it (a full SocketCAN
+/// queue answers ENOBUFS), as the real driver insists; false (and says so) if it never went.
+bool hard_stop(CanTransport& can) {
+  const auto give_up = Clock::now() + std::chrono::milliseconds(200);
+  while (!can.send(encode_hard_stop())) {
+    if (Clock::now() > give_up) {
+      std::cerr << "kurt_adapter: the bus refused the hard stop for 200 ms: STOP THE ROBOT BY HAND"
+                << std::endl;
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
 
 double seconds(Clock::time_point t) {
   return std::chrono::duration<double>(t.time_since_epoch()).count();
@@ -90,7 +106,22 @@ int main(int argc, char** argv) {
              "(the userspace bus, e.g. with kurt_emulator)",
              &can_spec);
   cli.option("robot", "NAME", "the robot's topic namespace (default kurt)", &robot);
+  // The real driver's parameters; the defaults are the indoor KURT's (kurt_base), the outdoor
+  // one has --wheel-perimeter 0.518 --axis-length 0.39 --turning-adaptation 0.64.
+  macsim::KurtDriveParams params;
+  cli.option("wheel-perimeter", "M", "wheel perimeter (default 0.379)", &params.wheel_perimeter);
+  cli.option("axis-length", "M", "track of cmd_vel and odometry (default 0.28)", &params.axis_length);
+  cli.option("turning-adaptation", "FACTOR", "odometry's skid factor (default 0.69)",
+             &params.turning_adaptation);
+  cli.option("ticks-per-turn", "N", "encoder ticks per wheel turn (default 21950)",
+             &params.ticks_per_turn);
   if (auto code = cli.parse(argc, argv)) return *code;
+  if (!(params.wheel_perimeter > 0) || !(params.axis_length > 0) ||
+      !(params.turning_adaptation > 0) || params.ticks_per_turn <= 0) {
+    std::cerr << "kurt_adapter: --wheel-perimeter, --axis-length, --turning-adaptation and "
+                 "--ticks-per-turn must be positive\n";
+    return 2;
+  }
 
   std::unique_ptr<CanTransport> can;
   try {
@@ -99,8 +130,8 @@ int main(int argc, char** argv) {
     std::cerr << "kurt_adapter: " << e.what() << std::endl;
     return 1;
   }
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  // Every way a terminal or a supervisor ends us is a stop with a hard stop first.
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(signal_number, on_signal);
 
   try {
     macsim::dds::Participant dds(participant);
@@ -144,26 +175,21 @@ int main(int argc, char** argv) {
           queue.push([on](KurtDriver&, CanTransport& bus, double) { bus.send(encode_actuator(on)); });
         });
 
-    // The simulation control topic, answered as a real robot does: its features, and "not
-    // applicable" for everything that controls a simulation (pause, steps, worlds ...).
+    // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
+    // a simulator on the same domain stays the only one answering the rest.
     macsim::dds::Writer<mm::SimulationReply_PubSubType> sim_replies(
         dds, macsim::dds::topics::kSimulationReply, QosFamily::Command);
     macsim::dds::Reader<mm::SimulationRequest_PubSubType> sim_requests(
         dds, macsim::dds::topics::kSimulationRequest, QosFamily::Command,
         [&](const mm::SimulationRequest_& request) {
+          if (request.command() != mm::SIM_FEATURES) return;
           queue.push([&sim_replies, request](KurtDriver&, CanTransport&, double) {
             mm::SimulationReply_ reply;
             reply.client_id(request.client_id());
             reply.sequence_number(request.sequence_number());
+            reply.code(mm::ERR_OK);
             reply.features(kFeatures);
-            if (request.command() == mm::SIM_FEATURES) {
-              reply.code(mm::ERR_OK);
-            } else {
-              reply.code(mm::ERR_NOT_APPLICABLE);
-              reply.message("kurt_adapter drives the real robot: simulation command " +
-                            std::to_string(request.command()) + " does not apply");
-            }
-            sim_replies.write(reply);  // a repeat is answered again: nothing here has effects
+            sim_replies.write(reply);  // a repeat is answered again: this has no effects
           });
         });
 
@@ -184,7 +210,7 @@ int main(int argc, char** argv) {
     }
     std::cout << std::flush;
 
-    KurtDriver driver;
+    KurtDriver driver(params);
     double last_yaw = 0.0, last_imu_time = 0.0;
     auto next_tick = Clock::now();
     while (!g_stop.load()) {
@@ -234,12 +260,16 @@ int main(int argc, char** argv) {
       if (Clock::now() > next_tick + std::chrono::milliseconds(100)) next_tick = Clock::now();
     }
     // Exit: the robot must not roll on. Hard stop first, then the rotunit to rest.
-    can->send(encode_hard_stop());
+    if (!hard_stop(*can)) return 4;
     can->send(driver.command_rotunit(0.0));
     std::cout << "kurt_adapter: hard stop sent, exiting" << std::endl;
   } catch (const macsim::dds::DdsError& e) {
-    can->send(encode_hard_stop());
+    hard_stop(*can);
     std::cerr << "kurt_adapter: DDS error: " << e.what() << std::endl;
+    return 3;
+  } catch (const std::exception& e) {
+    hard_stop(*can);
+    std::cerr << "kurt_adapter: " << e.what() << std::endl;
     return 3;
   }
   return 0;

@@ -7,6 +7,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -24,6 +25,13 @@ bool readable(int fd, std::chrono::milliseconds timeout) {
     r = ::poll(&p, 1, static_cast<int>(timeout.count()));
   } while (r < 0 && errno == EINTR);
   return r > 0 && (p.revents & POLLIN);
+}
+
+/// Time left until `deadline`, never negative.
+std::chrono::milliseconds remaining(std::chrono::steady_clock::time_point deadline) {
+  return std::max(std::chrono::milliseconds(0),
+                  std::chrono::duration_cast<std::chrono::milliseconds>(
+                      deadline - std::chrono::steady_clock::now()));
 }
 
 class SocketCan final : public CanTransport {
@@ -62,9 +70,15 @@ class SocketCan final : public CanTransport {
     return ::write(fd_, &raw, sizeof raw) == static_cast<ssize_t>(sizeof raw);
   }
   std::optional<CanFrame> receive(std::chrono::milliseconds timeout) override {
-    if (!readable(fd_, timeout)) return std::nullopt;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
     can_frame raw{};
-    if (::read(fd_, &raw, sizeof raw) != static_cast<ssize_t>(sizeof raw)) return std::nullopt;
+    while (true) {  // until a frame of the KURT's kind comes, or the time is up
+      if (!readable(fd_, remaining(deadline))) return std::nullopt;
+      if (::read(fd_, &raw, sizeof raw) != static_cast<ssize_t>(sizeof raw)) continue;
+      // The KURT speaks 11-bit data frames only: an extended, remote or error frame is not one
+      // of its frames (masking its id would read it as one).
+      if (!(raw.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG))) break;
+    }
     CanFrame frame;
     frame.id = raw.can_id & CAN_SFF_MASK;
     frame.dlc = raw.can_dlc;
@@ -102,10 +116,11 @@ class UdpBus final : public CanTransport {
                     sizeof peer_) == static_cast<ssize_t>(sizeof bytes);
   }
   std::optional<CanFrame> receive(std::chrono::milliseconds timeout) override {
-    if (!readable(fd_, timeout)) return std::nullopt;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
     uint8_t bytes[16];
-    if (::recv(fd_, bytes, sizeof bytes, 0) != static_cast<ssize_t>(sizeof bytes)) {
-      return std::nullopt;
+    while (true) {  // a datagram of another size is not a frame: skip it
+      if (!readable(fd_, remaining(deadline))) return std::nullopt;
+      if (::recv(fd_, bytes, sizeof bytes, 0) == static_cast<ssize_t>(sizeof bytes)) break;
     }
     CanFrame frame;
     uint32_t id;

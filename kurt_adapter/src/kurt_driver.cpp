@@ -60,6 +60,8 @@ Update KurtDriver::handle(const CanFrame& frame) {
     return Update::Imu;
   }
   if (auto tilt = decode_tilt(frame)) {
+    // Outside +-1 g (no sensor fitted, a glitch) asin gives NaN: keep the last good reading.
+    if (!std::isfinite(tilt->roll_deg) || !std::isfinite(tilt->pitch_deg)) return Update::None;
     tilt_ = tilt;
     return Update::Tilt;
   }

@@ -89,7 +89,8 @@ int sonar_raw_from_range(double range) {
 }
 
 int rotunit_speed_command(double speed) {
-  return static_cast<int>(speed / (2.0 * M_PI) * 10240 / 20);
+  // The command is an int16 on the bus: saturate (about +-402 rad/s) instead of wrapping.
+  return static_cast<int>(std::clamp(speed / (2.0 * M_PI) * 10240 / 20, -32768.0, 32767.0));
 }
 
 double rotunit_speed_from_command(int command) { return command * 2.0 * M_PI * 20 / 10240; }

@@ -52,7 +52,7 @@ std::vector<double> log_times(const std::string& log, const std::string& what) {
 /// kurt_emulator and kurt_adapter joined by a userspace CAN bus on two free loopback ports.
 struct RealRobotSide {
   explicit RealRobotSide(int domain, std::vector<std::string> emulator_options = {})
-      : port(41000 + 2 * domain),
+      : port(5000 + 2 * domain),  // below Fast DDS ports (7400 + 250 d) and ephemeral ones
         emulator(with({bin("kurt_emulator"), "--can", udp(port, port + 1)}, emulator_options)),
         adapter({bin("kurt_adapter"), "--can", udp(port + 1, port), "--domain",
                  std::to_string(domain)}) {
@@ -114,7 +114,7 @@ TEST(KurtAdapter, KillingTheControllerZeroesTheSpeedWithinTheCommandTimeout) {
   std::printf("zero speed on the bus %.3f s after the controller was killed\n", delay);
   // The last command was sent before the kill: zero comes within the 0.6 s timeout plus one
   // 10 ms tick, plus scheduling on a loaded CI machine (measured here: 0.59-0.61 s).
-  EXPECT_LE(delay, 0.6 + 0.01 + 0.07);
+  EXPECT_LE(delay, 0.6 + 0.01 + 0.09);
   EXPECT_GT(delay, 0.3);  // and not before the timeout ran out: the robot was not stopped early
 }
 
@@ -190,7 +190,7 @@ TEST(KurtAdapter, PublishesRangesImuAndRotunitAndSwitchesTheMagnetActuator) {
   EXPECT_TRUE(robot.emulator.wait_for_output("actuator on", 5s)) << robot.emulator.output();
 }
 
-TEST(KurtAdapter, AnswersTheFeaturesQueryAsARobotAndRefusesSimulationCommands) {
+TEST(KurtAdapter, AnswersTheFeaturesQueryAsARobotAndLeavesSimulationCommandsAlone) {
   const int domain = unique_test_domain();
   RealRobotSide robot(domain);
   namespace mm = macsim_msgs::msg::dds_;
@@ -202,10 +202,8 @@ TEST(KurtAdapter, AnswersTheFeaturesQueryAsARobotAndRefusesSimulationCommands) {
   EXPECT_EQ(features->code(), mm::ERR_OK);
   EXPECT_NE(features->features().find("robot"), std::string::npos) << features->features();
   EXPECT_EQ(features->features().find("simulator"), std::string::npos) << features->features();
-  const auto pause = sim.call(client::SimulationClient::request(mm::SIM_PAUSE));
-  ASSERT_TRUE(pause);
-  EXPECT_EQ(pause->code(), mm::ERR_NOT_APPLICABLE);
-  EXPECT_NE(pause->message().find("real robot"), std::string::npos) << pause->message();
+  // Everything else is left to a simulator (none here): no answer from the robot.
+  EXPECT_FALSE(sim.call(client::SimulationClient::request(mm::SIM_PAUSE), 1s));
 }
 
 TEST(KurtAdapter, ABusThatCannotBeOpenedIsAClearError) {

@@ -117,6 +117,7 @@ TEST_F(TwoHosts, ThroughADiscoveryServerAndNotWithoutIt) {
     ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
     ChildProcess controller(hello_kurt("4"));
     EXPECT_EQ(controller.wait_for_exit(30s), 2) << controller.output();
+    EXPECT_NE(controller.output().find("no odometry"), std::string::npos) << controller.output();
   }
   ChildProcess server(on(host_a_, {source("deploy/run_discovery_server.sh"), address_a_}));
   ASSERT_TRUE(server.wait_for_output("Server is running", 20s)) << server.output();

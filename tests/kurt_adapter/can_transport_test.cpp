@@ -11,7 +11,8 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(CanTransport, UserspaceBusCarriesFramesBothWays) {
-  const int port = 40000 + 2 * test::unique_test_domain();
+  // Below Fast DDS ports (7400 + 250 d), the ephemeral range and kurt_adapter_test (5200+).
+  const int port = 6000 + 2 * test::unique_test_domain();
   auto adapter = open_can("udp:" + std::to_string(port) + ":" + std::to_string(port + 1));
   auto robot = open_can("udp:" + std::to_string(port + 1) + ":" + std::to_string(port));
   ASSERT_TRUE(adapter->send(encode_speed_cm({0.3, -0.3})));

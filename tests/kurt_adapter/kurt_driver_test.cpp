@@ -98,6 +98,23 @@ TEST(KurtDriver, CommandsMapAsTheDriverAndTimeOutAfterSixTenths) {
   EXPECT_EQ(decode_control(driver.control_frame(101.0))->left_cm, -25);
 }
 
+TEST(KurtDriver, ATiltOutsideOneGIsIgnoredNotANaN) {
+  KurtDriver driver;
+  ASSERT_EQ(driver.handle(encode_tilt(0x87AE, 0x8000)), Update::Tilt);  // 30 degrees roll
+  EXPECT_EQ(driver.handle(encode_tilt(0xFFFF, 0x0000)), Update::None);  // (65535-32768)/3932 > 1
+  ASSERT_TRUE(driver.tilt());
+  EXPECT_NEAR(driver.tilt()->roll_deg, 30.0, 1e-9);  // the last good reading stays
+}
+
+TEST(KurtDriver, RotunitSpeedsBeyondTheInt16SaturateInsteadOfReversing) {
+  KurtDriver driver;
+  const auto fast = decode_rotunit_speed(driver.command_rotunit(1e6));
+  EXPECT_EQ(fast, 32767);
+  EXPECT_EQ(decode_rotunit_speed(driver.command_rotunit(-1e6)), -32768);
+  EXPECT_GT(driver.rotunit_speed(), -403.0);  // what was sent, not the unbounded request
+  EXPECT_LT(driver.rotunit_speed(), -401.0);
+}
+
 TEST(KurtDriver, RotunitCommandIsQuantizedAndItsAngleComesFromTheRotunitsFrames) {
   KurtDriver driver;
   EXPECT_EQ(driver.command_rotunit(M_PI / 6), encode_rotunit_speed(M_PI / 6));

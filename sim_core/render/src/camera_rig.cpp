@@ -35,6 +35,11 @@ void CameraRig::wait_idle() {
   idle_.wait(lock, [this] { return (!pending_ && !busy_) || stop_; });
 }
 
+bool CameraRig::idle() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return !pending_ && !busy_;
+}
+
 uint64_t CameraRig::rendered() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return rendered_;

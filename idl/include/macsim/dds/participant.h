@@ -17,10 +17,8 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "macsim/dds/qos.h"
 
@@ -147,43 +145,48 @@ class Reader : private fdds::DataReaderListener {
 
   /// Number of writers currently matched.
   int matched() const { return matched_.load(); }
-  /// Hands every sample already received to the callback now, on the caller's thread, and
-  /// returns once a sample the listener thread took meanwhile has been handed over too (the
+  /// Hands every sample already received to the callback now, on the caller's thread (the
   /// simulation's drain point: whatever a writer saw acknowledged is taken in this step).
-  void poll() {
-    take_all(reader_);
-    while (listener_taking_.load() > 0) std::this_thread::yield();
-  }
+  /// Samples reach the callback in the order they were received, whichever thread takes them.
+  void poll() { drain(reader_, true); }
 
  private:
   void on_data_available(fdds::DataReader* reader) override {
-    // No lock of ours here: Fast DDS may hold its own while it calls us (lock order).
-    ++listener_taking_;
-    take_all(reader);
-    --listener_taking_;
+    // Never block here: Fast DDS may hold its own lock while it calls us.
+    drain(reader, false);
+  }
+  /// Takes until the reader is empty, one thread at a time so samples stay in order. A thread
+  /// that finds another taking (and may not wait) leaves a flag; the taker looks again.
+  void drain(fdds::DataReader* reader, bool wait) {
+    while (true) {
+      std::unique_lock<std::mutex> lock(take_mutex_, std::defer_lock);
+      if (wait) {
+        lock.lock();
+      } else if (!lock.try_lock()) {
+        deferred_.store(true);
+        if (!lock.try_lock()) return;  // the taker sees the flag after it lets go
+      }
+      do {
+        take_all(reader);
+      } while (deferred_.exchange(false));
+      lock.unlock();
+      if (!deferred_.load()) return;  // someone came while we let go: go again
+    }
   }
   void take_all(fdds::DataReader* reader) {
     Data sample;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) {
-        if (on_gone_) {
-          std::lock_guard<std::mutex> lock(last_mutex_);
-          last_[info.instance_handle] = sample;
-        }
+        if (on_gone_) last_[info.instance_handle] = sample;
         on_sample_(sample);
       } else if (on_gone_ && info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
         // Fast DDS 2.9 cannot give the key of a handle: remember each instance's last sample.
-        std::optional<Data> gone;
-        {
-          std::lock_guard<std::mutex> lock(last_mutex_);
-          auto last = last_.find(info.instance_handle);
-          if (last != last_.end()) {
-            gone = std::move(last->second);
-            last_.erase(last);
-          }
+        auto last = last_.find(info.instance_handle);
+        if (last != last_.end()) {
+          on_gone_(last->second);
+          last_.erase(last);
         }
-        if (gone) on_gone_(*gone);
       }
     }
   }
@@ -194,8 +197,8 @@ class Reader : private fdds::DataReaderListener {
 
   Participant& participant_;
   Callback on_sample_, on_gone_;
-  std::atomic<int> listener_taking_{0};
-  std::mutex last_mutex_;  // never held while calling into Fast DDS
+  std::mutex take_mutex_;  // one thread takes at a time, so samples stay in order
+  std::atomic<bool> deferred_{false};
   std::map<fdds::InstanceHandle_t, Data> last_;  // only with on_gone_
   std::atomic<int> matched_{0};
   fdds::DataReader* reader_ = nullptr;

@@ -40,6 +40,8 @@ class CameraRig {
 
   /// Hands a scene to the render thread.
   void submit(Scene scene);
+  /// True if nothing waits and nothing renders (a scene submitted now starts at once).
+  bool idle() const;
   /// Blocks until everything submitted so far has been rendered (for lock-step).
   void wait_idle();
   /// Stereo frames (scenes) rendered so far, and scenes dropped because a newer one came first.
