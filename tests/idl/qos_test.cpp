@@ -3,7 +3,9 @@
 #include "macsim/dds/qos.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdio>
 #include <fstream>
 
 #include "macsim/dds/participant.h"
@@ -31,7 +33,8 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
 }
 
 TEST(QosFamilies, AUsersProfileChangesAFamily) {
-  const std::string path = ::testing::TempDir() + "macsim_qos_profile.xml";
+  const std::string path =
+      ::testing::TempDir() + "macsim_qos_profile_" + std::to_string(getpid()) + ".xml";
   std::ofstream(path) << R"(<?xml version="1.0"?>
 <dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>
   <data_writer profile_name="macsim_sensor">
@@ -46,6 +49,7 @@ TEST(QosFamilies, AUsersProfileChangesAFamily) {
   // A family the profile does not name keeps the built-in policies.
   const auto latched = dds::writer_qos(dds::QosFamily::Latched, p.publisher());
   EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  std::remove(path.c_str());
 }
 
 }  // namespace
