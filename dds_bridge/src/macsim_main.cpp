@@ -270,6 +270,8 @@ int main(int argc, char** argv) {
         bridge.poll_commands();
         simulation->step();
         bridge.publish();
+        // Steps on request (lock-step): the step is done when its data is out, images included.
+        if (control.control().pending_steps > 0) bridge.wait_for_cameras();
         supervisor.publish();
         control.after_publish();  // lock-step: the step is done once its data is out
         if (viewer && Clock::now() >= next_scene) {

@@ -326,6 +326,12 @@ void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
   }
 }
 
+void SimBridge::wait_for_cameras() {
+  for (auto& t : robots_) {
+    for (auto& rig : t->cameras) rig->wait_idle();
+  }
+}
+
 std::string SimBridge::camera_summary() const {
   std::string summary;
   for (const auto& t : robots_) {

@@ -31,6 +31,10 @@ class SimBridge {
   void poll_commands();
   /// Publishes what the last step produced (clock, odometry, sensors; cameras handed over).
   void publish();
+  /// Blocks until every camera image submitted so far is rendered and written (lock-step: the
+  /// step is done when its data is out, and which instants are rendered does not depend on
+  /// timing).
+  void wait_for_cameras();
   /// One line per robot with cameras: stereo frames rendered and dropped (renderer busy).
   std::string camera_summary() const;
   /// Topic names this bridge serves, for the start-up banner.

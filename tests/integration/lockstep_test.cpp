@@ -4,8 +4,14 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <mutex>
+#include <set>
+
 #include "macsim/client/robot_client.h"
 #include "macsim/client/supervisor_client.h"
+#include "macsim/dds/convert.h"
+#include "macsim/dds/topics.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 
@@ -115,6 +121,38 @@ TEST(Lockstep, PauseRunRateLoadAndFeatures) {
   EXPECT_NE(refused->message().find("no/such/world.xml"), std::string::npos);
   EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_LIST_OBJECTS))->count(), 24);
   EXPECT_TRUE(macsim.running());
+}
+
+TEST(Lockstep, EveryCameraInstantIsRenderedAndOutBeforeItsStepIsAnswered) {
+  // 640x480 takes a renderer several ms, longer than a Step(67) of the demo world: stepping on
+  // request waits for the images instead of skipping instants as real time would.
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
+                       std::to_string(domain), "--lockstep", "--cameras", "640x480",
+                       "--camera-rate", "15"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  std::set<double> stamps;
+  std::mutex mutex;
+  {
+    dds::Participant p({domain, "", "lockstep_test"});
+    client::SimulationClient sim(p);
+    dds::Reader<sensor_msgs::msg::dds_::Image_PubSubType> left(
+        p, dds::topics::image("kurt", "left"), dds::QosFamily::Sensor,
+        [&](const sensor_msgs::msg::dds_::Image_& image) {
+          std::lock_guard<std::mutex> lock(mutex);
+          stamps.insert(dds::to_seconds(image.header().stamp()));
+        });
+    ASSERT_TRUE(sim.wait_for_server(20s));
+    for (int i = 0; i < 100 && left.matched() == 0; ++i) std::this_thread::sleep_for(50ms);
+    std::this_thread::sleep_for(500ms);  // both ways matched
+    for (int k = 0; k < 12; ++k) ASSERT_TRUE(sim.step(67));  // each crosses one 1/15 s instant
+    std::this_thread::sleep_for(1s);  // the last image on its way
+  }
+  macsim.signal(SIGTERM);
+  ASSERT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();
+  EXPECT_NE(macsim.output().find(" 0 skipped"), std::string::npos) << macsim.output();
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_GE(stamps.size(), 12u);  // one image per instant reached the client
 }
 
 }  // namespace
