@@ -182,8 +182,10 @@ std::vector<double> twist_to_odometry(macsim::dds::Participant& p, const std::st
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "--help") {
     std::printf(
-        "usage: bench_dds [ROUND_TRIPS] [round_trips|images]  (default 1000, both; run from the "
-        "repository root)\n");
+        "usage: bench_dds [--domain N] [ROUND_TRIPS] [round_trips|images]\n"
+        "  (default 1000 round trips, both parts; run from the repository root)\n"
+        "  --domain N  the first of the six DDS domains it uses, N..N+5 (default 200 + pid %% 25)\n"
+        "  --help      this text\n");
     return 0;
   }
   // The shipped loopback + shared-memory profile, for this process and every child, unless the
@@ -193,13 +195,22 @@ int main(int argc, char** argv) {
   }
   if (argc > 2 && std::string(argv[1]) == "--pong") pong(std::atoi(argv[2]));
   if (argc > 2 && std::string(argv[1]) == "--images") image_source(std::atoi(argv[2]));
+  int domain = 200 + getpid() % 25;
+  if (argc > 2 && std::string(argv[1]) == "--domain") {
+    domain = std::atoi(argv[2]);
+    if (domain < 0 || domain + 5 > macsim::dds::kMaxDomainId) {
+      std::fprintf(stderr, "bench_dds: --domain takes 0..%d\n", macsim::dds::kMaxDomainId - 5);
+      return 2;
+    }
+    argv += 2;
+    argc -= 2;
+  }
   std::printf("profile %s\n", std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"));
   const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
   const std::string only = argc > 2 ? argv[2] : "";
   const bool round_trips_wanted = only.empty() || only == "round_trips";
   const bool images_wanted = only.empty() || only == "images";
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
-  const int domain = 200 + getpid() % 25;
   auto start_macsim = [&](int offset, const std::string& world, std::vector<std::string> extra) {
     std::vector<std::string> args{bin + "/macsim", "--world", world, "--domain",
                                   std::to_string(domain + offset), "--cameras", "off"};

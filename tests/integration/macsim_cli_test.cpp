@@ -21,12 +21,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
-TEST(MacsimCli, HelpListsTheCommonOptions) {
-  for (const char* program : {"macsim", "helloKurt"}) {
+TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
+  for (const char* program : {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest",
+                              "kurt_adapter", "kurt_emulator", "bench_dds"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
-    EXPECT_NE(p.output().find("--domain N"), std::string::npos) << p.output();
-    EXPECT_NE(p.output().find("--help"), std::string::npos);
+    EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();
+    EXPECT_NE(p.output().find("usage"), std::string::npos) << program << ": " << p.output();
   }
 }
 
