@@ -49,8 +49,10 @@ void report(const std::string& name, const std::vector<double>& us) {
               percentile(us, 0.99));
 }
 
-void ratio(const std::string& name, const std::vector<double>& us, const std::vector<double>& bare) {
-  std::printf("%s_over_bare.p50 %.2f x\n", name.c_str(), percentile(us, 0.5) / percentile(bare, 0.5));
+void ratio(const std::string& name, const std::vector<double>& us,
+           const std::vector<double>& bare) {
+  std::printf("%s_over_bare.p50 %.2f x\n", name.c_str(),
+              percentile(us, 0.5) / percentile(bare, 0.5));
 }
 
 double micros_since(Clock::time_point t0) {
@@ -70,12 +72,12 @@ double micros_since(Clock::time_point t0) {
         replies.write(reply);
       });
   macsim::dds::Writer<nm::Odometry_PubSubType> odom(p, "bench/odom", QosFamily::Sensor);
-  macsim::dds::Reader<gm::Twist_PubSubType> twists(
-      p, "bench/cmd_vel", QosFamily::Command, [&](const gm::Twist_& twist) {
-        nm::Odometry_ o;
-        o.twist().twist(twist);
-        odom.write(o);
-      });
+  macsim::dds::Reader<gm::Twist_PubSubType> twists(p, "bench/cmd_vel", QosFamily::Command,
+                                                   [&](const gm::Twist_& twist) {
+                                                     nm::Odometry_ o;
+                                                     o.twist().twist(twist);
+                                                     odom.write(o);
+                                                   });
   while (true) std::this_thread::sleep_for(std::chrono::seconds(1));
 }
 
@@ -158,7 +160,8 @@ std::vector<double> twist_to_odometry(macsim::dds::Participant& p, const std::st
           seen.notify_all();
         }
       });
-  for (int i = 0; i < 200 && cmd.matched() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  for (int i = 0; i < 200 && cmd.matched() == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   for (int i = 0; i < trials + 10; ++i) {
     cmd.write(macsim::dds::planar_twist(0.0, 0.0));
@@ -212,8 +215,9 @@ int main(int argc, char** argv) {
   const bool images_wanted = only.empty() || only == "images";
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
   auto start_macsim = [&](int offset, const std::string& world, std::vector<std::string> extra) {
-    std::vector<std::string> args{bin + "/macsim", "--world", world, "--domain",
-                                  std::to_string(domain + offset), "--cameras", "off"};
+    std::vector<std::string> args{
+        bin + "/macsim", "--world", world, "--domain", std::to_string(domain + offset),
+        "--cameras",     "off"};
     args.insert(args.end(), extra.begin(), extra.end());
     return spawn(args);
   };
@@ -230,46 +234,48 @@ int main(int argc, char** argv) {
     stop(echo);
   }
   if (round_trips_wanted) {
-  report("bare_ping_pong_rtt", bare);
-  report("bare_twist_odometry_rtt", bare_twist);
+    report("bare_ping_pong_rtt", bare);
+    report("bare_twist_odometry_rtt", bare_twist);
 
-  // 2. The supervisor against macsim (the same types, one operation executed per call).
-  {
-    const pid_t macsim = start_macsim(1, "worlds/small_room.xml", {});
-    macsim::dds::Participant p({domain + 1, "", "bench_supervisor"});
-    macsim::client::SupervisorClient client(p);
-    const auto request = macsim::client::SupervisorClient::request(mm::OP_GET_OBJECT, 1);
-    const auto supervisor = round_trips(client, n, [&] { return client.call(request).has_value(); });
-    stop(macsim);
-    report("supervisor_rtt", supervisor);
-    ratio("supervisor_rtt", supervisor, bare);
-  }
+    // 2. The supervisor against macsim (the same types, one operation executed per call).
+    {
+      const pid_t macsim = start_macsim(1, "worlds/small_room.xml", {});
+      macsim::dds::Participant p({domain + 1, "", "bench_supervisor"});
+      macsim::client::SupervisorClient client(p);
+      const auto request = macsim::client::SupervisorClient::request(mm::OP_GET_OBJECT, 1);
+      const auto supervisor =
+          round_trips(client, n, [&] { return client.call(request).has_value(); });
+      stop(macsim);
+      report("supervisor_rtt", supervisor);
+      ratio("supervisor_rtt", supervisor, bare);
+    }
 
-  // 3. Lock-step: Step(1) at a 1 ms step, on a nearly empty world (the protocol's cost) and on
-  //    the small room with the KURT3D (plus its physics, sensors and publishing).
-  for (const auto& [name, world] : {std::pair{"lockstep_step1_rtt.empty_floor", "bench/worlds/empty_floor.xml"},
-                                    std::pair{"lockstep_step1_rtt.small_room", "worlds/small_room.xml"}}) {
-    const pid_t macsim = start_macsim(2, world, {"--lockstep"});
-    macsim::dds::Participant p({domain + 2, "", "bench_lockstep"});
-    macsim::client::SimulationClient client(p);
-    const auto step = round_trips(client, n, [&] { return client.step(1).has_value(); });
-    stop(macsim);
-    report(name, step);
-    ratio(name, step, bare);
-  }
+    // 3. Lock-step: Step(1) at a 1 ms step, on a nearly empty world (the protocol's cost) and on
+    //    the small room with the KURT3D (plus its physics, sensors and publishing).
+    for (const auto& [name, world] :
+         {std::pair{"lockstep_step1_rtt.empty_floor", "bench/worlds/empty_floor.xml"},
+          std::pair{"lockstep_step1_rtt.small_room", "worlds/small_room.xml"}}) {
+      const pid_t macsim = start_macsim(2, world, {"--lockstep"});
+      macsim::dds::Participant p({domain + 2, "", "bench_lockstep"});
+      macsim::client::SimulationClient client(p);
+      const auto step = round_trips(client, n, [&] { return client.step(1).has_value(); });
+      stop(macsim);
+      report(name, step);
+      ratio(name, step, bare);
+    }
 
-  // 4. Twist -> macsim applies it at its next 1 ms step -> odometry of that step (encoder
-  //    frames every step in this world) -> received. Goal: p99 <= bare p99 + one step.
-  {
-    const pid_t macsim = start_macsim(3, "bench/worlds/kurt_1khz_encoders.xml", {"--realtime"});
-    macsim::dds::Participant p({domain + 3, "", "bench_twist"});
-    const auto twist = twist_to_odometry(p, macsim::dds::topics::cmd_vel("kurt"),
-                                         macsim::dds::topics::odom("kurt"), std::max(100, n / 2));
-    stop(macsim);
-    report("twist_to_odometry", twist);
-    std::printf("twist_to_odometry.p99_minus_bare_p99 %.1f us (goal <= one step, 1000 us)\n",
-                percentile(twist, 0.99) - percentile(bare_twist, 0.99));
-  }
+    // 4. Twist -> macsim applies it at its next 1 ms step -> odometry of that step (encoder
+    //    frames every step in this world) -> received. Goal: p99 <= bare p99 + one step.
+    {
+      const pid_t macsim = start_macsim(3, "bench/worlds/kurt_1khz_encoders.xml", {"--realtime"});
+      macsim::dds::Participant p({domain + 3, "", "bench_twist"});
+      const auto twist = twist_to_odometry(p, macsim::dds::topics::cmd_vel("kurt"),
+                                           macsim::dds::topics::odom("kurt"), std::max(100, n / 2));
+      stop(macsim);
+      report("twist_to_odometry", twist);
+      std::printf("twist_to_odometry.p99_minus_bare_p99 %.1f us (goal <= one step, 1000 us)\n",
+                  percentile(twist, 0.99) - percentile(bare_twist, 0.99));
+    }
 
   }  // round trips
   if (!images_wanted) return 0;
@@ -301,9 +307,9 @@ int main(int argc, char** argv) {
   //    latency = arrival - stamp - that offset (from the end of the step that was rendered,
   //    short by one small sample's transport, about 30-50 us).
   {
-    const pid_t macsim = spawn({bin + "/macsim", "--world", "worlds/DemoWorld_v1.xml", "--domain",
-                                std::to_string(domain + 4), "--cameras", "640x480", "--camera-rate",
-                                "30"});
+    const pid_t macsim =
+        spawn({bin + "/macsim", "--world", "worlds/DemoWorld_v1.xml", "--domain",
+               std::to_string(domain + 4), "--cameras", "640x480", "--camera-rate", "30"});
     macsim::dds::Participant p({domain + 4, "", "bench_images"});
     std::mutex mutex;
     std::map<std::string, std::vector<std::pair<double, double>>> images;  // eye: wall s, stamp s
@@ -340,11 +346,13 @@ int main(int argc, char** argv) {
       std::printf("%s.rate %.1f Hz\n", name.c_str(), (arrivals.size() - 1) / span);
       int missing = 0;  // stamps 1/30 s apart: a wider gap is a frame not rendered or lost
       for (std::size_t i = 1; i < arrivals.size(); ++i)
-        missing += static_cast<int>(std::lround((arrivals[i].second - arrivals[i - 1].second) * 30.0)) - 1;
+        missing +=
+            static_cast<int>(std::lround((arrivals[i].second - arrivals[i - 1].second) * 30.0)) - 1;
       std::printf("%s.missing %d frames of %d\n", name.c_str(), missing,
                   missing + static_cast<int>(arrivals.size()));
       std::vector<double> latency;
-      for (const auto& [arrival, stamp] : arrivals) latency.push_back((arrival - stamp - odom_offset) * 1e6);
+      for (const auto& [arrival, stamp] : arrivals)
+        latency.push_back((arrival - stamp - odom_offset) * 1e6);
       report(name + ".latency", latency);
     }
   }

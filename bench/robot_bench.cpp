@@ -50,7 +50,8 @@ double step_rate(const macsim::WorldSpec& base, const Setup& setup, double secon
       macsim::render::CameraIntrinsics in;
       in.width = setup.camera_width;
       in.height = setup.camera_height;
-      rig = std::make_unique<macsim::render::CameraRig>("kurt", in, [](const macsim::render::CameraImage&) {});
+      rig = std::make_unique<macsim::render::CameraRig>("kurt", in,
+                                                        [](const macsim::render::CameraImage&) {});
     }
     const long steps = static_cast<long>(seconds / world.step_size());
     const long camera_every = static_cast<long>(1.0 / 15 / world.step_size());  // 15 Hz
@@ -75,7 +76,8 @@ double step_rate(const macsim::WorldSpec& base, const Setup& setup, double secon
 int main(int argc, char** argv) {
   const std::string world_file = argc > 1 ? argv[1] : "worlds/DemoWorld_v1.xml";
   if (world_file == "--help") {
-    std::printf("usage: bench_robot [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
+    std::printf(
+        "usage: bench_robot [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
     return 0;
   }
   const macsim::WorldSpec spec = macsim::load_world_file(world_file);

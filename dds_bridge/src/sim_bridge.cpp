@@ -305,7 +305,8 @@ void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
     t.scan.write(scan_message(robot.laser_scan(), rotating ? "laser360" : "laser",
                               robot.config().laser_rate));
     if (rotating) {  // the driver publishes the rotunit in joint_states messages of its own
-      t.joint_states.write(dds::kurt_rotunit_joint(robot.rotunit_angle(), robot.rotunit_speed(), now));
+      t.joint_states.write(
+          dds::kurt_rotunit_joint(robot.rotunit_angle(), robot.rotunit_speed(), now));
     }
   }
   if (robot.point_clouds() != t.clouds) {

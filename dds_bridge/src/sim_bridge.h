@@ -13,9 +13,9 @@ namespace macsim {
 
 /// What the bridge serves besides the robots' basic topics.
 struct BridgeOptions {
-  bool cameras = true;                    ///< render and publish the stereo cameras
-  render::CameraIntrinsics camera;        ///< their image size and field of view
-  double camera_rate = 15.0;              ///< Hz of sim time
+  bool cameras = true;              ///< render and publish the stereo cameras
+  render::CameraIntrinsics camera;  ///< their image size and field of view
+  double camera_rate = 15.0;        ///< Hz of sim time
 };
 
 /// Serves a simulation over DDS. Reader callbacks only push commands onto the simulation's

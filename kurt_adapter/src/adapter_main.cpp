@@ -110,7 +110,8 @@ int main(int argc, char** argv) {
   // one has --wheel-perimeter 0.518 --axis-length 0.39 --turning-adaptation 0.64.
   macsim::KurtDriveParams params;
   cli.option("wheel-perimeter", "M", "wheel perimeter (default 0.379)", &params.wheel_perimeter);
-  cli.option("axis-length", "M", "track of cmd_vel and odometry (default 0.28)", &params.axis_length);
+  cli.option("axis-length", "M", "track of cmd_vel and odometry (default 0.28)",
+             &params.axis_length);
   cli.option("turning-adaptation", "FACTOR", "odometry's skid factor (default 0.69)",
              &params.turning_adaptation);
   cli.option("ticks-per-turn", "N", "encoder ticks per wheel turn (default 21950)",
@@ -131,7 +132,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   // Every way a terminal or a supervisor ends us is a stop with a hard stop first.
-  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(signal_number, on_signal);
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT})
+    std::signal(signal_number, on_signal);
 
   try {
     macsim::dds::Participant dds(participant);
@@ -141,7 +143,7 @@ int main(int argc, char** argv) {
     macsim::dds::Writer<sm::JointState_PubSubType> joints(
         dds, macsim::dds::topics::joint_states(robot), QosFamily::Sensor);
     macsim::dds::Writer<sm::Imu_PubSubType> imu(dds, macsim::dds::topics::imu(robot),
-                                                 QosFamily::Sensor);
+                                                QosFamily::Sensor);
     macsim::dds::Writer<sm::Range_PubSubType> range(dds, macsim::dds::topics::range(robot),
                                                     QosFamily::Sensor);
     // Callbacks only queue; the CAN loop runs the commands at its next 10 ms tick.
@@ -149,14 +151,16 @@ int main(int argc, char** argv) {
         dds, macsim::dds::topics::cmd_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
           const double v = t.linear().x(), w = t.angular().z();
           if (!std::isfinite(v) || !std::isfinite(w)) return;
-          queue.push([v, w](KurtDriver& d, CanTransport&, double now) { d.command_twist(v, w, now); });
+          queue.push(
+              [v, w](KurtDriver& d, CanTransport&, double now) { d.command_twist(v, w, now); });
         });
     macsim::dds::Reader<km::WheelSpeeds_PubSubType> wheel_speeds(
         dds, macsim::dds::topics::wheel_speeds(robot), QosFamily::Command,
         [&](const km::WheelSpeeds_& w) {
           const macsim::WheelSpeeds s{w.left(), w.right()};
           if (!std::isfinite(s.left) || !std::isfinite(s.right)) return;
-          queue.push([s](KurtDriver& d, CanTransport&, double now) { d.command_wheel_speeds(s, now); });
+          queue.push(
+              [s](KurtDriver& d, CanTransport&, double now) { d.command_wheel_speeds(s, now); });
         });
     macsim::dds::Reader<gm::Twist_PubSubType> rot_vel(
         dds, macsim::dds::topics::rot_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
@@ -172,7 +176,8 @@ int main(int argc, char** argv) {
         dds, macsim::dds::topics::crane_magnet(robot), QosFamily::Command,
         [&](const km::MagnetCommand_& m) {
           const bool on = m.on();
-          queue.push([on](KurtDriver&, CanTransport& bus, double) { bus.send(encode_actuator(on)); });
+          queue.push(
+              [on](KurtDriver&, CanTransport& bus, double) { bus.send(encode_actuator(on)); });
         });
 
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
@@ -204,7 +209,8 @@ int main(int argc, char** argv) {
              {macsim::dds::topics::joint_states(robot), "sensor_msgs/JointState, out"},
              {macsim::dds::topics::range(robot), "sensor_msgs/Range, out"},
              {macsim::dds::topics::imu(robot), "sensor_msgs/Imu, out"},
-             {macsim::dds::topics::kSimulationRequest, "macsim_msgs/SimulationRequest, in: SIM_FEATURES"},
+             {macsim::dds::topics::kSimulationRequest,
+              "macsim_msgs/SimulationRequest, in: SIM_FEATURES"},
              {macsim::dds::topics::kSimulationReply, "macsim_msgs/SimulationReply, out"}}) {
       std::cout << "  " << topic << " (" << what << ")\n";
     }
@@ -216,7 +222,8 @@ int main(int argc, char** argv) {
     while (!g_stop.load()) {
       // Frames from the robot until the next 10 ms tick.
       while (true) {
-        const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - Clock::now());
+        const auto wait =
+            std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - Clock::now());
         auto frame = can->receive(std::max(wait, std::chrono::milliseconds(0)));
         if (!frame) break;
         const double stamp = wall_stamp();
@@ -224,7 +231,8 @@ int main(int argc, char** argv) {
           case Update::Odometry: {
             const auto o = driver.odometry();
             odom.write(macsim::dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, stamp));
-            joints.write(macsim::dds::kurt_wheel_joints(driver.wheel_angle(0), driver.wheel_angle(1), stamp));
+            joints.write(macsim::dds::kurt_wheel_joints(driver.wheel_angle(0),
+                                                        driver.wheel_angle(1), stamp));
             break;
           }
           case Update::Ranges:
@@ -245,7 +253,8 @@ int main(int argc, char** argv) {
             break;
           }
           case Update::Rotunit:
-            joints.write(macsim::dds::kurt_rotunit_joint(*driver.rotunit_angle(), driver.rotunit_speed(), stamp));
+            joints.write(macsim::dds::kurt_rotunit_joint(*driver.rotunit_angle(),
+                                                         driver.rotunit_speed(), stamp));
             break;
           default:
             break;

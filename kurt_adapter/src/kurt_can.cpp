@@ -32,10 +32,10 @@ CanFrame control(ControlMode mode) {
   put16(f, 0, static_cast<uint16_t>(mode));
   return f;
 }
-int16_t clamp16(double v) {
-  return static_cast<int16_t>(std::clamp(v, -32768.0, 32767.0));
+int16_t clamp16(double v) { return static_cast<int16_t>(std::clamp(v, -32768.0, 32767.0)); }
+bool is(const CanFrame& f, uint32_t id, int min_length) {
+  return f.id == id && f.dlc >= min_length;
 }
-bool is(const CanFrame& f, uint32_t id, int min_length) { return f.id == id && f.dlc >= min_length; }
 
 }  // namespace
 
@@ -79,7 +79,8 @@ std::optional<ControlCommand> decode_control(const CanFrame& f) {
   switch (mode) {
     case 0x0000:
       c.mode = ControlMode::Raw;
-      c.hard_stop = (f.data[2] & 1) && (f.data[5] & 1) && get16(f, 3) == 1023 && get16(f, 6) == 1023;
+      c.hard_stop =
+          (f.data[2] & 1) && (f.data[5] & 1) && get16(f, 3) == 1023 && get16(f, 6) == 1023;
       return c;
     case 0x0002:
       c.mode = ControlMode::SpeedCm;

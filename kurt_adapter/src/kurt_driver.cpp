@@ -29,9 +29,8 @@ Update KurtDriver::handle(const CanFrame& frame) {
     odometry_.integrate_frame(ticks->left, ticks->right);
     const int counts[2] = {ticks->left, ticks->right};
     for (int side = 0; side < 2; ++side) {
-      wheel_angle_[side] =
-          std::remainder(wheel_angle_[side] + 2.0 * M_PI * counts[side] / params_.ticks_per_turn,
-                         2.0 * M_PI);
+      wheel_angle_[side] = std::remainder(
+          wheel_angle_[side] + 2.0 * M_PI * counts[side] / params_.ticks_per_turn, 2.0 * M_PI);
     }
     ++encoder_frames_;
     return Update::Odometry;
@@ -41,7 +40,8 @@ Update KurtDriver::handle(const CanFrame& frame) {
     if (adc->first_channel != 8) return Update::None;  // the ranges are complete with ch 8..11
     for (std::size_t i = 0; i < kRangeChannels.size(); ++i) {
       const RangeChannel& c = kRangeChannels[i];
-      ranges_[i] = c.sonar ? sonar_range_from_raw(adc_[c.channel]) : ir_range_from_raw(adc_[c.channel]);
+      ranges_[i] =
+          c.sonar ? sonar_range_from_raw(adc_[c.channel]) : ir_range_from_raw(adc_[c.channel]);
     }
     return Update::Ranges;
   }

@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
     const auto eq = r.find('=');
     if (eq == std::string::npos || !distance.count(r.substr(0, eq))) {
       std::cerr << "kurt_emulator: --sensor-range takes FRAME=METERS with a KURT sensor frame "
-                   "(e.g. ir_left), got '" << r << "'\n";
+                   "(e.g. ir_left), got '"
+                << r << "'\n";
       return 2;
     }
     distance[r.substr(0, eq)] = std::atof(r.c_str() + eq + 1);
@@ -95,9 +96,9 @@ int main(int argc, char** argv) {
   while (!g_stop.load()) {
     next += std::chrono::milliseconds(10);
     // Commands until the cycle is due.
-    while (auto frame = can->receive(std::max(
-               std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()),
-               std::chrono::milliseconds(0)))) {
+    while (auto frame = can->receive(
+               std::max(std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()),
+                        std::chrono::milliseconds(0)))) {
       if (auto c = decode_control(*frame)) {
         last_control = now_seconds();
         motors_off = false;
@@ -158,8 +159,8 @@ int main(int argc, char** argv) {
     }
     can->send(encode_encoder({delta[0], delta[1]}));
     can->send(encode_tilt(32768, 32768));
-    can->send(encode_gyro(static_cast<int32_t>(std::lround(yaw * 180 / M_PI * kGyroCountsPerDegree)),
-                          1000));
+    can->send(encode_gyro(
+        static_cast<int32_t>(std::lround(yaw * 180 / M_PI * kGyroCountsPerDegree)), 1000));
     can->send(encode_rotunit_angle(static_cast<int>(rotunit_angle / (2 * M_PI) * 10240) % 10240));
     CanFrame bumper;
     bumper.id = can_id::kBumper;

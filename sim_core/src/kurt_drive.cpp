@@ -8,8 +8,7 @@ namespace macsim {
 
 double KurtDriveParams::wheel_radius() const { return wheel_perimeter / (2.0 * M_PI); }
 
-WheelSpeeds wheel_speeds_from_twist(double linear, double angular,
-                                    const KurtDriveParams& params) {
+WheelSpeeds wheel_speeds_from_twist(double linear, double angular, const KurtDriveParams& params) {
   // The real driver uses the full axis length here (not half of it, as a textbook
   // differential drive would): controllers tuned on the robot expect this factor.
   return {linear - params.axis_length * angular, linear + params.axis_length * angular};

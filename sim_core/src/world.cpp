@@ -32,15 +32,13 @@ void ensure_ode_ready() {
 
 BodyState body_state(dBodyID body) {
   return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
-          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)),
-          dBodyIsEnabled(body) != 0};
+          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)), dBodyIsEnabled(body) != 0};
 }
 
 void set_body_state(dBodyID body, const BodyState& s) {
   set_body_pose(body, {s.position, s.orientation});
   dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
-  dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(),
-                     s.angular_velocity.z());
+  dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
   if (s.enabled) {
     dBodyEnable(body);
   } else {
@@ -49,9 +47,9 @@ void set_body_state(dBodyID body, const BodyState& s) {
 }
 
 bool plausible(const BodyState& s) {
-  constexpr double kMaxSpeed = 1e3;          // m/s
-  constexpr double kMaxAngularSpeed = 1e4;   // rad/s
-  constexpr double kMaxDistance = 1e5;       // m from the origin
+  constexpr double kMaxSpeed = 1e3;         // m/s
+  constexpr double kMaxAngularSpeed = 1e4;  // rad/s
+  constexpr double kMaxDistance = 1e5;      // m from the origin
   return s.position.allFinite() && s.orientation.coeffs().allFinite() &&
          s.linear_velocity.allFinite() && s.angular_velocity.allFinite() &&
          s.linear_velocity.norm() < kMaxSpeed && s.angular_velocity.norm() < kMaxAngularSpeed &&
@@ -149,7 +147,8 @@ void World::build() {
   contact_group_ = dJointGroupCreate(0);
 
   ground_ = dCreatePlane(space_, 0, 0, 1, 0);
-  ground_tag_ = std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1, nullptr});
+  ground_tag_ =
+      std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1, nullptr});
   dGeomSetData(ground_, ground_tag_.get());
 
   for (auto& door : doors_) {
@@ -215,9 +214,15 @@ void World::build_object(Object& o) {
   for (const auto& c : s.components) {
     dMass m;
     switch (c.shape) {
-      case Shape::Box: dMassSetBox(&m, s.density, c.size.x(), c.size.y(), c.size.z()); break;
-      case Shape::Cylinder: dMassSetCylinder(&m, s.density, 3, c.size.x(), c.size.z()); break;
-      case Shape::Sphere: dMassSetSphere(&m, s.density, c.size.x()); break;
+      case Shape::Box:
+        dMassSetBox(&m, s.density, c.size.x(), c.size.y(), c.size.z());
+        break;
+      case Shape::Cylinder:
+        dMassSetCylinder(&m, s.density, 3, c.size.x(), c.size.z());
+        break;
+      case Shape::Sphere:
+        dMassSetSphere(&m, s.density, c.size.x());
+        break;
     }
     dMatrix3 r;
     dQuaternion q;
@@ -232,9 +237,15 @@ void World::build_object(Object& o) {
   for (const auto& c : s.components) {
     dGeomID geom = nullptr;
     switch (c.shape) {
-      case Shape::Box: geom = dCreateBox(space_, c.size.x(), c.size.y(), c.size.z()); break;
-      case Shape::Cylinder: geom = dCreateCylinder(space_, c.size.x(), c.size.z()); break;
-      case Shape::Sphere: geom = dCreateSphere(space_, c.size.x()); break;
+      case Shape::Box:
+        geom = dCreateBox(space_, c.size.x(), c.size.y(), c.size.z());
+        break;
+      case Shape::Cylinder:
+        geom = dCreateCylinder(space_, c.size.x(), c.size.z());
+        break;
+      case Shape::Sphere:
+        geom = dCreateSphere(space_, c.size.x());
+        break;
     }
     dGeomSetData(geom, &o.tag);
     o.geoms.push_back(geom);
@@ -383,9 +394,12 @@ struct PenetrationQuery {
 /// concentric overlaps (a box centred in a cylinder gives no contact), this catches them.
 double point_depth(dGeomID g, const dReal* p) {
   switch (dGeomGetClass(g)) {
-    case dBoxClass: return dGeomBoxPointDepth(g, p[0], p[1], p[2]);
-    case dSphereClass: return dGeomSpherePointDepth(g, p[0], p[1], p[2]);
-    case dPlaneClass: return dGeomPlanePointDepth(g, p[0], p[1], p[2]);
+    case dBoxClass:
+      return dGeomBoxPointDepth(g, p[0], p[1], p[2]);
+    case dSphereClass:
+      return dGeomSpherePointDepth(g, p[0], p[1], p[2]);
+    case dPlaneClass:
+      return dGeomPlanePointDepth(g, p[0], p[1], p[2]);
     case dCylinderClass: {
       dReal radius, length;
       dGeomCylinderGetParams(g, &radius, &length);
@@ -395,7 +409,8 @@ double point_depth(dGeomID g, const dReal* p) {
       const double axial = length / 2 - std::fabs(local[2]);
       return std::min(radial, axial);
     }
-    default: return -1.0;
+    default:
+      return -1.0;
   }
 }
 
@@ -455,8 +470,11 @@ std::vector<ShapeView> World::shapes() const {
       const ComponentSpec& c = o->spec.components[i];
       dQuaternion q;
       dGeomGetQuaternion(o->geoms[i], q);
-      out.push_back({c.shape, c.size, {detail::vec(dGeomGetPosition(o->geoms[i])), detail::from_ode(q)},
-                     c.color, c.texture});
+      out.push_back({c.shape,
+                     c.size,
+                     {detail::vec(dGeomGetPosition(o->geoms[i])), detail::from_ode(q)},
+                     c.color,
+                     c.texture});
     }
   }
   for (const auto& r : robots_) {
@@ -562,11 +580,12 @@ DoorState World::door_state_of(const Door& door) const {
   }
   if (door.door_joint && door.door_joint->joint) {
     const JointSpec& s = door.door_joint->spec;
-    const double pos = s.type == JointSpec::Type::Slider ? dJointGetSliderPosition(door.door_joint->joint)
-                                                         : dJointGetHingeAngle(door.door_joint->joint);
+    const double pos = s.type == JointSpec::Type::Slider
+                           ? dJointGetSliderPosition(door.door_joint->joint)
+                           : dJointGetHingeAngle(door.door_joint->joint);
     state.opening = std::clamp((pos - s.lo) / (s.hi - s.lo), 0.0, 1.0);
   }
-  state.gap = state.opening < 0.05 ? DoorGap::Closed
+  state.gap = state.opening < 0.05   ? DoorGap::Closed
               : state.opening > 0.95 ? DoorGap::Open
                                      : DoorGap::Half;
   return state;

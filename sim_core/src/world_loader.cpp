@@ -41,14 +41,30 @@ std::string trim(const std::string& s) {
 std::string xml_error_message(const tinyxml2::XMLDocument& doc) {
   std::string what;
   switch (doc.ErrorID()) {
-    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: what = "element not closed by its end tag"; break;
-    case tinyxml2::XML_ERROR_PARSING_ELEMENT: what = "cannot parse an element"; break;
-    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: what = "cannot parse an attribute"; break;
-    case tinyxml2::XML_ERROR_PARSING_TEXT: what = "cannot parse text"; break;
-    case tinyxml2::XML_ERROR_PARSING_COMMENT: what = "cannot parse a comment"; break;
-    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: what = "the document is empty"; break;
-    case tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED: what = "the file cannot be opened"; break;
-    default: what = doc.ErrorName(); break;
+    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+      what = "element not closed by its end tag";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_ELEMENT:
+      what = "cannot parse an element";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+      what = "cannot parse an attribute";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_TEXT:
+      what = "cannot parse text";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_COMMENT:
+      what = "cannot parse a comment";
+      break;
+    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT:
+      what = "the document is empty";
+      break;
+    case tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED:
+      what = "the file cannot be opened";
+      break;
+    default:
+      what = doc.ErrorName();
+      break;
   }
   // ErrorStr() ends with details such as "XMLElement name=ROBOT".
   const std::string detail = doc.ErrorStr() ? doc.ErrorStr() : "";
@@ -125,10 +141,9 @@ class Reader {
       }
     }
     if (values.size() < min_count || values.size() > max_count) {
-      const std::string expected = min_count == max_count
-                                       ? std::to_string(min_count)
-                                       : std::to_string(min_count) + " to " +
-                                             std::to_string(max_count);
+      const std::string expected =
+          min_count == max_count ? std::to_string(min_count)
+                                 : std::to_string(min_count) + " to " + std::to_string(max_count);
       fail(e, tag(e) + " expects " + expected + " numbers, got " + std::to_string(values.size()));
     }
     return values;
@@ -181,8 +196,8 @@ class Reader {
 
 bool valid_id(const std::string& id) {
   return !id.empty() && std::all_of(id.begin(), id.end(), [](unsigned char c) {
-           return std::isalnum(c) || c == '_' || c == '-' || c == '.';
-         });
+    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+  });
 }
 
 /// What one loaded file (and its imports) contributed, for the naming conventions.
@@ -198,7 +213,8 @@ class Loader {
   explicit Loader(const WarningSink& warn, const std::vector<MaterialSpec>& materials = {})
       : warn_(warn) {
     world_.materials = materials;
-    if (!world_.material("default")) world_.materials.insert(world_.materials.begin(), MaterialSpec{"default"});
+    if (!world_.material("default"))
+      world_.materials.insert(world_.materials.begin(), MaterialSpec{"default"});
   }
 
   WorldSpec take() { return std::move(world_); }
@@ -321,8 +337,7 @@ class Loader {
     if (m.name.empty()) r.fail(element, "<MATERIAL> definition needs a <NAME>");
     if (const MaterialSpec* known = world_.material(m.name)) {
       const bool same = known->friction == m.friction && known->bounce == m.bounce &&
-                        known->bounce_velocity == m.bounce_velocity &&
-                        known->density == m.density;
+                        known->bounce_velocity == m.bounce_velocity && known->density == m.density;
       // A file imported twice defines its materials twice: fine when they agree.
       if (!same) r.fail(element, "material '" + m.name + "' is defined twice, differently");
       return;
@@ -487,10 +502,11 @@ class Loader {
       spec.components.push_back(single);
     } else {
       if (shape || dims || radius || height) {
-        r.fail(object, "object '" + spec.name +
-                           "' has <COMPONENT>s: give shapes and sizes inside them");
+        r.fail(object,
+               "object '" + spec.name + "' has <COMPONENT>s: give shapes and sizes inside them");
       }
-      for (const auto* c : components) spec.components.push_back(read_component(r, c, single.color));
+      for (const auto* c : components)
+        spec.components.push_back(read_component(r, c, single.color));
     }
     finish_mass(r, object, spec, mass, density);
     return spec;
@@ -568,8 +584,7 @@ class Loader {
     geometry.width = r.positive(width);
     geometry.angle = r.positive(angle) * M_PI / 180.0;
     if (geometry.angle >= M_PI / 2) r.fail(angle, "<ANGLE> must lie in (0, 90) degrees");
-    geometry.height =
-        height ? r.positive(height) : r.positive(depth) * std::tan(geometry.angle);
+    geometry.height = height ? r.positive(height) : r.positive(depth) * std::tan(geometry.angle);
     spec.ramp = geometry;
     ComponentSpec box = geometry.box();
     box.color = color;
@@ -677,12 +692,12 @@ class Loader {
       }
     }
     if (id.empty()) r.fail(import, "<IMPORT> needs an <ID>");
-    if (!valid_id(id)) r.fail(import, "<IMPORT> <ID> '" + id + "' may hold only letters, digits, _ - and .");
+    if (!valid_id(id))
+      r.fail(import, "<IMPORT> <ID> '" + id + "' may hold only letters, digits, _ - and .");
     if (file.empty()) r.fail(import, "<IMPORT> '" + id + "' needs a <NAME> (the file to import)");
     if (contents.imports.count(id)) r.fail(import, "duplicate import id '" + id + "'");
-    const fs::path path = fs::path(file).is_absolute()
-                              ? fs::path(file)
-                              : fs::path(r.file()).parent_path() / file;
+    const fs::path path =
+        fs::path(file).is_absolute() ? fs::path(file) : fs::path(r.file()).parent_path() / file;
     const std::string shown = path.lexically_normal().string();
     if (!fs::is_regular_file(path)) {
       r.fail(import, "imported file '" + shown + "' (import '" + id + "') does not exist");
@@ -716,16 +731,19 @@ class Loader {
     const bool in_doors_container = !prefix.empty() && fs::path(prefix).filename() == "doors";
     const bool is_door = sub.imports.count("door_component") > 0;
     if (in_doors_container && !std::regex_match(id, door_id)) {
-      r.warn(import, "import '" + id + "' in the doors container does not follow the door_%02d "
-                     "convention; loaded and reachable as '" + name + "'");
+      r.warn(import, "import '" + id +
+                         "' in the doors container does not follow the door_%02d "
+                         "convention; loaded and reachable as '" +
+                         name + "'");
     }
     if (in_doors_container && !is_door) {
       r.warn(import, "'" + name + "' imports no door_component: loaded as plain objects");
     }
     if (!is_door) return;
     if (!in_doors_container) {
-      r.warn(import, "door '" + name + "' is not inside a <ID>doors</ID> container (seed "
-                     "convention); loaded and reachable");
+      r.warn(import, "door '" + name +
+                         "' is not inside a <ID>doors</ID> container (seed "
+                         "convention); loaded and reachable");
     }
     DoorSpec door;
     door.name = name;

@@ -85,7 +85,8 @@ TEST(Deploy, TheSimulatorsUnitStartsMacsim) {
   ChildProcess macsim(argv);
   EXPECT_EQ(macsim.wait_for_exit(60s), 0) << macsim.output();
   EXPECT_NE(macsim.output().find("DemoWorld_v1"), std::string::npos) << macsim.output();
-  EXPECT_NE(macsim.output().find("stopped at sim time 0.500"), std::string::npos) << macsim.output();
+  EXPECT_NE(macsim.output().find("stopped at sim time 0.500"), std::string::npos)
+      << macsim.output();
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ TEST(Interop, ACycloneDdsProgramReadsOdometryAndDrivesTheRobot) {
                        std::to_string(domain), "--cameras", "off"});
   ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
   dds::Participant participant({domain, "", "interop_test"});
-  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> truth(participant, dds::topics::ground_truth("kurt"), 5);
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> truth(participant,
+                                                          dds::topics::ground_truth("kurt"), 5);
   auto before = truth.wait_for([](const auto&) { return true; }, 20s);
   ASSERT_TRUE(before);
 
@@ -63,7 +64,8 @@ TEST(Interop, CycloneDdsReadsEveryRobotAndWorldTopicCommandsTheCraneAndCallsTheS
   // Cyclone's crane command lifted the boom, and its supervisor and simulation requests were
   // answered (the supervisor found the ball by name, then gave it back by that id).
   EXPECT_EQ(cyclone.wait_for_exit(60s), 0) << cyclone.output();
-  EXPECT_NE(cyclone.output().find("rt/macsim/world/objects"), std::string::npos) << cyclone.output();
+  EXPECT_NE(cyclone.output().find("rt/macsim/world/objects"), std::string::npos)
+      << cyclone.output();
   EXPECT_NE(cyclone.output().find("rt/kurt/camera/right/image_raw"), std::string::npos)
       << cyclone.output();
   EXPECT_NE(cyclone.output().find("GET_OBJECT"), std::string::npos) << cyclone.output();

@@ -14,8 +14,8 @@
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
-#include "support/latest_sample.h"
 #include "support/child_process.h"
+#include "support/latest_sample.h"
 #include "support/test_domain.h"
 
 namespace macsim::test {
@@ -102,7 +102,8 @@ TEST(KurtAdapter, TheSameHelloKurtReachesItsGoalOnTheSimulatorAndOnTheRealRobotS
 TEST(KurtAdapter, KillingTheControllerZeroesTheSpeedWithinTheCommandTimeout) {
   const int domain = unique_test_domain();
   RealRobotSide robot(domain);
-  ChildProcess controller({bin("helloKurt"), "--domain", std::to_string(domain), "--distance", "50"});
+  ChildProcess controller(
+      {bin("helloKurt"), "--domain", std::to_string(domain), "--distance", "50"});
   ASSERT_TRUE(robot.emulator.wait_for_output("speed_cm 30 30", 30s)) << robot.emulator.output();
   std::this_thread::sleep_for(300ms);  // cruising
   controller.signal(SIGKILL);
@@ -122,7 +123,8 @@ TEST(KurtAdapter, StoppingTheAdapterSendsAHardStopFirst) {
   for (int signal_number : {SIGTERM, SIGINT}) {
     const int domain = unique_test_domain();
     RealRobotSide robot(domain);
-    ChildProcess controller({bin("helloKurt"), "--domain", std::to_string(domain), "--distance", "50"});
+    ChildProcess controller(
+        {bin("helloKurt"), "--domain", std::to_string(domain), "--distance", "50"});
     ASSERT_TRUE(robot.emulator.wait_for_output("speed_cm 30 30", 30s)) << robot.emulator.output();
     const double stopped = monotonic_now();
     robot.adapter.signal(signal_number);
@@ -150,7 +152,8 @@ TEST(KurtAdapter, PublishesRangesImuAndRotunitAndSwitchesTheMagnetActuator) {
   Samples<sm::JointState_PubSubType> joints(p, dds::topics::joint_states("kurt"));
   // Ranges in the frames and limits macsim uses; the emulator's distances come back in whole
   // cm through the ADC curves; 2 m is beyond the IR's reach: invalid (-0.01).
-  auto sonar = ranges.wait_for([](const auto& r) { return r.header().frame_id() == "ultrasound_front"; }, 20s);
+  auto sonar = ranges.wait_for(
+      [](const auto& r) { return r.header().frame_id() == "ultrasound_front"; }, 20s);
   ASSERT_TRUE(sonar);
   EXPECT_NEAR(sonar->range(), 0.6, 0.011);
   EXPECT_EQ(sonar->radiation_type(), 0);  // ultrasound

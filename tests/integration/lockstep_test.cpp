@@ -22,7 +22,8 @@ using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 
 /// One lock-step run: the robot drives an arc until its command times out, a ball is pushed,
-/// the robot is given two more twists between steps; returns the state hash after every step request.
+/// the robot is given two more twists between steps; returns the state hash after every step
+/// request.
 std::vector<uint64_t> lockstep_run() {
   const int domain = unique_test_domain();
   ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
@@ -57,8 +58,10 @@ std::vector<uint64_t> lockstep_run() {
         auto find = client::SupervisorClient::request(mm::OP_FIND_OBJECT);
         find.name("environment_01/ball_green");
         const uint32_t ball = supervisor.call(find)->object_id();
-        EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_ADD_FORCE, ball, {0, 400, 0}))->code(),
-                  mm::ERR_OK);
+        EXPECT_EQ(
+            supervisor.call(client::SupervisorClient::request(mm::OP_ADD_FORCE, ball, {0, 400, 0}))
+                ->code(),
+            mm::ERR_OK);
       }
       auto reply = sim.step(100);
       EXPECT_TRUE(reply.has_value());
@@ -144,9 +147,9 @@ TEST(Lockstep, EveryCameraInstantIsRenderedAndOutBeforeItsStepIsAnswered) {
         });
     ASSERT_TRUE(sim.wait_for_server(20s));
     for (int i = 0; i < 100 && left.matched() == 0; ++i) std::this_thread::sleep_for(50ms);
-    std::this_thread::sleep_for(500ms);  // both ways matched
+    std::this_thread::sleep_for(500ms);                      // both ways matched
     for (int k = 0; k < 12; ++k) ASSERT_TRUE(sim.step(67));  // each crosses one 1/15 s instant
-    std::this_thread::sleep_for(1s);  // the last image on its way
+    std::this_thread::sleep_for(1s);                         // the last image on its way
   }
   macsim.signal(SIGTERM);
   ASSERT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();

@@ -1,17 +1,15 @@
 // The programs' command lines, run as a user would: help, bad input, validation, signals.
+#include <dirent.h>
 #include <gtest/gtest.h>
 #include <signal.h>
-
-#include <dirent.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <thread>
+#include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
-
-#include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "support/child_process.h"
 #include "support/test_domain.h"
@@ -33,8 +31,10 @@ TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
 
 TEST(MacsimCli, MalformedWorldExitsNonZeroNamingFileAndLine) {
   const std::string path = ::testing::TempDir() + "malformed_world.xml";
-  std::ofstream(path) << "<WORLD>\n  <ROBOT>\n    <ID>kurt</ID>\n  </ROBOT>\n  <OBJECT>\n</WORLD>\n";
-  ChildProcess p({bin("macsim"), "--world", path, "--domain", std::to_string(unique_test_domain())});
+  std::ofstream(path)
+      << "<WORLD>\n  <ROBOT>\n    <ID>kurt</ID>\n  </ROBOT>\n  <OBJECT>\n</WORLD>\n";
+  ChildProcess p(
+      {bin("macsim"), "--world", path, "--domain", std::to_string(unique_test_domain())});
   const auto code = p.wait_for_exit(20s);
   ASSERT_TRUE(code.has_value());
   EXPECT_NE(*code, 0);
@@ -74,7 +74,8 @@ TEST(MacsimCli, UsageErrorsExitTwo) {
 TEST(MacsimCli, ValidatePrintsASummaryAndExitsZero) {
   ChildProcess p({bin("macsim"), "--world", source("worlds/small_room.xml"), "--validate"});
   ASSERT_EQ(p.wait_for_exit(20s), 0) << p.output();
-  EXPECT_NE(p.output().find("4 objects (3 portable, 1 fixed; 4 objects), 0 doors, 1 robots [kurt: kurt3d]"),
+  EXPECT_NE(p.output().find(
+                "4 objects (3 portable, 1 fixed; 4 objects), 0 doors, 1 robots [kurt: kurt3d]"),
             std::string::npos)
       << p.output();
 }
@@ -144,9 +145,10 @@ TEST(DdsProfile, TheShippedProfileKeepsEverySocketOnLoopback) {
 
 TEST(MacsimCli, SnapshotsRenderEveryCameraModeOffscreen) {
   std::vector<std::string> argv{bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"),
-                                "--settle", "0.2", "--snapshot-size", "320x240"};
+                                "--settle",    "0.2",     "--snapshot-size",
+                                "320x240"};
   const std::vector<std::string> modes{"MouseOnly", "MouseKeyboard", "FixedFollow", "Follow",
-                                       "Inside", "LeftCamera", "RightCamera", "Manual"};
+                                       "Inside",    "LeftCamera",    "RightCamera", "Manual"};
   for (const auto& mode : modes) {
     argv.push_back("--snapshot");
     argv.push_back(mode + ":" + ::testing::TempDir() + "snapshot_" + mode + ".png");
@@ -161,8 +163,8 @@ TEST(MacsimCli, SnapshotsRenderEveryCameraModeOffscreen) {
     cv::meanStdDev(image, mean, stddev);
     EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 20) << mode << " is featureless";
   }
-  ChildProcess bad({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--snapshot",
-                    "Fisheye:x.png"});
+  ChildProcess bad(
+      {bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--snapshot", "Fisheye:x.png"});
   EXPECT_EQ(bad.wait_for_exit(20s), 2);
   EXPECT_NE(bad.output().find("MODE one of MouseOnly"), std::string::npos) << bad.output();
 }

@@ -28,7 +28,9 @@ std::string ip_tool() {
 }
 
 /// Runs a shell command quietly; true on exit status 0.
-bool run(const std::string& command) { return std::system((command + " >/dev/null 2>&1").c_str()) == 0; }
+bool run(const std::string& command) {
+  return std::system((command + " >/dev/null 2>&1").c_str()) == 0;
+}
 
 class TwoHosts : public ::testing::Test {
  protected:
@@ -76,13 +78,15 @@ class TwoHosts : public ::testing::Test {
                         std::to_string(domain_), "--cameras", "off"});
   }
   std::vector<std::string> hello_kurt(const std::string& discovery_timeout) const {
-    return on(host_b_, {bin("helloKurt"), "--domain", std::to_string(domain_), "--distance",
-                        "0.3", "--discovery-timeout", discovery_timeout});
+    return on(host_b_, {bin("helloKurt"), "--domain", std::to_string(domain_), "--distance", "0.3",
+                        "--discovery-timeout", discovery_timeout});
   }
   /// Bytes host b's end of the link has received.
   long received_on_b() const {
     FILE* p = popen((ip_ + " netns exec " + host_b_ + " cat /sys/class/net/mvb" +
-                     std::to_string(domain_) + "/statistics/rx_bytes").c_str(), "r");
+                     std::to_string(domain_) + "/statistics/rx_bytes")
+                        .c_str(),
+                    "r");
     long bytes = -1;
     if (p) {
       if (std::fscanf(p, "%ld", &bytes) != 1) bytes = -1;

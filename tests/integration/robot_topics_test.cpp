@@ -28,11 +28,12 @@ class RobotTopics : public ::testing::Test {
   void SetUp() override {
     domain_ = unique_test_domain();
     // Four times real time: a full rotunit turn (12 s of sim time) takes 3 s.
-    macsim_ = std::make_unique<ChildProcess>(std::vector<std::string>{
-        bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
-        std::to_string(domain_), "--rtf", "4"});
+    macsim_ = std::make_unique<ChildProcess>(
+        std::vector<std::string>{bin("macsim"), "--world", source("worlds/small_room.xml"),
+                                 "--domain", std::to_string(domain_), "--rtf", "4"});
     ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
-    participant_ = std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "topics_test"});
+    participant_ =
+        std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "topics_test"});
   }
   void TearDown() override {
     participant_.reset();
@@ -101,10 +102,10 @@ TEST_F(RobotTopics, TheRotatingUnitTurnsOnRotVelAndCloudsAreAssembled) {
 
 TEST_F(RobotTopics, TheCraneAndItsMagnetObeyAndReport) {
   Samples<km::CraneState_PubSubType> crane(*participant_, dds::topics::crane_state("kurt"));
-  dds::Writer<km::CraneCommand_PubSubType> command(*participant_, dds::topics::crane_command("kurt"),
-                                                    dds::QosFamily::Command);
+  dds::Writer<km::CraneCommand_PubSubType> command(
+      *participant_, dds::topics::crane_command("kurt"), dds::QosFamily::Command);
   dds::Writer<km::MagnetCommand_PubSubType> magnet(*participant_, dds::topics::crane_magnet("kurt"),
-                                                    dds::QosFamily::Command);
+                                                   dds::QosFamily::Command);
   km::CraneCommand_ target;
   target.slew(0.5);
   target.hoist(0.1);
@@ -115,25 +116,30 @@ TEST_F(RobotTopics, TheCraneAndItsMagnetObeyAndReport) {
   for (int i = 0; i < 100 && !there; ++i) {
     command.write(target);
     magnet.write(on);
-    there = crane.wait_for([](const auto& s) {
-      return std::fabs(s.slew() - 0.5) < 0.02 && std::fabs(s.hoist() - 0.1) < 0.01 && s.magnet_on();
-    }, 200ms);
+    there = crane.wait_for(
+        [](const auto& s) {
+          return std::fabs(s.slew() - 0.5) < 0.02 && std::fabs(s.hoist() - 0.1) < 0.01 &&
+                 s.magnet_on();
+        },
+        200ms);
   }
   ASSERT_TRUE(there) << (crane.latest() ? std::to_string(crane.latest()->slew()) : "no state");
   EXPECT_TRUE(there->held_object().empty());  // nothing magnetizable below it
 }
 
 TEST_F(RobotTopics, WheelSpeedCommandsTurnTheRobot) {
-  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"), 5);
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"),
+                                                         5);
   dds::Writer<km::WheelSpeeds_PubSubType> wheels(*participant_, dds::topics::wheel_speeds("kurt"),
-                                                dds::QosFamily::Command);
+                                                 dds::QosFamily::Command);
   km::WheelSpeeds_ spin;
   spin.left(-0.1);
   spin.right(0.1);
   std::optional<nav_msgs::msg::dds_::Odometry_> turned;
   for (int i = 0; i < 100 && !turned; ++i) {  // repeated, as a controller does (0.6 s timeout)
     wheels.write(spin);
-    turned = odom.wait_for([](const auto& o) { return o.twist().twist().angular().z() > 0.2; }, 100ms);
+    turned =
+        odom.wait_for([](const auto& o) { return o.twist().twist().angular().z() > 0.2; }, 100ms);
   }
   ASSERT_TRUE(turned) << "the robot did not turn counter-clockwise";
   EXPECT_NEAR(turned->twist().twist().linear().x(), 0.0, 0.02);
@@ -142,7 +148,8 @@ TEST_F(RobotTopics, WheelSpeedCommandsTurnTheRobot) {
 TEST_F(RobotTopics, StereoImagesAndCalibrationArrive) {
   Samples<sm::Image_PubSubType> left(*participant_, dds::topics::image("kurt", "left"), 3);
   Samples<sm::Image_PubSubType> right(*participant_, dds::topics::image("kurt", "right"), 3);
-  Samples<sm::CameraInfo_PubSubType> right_info(*participant_, dds::topics::camera_info("kurt", "right"), 3);
+  Samples<sm::CameraInfo_PubSubType> right_info(*participant_,
+                                                dds::topics::camera_info("kurt", "right"), 3);
   auto l = left.wait_for([](const auto&) { return true; }, 20s);
   auto r = right.wait_for([](const auto&) { return true; }, 20s);
   auto info = right_info.wait_for([](const auto&) { return true; }, 20s);

@@ -39,8 +39,8 @@ class Secured : public ::testing::Test {
 };
 
 TEST_F(Secured, IdentitiesGetWhatTheirPermissionsGrantAndStrangersNothing) {
-  ChildProcess sim = as("macsim", {bin("macsim"), "--world", source("worlds/small_room.xml"),
-                                   "--cameras", "off"});
+  ChildProcess sim =
+      as("macsim", {bin("macsim"), "--world", source("worlds/small_room.xml"), "--cameras", "off"});
   ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
 
   // The controller identity authenticates and drives the robot.
@@ -63,8 +63,8 @@ TEST_F(Secured, IdentitiesGetWhatTheirPermissionsGrantAndStrangersNothing) {
 
   // A participant without credentials (the plain loopback profile) finds no robot.
   ScopedEnv plain("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/localhost.xml"));
-  ChildProcess stranger({bin("helloKurt"), "--domain", std::to_string(domain_), "--distance",
-                         "0.2", "--discovery-timeout", "4"});
+  ChildProcess stranger({bin("helloKurt"), "--domain", std::to_string(domain_), "--distance", "0.2",
+                         "--discovery-timeout", "4"});
   EXPECT_EQ(stranger.wait_for_exit(30s), 2) << stranger.output();
   EXPECT_NE(stranger.output().find("no odometry"), std::string::npos) << stranger.output();
 }

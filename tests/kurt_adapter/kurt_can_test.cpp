@@ -1,10 +1,10 @@
 // The KURT CAN codec against byte vectors worked out by hand from the documented layouts
 // (kurt.md section 1): ids, big-endian fields, two's complement, the omega word.
+#include "macsim/kurt/kurt_can.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "macsim/kurt/kurt_can.h"
 
 namespace macsim::kurt {
 namespace {

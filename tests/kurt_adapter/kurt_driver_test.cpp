@@ -1,12 +1,12 @@
 // The adapter's driver state machine: odometry from encoder frames to the last bit against an
 // independently computed reference, ranges with invalid readings, the gyro's settling, and the
 // command timeout.
+#include "macsim/kurt/kurt_driver.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
-
-#include "macsim/kurt/kurt_driver.h"
 
 namespace macsim::kurt {
 namespace {
@@ -23,16 +23,19 @@ TEST(KurtDriver, OdometryFromEncoderFramesMatchesTheReferenceBitForBit) {
   const std::map<int, std::array<double, 5>> expected{
       {5, {0x1.1ae5031a31dedp-7, 0.0, 0.0, 0x1.619e43e0be569p-3, 0.0}},
       {8, {0x1.1ae5031a31dedp-7, 0.0, -0x1.39b5bac12996ap-5, 0.0, -0x1.46c7f7de8b523p+0}},
-      {18, {0x1.88f15ca63d37bp-6, -0x1.7f68fd74e6598p-11, -0x1.8664ff2944d24p-5,
-            0x1.e6399d5505b6fp-2, -0x1.b3b54a7e0f184p-3}},
-      {21, {0x1.8912b40ae0313p-6, -0x1.812d085821bcdp-11, 0x1.5ed3a73a760abp+1,
-            0x1.c4a19e904fcafp-11, -0x1.16da6d1d7a4cfp-8}},
+      {18,
+       {0x1.88f15ca63d37bp-6, -0x1.7f68fd74e6598p-11, -0x1.8664ff2944d24p-5, 0x1.e6399d5505b6fp-2,
+        -0x1.b3b54a7e0f184p-3}},
+      {21,
+       {0x1.8912b40ae0313p-6, -0x1.812d085821bcdp-11, 0x1.5ed3a73a760abp+1, 0x1.c4a19e904fcafp-11,
+        -0x1.16da6d1d7a4cfp-8}},
   };
   KurtDriver driver;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto [left, right] = frames[i];
-    ASSERT_EQ(driver.handle(encode_encoder({static_cast<int16_t>(left), static_cast<int16_t>(right)})),
-              Update::Odometry);
+    ASSERT_EQ(
+        driver.handle(encode_encoder({static_cast<int16_t>(left), static_cast<int16_t>(right)})),
+        Update::Odometry);
     auto want = expected.find(static_cast<int>(i + 1));
     if (want == expected.end()) continue;
     const PlanarOdometry o = driver.odometry();
@@ -57,21 +60,23 @@ TEST(KurtDriver, WheelJointsAccumulateTicksPerSide) {
 
 TEST(KurtDriver, RangesComeWithTheThirdAdcFrameAndInvalidReadingsAreMarked) {
   KurtDriver driver;
-  AdcValues a{0, {500, 50, 801, 0}};        // ir_back valid, ir_right_back too low, ir_right too high
-  AdcValues b{4, {static_cast<uint16_t>(ir_raw_from_range(0.3)), 1001, 99, 500}};  // sonar 1001 invalid, ir_left_front 99
-  AdcValues c{8, {0, 500, 0, 0}};           // ir_left_back (channel 9)
+  AdcValues a{0, {500, 50, 801, 0}};  // ir_back valid, ir_right_back too low, ir_right too high
+  AdcValues b{4,
+              {static_cast<uint16_t>(ir_raw_from_range(0.3)), 1001, 99,
+               500}};              // sonar 1001 invalid, ir_left_front 99
+  AdcValues c{8, {0, 500, 0, 0}};  // ir_left_back (channel 9)
   EXPECT_EQ(driver.handle(encode_adc(a)), Update::None);
   EXPECT_EQ(driver.handle(encode_adc(b)), Update::None);
   ASSERT_EQ(driver.handle(encode_adc(c)), Update::Ranges);
-  const auto& r = driver.ranges();  // kRangeChannels' order
-  EXPECT_DOUBLE_EQ(r[0], 0.08);             // raw 500: (30000/490)^(1/1.4) - 10 = 8.9 -> 8 cm
-  EXPECT_DOUBLE_EQ(r[1], kInvalidRange);    // raw 50 < 100
-  EXPECT_DOUBLE_EQ(r[2], kInvalidRange);    // raw 801 > 800
-  EXPECT_NEAR(r[3], 0.3, 0.011);            // ir_right_front at 0.3 m, whole cm
-  EXPECT_DOUBLE_EQ(r[4], kInvalidRange);    // ultrasound raw 1001 > 1000
-  EXPECT_DOUBLE_EQ(r[5], kInvalidRange);    // ir_left_front raw 99
-  EXPECT_DOUBLE_EQ(r[6], 0.08);             // ir_left raw 500
-  EXPECT_DOUBLE_EQ(r[7], 0.08);             // ir_left_back raw 500
+  const auto& r = driver.ranges();        // kRangeChannels' order
+  EXPECT_DOUBLE_EQ(r[0], 0.08);           // raw 500: (30000/490)^(1/1.4) - 10 = 8.9 -> 8 cm
+  EXPECT_DOUBLE_EQ(r[1], kInvalidRange);  // raw 50 < 100
+  EXPECT_DOUBLE_EQ(r[2], kInvalidRange);  // raw 801 > 800
+  EXPECT_NEAR(r[3], 0.3, 0.011);          // ir_right_front at 0.3 m, whole cm
+  EXPECT_DOUBLE_EQ(r[4], kInvalidRange);  // ultrasound raw 1001 > 1000
+  EXPECT_DOUBLE_EQ(r[5], kInvalidRange);  // ir_left_front raw 99
+  EXPECT_DOUBLE_EQ(r[6], 0.08);           // ir_left raw 500
+  EXPECT_DOUBLE_EQ(r[7], 0.08);           // ir_left_back raw 500
 }
 
 TEST(KurtDriver, GyroIsIgnoredForItsFirstHundredFrames) {
@@ -86,8 +91,7 @@ TEST(KurtDriver, GyroIsIgnoredForItsFirstHundredFrames) {
 TEST(KurtDriver, CommandsMapAsTheDriverAndTimeOutAfterSixTenths) {
   KurtDriver driver;
   driver.command_twist(0.2, 0.5, 100.0);  // full track: 0.2 -+ 0.28 * 0.5 = 0.06, 0.34
-  EXPECT_EQ(driver.control_frame(100.0),
-            encode_speed_cm({0.06, 0.34}));
+  EXPECT_EQ(driver.control_frame(100.0), encode_speed_cm({0.06, 0.34}));
   const auto c = decode_control(driver.control_frame(100.59));
   EXPECT_EQ(c->left_cm, 6);
   EXPECT_EQ(c->right_cm, 34);

@@ -38,7 +38,7 @@ TEST(Renderer, DrawsAnObjectWhereItIsWithItsColourAndDepth) {
   ASSERT_EQ(image.type(), CV_8UC3);
   ASSERT_EQ(image.size(), cv::Size(320, 240));
   const cv::Vec3b centre = image.at<cv::Vec3b>(120, 160);  // BGR
-  EXPECT_GT(centre[2], 2 * centre[1]);  // red dominates where the box is
+  EXPECT_GT(centre[2], 2 * centre[1]);                     // red dominates where the box is
   EXPECT_GT(centre[2], 2 * centre[0]);
   EXPECT_NEAR(depth.at<float>(120, 160), 1.75, 0.01);  // the box's near face
   // Above the box: sky, far away.
@@ -60,7 +60,7 @@ TEST(Renderer, TexturesShowOnObjects) {
   int red = 0, white = 0;
   for (int x = 130; x < 190; ++x) {
     const cv::Vec3b p = image.at<cv::Vec3b>(120, x);
-    red += p[2] > 2 * p[1] && p[2] > 60;                     // lit red stripe
+    red += p[2] > 2 * p[1] && p[2] > 60;                         // lit red stripe
     white += p[1] > 60 && std::abs(int(p[2]) - int(p[1])) < 30;  // lit white stripe
   }
   EXPECT_GT(red, 5);

@@ -132,7 +132,8 @@ TEST(KurtRobot, SeveralRobotsShareAWorldAndObeyTheirOwnCommands) {
 }
 
 TEST(KurtRobot, UnknownRobotTypesAreNamedWithTheKnownOnes) {
-  WorldSpec spec = load_world_string("<WORLD>\n<ROBOT><ID>r</ID><TYPE>kurt9</TYPE></ROBOT></WORLD>", "w.xml");
+  WorldSpec spec =
+      load_world_string("<WORLD>\n<ROBOT><ID>r</ID><TYPE>kurt9</TYPE></ROBOT></WORLD>", "w.xml");
   try {
     World world(std::move(spec));
     FAIL();
@@ -148,8 +149,8 @@ TEST(KurtRobot, EncoderRateSetsHowOftenFramesComeAndIsChecked) {
       "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><ENCODER_RATE>1000</ENCODER_RATE></ROBOT>"
       "</WORLD>",
       "fast.xml"));
-  World standard(load_world_string(
-      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "standard.xml"));
+  World standard(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
+                                   "standard.xml"));
   for (int i = 0; i < 100; ++i) {
     fast.robot("kurt")->command_twist(0.3, 0.0, fast.time());
     standard.robot("kurt")->command_twist(0.3, 0.0, standard.time());
@@ -162,9 +163,10 @@ TEST(KurtRobot, EncoderRateSetsHowOftenFramesComeAndIsChecked) {
   EXPECT_NEAR(fast.robot("kurt")->odometry().x, standard.robot("kurt")->odometry().x, 0.005);
   EXPECT_GT(fast.robot("kurt")->odometry().x, 0.01);
   try {
-    load_world_string("<WORLD>\n<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE>\n"
-                      "<ENCODER_RATE>-5</ENCODER_RATE></ROBOT></WORLD>",
-                      "bad.xml");
+    load_world_string(
+        "<WORLD>\n<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE>\n"
+        "<ENCODER_RATE>-5</ENCODER_RATE></ROBOT></WORLD>",
+        "bad.xml");
     FAIL() << "a negative encoder rate was accepted";
   } catch (const WorldFileError& e) {
     EXPECT_EQ(e.line(), 3);
@@ -215,7 +217,8 @@ TEST(KurtRobot, OdometryErrorOverAMetreSquareIsWhatTheSlipFactorPredicts) {
   drive(world, 0.0, 0.4, 1.0);  // spin up
   const double yaw_before = yaw_of(kurt.base_footprint_pose());
   drive(world, 0.0, 0.4, 2.0);
-  const double slip = std::remainder(yaw_of(kurt.base_footprint_pose()) - yaw_before, 2 * M_PI) / (2 * 0.4 * 2.0);
+  const double slip =
+      std::remainder(yaw_of(kurt.base_footprint_pose()) - yaw_before, 2 * M_PI) / (2 * 0.4 * 2.0);
   EXPECT_NEAR(slip, 0.69, 0.1);  // the order of the real robot's turning adaptation (0.65 here)
   kurt.command_twist(0.0, 0.0, world.time());
   idle(world, 0.5);

@@ -4,8 +4,8 @@
 
 namespace macsim::render {
 
-CameraRig::CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics, Callback on_frame,
-                     std::vector<Eye> eyes)
+CameraRig::CameraRig(const std::string& robot, const CameraIntrinsics& intrinsics,
+                     Callback on_frame, std::vector<Eye> eyes)
     : robot_(robot),
       intrinsics_(intrinsics),
       on_frame_(std::move(on_frame)),

@@ -11,7 +11,7 @@ namespace macsim::dds {
 
 /// Odometry in odom_combined -> base_footprint with the driver's covariance.
 nav_msgs::msg::dds_::Odometry_ kurt_odometry(double x, double y, double yaw, double linear,
-                                            double angular, double stamp);
+                                             double angular, double stamp);
 /// The six wheel joints; each side's three wheels share the side's angle (rad).
 sensor_msgs::msg::dds_::JointState_ kurt_wheel_joints(double left, double right, double stamp);
 /// The rotunit's joint state (laser_rot_joint: angle and speed), published on joint_states.

@@ -1,6 +1,8 @@
 // A Fast DDS domain participant set up the MACSim-DDS way, with typed writers and readers.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -10,9 +12,6 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
-#include <atomic>
-#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -107,8 +106,9 @@ class Writer {
   /// Waits until every matched reliable reader acknowledged what was written (lock-step:
   /// the command is in the simulator's queue before the next step request).
   bool wait_acknowledged(std::chrono::milliseconds timeout) {
-    eprosima::fastrtps::Duration_t max_wait(static_cast<int32_t>(timeout.count() / 1000),
-                                            static_cast<uint32_t>((timeout.count() % 1000) * 1000000));
+    eprosima::fastrtps::Duration_t max_wait(
+        static_cast<int32_t>(timeout.count() / 1000),
+        static_cast<uint32_t>((timeout.count() % 1000) * 1000000));
     return writer_->wait_for_acknowledgments(max_wait) == ReturnCode_t::RETCODE_OK;
   }
 

@@ -13,16 +13,16 @@ namespace macsim::kurt {
 
 /// CAN ids of the frames the driver uses.
 namespace can_id {
-inline constexpr uint32_t kControl = 0x001;      ///< host -> MC: control mode + payload
-inline constexpr uint32_t kAdc00_03 = 0x005;     ///< MC -> host: ADC channels 0..3
-inline constexpr uint32_t kAdc04_07 = 0x006;     ///< channels 4..7
-inline constexpr uint32_t kAdc08_11 = 0x007;     ///< channels 8..11
-inline constexpr uint32_t kEncoder = 0x009;      ///< ticks per side since the last frame
-inline constexpr uint32_t kBumper = 0x00A;       ///< bumpers, remote control; ends a cycle
-inline constexpr uint32_t kTiltCompass = 0x00D;  ///< tilt left/right, front/back, compass
-inline constexpr uint32_t kGyro = 0x00E;         ///< gyro angle and sigma
-inline constexpr uint32_t kRotunitAngle = 0x010; ///< rotunit -> host: its angle
-inline constexpr uint32_t kRotunitSpeed = 0x080; ///< host -> rotunit: its speed
+inline constexpr uint32_t kControl = 0x001;       ///< host -> MC: control mode + payload
+inline constexpr uint32_t kAdc00_03 = 0x005;      ///< MC -> host: ADC channels 0..3
+inline constexpr uint32_t kAdc04_07 = 0x006;      ///< channels 4..7
+inline constexpr uint32_t kAdc08_11 = 0x007;      ///< channels 8..11
+inline constexpr uint32_t kEncoder = 0x009;       ///< ticks per side since the last frame
+inline constexpr uint32_t kBumper = 0x00A;        ///< bumpers, remote control; ends a cycle
+inline constexpr uint32_t kTiltCompass = 0x00D;   ///< tilt left/right, front/back, compass
+inline constexpr uint32_t kGyro = 0x00E;          ///< gyro angle and sigma
+inline constexpr uint32_t kRotunitAngle = 0x010;  ///< rotunit -> host: its angle
+inline constexpr uint32_t kRotunitSpeed = 0x080;  ///< host -> rotunit: its speed
 }  // namespace can_id
 
 /// Control modes: bytes 0..1 of a CONTROL frame.

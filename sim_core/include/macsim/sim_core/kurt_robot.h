@@ -24,17 +24,17 @@ class RayCaster;
 
 /// Physical parameters of the simulated KURT3D (see sim_core/README.md for the sources).
 struct KurtBodyParams {
-  double base_mass = 15.6;                                   ///< kg, URDF base_link
-  Eigen::Vector3d base_inertia{0.1185, 0.1928, 0.2402};      ///< kg m^2 about the CoM, URDF
-  Eigen::Vector3d base_size{0.43, 0.325, 0.215};             ///< m, URDF collision box
-  double com_below_base_link = 0.0404;                       ///< m, URDF CoM z = -0.0404
-  double wheel_axle_below_base_link = 0.107;                 ///< m, URDF wheel joint z
-  double wheel_x = 0.14;                                     ///< m, front/rear axle from centre
-  double wheel_y = 0.14;                                     ///< m, half track
-  double wheel_width = 0.035;                                ///< m, indoor URDF
-  double wheel_mass = 0.3;                                   ///< kg (URDF: 0.075; see README)
-  double wheel_friction = 1.0;                               ///< Coulomb mu of the tyres
-  double wheel_torque = 4.0;                                 ///< N m per wheel motor (Gazebo plugin)
+  double base_mass = 15.6;                               ///< kg, URDF base_link
+  Eigen::Vector3d base_inertia{0.1185, 0.1928, 0.2402};  ///< kg m^2 about the CoM, URDF
+  Eigen::Vector3d base_size{0.43, 0.325, 0.215};         ///< m, URDF collision box
+  double com_below_base_link = 0.0404;                   ///< m, URDF CoM z = -0.0404
+  double wheel_axle_below_base_link = 0.107;             ///< m, URDF wheel joint z
+  double wheel_x = 0.14;                                 ///< m, front/rear axle from centre
+  double wheel_y = 0.14;                                 ///< m, half track
+  double wheel_width = 0.035;                            ///< m, indoor URDF
+  double wheel_mass = 0.3;                               ///< kg (URDF: 0.075; see README)
+  double wheel_friction = 1.0;                           ///< Coulomb mu of the tyres
+  double wheel_torque = 4.0;                             ///< N m per wheel motor (Gazebo plugin)
 };
 
 /// Where the laser scanner sits.
@@ -46,20 +46,20 @@ enum class LaserMount {
 
 /// The crane (our model: the MACS KURT3D's crane is not documented; see sim_core/README.md).
 struct CraneParams {
-  double boom_length = 0.5;          ///< m, slew axis to boom tip
-  double pivot_height = 0.16;        ///< m above base_link
-  double pivot_x = 0.05;             ///< m ahead of base_link
-  double max_hoist = 0.32;           ///< m the magnet can be lowered
-  double slew_torque = 3.0;          ///< N m
-  double lift_torque = 8.0;          ///< N m
-  double hoist_force = 7.0;          ///< N: with the 0.2 kg magnet, lifts up to about 0.5 kg
-  double slew_speed = 1.0;           ///< rad/s
-  double lift_speed = 0.5;           ///< rad/s
-  double hoist_speed = 0.15;         ///< m/s
-  double magnet_radius = 0.035;      ///< m
-  double magnet_mass = 0.2;          ///< kg
-  double holding_force = 30.0;       ///< N; the magnet lets go above it
-  double capture_distance = 0.01;    ///< m; a magnetizable object this close is grabbed
+  double boom_length = 0.5;        ///< m, slew axis to boom tip
+  double pivot_height = 0.16;      ///< m above base_link
+  double pivot_x = 0.05;           ///< m ahead of base_link
+  double max_hoist = 0.32;         ///< m the magnet can be lowered
+  double slew_torque = 3.0;        ///< N m
+  double lift_torque = 8.0;        ///< N m
+  double hoist_force = 7.0;        ///< N: with the 0.2 kg magnet, lifts up to about 0.5 kg
+  double slew_speed = 1.0;         ///< rad/s
+  double lift_speed = 0.5;         ///< rad/s
+  double hoist_speed = 0.15;       ///< m/s
+  double magnet_radius = 0.035;    ///< m
+  double magnet_mass = 0.2;        ///< kg
+  double holding_force = 30.0;     ///< N; the magnet lets go above it
+  double capture_distance = 0.01;  ///< m; a magnetizable object this close is grabbed
 };
 
 /// Everything a robot type fixes: drive, body, sensors, crane, noise.
@@ -68,13 +68,13 @@ struct KurtConfig {
   KurtBodyParams body;
   bool crane = true;
   CraneParams crane_params;
-  bool range_sensors = true;       ///< IR and sonar, read with every encoder frame (100 Hz)
+  bool range_sensors = true;  ///< IR and sonar, read with every encoder frame (100 Hz)
   LaserMount laser = LaserMount::Rotating;
-  double laser_rate = 75.0;        ///< Hz, LMS200 sweeps
-  double laser_noise = 0.005;      ///< m, Gaussian sigma of each beam
-  double rotunit_speed = 0.0;      ///< rad/s at start (the driver's default is pi/6 when used)
-  double gyro_noise = 0.0;         ///< rad, Gaussian sigma of each yaw reading
-  double gyro_drift = 0.0;         ///< rad/s
+  double laser_rate = 75.0;    ///< Hz, LMS200 sweeps
+  double laser_noise = 0.005;  ///< m, Gaussian sigma of each beam
+  double rotunit_speed = 0.0;  ///< rad/s at start (the driver's default is pi/6 when used)
+  double gyro_noise = 0.0;     ///< rad, Gaussian sigma of each yaw reading
+  double gyro_drift = 0.0;     ///< rad/s
   uint32_t noise_seed = 1;
 };
 
@@ -100,8 +100,8 @@ class KurtRobot {
     bool magnet_on = false;
     std::string held_object;
     // laser on its rotating unit
-    double rotunit_speed = 0.0;               ///< rad/s, as quantized by the command
-    double rotunit_angle = 0.0;               ///< rad, continuous
+    double rotunit_speed = 0.0;  ///< rad/s, as quantized by the command
+    double rotunit_angle = 0.0;  ///< rad, continuous
     double cloud_start_angle = 0.0;
     double next_scan_time = 0.0;
     uint64_t scans = 0, clouds = 0;
@@ -203,15 +203,15 @@ class KurtRobot {
   dWorldID world_;
   dSpaceID space_;
   dBodyID chassis_ = nullptr;
-  std::array<dBodyID, 6> wheels_{};   // left front, left middle, left rear, right ...
+  std::array<dBodyID, 6> wheels_{};  // left front, left middle, left rear, right ...
   std::array<dJointID, 6> hinges_{};
   std::vector<dGeomID> geoms_;
   std::unique_ptr<detail::GeomTag> chassis_tag_, wheel_tag_, crane_tag_;
   // crane
   dBodyID turret_ = nullptr, boom_ = nullptr, magnet_ = nullptr;
   dJointID slew_ = nullptr, lift_ = nullptr, hoist_ = nullptr;
-  dGeomID capture_ = nullptr;          // not in the space: the magnet's reach
-  dJointID hold_ = nullptr;            // magnet -> held object
+  dGeomID capture_ = nullptr;  // not in the space: the magnet's reach
+  dJointID hold_ = nullptr;    // magnet -> held object
   dBodyID held_body_ = nullptr;
   std::unique_ptr<dJointFeedback> hold_feedback_;
   std::unique_ptr<detail::RayCaster> rays_;

@@ -37,12 +37,12 @@ using Color = std::array<float, 4>;
 
 /// Global physics settings of a world.
 struct PhysicsSpec {
-  double step = 0.001;                           ///< s, fixed step
-  Eigen::Vector3d gravity{0.0, 0.0, -9.81};      ///< m/s^2
-  int solver_iterations = 25;                    ///< ODE QuickStep iterations
-  double erp = 0.2;                              ///< error reduction parameter
-  double cfm = 1e-5;                             ///< constraint force mixing
-  uint32_t seed = 1;                             ///< ODE random seed (QuickStep reordering)
+  double step = 0.001;                       ///< s, fixed step
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};  ///< m/s^2
+  int solver_iterations = 25;                ///< ODE QuickStep iterations
+  double erp = 0.2;                          ///< error reduction parameter
+  double cfm = 1e-5;                         ///< constraint force mixing
+  uint32_t seed = 1;                         ///< ODE random seed (QuickStep reordering)
 };
 
 /// A named surface: friction, restitution and a default density for objects made of it.
@@ -65,9 +65,9 @@ struct ComponentSpec {
   Shape shape = Shape::Box;
   /// Box: full sizes x, y, z. Cylinder: radius, unused, height. Sphere: radius, unused, unused.
   Eigen::Vector3d size = Eigen::Vector3d::Constant(0.1);
-  Pose pose;                                    ///< relative to the object's frame
-  Color color{0.5f, 0.5f, 0.5f, 1.0f};          ///< seed default: gray
-  std::string texture;                          ///< BMP path (resolved), empty for none
+  Pose pose;                            ///< relative to the object's frame
+  Color color{0.5f, 0.5f, 0.5f, 1.0f};  ///< seed default: gray
+  std::string texture;                  ///< BMP path (resolved), empty for none
 };
 
 /// A shape as it stands in the world right now, with its looks: what a renderer draws.
@@ -84,13 +84,13 @@ double component_volume(const ComponentSpec& component);
 
 /// What role an object plays; all of them are objects the supervisor can reach.
 enum class ObjectKind {
-  Object,        ///< a basic (one component) or composite object
-  Wall,          ///< a fixed box standing on the floor
-  Ramp,          ///< a box rotated and embedded in the ground
-  SwitchBase,    ///< the fixed base of a door switch
-  SwitchPlatform,///< the moving platform of a door switch
-  DoorFrame,     ///< the fixed part of a door
-  DoorLeaf,      ///< the moving (sliding or swinging) part of a door
+  Object,          ///< a basic (one component) or composite object
+  Wall,            ///< a fixed box standing on the floor
+  Ramp,            ///< a box rotated and embedded in the ground
+  SwitchBase,      ///< the fixed base of a door switch
+  SwitchPlatform,  ///< the moving platform of a door switch
+  DoorFrame,       ///< the fixed part of a door
+  DoorLeaf,        ///< the moving (sliding or swinging) part of a door
 };
 
 /// A ramp described as the seed does: width plus height (or depth) and slope angle.
@@ -110,19 +110,19 @@ struct RampGeometry {
 
 /// One object: basic (one component) or composite (several on one rigid body).
 struct ObjectSpec {
-  std::string name;                   ///< unique path, e.g. "doors/door_00/switch_component/base"
+  std::string name;  ///< unique path, e.g. "doors/door_00/switch_component/base"
   ObjectKind kind = ObjectKind::Object;
-  bool portable = true;               ///< portable: a rigid body; fixed: geometry only
+  bool portable = true;  ///< portable: a rigid body; fixed: geometry only
   std::vector<ComponentSpec> components;
-  Pose pose;                          ///< of the object's frame in the world
-  double density = 100.0;             ///< kg/m^3 (seed default 0.1 kg/L); mass = density * volume
+  Pose pose;               ///< of the object's frame in the world
+  double density = 100.0;  ///< kg/m^3 (seed default 0.1 kg/L); mass = density * volume
   std::string material = "default";
-  bool magnetizable = false;          ///< the crane's magnet can hold it
-  bool frozen = false;                ///< held in place (kinematic) although portable
-  std::string user_data;              ///< free text; objects can be looked up by it
-  int user_color = 0;                 ///< user-defined colour label (need not match the colour)
-  int user_shape = 0;                 ///< user-defined shape label (need not match the shape)
-  std::optional<RampGeometry> ramp;   ///< set for ramps: the component is derived from it
+  bool magnetizable = false;         ///< the crane's magnet can hold it
+  bool frozen = false;               ///< held in place (kinematic) although portable
+  std::string user_data;             ///< free text; objects can be looked up by it
+  int user_color = 0;                ///< user-defined colour label (need not match the colour)
+  int user_shape = 0;                ///< user-defined shape label (need not match the shape)
+  std::optional<RampGeometry> ramp;  ///< set for ramps: the component is derived from it
   SourceLocation source;
 
   /// Total volume of the components (overlaps count twice, as ODE's mass sum does).
@@ -144,22 +144,22 @@ ObjectSpec sphere_object(const Eigen::Vector3d& position, double radius, bool po
 /// A joint between two objects (or an object and the world), e.g. a switch's slider.
 struct JointSpec {
   enum class Type { Slider, Hinge };
-  std::string name;                  ///< unique path, like object names
+  std::string name;  ///< unique path, like object names
   Type type = Type::Slider;
-  std::string body1;                 ///< the moving object's name
-  std::string body2;                 ///< the other object's name; empty or fixed: the world
-  Eigen::Vector3d axis{0, 0, 1};     ///< in the world frame
-  Eigen::Vector3d anchor{0, 0, 0};   ///< hinge anchor, world frame
-  double lo = 0.0, hi = 0.0;         ///< stops: m (slider) or rad (hinge)
-  double max_force = 0.0;            ///< motor force (N) or torque (N m); 0: no motor
-  double velocity = 0.0;             ///< motor set-point, m/s or rad/s
+  std::string body1;                ///< the moving object's name
+  std::string body2;                ///< the other object's name; empty or fixed: the world
+  Eigen::Vector3d axis{0, 0, 1};    ///< in the world frame
+  Eigen::Vector3d anchor{0, 0, 0};  ///< hinge anchor, world frame
+  double lo = 0.0, hi = 0.0;        ///< stops: m (slider) or rad (hinge)
+  double max_force = 0.0;           ///< motor force (N) or torque (N m); 0: no motor
+  double velocity = 0.0;            ///< motor set-point, m/s or rad/s
   SourceLocation source;
 };
 
 /// A door-switch structure (the seed's door_%02d): an automatic door opened while its switch
 /// is pressed fully (or triggered virtually). Parts refer to objects and joints by name.
 struct DoorSpec {
-  std::string name;          ///< e.g. "door_00"
+  std::string name;                                        ///< e.g. "door_00"
   std::string switch_base, switch_platform, switch_joint;  ///< empty when it has no switch
   std::string frame, leaf, door_joint;
   SourceLocation source;
@@ -167,9 +167,9 @@ struct DoorSpec {
 
 /// One robot instance of a registered robot type (e.g. "kurt3d").
 struct RobotSpec {
-  std::string name;  ///< namespace of its topics, e.g. "kurt"
-  std::string type;  ///< robot type name
-  Pose pose;         ///< pose of base_footprint (on the floor)
+  std::string name;             ///< namespace of its topics, e.g. "kurt"
+  std::string type;             ///< robot type name
+  Pose pose;                    ///< pose of base_footprint (on the floor)
   double encoder_rate = 100.0;  ///< Hz of encoder frames (odometry, IR/sonar, gyro); real: 100
   SourceLocation source;
 };
@@ -179,8 +179,8 @@ struct WorldSpec {
   std::string name;
   std::string file;  ///< the world file it was loaded from (empty if built in code)
   PhysicsSpec physics;
-  double ground_friction = 1.0;        ///< the plane z = 0
-  std::vector<MaterialSpec> materials; ///< always holds "default"
+  double ground_friction = 1.0;         ///< the plane z = 0
+  std::vector<MaterialSpec> materials;  ///< always holds "default"
   std::vector<ObjectSpec> objects;
   std::vector<JointSpec> joints;
   std::vector<DoorSpec> doors;
