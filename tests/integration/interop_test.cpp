@@ -70,6 +70,7 @@ TEST(Interop, CycloneDdsReadsEveryRobotAndWorldTopicCommandsTheCraneAndCallsTheS
       << cyclone.output();
   EXPECT_NE(cyclone.output().find("GET_OBJECT"), std::string::npos) << cyclone.output();
   EXPECT_NE(cyclone.output().find("magnet on;"), std::string::npos) << cyclone.output();
+  EXPECT_NE(cyclone.output().find("event switch_triggered"), std::string::npos) << cyclone.output();
   EXPECT_NE(cyclone.output().find("name environment_01/ball_green"), std::string::npos)
       << cyclone.output();
   macsim.signal(SIGTERM);

@@ -3,7 +3,8 @@
  * clouds, joint states, crane state, the stereo images and camera infos, the keyed world state
  * and the door states for `seconds`; writes a crane command; calls the supervisor (find an
  * object by name, then get it by the id found), turns the rotunit (for clouds), switches the
- * magnet on (seen in the crane state), drives by wheel speeds for 2 s (seen in odometry) and the simulation control (features) through
+ * magnet on (seen in the crane state), drives by wheel speeds for 2 s (seen in odometry),
+ * triggers the door's switch through the supervisor and hears the world event and the simulation control (features) through
  * their request/reply topics; prints how many samples of each it took and the replies.
  * Exit 0 if every topic delivered and every call was answered, 1 otherwise.
  *   cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME] */
@@ -116,6 +117,10 @@ int main(int argc, char** argv) {
   dds_entity_t sim_reply = dds_create_reader(
       participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SimulationReply__desc,
                                     "rt/macsim/simulation/reply", NULL, NULL), rq, NULL);
+  /* World events (reliable, volatile): the switch triggered through the supervisor below. */
+  dds_entity_t events = dds_create_reader(
+      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__WorldEvent__desc,
+                                    "rt/macsim/world/events", NULL, NULL), rq, NULL);
   dds_delete_qos(rq);
   macsim_msgs_msg_dds__SupervisorRequest_ request;
   memset(&request, 0, sizeof request);
@@ -131,7 +136,7 @@ int main(int argc, char** argv) {
   macsim_msgs_msg_dds__SimulationRequest_ sim = {(char*)"cyclone_listen", 1,
                                                  macsim_msgs_msg_dds__SIM_FEATURES, 0, 0.0, empty};
   uint32_t found_id = 0;
-  int got_object = 0, got_features = 0;
+  int got_object = 0, got_features = 0, switched = 0, event_seen = 0;
 
   void* samples[8] = {NULL};
   dds_sample_info_t infos[8];
@@ -141,7 +146,7 @@ int main(int argc, char** argv) {
     dds_write(rot_writer, &turn);
     dds_write(magnet_writer, &magnet_on);
     if (tick < 40) dds_write(wheels_writer, &wheels);
-    if (!got_object) dds_write(sup_request, &request);
+    if (!switched) dds_write(sup_request, &request);
     if (!got_features) dds_write(sim_request, &sim);
     int got;
     while ((got = dds_take(sup_reply, samples, infos, 8, 8)) > 0) {
@@ -159,13 +164,30 @@ int main(int argc, char** argv) {
           request.operation = macsim_msgs_msg_dds__OP_GET_OBJECT;
           request.object_id = found_id;
           request.sequence_number = 2;
-        } else {
+        } else if (request.operation == macsim_msgs_msg_dds__OP_GET_OBJECT) {
           printf("cyclone_listen: supervisor GET_OBJECT %u: code %d, name %s, mass %.3f kg\n",
                  found_id, r->code, r->object.name, r->object.mass);
           got_object = r->code == macsim_msgs_msg_dds__ERR_OK && strcmp(r->object.name, object_name) == 0;
+          if (!got_object) return 1;
+          request.operation = macsim_msgs_msg_dds__OP_SET_SWITCH_TRIGGERED;  /* door 0 */
+          request.index = 0;
+          request.flag = true;
+          request.sequence_number = 3;
+        } else {
+          printf("cyclone_listen: supervisor SET_SWITCH_TRIGGERED 0: code %d\n", r->code);
+          switched = r->code == macsim_msgs_msg_dds__ERR_OK ? 1 : -1;
         }
       }
       dds_return_loan(sup_reply, samples, got);
+    }
+    while ((got = dds_take(events, samples, infos, 8, 8)) > 0) {
+      for (int k = 0; k < got; ++k) {
+        const macsim_msgs_msg_dds__WorldEvent_* e = samples[k];
+        if (!infos[k].valid_data) continue;
+        printf("cyclone_listen: event %s %s\n", e->type, e->subject);
+        if (strcmp(e->type, "switch_triggered") == 0) event_seen = 1;
+      }
+      dds_return_loan(events, samples, got);
     }
     while ((got = dds_take(sim_reply, samples, infos, 8, 8)) > 0) {
       for (int k = 0; k < got; ++k) {
@@ -207,7 +229,7 @@ int main(int argc, char** argv) {
          magnet_seen ? "on" : "never on", fastest);
   dds_delete(participant);
   return missing || slew_seen < 0.25 || !got_object || !got_features || !magnet_seen ||
-                 fastest < 0.1
+                 fastest < 0.1 || switched != 1 || !event_seen
              ? 1
              : 0;
 }
