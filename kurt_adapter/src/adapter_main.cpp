@@ -7,10 +7,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <deque>
-#include <functional>
 #include <iostream>
-#include <mutex>
 #include <thread>
 
 #include "macsim/dds/command_line.h"
@@ -24,6 +21,7 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/sim_core/command_queue.h"
 
 namespace {
 
@@ -65,28 +63,8 @@ double wall_stamp() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-/// A change for the driver, queued by a DDS callback and run on the CAN loop's thread.
-using Command = std::function<void(KurtDriver&, CanTransport&, double now)>;
-
-class CommandQueue {
- public:
-  void push(Command c) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    pending_.push_back(std::move(c));
-  }
-  void drain(KurtDriver& driver, CanTransport& can, double now) {
-    std::deque<Command> running;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      running.swap(pending_);
-    }
-    for (auto& c : running) c(driver, can, now);
-  }
-
- private:
-  std::mutex mutex_;
-  std::deque<Command> pending_;
-};
+/// Changes for the driver, queued by DDS callbacks and run on the CAN loop's thread.
+using CommandQueue = macsim::BasicCommandQueue<KurtDriver&, CanTransport&, double>;
 
 }  // namespace
 

@@ -32,7 +32,6 @@ CanFrame control(ControlMode mode) {
   put16(f, 0, static_cast<uint16_t>(mode));
   return f;
 }
-int16_t clamp16(double v) { return static_cast<int16_t>(std::clamp(v, -32768.0, 32767.0)); }
 bool is(const CanFrame& f, uint32_t id, int min_length) {
   return f.id == id && f.dlc >= min_length;
 }
@@ -46,9 +45,9 @@ uint16_t omega_word(double omega, bool antiwindup) {
 }
 
 CanFrame encode_speed_cm(WheelSpeeds speeds, double omega, bool antiwindup) {
-  CanFrame f = control(ControlMode::SpeedCm);  // whole cm/s, truncated towards zero
-  put16(f, 2, static_cast<uint16_t>(clamp16(std::trunc(speeds.left * 100.0))));
-  put16(f, 4, static_cast<uint16_t>(clamp16(std::trunc(speeds.right * 100.0))));
+  CanFrame f = control(ControlMode::SpeedCm);
+  put16(f, 2, static_cast<uint16_t>(speed_cm(speeds.left)));
+  put16(f, 4, static_cast<uint16_t>(speed_cm(speeds.right)));
   put16(f, 6, omega_word(omega, antiwindup));
   return f;
 }

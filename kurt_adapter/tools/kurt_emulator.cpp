@@ -83,7 +83,8 @@ int main(int argc, char** argv) {
   const macsim::KurtDriveParams params;
   constexpr double dt = 0.01;
   double target[2] = {0, 0}, speed[2] = {0, 0}, travel[2] = {0, 0};
-  int64_t ticks_sent[2] = {0, 0};
+  macsim::EncoderCounter encoders[2] = {macsim::EncoderCounter(params.ticks_per_turn),
+                                        macsim::EncoderCounter(params.ticks_per_turn)};
   double yaw = 0.0, rotunit_angle = 0.0, rotunit_speed = 0.0;
   double last_control = now_seconds();
   bool motors_off = false;
@@ -134,13 +135,9 @@ int main(int argc, char** argv) {
       speed[side] += (target[side] - speed[side]) * follow;
       travel[side] += speed[side] * dt;
     }
-    int16_t delta[2];
-    for (int side = 0; side < 2; ++side) {
-      const auto total = static_cast<int64_t>(
-          std::floor(travel[side] / params.wheel_perimeter * params.ticks_per_turn));
-      delta[side] = static_cast<int16_t>(total - ticks_sent[side]);
-      ticks_sent[side] = total;
-    }
+    // The encoders count the wheels' turning: travel / radius is the wheel angle.
+    const int16_t left = encoders[0].ticks_since_last(travel[0] / params.wheel_radius());
+    const int16_t right = encoders[1].ticks_since_last(travel[1] / params.wheel_radius());
     yaw += (speed[1] - speed[0]) / params.axis_length * params.turning_adaptation * dt;
     yaw = std::remainder(yaw, 2 * M_PI);
     rotunit_angle = std::fmod(rotunit_angle + rotunit_speed * dt + 2 * M_PI, 2 * M_PI);
@@ -157,7 +154,7 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 4; ++i) v.raw[i] = adc[first + i];
       can->send(encode_adc(v));
     }
-    can->send(encode_encoder({delta[0], delta[1]}));
+    can->send(encode_encoder({left, right}));
     can->send(encode_tilt(32768, 32768));
     can->send(encode_gyro(
         static_cast<int32_t>(std::lround(yaw * 180 / M_PI * kGyroCountsPerDegree)), 1000));

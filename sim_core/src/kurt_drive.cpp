@@ -14,10 +14,13 @@ WheelSpeeds wheel_speeds_from_twist(double linear, double angular, const KurtDri
   return {linear - params.axis_length * angular, linear + params.axis_length * angular};
 }
 
-WheelSpeeds quantize_to_speed_cm(WheelSpeeds speeds) {
+int speed_cm(double speed) {
   // The driver sends (int)(speed * 100): truncation towards zero.
-  auto cm = [](double v) { return static_cast<double>(static_cast<int>(v * 100.0)) / 100.0; };
-  return {cm(speeds.left), cm(speeds.right)};
+  return static_cast<int>(std::clamp(std::trunc(speed * 100.0), -32768.0, 32767.0));
+}
+
+WheelSpeeds quantize_to_speed_cm(WheelSpeeds speeds) {
+  return {speed_cm(speeds.left) / 100.0, speed_cm(speeds.right) / 100.0};
 }
 
 int16_t EncoderCounter::ticks_since_last(double angle) {

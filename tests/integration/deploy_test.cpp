@@ -2,9 +2,7 @@
 // fails on a unit whose program does not exist), and the simulator's unit runs: its ExecStart
 // with its Environment defaults expanded starts macsim, which steps and exits cleanly.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -18,17 +16,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-struct TempDir {
-  TempDir() {
-    char pattern[] = "/tmp/macsim_units_XXXXXX";
-    path = mkdtemp(pattern) ? pattern : "";
-  }
-  ~TempDir() {
-    if (!path.empty()) std::filesystem::remove_all(path);
-  }
-  std::string path;
-};
-
 std::string read(const std::string& file) {
   std::ifstream in(file);
   std::stringstream text;
@@ -37,29 +24,28 @@ std::string read(const std::string& file) {
 }
 
 TEST(Deploy, ServiceUnitsRenderAndVerify) {
-  TempDir dir;
-  ASSERT_FALSE(dir.path.empty());
-  ChildProcess install({source("deploy/install_services.sh"), dir.path});
+  TempDir dir("macsim_units_");
+  ChildProcess install({source("deploy/install_services.sh"), dir.path()});
   ASSERT_EQ(install.wait_for_exit(120s), 0) << install.output();
   for (const char* unit : {"macsim.service", "kurt_adapter.service", "macsim-discovery.service"}) {
-    const std::string text = read(dir.path + "/" + unit);
+    const std::string text = read(dir.path() + "/" + unit);
     EXPECT_NE(text.find("ExecStart=" + source("")), std::string::npos) << unit << ":\n" << text;
     EXPECT_EQ(text.find("@ROOT@"), std::string::npos) << unit;
   }
   // The check is real: a unit whose program is missing fails it.
-  std::ofstream(dir.path + "/broken.service")
-      << "[Service]\nExecStart=" << dir.path << "/no_such_program\n";
-  ChildProcess verify({"/usr/bin/systemd-analyze", "verify", dir.path + "/broken.service"});
+  std::ofstream(dir.path() + "/broken.service")
+      << "[Service]\nExecStart=" << dir.path() << "/no_such_program\n";
+  ChildProcess verify({"/usr/bin/systemd-analyze", "verify", dir.path() + "/broken.service"});
   EXPECT_NE(verify.wait_for_exit(60s), 0) << verify.output();
 }
 
 TEST(Deploy, TheSimulatorsUnitStartsMacsim) {
-  TempDir dir;
-  ChildProcess install({source("deploy/install_services.sh"), dir.path});
+  TempDir dir("macsim_units_");
+  ChildProcess install({source("deploy/install_services.sh"), dir.path()});
   ASSERT_EQ(install.wait_for_exit(120s), 0) << install.output();
   // Expand ${VAR} in ExecStart from the unit's Environment= defaults, as systemd does
   // (no /etc/default/macsim here); keep the test on its own domain and on loopback.
-  const std::string text = read(dir.path + "/macsim.service");
+  const std::string text = read(dir.path() + "/macsim.service");
   std::map<std::string, std::string> env;
   std::string exec;
   std::istringstream lines(text);

@@ -3,9 +3,6 @@
 // robot but cannot touch the supervisor; an operator can; a participant without credentials
 // sees nothing.
 #include <gtest/gtest.h>
-#include <stdlib.h>
-
-#include <filesystem>
 
 #include "support/child_process.h"
 #include "support/test_domain.h"
@@ -18,23 +15,20 @@ using namespace std::chrono_literals;
 class Secured : public ::testing::Test {
  protected:
   void SetUp() override {
-    char pattern[] = "/tmp/macsim_security_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern), nullptr);
-    dir_ = pattern;
     ChildProcess make({source("deploy/security/make_security.sh"), dir_, "--localhost"});
     ASSERT_EQ(make.wait_for_exit(60s), 0) << make.output();
     domain_ = unique_test_domain();
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  /// Starts `argv` as `identity` (its Fast DDS profile), or with `profile` if given.
+  /// Starts `argv` as `identity` (its Fast DDS profile).
   ChildProcess as(const std::string& identity, std::vector<std::string> argv) const {
     ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", dir_ + "/" + identity + ".xml");
     argv.insert(argv.end(), {"--domain", std::to_string(domain_)});
     return ChildProcess(std::move(argv));
   }
 
-  std::string dir_;
+  TempDir temp_{"macsim_security_"};
+  const std::string dir_ = temp_.path();
   int domain_ = 0;
 };
 

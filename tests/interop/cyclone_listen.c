@@ -28,9 +28,34 @@ struct Subscription {
   int taken;
 };
 
+/* A reliable, volatile writer or reader (keep last 10) on a new topic: the QoS of macsim's
+ * commands, requests, replies and events. */
+static dds_qos_t* reliable_qos(void) {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 10);
+  return qos;
+}
+static dds_entity_t reliable_writer(dds_entity_t participant, const dds_topic_descriptor_t* type,
+                                    const char* name) {
+  dds_qos_t* qos = reliable_qos();
+  const dds_entity_t writer = dds_create_writer(
+      participant, dds_create_topic(participant, type, name, NULL, NULL), qos, NULL);
+  dds_delete_qos(qos);
+  return writer;
+}
+static dds_entity_t reliable_reader(dds_entity_t participant, const dds_topic_descriptor_t* type,
+                                    const char* name) {
+  dds_qos_t* qos = reliable_qos();
+  const dds_entity_t reader = dds_create_reader(
+      participant, dds_create_topic(participant, type, name, NULL, NULL), qos, NULL);
+  dds_delete_qos(qos);
+  return reader;
+}
+
 int main(int argc, char** argv) {
   if (argc < 2) {
-    printf("usage: cyclone_listen DOMAIN [SECONDS]\n");
+    printf("usage: cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME]\n");
     return 2;
   }
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
@@ -67,30 +92,17 @@ int main(int argc, char** argv) {
     subs[i].reader = dds_create_reader(participant, topic, qos, NULL);
     dds_delete_qos(qos);
   }
-  dds_entity_t crane_topic = dds_create_topic(participant, &kurt_msgs_msg_dds__CraneCommand__desc,
-                                              "rt/kurt/crane/command", NULL, NULL);
-  dds_qos_t* reliable = dds_create_qos();
-  dds_qset_reliability(reliable, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_entity_t crane_writer = dds_create_writer(participant, crane_topic, reliable, NULL);
-  dds_delete_qos(reliable);
+  dds_entity_t crane_writer =
+      reliable_writer(participant, &kurt_msgs_msg_dds__CraneCommand__desc, "rt/kurt/crane/command");
   kurt_msgs_msg_dds__CraneCommand_ lift = {0.0, 0.3, 0.0};
   /* The rotunit turns the laser (no 3D clouds while it stands): 2 rad/s over rt/kurt/rot_vel. */
-  dds_qos_t* rot_qos = dds_create_qos();
-  dds_qset_reliability(rot_qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_entity_t rot_writer = dds_create_writer(
-      participant, dds_create_topic(participant, &geometry_msgs_msg_dds__Twist__desc,
-                                    "rt/kurt/rot_vel", NULL, NULL), rot_qos, NULL);
-  dds_delete_qos(rot_qos);
+  dds_entity_t rot_writer =
+      reliable_writer(participant, &geometry_msgs_msg_dds__Twist__desc, "rt/kurt/rot_vel");
   /* The magnet (crane state reports it) and the wheels (odometry shows them) for 2 s. */
-  dds_qos_t* cmd_qos = dds_create_qos();
-  dds_qset_reliability(cmd_qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_entity_t magnet_writer = dds_create_writer(
-      participant, dds_create_topic(participant, &kurt_msgs_msg_dds__MagnetCommand__desc,
-                                    "rt/kurt/crane/magnet", NULL, NULL), cmd_qos, NULL);
-  dds_entity_t wheels_writer = dds_create_writer(
-      participant, dds_create_topic(participant, &kurt_msgs_msg_dds__WheelSpeeds__desc,
-                                    "rt/kurt/wheel_speeds", NULL, NULL), cmd_qos, NULL);
-  dds_delete_qos(cmd_qos);
+  dds_entity_t magnet_writer =
+      reliable_writer(participant, &kurt_msgs_msg_dds__MagnetCommand__desc, "rt/kurt/crane/magnet");
+  dds_entity_t wheels_writer =
+      reliable_writer(participant, &kurt_msgs_msg_dds__WheelSpeeds__desc, "rt/kurt/wheel_speeds");
   kurt_msgs_msg_dds__MagnetCommand_ magnet_on = {true};
   kurt_msgs_msg_dds__WheelSpeeds_ wheels = {0.15, 0.15};
   int magnet_seen = 0;
@@ -102,26 +114,17 @@ int main(int argc, char** argv) {
   /* The supervisor and the simulation control: request/reply pairs correlated in the payload
    * (client id + sequence number), reliable and volatile. A request is repeated every tick
    * until its reply comes (macsim answers a repeat without doing it again). */
-  dds_qos_t* rq = dds_create_qos();
-  dds_qset_reliability(rq, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_history(rq, DDS_HISTORY_KEEP_LAST, 10);
-  dds_entity_t sup_request = dds_create_writer(
-      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SupervisorRequest__desc,
-                                    "rt/macsim/supervisor/request", NULL, NULL), rq, NULL);
-  dds_entity_t sup_reply = dds_create_reader(
-      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SupervisorReply__desc,
-                                    "rt/macsim/supervisor/reply", NULL, NULL), rq, NULL);
-  dds_entity_t sim_request = dds_create_writer(
-      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SimulationRequest__desc,
-                                    "rt/macsim/simulation/request", NULL, NULL), rq, NULL);
-  dds_entity_t sim_reply = dds_create_reader(
-      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__SimulationReply__desc,
-                                    "rt/macsim/simulation/reply", NULL, NULL), rq, NULL);
+  dds_entity_t sup_request = reliable_writer(
+      participant, &macsim_msgs_msg_dds__SupervisorRequest__desc, "rt/macsim/supervisor/request");
+  dds_entity_t sup_reply = reliable_reader(
+      participant, &macsim_msgs_msg_dds__SupervisorReply__desc, "rt/macsim/supervisor/reply");
+  dds_entity_t sim_request = reliable_writer(
+      participant, &macsim_msgs_msg_dds__SimulationRequest__desc, "rt/macsim/simulation/request");
+  dds_entity_t sim_reply = reliable_reader(
+      participant, &macsim_msgs_msg_dds__SimulationReply__desc, "rt/macsim/simulation/reply");
   /* World events (reliable, volatile): the switch triggered through the supervisor below. */
-  dds_entity_t events = dds_create_reader(
-      participant, dds_create_topic(participant, &macsim_msgs_msg_dds__WorldEvent__desc,
-                                    "rt/macsim/world/events", NULL, NULL), rq, NULL);
-  dds_delete_qos(rq);
+  dds_entity_t events =
+      reliable_reader(participant, &macsim_msgs_msg_dds__WorldEvent__desc, "rt/macsim/world/events");
   macsim_msgs_msg_dds__SupervisorRequest_ request;
   memset(&request, 0, sizeof request);
   char empty[] = "";

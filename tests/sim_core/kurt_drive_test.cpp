@@ -100,4 +100,12 @@ TEST(KurtOdometry, YawWrapsIntoMinusPiToPi) {
 }
 
 }  // namespace
+TEST(KurtDrive, SpeedCmTruncatesTowardsZeroAndSaturatesAtTheFramesInt16) {
+  EXPECT_EQ(speed_cm(0.305), 30);
+  EXPECT_EQ(speed_cm(-0.305), -30);
+  EXPECT_EQ(speed_cm(0.009), 0);
+  EXPECT_EQ(speed_cm(1000.0), 32767);  // not wrapped to a reverse speed
+  EXPECT_EQ(speed_cm(-1000.0), -32768);
+}
+
 }  // namespace macsim

@@ -41,6 +41,19 @@ class ChildProcess {
   std::string output_path_;
 };
 
+/// A fresh directory under /tmp (named `prefix` + random), removed with everything in it.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix);
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
 /// Sets an environment variable for the children started while it lives, then restores it.
 class ScopedEnv {
  public:

@@ -29,7 +29,10 @@ struct WheelSpeeds {
 /// cmd_vel to wheel speeds as the real driver maps it: v -+ axis_length * omega (full track).
 WheelSpeeds wheel_speeds_from_twist(double linear, double angular, const KurtDriveParams& params);
 
-/// Speeds as the microcontroller receives them in SPEED_CM mode: whole cm/s, truncated.
+/// A speed as the driver puts it in a SPEED_CM frame: whole cm/s, truncated towards zero,
+/// saturated to the frame's int16.
+int speed_cm(double speed);
+/// Speeds as the microcontroller receives them in SPEED_CM mode (speed_cm(), back in m/s).
 WheelSpeeds quantize_to_speed_cm(WheelSpeeds speeds);
 
 /// Turns a continuous wheel angle into the per-frame tick deltas of the KURT's ENCODER frame.

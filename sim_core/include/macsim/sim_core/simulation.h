@@ -1,35 +1,18 @@
 // A world plus its command queue: commands from any thread are applied at one point per step.
 #pragma once
 
-#include <chrono>
-#include <condition_variable>
-#include <functional>
 #include <memory>
-#include <mutex>
-#include <vector>
 
+#include "macsim/sim_core/command_queue.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim {
 
-/// A change to the world, run on the simulation thread between two steps.
-using Command = std::function<void(World&)>;
-
-/// Thread-safe FIFO of commands; producers (e.g. DDS callbacks) only push.
-class CommandQueue {
- public:
-  void push(Command command);
-  /// Runs every queued command on `world`, in arrival order; returns how many ran.
-  std::size_t drain(World& world);
-  /// Blocks until a command is queued or `deadline` passes; true if commands wait.
-  bool wait_until(std::chrono::steady_clock::time_point deadline);
-
- private:
-  std::mutex mutex_;
-  std::condition_variable arrived_;
-  std::vector<Command> pending_;
-  std::vector<Command> running_;
-};
+/// The world's command queue: changes from any thread, run on the simulation thread between
+/// two steps.
+using CommandQueue = BasicCommandQueue<World&>;
+/// A change to the world.
+using Command = CommandQueue::Command;
 
 /// The simulation loop's core: drain the queue once, then step the world once.
 class Simulation {
