@@ -129,6 +129,10 @@ TEST_F(HelloKurtTest, KillingTheControllerStopsTheRobotAndANewControllerWorks) {
   const auto [odom_before, truth_before] = settled_samples();
   EXPECT_LT(distance(truth_before, *stopped), 0.005);  // and stays stopped
 
+  // A successor started while macsim still holds the killed participant (its 5 s lease) got no
+  // odometry in about one of ten loaded full runs (cause not pinned down; probably Fast DDS 2.9
+  // giving it the dead one's participant id and ports). After the lease it is served at once.
+  std::this_thread::sleep_for(5s);
   auto second = hello_kurt({"--distance", "0.5", "--discovery-timeout", "30"});
   ASSERT_EQ(second->wait_for_exit(90s), 0) << second->output();
   const auto [odom_after, truth_after] = settled_samples();
