@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "macsim/sim_core/simulation.h"
+#include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 
 int main(int argc, char** argv) {
@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   const double seconds = argc > 2 ? std::stod(argv[2]) : 10.0;
-  macsim::Simulation sim(macsim::load_world_file(argv[1]));
+  macsim::Runner sim(macsim::load_world_file(argv[1]));
   auto& world = sim.world();
   const auto steps = static_cast<long>(seconds / world.step_size());
   const auto start = std::chrono::steady_clock::now();

@@ -11,6 +11,8 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   # physics, XML, math, images
   libode-dev libtinyxml2-dev libeigen3-dev libopencv-dev
+  # the state hash (XXH3)
+  libxxhash-dev
   # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # the interactive window (freeglut on X) and a virtual X server for its tests

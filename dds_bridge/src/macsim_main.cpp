@@ -15,7 +15,7 @@
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
 #include "macsim/render/viewer.h"
-#include "macsim/sim_core/simulation.h"
+#include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 #include "sim_bridge.h"
 #include "simulation_server.h"
@@ -62,7 +62,7 @@ void print_status(const macsim::World& world) {
 }
 
 /// --snapshot: settle, render each requested camera mode offscreen, write the PNGs.
-int write_snapshots(macsim::Simulation& simulation, const std::vector<std::string>& requests,
+int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requests,
                     double settle, const std::string& size) {
   namespace render = macsim::render;
   std::vector<std::pair<render::CameraMode, std::string>> jobs;
@@ -90,11 +90,11 @@ int write_snapshots(macsim::Simulation& simulation, const std::vector<std::strin
     std::cerr << "macsim: --settle must not be negative\n";
     return 2;
   }
-  const auto steps = static_cast<long>(std::llround(settle / simulation.world().step_size()));
-  for (long i = 0; i < steps; ++i) simulation.step();
+  const auto steps = static_cast<long>(std::llround(settle / runner.world().step_size()));
+  for (long i = 0; i < steps; ++i) runner.step();
   try {
     render::OffscreenRenderer renderer(intrinsics.width, intrinsics.height);
-    const render::Scene scene = render::capture_scene(simulation.world());
+    const render::Scene scene = render::capture_scene(runner.world());
     for (const auto& [mode, file] : jobs) {
       const cv::Mat image = renderer.render(scene, render::camera_pose(mode, scene), intrinsics);
       if (!cv::imwrite(file, image)) {
@@ -172,24 +172,26 @@ int main(int argc, char** argv) {
     std::cerr << "macsim: --world FILE is required (see --help)\n";
     return 2;
   }
-  if (rtf <= 0.0 || duration < 0.0 || status_period < 0.0) {
+  if (!(rtf > 0.0) || !(duration >= 0.0) || !(status_period >= 0.0)) {
     std::cerr << "macsim: --rtf must be positive, --duration and --status not negative\n";
     return 2;
   }
   if (realtime) rtf = 1.0;
 
-  std::unique_ptr<macsim::Simulation> simulation;
+  std::unique_ptr<macsim::Runner> runner;
   try {
     auto spec = macsim::load_world_file(
         world_file, [](const std::string& warning) { std::cerr << warning << "\n"; });
     print_summary(spec);
-    simulation = std::make_unique<macsim::Simulation>(std::move(spec));
+    runner = std::make_unique<macsim::Runner>(
+        std::move(spec),
+        macsim::RunSettings{paused || lockstep, as_fast_as_possible ? 0.0 : rtf});
   } catch (const macsim::WorldFileError& e) {
     std::cerr << "macsim: " << e.what() << std::endl;
     return 1;
   }
   if (validate) return 0;
-  if (!snapshots.empty()) return write_snapshots(*simulation, snapshots, settle, snapshot_size);
+  if (!snapshots.empty()) return write_snapshots(*runner, snapshots, settle, snapshot_size);
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -219,11 +221,9 @@ int main(int argc, char** argv) {
                 << cameras << "'\n";
       return 2;
     }
-    macsim::SimBridge bridge(dds, *simulation, bridge_options);
-    macsim::SupervisorServer supervisor(dds, *simulation);
-    macsim::SimulationServer control(
-        dds, *simulation,
-        macsim::LoopControl{paused || lockstep, as_fast_as_possible ? 0.0 : rtf, 0});
+    macsim::SimBridge bridge(dds, *runner, bridge_options);
+    macsim::SupervisorServer supervisor(dds, *runner);
+    macsim::SimulationServer control(dds, *runner);
     std::cout << "macsim: serving on DDS domain " << participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
     for (const auto& topic : macsim::SupervisorServer::topic_names())
@@ -246,58 +246,35 @@ int main(int argc, char** argv) {
 
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    auto next = start;
     auto next_status = start;
     const uint64_t last_step =
-        duration > 0
-            ? static_cast<uint64_t>(std::llround(duration / simulation->world().step_size()))
-            : UINT64_MAX;
+        duration > 0 ? static_cast<uint64_t>(std::llround(duration / runner->world().step_size()))
+                     : UINT64_MAX;
     // The viewer (if any) gets a copy of the scene about 30 times a second of wall time.
     std::mutex scene_mutex;
-    macsim::render::Scene latest_scene = macsim::render::capture_scene(simulation->world());
+    macsim::render::Scene latest_scene = macsim::render::capture_scene(runner->world());
     auto next_scene = start;
     std::atomic<bool> finished{false};
-    auto loop = [&] {
-      while (!g_stop.load() && simulation->world().steps() < last_step) {
-        if (!control.should_step()) {  // paused or waiting for lock-step requests
-          // Requests are served as they come (between steps), not on a polling tick.
-          if (simulation->commands().wait_until(Clock::now() + std::chrono::milliseconds(50))) {
-            simulation->apply_commands();
-          }
-          next = Clock::now();
-          continue;
-        }
-        bridge.poll_commands();
-        simulation->step();
-        bridge.publish();
-        // Steps on request (lock-step): the step is done when its data is out, images included.
-        if (control.control().pending_steps > 0) bridge.wait_for_cameras();
-        supervisor.publish();
-        control.after_publish();  // lock-step: the step is done once its data is out
-        if (viewer && Clock::now() >= next_scene) {
-          std::lock_guard<std::mutex> lock(scene_mutex);
-          latest_scene = macsim::render::capture_scene(simulation->world());
-          next_scene = Clock::now() + std::chrono::milliseconds(33);
-        }
-        if (status_period > 0 && Clock::now() >= next_status) {
-          print_status(simulation->world());
-          next_status += std::chrono::duration_cast<Clock::duration>(
-              std::chrono::duration<double>(status_period));
-        }
-        const double pace = control.control().real_time_factor;
-        // Lock-step and paused stepping are paced by the requests, not by the clock.
-        if (pace > 0 && !control.control().paused && control.control().pending_steps == 0) {
-          next += std::chrono::duration_cast<Clock::duration>(
-              std::chrono::duration<double>(simulation->world().step_size() / pace));
-          const auto now = Clock::now();
-          if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
-          // Until the next step is due, serve requests as they come (between steps).
-          while (simulation->commands().wait_until(next)) {
-            simulation->apply_commands();
-            if (control.control().pending_steps > 0) break;  // a step request: go now
-          }
-        }
+    macsim::StepHooks hooks;
+    hooks.before_step = [&] { bridge.poll_commands(); };
+    hooks.after_step = [&](macsim::World& world) {
+      bridge.publish();
+      // Steps on request (lock-step): the step is done when its data is out, images included.
+      if (runner->stepping_on_request()) bridge.wait_for_cameras();
+      supervisor.publish();
+      if (viewer && Clock::now() >= next_scene) {
+        std::lock_guard<std::mutex> lock(scene_mutex);
+        latest_scene = macsim::render::capture_scene(world);
+        next_scene = Clock::now() + std::chrono::milliseconds(33);
       }
+      if (status_period > 0 && Clock::now() >= next_status) {
+        print_status(world);
+        next_status += std::chrono::duration_cast<Clock::duration>(
+            std::chrono::duration<double>(status_period));
+      }
+    };
+    auto loop = [&] {
+      runner->run(g_stop, last_step, hooks);
       finished.store(true);
     };
     if (viewer) {
@@ -316,7 +293,7 @@ int main(int argc, char** argv) {
       loop();
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-    const auto& world = simulation->world();
+    const auto& world = runner->world();
     std::printf(
         "macsim: stopped at sim time %.3f s after %llu steps in %.3f s wall: %.0f steps/s, "
         "real-time factor %.2f\n",

@@ -149,13 +149,12 @@ sm::CameraInfo_ camera_info(const render::CameraIntrinsics& in, double stamp,
 
 }  // namespace
 
-SimBridge::SimBridge(dds::Participant& participant, Simulation& simulation,
-                     const BridgeOptions& options)
-    : simulation_(simulation),
+SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const BridgeOptions& options)
+    : runner_(runner),
       options_(options),
       clock_(new Clock{{participant, dds::topics::kClock, QosFamily::Sensor}}) {
-  CommandQueue& queue = simulation.commands();
-  for (const auto& robot : simulation.world().robots()) {
+  Runner& queue = runner;
+  for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     auto topics = std::make_unique<RobotTopics>(participant, name,
                                                 robot->config().laser == LaserMount::Rotating);
@@ -253,9 +252,11 @@ void SimBridge::poll_commands() {
 }
 
 void SimBridge::publish() {
-  World& world = simulation_.world();
+  World& world = runner_.world();
   const double now = world.time();
-  if (now < last_time_) {  // reset or a new world: start the schedules again
+  if (now < last_time_ || runner_.generation() != generation_) {
+    // A reset or a new world: start the schedules again.
+    generation_ = runner_.generation();
     next_clock_time_ = now;
     for (auto& t : robots_) {
       t->next_camera_time = now;
@@ -319,7 +320,7 @@ void SimBridge::publish_robot(RobotTopics& t, KurtRobot& robot, double now) {
     const bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
                                    [](const auto& rig) { return rig->idle(); });
     if (ready) {
-      const render::Scene scene = render::capture_scene(simulation_.world());
+      const render::Scene scene = render::capture_scene(runner_.world());
       for (auto& rig : t.cameras) rig->submit(scene);
     } else {
       ++t.stereo_skipped;

@@ -1,4 +1,4 @@
-// Maps one Simulation onto DDS topics: commands in (queued), clock and robot data out.
+// Maps one Runner onto DDS topics: commands in (queued), clock and robot data out.
 #pragma once
 
 #include <memory>
@@ -7,7 +7,7 @@
 
 #include "macsim/dds/participant.h"
 #include "macsim/render/renderer.h"
-#include "macsim/sim_core/simulation.h"
+#include "macsim/sim_core/runner.h"
 
 namespace macsim {
 
@@ -18,12 +18,12 @@ struct BridgeOptions {
   double camera_rate = 15.0;        ///< Hz of sim time
 };
 
-/// Serves a simulation over DDS. Reader callbacks only push commands onto the simulation's
+/// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's
 /// queue; publish() runs on the simulation thread after each step. Camera images are rendered
 /// and published on a thread of their own from copies of the scene.
 class SimBridge {
  public:
-  SimBridge(dds::Participant& participant, Simulation& simulation, const BridgeOptions& options);
+  SimBridge(dds::Participant& participant, Runner& runner, const BridgeOptions& options);
   ~SimBridge();
 
   /// Queues every robot command already received (call right before a step: a command its
@@ -44,10 +44,11 @@ class SimBridge {
   struct RobotTopics;
   void publish_robot(RobotTopics& topics, KurtRobot& robot, double now);
 
-  Simulation& simulation_;
+  Runner& runner_;
   BridgeOptions options_;
   double next_clock_time_ = 0.0;
   double last_time_ = 0.0;
+  uint64_t generation_ = 0;  // of the world whose schedules run
   struct Clock;
   std::unique_ptr<Clock> clock_;
   std::vector<std::unique_ptr<RobotTopics>> robots_;

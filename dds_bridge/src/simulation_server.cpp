@@ -1,7 +1,5 @@
 #include "simulation_server.h"
 
-#include <cmath>
-
 #include "macsim/dds/topics.h"
 #include "macsim/sim_core/world_loader.h"
 
@@ -9,16 +7,32 @@ namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
 
-SimulationServer::SimulationServer(dds::Participant& participant, Simulation& simulation,
-                                   LoopControl initial)
-    : simulation_(simulation),
-      control_(initial),
+SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner)
+    : runner_(runner),
       replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command) {
-  // On Fast DDS's thread: queue the request; it runs on the simulation thread.
+  // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
+  // as a load, so that its file is parsed at once, off the simulation thread.
   requests_ = std::make_unique<dds::Reader<mm::SimulationRequest_PubSubType>>(
       participant, dds::topics::kSimulationRequest, dds::QosFamily::Command,
       [this](const Request& r) {
-        simulation_.commands().push([this, r](World&) { execute(r); });
+        if (r.command() != mm::SIM_LOAD_WORLD) {
+          runner_.push([this, r](World&) { execute(r); });
+          return;
+        }
+        {
+          std::lock_guard<std::mutex> lock(loads_mutex_);
+          auto [last, fresh] = last_load_.try_emplace(r.client_id(), r.sequence_number());
+          if (!fresh && last->second == r.sequence_number()) {
+            // Sent again: never load twice; answer again once the first load is answered.
+            runner_.push([this, r](World&) { repeated(r); });
+            return;
+          }
+          last->second = r.sequence_number();
+        }
+        runner_.load([file = r.world_file()] { return load_world_file(file); },
+                     [this, r](const LoadOutcome& outcome) {
+                       send(reply_to(r, outcome.ok ? mm::ERR_OK : mm::ERR_BAD_FILE, outcome.error));
+                     });
       });
 }
 
@@ -31,67 +45,56 @@ SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
   r.sequence_number(q.sequence_number());
   r.code(code);
   r.message(message);
-  const World& world = simulation_.world();
+  const World& world = runner_.world();
   r.sim_time(world.time());
   r.steps(world.steps());
   r.state_hash(world.state_hash());
-  r.paused(control_.paused);
-  r.real_time_factor(control_.real_time_factor);
+  r.paused(runner_.settings().paused);
+  r.real_time_factor(runner_.settings().real_time_factor);
   r.features("simulator,supervisor,lockstep,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
   return r;
 }
 
-void SimulationServer::execute(const Request& q) {
+bool SimulationServer::repeated(const Request& q) {
   // A client that did not hear its reply sends the same request again: answer, do not redo.
   if (stepping_ && stepping_->client_id() == q.client_id() &&
       stepping_->sequence_number() == q.sequence_number()) {
-    return;  // still stepping for it: the reply comes when the steps are done
+    return true;  // still stepping for it: the reply comes when the steps are done
   }
   if (auto last = last_reply_.find(q.client_id());
       last != last_reply_.end() && last->second.sequence_number() == q.sequence_number()) {
     replies_.write(last->second);
-    return;
+    return true;
   }
+  return false;
+}
+
+void SimulationServer::execute(const Request& q) {
+  if (repeated(q)) return;
   switch (q.command()) {
     case mm::SIM_PAUSE:
-      control_.paused = true;
+      runner_.pause();
       break;
     case mm::SIM_RUN:
-      control_.paused = false;
+      runner_.resume();
       break;
     case mm::SIM_SET_RTF:
-      if (!std::isfinite(q.real_time_factor()) || q.real_time_factor() < 0) {
+      if (!runner_.set_real_time_factor(q.real_time_factor())) {
         replies_.write(reply_to(q, mm::ERR_INVALID_ARGUMENT, "real_time_factor must be >= 0"));
         return;
       }
-      control_.real_time_factor = q.real_time_factor();
       break;
     case mm::SIM_STEP:
-      if (stepping_) {
+      if (q.steps() == 0) break;  // zero steps: answered at once
+      if (!runner_.request_steps(q.steps(), [this, q] {
+            stepping_.reset();
+            send(reply_to(q, mm::ERR_OK, ""));
+          })) {
         replies_.write(reply_to(q, mm::ERR_INVALID_ARGUMENT, "a step request is still running"));
         return;
       }
-      if (q.steps() == 0) break;  // zero steps: answered at once
-      control_.pending_steps = q.steps();
       stepping_ = q;
-      return;  // answered by after_publish()
-    case mm::SIM_LOAD_WORLD:
-      try {
-        WorldSpec spec = load_world_file(q.world_file());
-        std::vector<std::string> old_robots, new_robots;
-        for (const auto& r : simulation_.world().robots()) old_robots.push_back(r->name());
-        for (const auto& r : spec.robots) new_robots.push_back(r.name);
-        if (old_robots != new_robots) {
-          replies_.write(reply_to(q, mm::ERR_INVALID_ARGUMENT,
-                                  "the new world must have the same robots (names) as this one"));
-          return;
-        }
-        simulation_.load(std::move(spec));  // publishers restart their schedules by themselves
-      } catch (const WorldFileError& e) {
-        replies_.write(reply_to(q, mm::ERR_BAD_FILE, e.what()));
-        return;
-      }
-      break;
+      return;  // answered when its last step's data is out
     case mm::SIM_FEATURES:
     case mm::SIM_STATUS:
       break;
@@ -106,14 +109,6 @@ void SimulationServer::execute(const Request& q) {
 void SimulationServer::send(const Reply& reply) {
   last_reply_[reply.client_id()] = reply;
   replies_.write(reply);
-}
-
-void SimulationServer::after_publish() {
-  if (!stepping_ || control_.pending_steps == 0) return;
-  if (--control_.pending_steps == 0) {
-    send(reply_to(*stepping_, mm::ERR_OK, ""));
-    stepping_.reset();
-  }
 }
 
 }  // namespace macsim

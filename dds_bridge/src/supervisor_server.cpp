@@ -118,8 +118,8 @@ const char* event_name(WorldEvent::Type type) {
 
 }  // namespace
 
-SupervisorServer::SupervisorServer(dds::Participant& participant, Simulation& simulation)
-    : simulation_(simulation),
+SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner)
+    : runner_(runner),
       replies_(participant, dds::topics::kSupervisorReply, QosFamily::Command),
       objects_(participant, dds::topics::kWorldObjects, QosFamily::Latched),
       doors_(participant, dds::topics::kWorldDoors, QosFamily::Latched),
@@ -127,7 +127,7 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Simulation& si
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later.
   requests_ = std::make_unique<dds::Reader<mm::SupervisorRequest_PubSubType>>(
       participant, dds::topics::kSupervisorRequest, QosFamily::Command, [this](const Request& r) {
-        simulation_.commands().push([this, r](World& world) { execute(r, world); });
+        runner_.push([this, r](World& world) { execute(r, world); });
       });
 }
 
@@ -239,9 +239,9 @@ void SupervisorServer::execute(const Request& q, World& world) {
         world.reset(static_cast<ResetScope>(q.index()));
       }
       break;
-    case mm::OP_SAVE_SNAPSHOT: snapshots_[q.name()] = world.snapshot(); break;
+    case mm::OP_SAVE_SNAPSHOT: runner_.snapshots()[q.name()] = world.snapshot(); break;
     case mm::OP_RESTORE_SNAPSHOT:
-      if (auto found = snapshots_.find(q.name()); found != snapshots_.end()) {
+      if (auto found = runner_.snapshots().find(q.name()); found != runner_.snapshots().end()) {
         status = world.restore(found->second);
       } else {
         status = Status::error(ErrorCode::InvalidArgument, "no snapshot named '" + q.name() + "'");
@@ -265,6 +265,16 @@ void SupervisorServer::execute(const Request& q, World& world) {
 
 void SupervisorServer::publish_world_state(World& world) {
   const double now = world.time();
+  if (runner_.generation() != generation_) {
+    // Ids belong to one world: every instance of the old world goes, whatever its id.
+    for (uint32_t gone : published_ids_) {
+      mm::ObjectState_ state;
+      state.id(gone);
+      objects_.dispose(state);
+    }
+    published_ids_.clear();
+    generation_ = runner_.generation();
+  }
   std::set<uint32_t> present;
   for (ObjectId id : world.object_ids()) {
     mm::ObjectState_ state;
@@ -299,7 +309,7 @@ std::vector<std::string> SupervisorServer::topic_names() {
 }
 
 void SupervisorServer::publish() {
-  World& world = simulation_.world();
+  World& world = runner_.world();
   for (const auto& e : world.take_events()) {
     mm::WorldEvent_ event;
     event.stamp(e.time);
@@ -308,7 +318,9 @@ void SupervisorServer::publish() {
     event.detail(e.detail);
     events_.write(event);
   }
-  if (world.time() < last_time_) next_state_time_ = world.time();  // reset or a new world
+  if (world.time() < last_time_ || runner_.generation() != generation_) {
+    next_state_time_ = world.time();  // a reset or a new world: publish its state now
+  }
   last_time_ = world.time();
   if (world.time() + 1e-9 >= next_state_time_) {
     next_state_time_ = world.time() + 0.1;

@@ -10,7 +10,7 @@
 
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
-#include "macsim/sim_core/simulation.h"
+#include "macsim/sim_core/runner.h"
 
 namespace macsim {
 
@@ -18,7 +18,7 @@ namespace macsim {
 /// between two steps, in arrival order; each gets exactly one reply.
 class SupervisorServer {
  public:
-  SupervisorServer(dds::Participant& participant, Simulation& simulation);
+  SupervisorServer(dds::Participant& participant, Runner& runner);
   ~SupervisorServer();
 
   /// Publishes the world state every 0.1 s of sim time, and the events of the last step.
@@ -33,11 +33,11 @@ class SupervisorServer {
   void execute(const Request& request, World& world);
   void publish_world_state(World& world);
 
-  Simulation& simulation_;
+  Runner& runner_;
   double next_state_time_ = 0.0;
   double last_time_ = 0.0;
+  uint64_t generation_ = 0;           // of the world published_ids_ belong to
   std::set<uint32_t> published_ids_;
-  std::map<std::string, WorldSnapshot> snapshots_;
   std::map<std::string, Reply> last_reply_;  // by client: a repeated request gets its reply again
   dds::Writer<macsim_msgs::msg::dds_::SupervisorReply_PubSubType> replies_;
   dds::Writer<macsim_msgs::msg::dds_::ObjectState_PubSubType> objects_;

@@ -43,6 +43,18 @@ dBodyID make_body(dWorldID world, const Pose& pose, const dMass& mass) {
   return body;
 }
 
+
+/// A robot's state as built: encoders and odometry from the drive parameters, seeded noise.
+KurtRobot::State initial_state(const KurtConfig& config) {
+  KurtRobot::State s;
+  s.encoders = {EncoderCounter(config.drive.ticks_per_turn),
+                EncoderCounter(config.drive.ticks_per_turn)};
+  s.odometry = KurtOdometry(config.drive);
+  s.noise_rng.seed(config.noise_seed);
+  s.next_frame_time = config.drive.frame_period;
+  return s;
+}
+
 }  // namespace
 
 const std::array<RangeSensorSpec, 8>& kurt_range_sensors() {
@@ -73,11 +85,7 @@ KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int 
           GeomTag{collision_group, config.body.wheel_friction, 0.0, 0.1, nullptr})),
       crane_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.8, 0.0, 0.1, nullptr})),
       rays_(std::make_unique<detail::RayCaster>(space, collision_group)),
-      state_{{}, {}, -1e9, {}, {},
-             {EncoderCounter(config.drive.ticks_per_turn), EncoderCounter(config.drive.ticks_per_turn)},
-             KurtOdometry(config.drive), config.drive.frame_period, 0,
-             0.0, 0.0, 0.0, {}, false, "", 0.0, 0.0, 0.0, 0.0, 0, 0,
-             std::mt19937(config.noise_seed), std::normal_distribution<double>(0.0, 1.0)} {
+      state_{initial_state(config)} {
   detail::ensure_ode_ready();
   const KurtBodyParams& body = config_.body;
   const double r = config_.drive.wheel_radius();
@@ -124,7 +132,7 @@ KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int 
     geoms_.push_back(geom);
   }
   if (config_.crane) build_crane(world, space, {base_link, q});
-  for (std::size_t i = 0; i < ranges_.size(); ++i) ranges_[i] = {&kurt_range_sensors()[i], kInvalidRange};
+  for (std::size_t i = 0; i < state_.ranges.size(); ++i) state_.ranges[i] = {&kurt_range_sensors()[i], kInvalidRange};
   state_.start_yaw = state_.last_yaw = yaw_of(q);
   command_rotunit(config_.rotunit_speed);
   state_.next_scan_time = 1.0 / config_.laser_rate;
@@ -289,7 +297,7 @@ void KurtRobot::after_step(double now, double step) {
 
 void KurtRobot::read_frame_sensors(double now) {
   const Pose base = base_link_pose();
-  for (std::size_t i = 0; i < ranges_.size() && config_.range_sensors; ++i) {
+  for (std::size_t i = 0; i < state_.ranges.size() && config_.range_sensors; ++i) {
     const RangeSensorSpec& s = kurt_range_sensors()[i];
     const Eigen::Vector3d origin = base.position + base.orientation * Eigen::Vector3d(s.x, s.y, 0);
     // Three rays across the cone: the nearest echo wins, as the real sensors report.
@@ -304,48 +312,53 @@ void KurtRobot::read_frame_sensors(double now) {
     // from 0.10 only up to 0.53 m, ultrasound only from 0.23 m.
     const bool echo = nearest >= s.min_range && nearest <= s.max_range;
     const int raw = !echo ? 0 : s.sonar ? sonar_raw_from_range(nearest) : ir_raw_from_range(nearest);
-    ranges_[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
+    state_.ranges[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
   }
   double noise = 0.0;
   if (config_.gyro_noise > 0) noise = config_.gyro_noise * state_.noise(state_.noise_rng);
   const Eigen::Vector3d x = base.orientation * Eigen::Vector3d::UnitX();
   const Eigen::Vector3d y = base.orientation * Eigen::Vector3d::UnitY();
-  imu_.yaw = wrap(state_.yaw_unwrapped - state_.start_yaw + config_.gyro_drift * now + noise);
-  imu_.yaw_rate = angular_velocity().z();
-  imu_.pitch = -std::asin(std::clamp(x.z(), -1.0, 1.0));
-  imu_.roll = std::asin(std::clamp(y.z(), -1.0, 1.0));
-  imu_.yaw_variance = config_.gyro_noise * config_.gyro_noise;
+  state_.imu.yaw = wrap(state_.yaw_unwrapped - state_.start_yaw + config_.gyro_drift * now + noise);
+  state_.imu.yaw_rate = angular_velocity().z();
+  state_.imu.pitch = -std::asin(std::clamp(x.z(), -1.0, 1.0));
+  state_.imu.roll = std::asin(std::clamp(y.z(), -1.0, 1.0));
+  state_.imu.yaw_variance = config_.gyro_noise * config_.gyro_noise;
 }
 
 void KurtRobot::sweep_laser(double now) {
   const Pose base = base_link_pose();
   const bool rotating = config_.laser == LaserMount::Rotating;
+  const bool turning = rotating && state_.rotunit_speed != 0.0;
   // KURT360: the LMS200 on the rotating unit behind the crane, 0.35 m above base_link;
   // KURT2: fixed at the front, 0.11 m above base_link (kurt_driver's URDFs).
-  scan_.origin = rotating ? Eigen::Vector3d(-0.10, 0, 0.35) : Eigen::Vector3d(0.145, 0, 0.11);
-  scan_.stamp = now;
-  scan_.angle_min = -M_PI / 2;
-  scan_.angle_increment = M_PI / 180;
-  scan_.rotunit_angle = rotunit_angle();
-  scan_.ranges.assign(181, std::numeric_limits<float>::infinity());
-  const Eigen::Vector3d origin = base.position + base.orientation * scan_.origin;
+  state_.scan.origin = rotating ? Eigen::Vector3d(-0.10, 0, 0.35) : Eigen::Vector3d(0.145, 0, 0.11);
+  state_.scan.stamp = now;
+  state_.scan.angle_min = -M_PI / 2;
+  state_.scan.angle_increment = M_PI / 180;
+  state_.scan.rotunit_angle = rotunit_angle();
+  state_.scan.ranges.assign(181, std::numeric_limits<float>::infinity());
+  const Eigen::Vector3d origin = base.position + base.orientation * state_.scan.origin;
   const Eigen::Matrix3d turn =
-      Eigen::AngleAxisd(scan_.rotunit_angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      Eigen::AngleAxisd(state_.scan.rotunit_angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   for (int i = 0; i < 181; ++i) {
-    const double a = scan_.angle_min + i * scan_.angle_increment;
+    const double a = state_.scan.angle_min + i * state_.scan.angle_increment;
     const Eigen::Vector3d local = rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
                                            : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
-    const auto hit = rays_->cast(origin, base.orientation * local, scan_.range_max);
-    if (!hit || *hit < scan_.range_min) continue;
+    const auto hit = rays_->cast(origin, base.orientation * local, state_.scan.range_max);
+    if (!hit || *hit < state_.scan.range_min) continue;
     const double range = *hit + config_.laser_noise * state_.noise(state_.noise_rng);
-    scan_.ranges[i] = static_cast<float>(range);
-    if (rotating) cloud_in_progress_.points.push_back((scan_.origin + local * range).cast<float>());
+    state_.scan.ranges[i] = static_cast<float>(range);
+    if (turning) state_.cloud_in_progress.points.push_back((state_.scan.origin + local * range).cast<float>());
   }
   ++state_.scans;
+  if (rotating && !turning) {  // a cloud is one revolution: none is assembled while it stands
+    state_.cloud_in_progress = PointCloud{};
+    state_.cloud_start_angle = state_.rotunit_angle;
+  }
   if (rotating && std::fabs(state_.rotunit_angle - state_.cloud_start_angle) >= 2 * M_PI) {
-    cloud_in_progress_.stamp = now;
-    cloud_ = std::move(cloud_in_progress_);
-    cloud_in_progress_ = PointCloud{};
+    state_.cloud_in_progress.stamp = now;
+    state_.cloud = std::move(state_.cloud_in_progress);
+    state_.cloud_in_progress = PointCloud{};
     state_.cloud_start_angle = state_.rotunit_angle;
     ++state_.clouds;
   }
@@ -433,7 +446,7 @@ std::vector<std::pair<std::string, std::string>> KurtRobot::take_events() {
   return out;
 }
 
-void KurtRobot::set_controller_state(const ControllerState& state) {
+void KurtRobot::set_state(const State& state) {
   if (hold_) {
     dJointDestroy(hold_);
     hold_ = nullptr;

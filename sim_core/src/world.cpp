@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
+#include <cstring>
 
 #include "macsim/sim_core/robot_types.h"
 #include "macsim/sim_core/world_loader.h"
@@ -35,8 +36,46 @@ BodyState body_state(dBodyID body) {
           vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)), dBodyIsEnabled(body) != 0};
 }
 
+namespace {
+/// Sets a body's quaternion so that ODE holds exactly `q`, bit for bit, when it can. ODE
+/// multiplies what it is given by 1/|q|, which moves a quaternion it normalized itself by an ulp
+/// or two, so q is given divided by a factor 1/|q'| may take near 1 (a few ulps either way).
+void set_exact_quaternion(dBodyID body, const Eigen::Quaterniond& orientation) {
+  dQuaternion q;
+  to_ode(orientation, q);
+  auto exact = [&] { return std::memcmp(dBodyGetQuaternion(body), q, sizeof q) == 0; };
+  dBodySetQuaternion(body, q);
+  if (exact()) return;
+  double down = 1.0, up = 1.0;
+  for (int k = 0; k < 8; ++k) {
+    down = std::nextafter(down, 0.0);
+    up = std::nextafter(up, 2.0);
+    for (const double factor : {down, up}) {
+      dQuaternion trial;
+      bool found = true;
+      for (int i = 0; i < 4 && found; ++i) {
+        const double guess = q[i] / factor;
+        found = false;
+        for (const double c : {guess, std::nextafter(guess, -INFINITY), std::nextafter(guess, INFINITY)}) {
+          if (c * factor == q[i]) {
+            trial[i] = c;
+            found = true;
+            break;
+          }
+        }
+      }
+      if (!found) continue;
+      dBodySetQuaternion(body, trial);
+      if (exact()) return;
+    }
+  }
+  dBodySetQuaternion(body, q);  // none found: within ODE's renormalization of it (~1e-16)
+}
+}  // namespace
+
 void set_body_state(dBodyID body, const BodyState& s) {
-  set_body_pose(body, {s.position, s.orientation});
+  dBodySetPosition(body, s.position.x(), s.position.y(), s.position.z());
+  set_exact_quaternion(body, s.orientation);
   dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
   dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
   if (s.enabled) {
@@ -98,7 +137,8 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
   }
   random_seed_ = spec_.physics.seed;
   build();
-  initial_ = snapshot();
+  initial_ = state();
+  fingerprint_ = world_fingerprint();
 }
 
 World::~World() { clear_ode(); }
@@ -502,11 +542,11 @@ void World::update_doors() {
       const double pos = dJointGetSliderPosition(door->switch_joint->joint);
       pressed = pos <= s.lo + 0.1 * (s.hi - s.lo);  // pressed fully (within 10 % of travel)
     }
-    const bool triggered = door->virtual_trigger || pressed;
-    if (triggered != door->triggered) {
-      door->triggered = triggered;
+    const bool triggered = door->flags.virtual_trigger || pressed;
+    if (triggered != door->flags.triggered) {
+      door->flags.triggered = triggered;
       emit(triggered ? WorldEvent::Type::SwitchTriggered : WorldEvent::Type::SwitchReleased,
-           door->spec.name, door->virtual_trigger ? "virtual" : "pressed");
+           door->spec.name, door->flags.virtual_trigger ? "virtual" : "pressed");
     }
     Joint* j = door->door_joint;
     if (!j || !j->joint) continue;
@@ -560,10 +600,10 @@ void World::step() {
     }
   }
   for (auto& door : doors_) {
-    const DoorGap before = door->gap;
-    door->gap = door_state_of(*door).gap;
-    if (door->gap != before && door->gap != DoorGap::Half) {
-      emit(door->gap == DoorGap::Open ? WorldEvent::Type::DoorOpened : WorldEvent::Type::DoorClosed,
+    const DoorGap before = door->flags.gap;
+    door->flags.gap = door_state_of(*door).gap;
+    if (door->flags.gap != before && door->flags.gap != DoorGap::Half) {
+      emit(door->flags.gap == DoorGap::Open ? WorldEvent::Type::DoorOpened : WorldEvent::Type::DoorClosed,
            door->spec.name);
     }
   }
@@ -571,8 +611,8 @@ void World::step() {
 
 DoorState World::door_state_of(const Door& door) const {
   DoorState state;
-  state.virtually_triggered = door.virtual_trigger;
-  state.triggered = door.triggered;
+  state.virtually_triggered = door.flags.virtual_trigger;
+  state.triggered = door.flags.triggered;
   if (door.switch_joint && door.switch_joint->joint) {
     const JointSpec& s = door.switch_joint->spec;
     const double pos = dJointGetSliderPosition(door.switch_joint->joint);

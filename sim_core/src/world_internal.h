@@ -31,9 +31,7 @@ struct World::Door {
   DoorSpec spec;
   Joint* door_joint = nullptr;
   Joint* switch_joint = nullptr;
-  bool virtual_trigger = false;
-  bool triggered = false;
-  DoorGap gap = DoorGap::Closed;
+  DoorFlags flags;
 };
 
 namespace detail {

@@ -1,61 +1,176 @@
-// World: snapshot, restore, reset and the state hash.
+// World: its complete state (by part), snapshots, restore, reset and the state hash. Each part's
+// fields are listed once, in its archive() below; saving, reading back and hashing all use them.
+#include "macsim/sim_core/world_state.h"
+
 #include <algorithm>
-#include <cstring>
 #include <map>
 
 #include "macsim/sim_core/world.h"
+#include "state_archive.h"
 #include "world_internal.h"
 
 namespace macsim {
 
-namespace {
+// ---- the field lists ------------------------------------------------------------------------
 
-/// FNV-1a over raw bytes: cheap, stable, and equal for bit-identical states.
-class Hasher {
- public:
-  void add(const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) {
-      hash_ ^= bytes[i];
-      hash_ *= 1099511628211ull;
+template <class Ar>
+void archive(Ar& ar, Pose& p) {
+  ar(p.position, p.orientation);
+}
+template <class Ar>
+void archive(Ar& ar, SourceLocation& s) {
+  ar(s.file, s.line);
+}
+template <class Ar>
+void archive(Ar& ar, ComponentSpec& c) {
+  ar(c.shape, c.size, c.pose, c.color, c.texture);
+}
+template <class Ar>
+void archive(Ar& ar, RampGeometry& r) {
+  ar(r.width, r.height, r.angle);
+}
+template <class Ar>
+void archive(Ar& ar, ObjectSpec& o) {
+  ar(o.name, o.kind, o.portable, o.components, o.pose, o.density, o.material, o.magnetizable,
+     o.frozen, o.user_data, o.user_color, o.user_shape, o.ramp, o.source);
+}
+template <class Ar>
+void archive(Ar& ar, JointSpec& j) {
+  ar(j.name, j.type, j.body1, j.body2, j.axis, j.anchor, j.lo, j.hi, j.max_force, j.velocity,
+     j.source);
+}
+template <class Ar>
+void archive(Ar& ar, DoorSpec& d) {
+  ar(d.name, d.switch_base, d.switch_platform, d.switch_joint, d.frame, d.leaf, d.door_joint,
+     d.source);
+}
+template <class Ar>
+void archive(Ar& ar, DoorFlags& f) {
+  ar(f.virtual_trigger, f.triggered, f.gap);
+}
+template <class Ar>
+void archive(Ar& ar, BodyState& b) {
+  ar(b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.enabled);
+}
+template <class Ar>
+void archive(Ar& ar, WheelSpeeds& w) {
+  ar(w.left, w.right);
+}
+template <class Ar>
+void archive(Ar& ar, EncoderCounter& e) {
+  e.fields(ar);
+}
+template <class Ar>
+void archive(Ar& ar, KurtOdometry& o) {
+  o.fields(ar);
+}
+template <class Ar>
+void archive(Ar& ar, CraneCommand& c) {
+  ar(c.slew, c.lift, c.hoist);
+}
+template <class Ar>
+void archive(Ar& ar, RangeReading& r) {
+  // The sensor is one of the robot's eight: stored as its index.
+  const auto& sensors = kurt_range_sensors();
+  int32_t index = r.sensor ? static_cast<int32_t>(r.sensor - sensors.data()) : -1;
+  ar(index, r.range);
+  if constexpr (Ar::kReading) {
+    if (index < -1 || index >= static_cast<int32_t>(sensors.size())) {
+      throw std::runtime_error("the snapshot names an unknown range sensor");
     }
+    r.sensor = index < 0 ? nullptr : &sensors[static_cast<std::size_t>(index)];
   }
-  template <class T>
-  void add(const T& value) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    add(&value, sizeof(T));
-  }
-  void add(const Eigen::Vector3d& v) { add(v.data(), 3 * sizeof(double)); }
-  void add(const Eigen::Quaterniond& q) { add(q.coeffs().data(), 4 * sizeof(double)); }
-  uint64_t value() const { return hash_; }
-
- private:
-  uint64_t hash_ = 14695981039346656037ull;
-};
-
-std::size_t portable_count(const WorldSnapshot& s) {
-  std::size_t n = 0;
-  for (const auto& object : s.objects) n += object.second.portable ? 1 : 0;
-  return n;
+}
+template <class Ar>
+void archive(Ar& ar, ImuReading& i) {
+  ar(i.yaw, i.yaw_rate, i.roll, i.pitch, i.yaw_variance);
+}
+template <class Ar>
+void archive(Ar& ar, LaserScan& s) {
+  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges,
+     s.rotunit_angle, s.origin);
+}
+template <class Ar>
+void archive(Ar& ar, PointCloud& c) {
+  ar(c.stamp, c.points);
+}
+template <class Ar>
+void archive(Ar& ar, KurtRobot::State& s) {
+  ar(s.commanded, s.active, s.last_command_time, s.encoder_angle, s.last_hinge_angle, s.encoders,
+     s.odometry, s.next_frame_time, s.frames, s.yaw_unwrapped, s.last_yaw, s.start_yaw, s.crane,
+     s.magnet_on, s.held_object, s.rotunit_speed, s.rotunit_angle, s.cloud_start_angle,
+     s.next_scan_time, s.scans, s.clouds, s.noise_rng, s.noise, s.ranges, s.imu, s.scan, s.cloud,
+     s.cloud_in_progress);
+}
+template <class Ar>
+void archive(Ar& ar, WorldState& s) {
+  ar(s.steps, s.random_seed, s.next_id, s.objects, s.joints, s.doors, s.door_flags, s.bodies,
+     s.robots);
+}
+template <class Ar>
+void archive(Ar& ar, PhysicsSpec& p) {
+  ar(p.step, p.gravity, p.solver_iterations, p.erp, p.cfm, p.seed);
+}
+template <class Ar>
+void archive(Ar& ar, MaterialSpec& m) {
+  ar(m.name, m.friction, m.bounce, m.bounce_velocity, m.density);
+}
+template <class Ar>
+void archive(Ar& ar, RobotSpec& r) {
+  ar(r.name, r.type, r.pose, r.encoder_rate, r.source);
 }
 
-}  // namespace
+std::vector<uint8_t> serialize(const WorldState& state) {
+  detail::StateWriter<detail::ByteSink> writer;
+  writer(state);
+  return std::move(writer.sink().bytes);
+}
 
-WorldSnapshot World::snapshot() const {
-  WorldSnapshot s{steps_, random_seed_, next_id_, {}, {}, {}, {}, {}, {}};
+WorldState deserialize(const std::vector<uint8_t>& bytes) {
+  WorldState state;
+  detail::StateReader reader(bytes);
+  reader(state);
+  if (!reader.at_end()) throw std::runtime_error("the snapshot has bytes after its end");
+  return state;
+}
+
+uint64_t state_hash(const WorldState& state) {
+  detail::StateWriter<detail::HashSink> hasher;
+  hasher(state);
+  return hasher.sink().value();
+}
+
+// ---- World's state -------------------------------------------------------------------------
+
+WorldState World::state() const {
+  WorldState s;
+  s.steps = steps_;
+  s.random_seed = random_seed_;
+  s.next_id = next_id_;
   for (const auto& o : objects_) s.objects.emplace_back(o->id, o->spec);
   for (const auto& j : joints_) s.joints.push_back(j->spec);
   for (const auto& d : doors_) {
     s.doors.push_back(d->spec);
-    s.door_flags.push_back(static_cast<uint8_t>(d->virtual_trigger | (d->triggered << 1) |
-                                                (static_cast<int>(d->gap) << 2)));
+    s.door_flags.push_back(d->flags);
   }
   for (dBodyID body : bodies_) s.bodies.push_back(detail::body_state(body));
-  for (const auto& r : robots_) s.robots.push_back(r->controller_state());
+  for (const auto& r : robots_) s.robots.push_back(r->state());
   return s;
 }
 
-void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, bool fresh_robots) {
+WorldSnapshot World::snapshot() const { return {fingerprint_, serialize(state())}; }
+
+uint64_t World::state_hash() const { return macsim::state_hash(state()); }
+
+uint64_t World::world_fingerprint() const {
+  // The world as loaded: its settings, robots and initial state.
+  detail::StateWriter<detail::HashSink> hasher;
+  WorldSpec& spec = const_cast<WorldSpec&>(spec_);
+  hasher(spec.name, spec.physics, spec.ground_friction, spec.materials, spec.robots, initial_);
+  return hasher.sink().value();
+}
+
+void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, bool fresh_robots) {
   clear_ode();
   objects_.clear();
   for (const auto& [id, spec] : s.objects) {
@@ -70,9 +185,7 @@ void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, 
   for (std::size_t i = 0; i < s.doors.size(); ++i) {
     auto record = std::make_unique<Door>();
     record->spec = s.doors[i];
-    record->virtual_trigger = s.door_flags[i] & 1;
-    record->triggered = (s.door_flags[i] >> 1) & 1;
-    record->gap = static_cast<DoorGap>(s.door_flags[i] >> 2);
+    record->flags = s.door_flags[i];
     doors_.push_back(std::move(record));
   }
   build();  // bodies at their reference poses: joints take their zero there
@@ -87,7 +200,7 @@ void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, 
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     if (fresh_robots) continue;
     for (dBodyID b : robots_[i]->bodies()) detail::set_body_state(b, s.bodies[body++]);
-    robots_[i]->set_controller_state(s.robots[i]);
+    robots_[i]->set_state(s.robots[i]);
     if (!s.robots[i].held_object.empty()) {
       if (auto held = find_object(s.robots[i].held_object)) robots_[i]->reattach(find(*held)->body);
     }
@@ -99,13 +212,24 @@ void World::rebuild(const WorldSnapshot& s, const std::vector<ObjectId>& fresh, 
   events_.clear();
 }
 
-Status World::restore(const WorldSnapshot& s) {
+Status World::restore(const WorldSnapshot& snapshot) {
+  if (snapshot.fingerprint != fingerprint_) {
+    return Status::error(ErrorCode::InvalidArgument,
+                         "the snapshot is not one of this world (its fingerprint differs)");
+  }
+  WorldState s;
+  try {
+    s = deserialize(snapshot.bytes);
+  } catch (const std::runtime_error& e) {
+    return Status::error(ErrorCode::InvalidArgument, std::string("cannot restore: ") + e.what());
+  }
+  std::size_t portable = 0;
+  for (const auto& object : s.objects) portable += object.second.portable ? 1 : 0;
   std::size_t robot_bodies = 0;
   for (const auto& r : robots_) robot_bodies += r->bodies().size();
-  const std::size_t expected_bodies = portable_count(s) + robot_bodies;
-  if (s.robots.size() != robots_.size() || s.bodies.size() != expected_bodies ||
+  if (s.robots.size() != robots_.size() || s.bodies.size() != portable + robot_bodies ||
       s.door_flags.size() != s.doors.size()) {
-    return Status::error(ErrorCode::InvalidArgument, "the snapshot is not one of this world");
+    return Status::error(ErrorCode::InvalidArgument, "the snapshot's parts do not fit this world");
   }
   rebuild(s, {}, false);
   return {};
@@ -114,7 +238,7 @@ Status World::restore(const WorldSnapshot& s) {
 void World::reset(ResetScope scope) {
   // What was loaded is rebuilt exactly as loading built it (at rest at its loaded pose);
   // only objects spawned since keep their current state.
-  WorldSnapshot s = scope == ResetScope::Everything ? initial_ : snapshot();
+  WorldState s = scope == ResetScope::Everything ? initial_ : state();
   std::vector<ObjectId> loaded;
   std::map<uint32_t, const ObjectSpec*> initial_specs;
   for (const auto& [id, spec] : initial_.objects) initial_specs[id] = &spec;
@@ -129,49 +253,12 @@ void World::reset(ResetScope scope) {
       if (original.name == joint.name) joint.anchor = original.anchor;
     }
   }
-  std::fill(s.door_flags.begin(), s.door_flags.end(), 0);  // doors shut, switches released
+  std::fill(s.door_flags.begin(), s.door_flags.end(), DoorFlags{});  // shut, switches released
   if (scope != ResetScope::Poses) {
     s.steps = 0;
     s.random_seed = initial_.random_seed;
   }
   rebuild(s, loaded, true);
-}
-
-uint64_t World::state_hash() const {
-  Hasher h;
-  h.add(steps_);
-  h.add(random_seed_);
-  std::size_t body = 0;
-  for (const auto& o : objects_) {
-    h.add(o->id);
-    h.add(o->spec.pose.position);
-    h.add(o->spec.pose.orientation);
-    if (!o->body) continue;
-    const BodyState b = detail::body_state(bodies_[body++]);
-    h.add(b.position);
-    h.add(b.orientation);
-    h.add(b.linear_velocity);
-    h.add(b.angular_velocity);
-  }
-  for (const auto& r : robots_) {
-    for (dBodyID b : r->bodies()) {
-      const BodyState s = detail::body_state(b);
-      h.add(s.position);
-      h.add(s.orientation);
-      h.add(s.linear_velocity);
-      h.add(s.angular_velocity);
-    }
-    const auto& c = r->controller_state();
-    h.add(c.commanded);
-    h.add(c.active);
-    h.add(c.last_command_time);
-    h.add(c.encoder_angle);
-    h.add(c.frames);
-    const PlanarOdometry odom = c.odometry.estimate();
-    h.add(odom);
-  }
-  for (const auto& d : doors_) h.add(static_cast<uint8_t>(d->virtual_trigger | (d->triggered << 1)));
-  return h.value();
 }
 
 }  // namespace macsim

@@ -732,7 +732,7 @@ Result<DoorParts> World::door_parts(int door) const {
 
 Status World::set_switch_triggered(int door, bool triggered) {
   if (Status s = check_door(door); !s.ok()) return s;
-  doors_[door]->virtual_trigger = triggered;
+  doors_[door]->flags.virtual_trigger = triggered;
   return {};
 }
 

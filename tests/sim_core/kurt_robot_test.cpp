@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "macsim/sim_core/robot_types.h"
-#include "macsim/sim_core/simulation.h"
+#include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 
 namespace macsim {

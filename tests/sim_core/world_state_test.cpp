@@ -1,5 +1,8 @@
 // Trials: snapshot and restore, reset scopes, determinism and the state hash.
 #include <gtest/gtest.h>
+#include <xxhash.h>
+
+#include <functional>
 
 #include "support/world_helpers.h"
 
@@ -15,6 +18,114 @@ void trial(World& world, double seconds) {
     if (i == 300) world.add_force(id_of(world, "environment_01/ball_green"), {0, 300, 0});
     world.step();
   }
+}
+
+/// Changes exactly one part of the robot's state through set_state().
+void change_robot(World& world, const std::function<void(KurtRobot::State&)>& change) {
+  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot::State s = kurt.state();
+  change(s);
+  kurt.set_state(s);
+}
+
+/// Changes exactly one part of the world's state through a restore of a changed state.
+void change_world(World& world, const std::function<void(WorldState&)>& change) {
+  WorldState s = world.state();
+  change(s);
+  ASSERT_TRUE(world.restore({world.fingerprint(), serialize(s)}).ok());
+}
+
+struct StateChange {
+  const char* part;
+  std::function<void(World&)> apply;
+};
+
+std::vector<StateChange> single_part_changes() {
+  return {
+      {"crane target", [](World& w) { w.robot("kurt")->command_crane({0.3, 0.0, 0.0}); }},
+      {"magnet", [](World& w) { w.robot("kurt")->command_magnet(true); }},
+      {"rotunit speed", [](World& w) { w.robot("kurt")->command_rotunit(0.5); }},
+      {"rotunit angle", [](World& w) { change_robot(w, [](auto& s) { s.rotunit_angle += 0.01; }); }},
+      {"noise seed", [](World& w) { change_robot(w, [](auto& s) { s.noise_rng.seed(7); }); }},
+      {"noise generator's cached value",
+       [](World& w) { change_robot(w, [](auto& s) { s.noise(s.noise_rng); }); }},
+      {"laser scan buffer", [](World& w) { change_robot(w, [](auto& s) { s.scan.ranges[90] += 0.5f; }); }},
+      {"point cloud in progress",
+       [](World& w) { change_robot(w, [](auto& s) { s.cloud_in_progress.points.emplace_back(1, 2, 3); }); }},
+      {"range buffer", [](World& w) { change_robot(w, [](auto& s) { s.ranges[3].range = 0.42; }); }},
+      {"imu buffer", [](World& w) { change_robot(w, [](auto& s) { s.imu.pitch = 0.1; }); }},
+      {"odometry", [](World& w) { change_robot(w, [](auto& s) { s.odometry.integrate_frame(10, 12); }); }},
+      {"encoder counter", [](World& w) { change_robot(w, [](auto& s) { s.encoders[0].reset(1.0); }); }},
+      {"wheel command", [](World& w) { w.robot("kurt")->command_twist(0.2, 0.0, w.time()); }},
+      {"door gap", [](World& w) { change_world(w, [](auto& s) { s.door_flags[0].gap = DoorGap::Half; }); }},
+      {"door switch", [](World& w) { ASSERT_TRUE(w.set_switch_triggered(0, true).ok()); }},
+      {"next object id", [](World& w) { change_world(w, [](auto& s) { ++s.next_id; }); }},
+      {"ODE random seed", [](World& w) { change_world(w, [](auto& s) { ++s.random_seed; }); }},
+      {"time", [](World& w) { change_world(w, [](auto& s) { ++s.steps; }); }},
+      {"a colour",
+       [](World& w) { ASSERT_TRUE(w.set_color(id_of(w, "environment_00/can_00"), {0, 1, 0, 1}).ok()); }},
+      {"a size",
+       [](World& w) {
+         ASSERT_TRUE(w.set_cylinder_size(id_of(w, "environment_00/can_00"), 0, 0.031, 0.12,
+                                         PenetrationPolicy::Allow).ok());
+       }},
+      {"user data", [](World& w) { ASSERT_TRUE(w.set_user_data(id_of(w, "environment_00/can_00"), "x").ok()); }},
+      {"a frozen flag", [](World& w) { ASSERT_TRUE(w.set_frozen(id_of(w, "environment_00/can_00"), true).ok()); }},
+      {"a body's velocity",
+       [](World& w) {
+         ASSERT_TRUE(w.set_linear_velocity(id_of(w, "environment_01/ball_green"), {0, 0, 1e-9}).ok());
+       }},
+  };
+}
+
+TEST(WorldState, ChangingAnySinglePartChangesTheHashAndRestoringGivesItBack) {
+  for (const auto& change : single_part_changes()) {
+    SCOPED_TRACE(change.part);
+    World world(shipped_world("DemoWorld_v1.xml"));
+    world.robot("kurt")->command_rotunit(0.8);  // a cloud in progress, noise drawn
+    run_for(world, 0.3);
+    const WorldSnapshot before = world.snapshot();
+    const uint64_t hash = world.state_hash();
+    change.apply(world);
+    const uint64_t changed = world.state_hash();
+    EXPECT_NE(changed, hash);
+    // Save -> restore -> hash: identical, for the changed state and for the one before.
+    const WorldSnapshot after = world.snapshot();
+    ASSERT_TRUE(world.restore(after).ok());
+    EXPECT_EQ(world.state_hash(), changed);
+    EXPECT_EQ(world.snapshot().bytes, after.bytes);
+    ASSERT_TRUE(world.restore(before).ok());
+    EXPECT_EQ(world.state_hash(), hash);
+    EXPECT_EQ(world.snapshot().bytes, before.bytes);
+  }
+}
+
+TEST(WorldState, TheHashIsTheHashOfTheSerialisedState) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  trial(world, 0.5);
+  const WorldState state = world.state();
+  EXPECT_EQ(world.state_hash(), state_hash(state));
+  const std::vector<uint8_t> bytes = serialize(state);
+  EXPECT_EQ(serialize(deserialize(bytes)), bytes);  // every field read back
+  EXPECT_EQ(XXH3_64bits(bytes.data(), bytes.size()), world.state_hash());
+}
+
+TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  run_for(world, 0.2);
+  const uint64_t hash = world.state_hash();
+  WorldSnapshot snapshot = world.snapshot();
+  WorldSnapshot truncated = snapshot;
+  truncated.bytes.resize(truncated.bytes.size() / 2);
+  EXPECT_EQ(world.restore(truncated).code, ErrorCode::InvalidArgument);
+  WorldSnapshot longer = snapshot;
+  longer.bytes.push_back(0);
+  EXPECT_EQ(world.restore(longer).code, ErrorCode::InvalidArgument);
+  WorldSnapshot huge_length = snapshot;
+  std::fill(huge_length.bytes.begin() + 20, huge_length.bytes.begin() + 28, 0xff);  // objects' count
+  EXPECT_EQ(world.restore(huge_length).code, ErrorCode::InvalidArgument);
+  EXPECT_EQ(world.restore(WorldSnapshot{}).code, ErrorCode::InvalidArgument);
+  EXPECT_EQ(world.state_hash(), hash);
 }
 
 TEST(WorldState, SameWorldAndCommandsGiveTheSameHash) {
@@ -35,14 +146,15 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
   auto spawned = world.create_object(primitive(Shape::Box, {0.1, 0.1, 0.1}, {-0.5, 0.3, 0.4}));
   ASSERT_TRUE(spawned.ok());
   ASSERT_TRUE(world.destroy_object(id_of(world, "environment_01/box_yellow")).ok());
-  const WorldSnapshot snapshot = world.snapshot();
+  const WorldSnapshot saved = world.snapshot();
+  const WorldState snapshot = deserialize(saved.bytes);
   trial(world, 1.0);
-  const WorldSnapshot after_first_run = world.snapshot();
+  const WorldState after_first_run = world.state();
 
   // Change a lot, then go back.
   world.destroy_all_portable_objects();
   world.set_switch_triggered(0, false);
-  ASSERT_TRUE(world.restore(snapshot).ok());
+  ASSERT_TRUE(world.restore(saved).ok());
   EXPECT_EQ(world.time(), 1.0);
   EXPECT_EQ(world.object_ids(), [&] {
     std::vector<ObjectId> ids;
@@ -51,7 +163,7 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
   }());
   EXPECT_FALSE(world.find_object("environment_01/box_yellow").has_value());
   EXPECT_TRUE(world.door_state(0).value.virtually_triggered);
-  const WorldSnapshot restored = world.snapshot();
+  const WorldState restored = world.state();
   ASSERT_EQ(restored.bodies.size(), snapshot.bodies.size());
   for (std::size_t i = 0; i < restored.bodies.size(); ++i) {
     // Positions and velocities exactly; orientations to ODE's quaternion renormalization.
@@ -63,7 +175,7 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
   // The continuation follows the first run physically; it is not bit-identical, as ODE
   // renormalizes the quaternions it is given and keeps its sleep counters to itself.
   trial(world, 1.0);
-  const WorldSnapshot after_second_run = world.snapshot();
+  const WorldState after_second_run = world.state();
   for (std::size_t i = 0; i < after_first_run.bodies.size(); ++i) {
     EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(), 0.01) << i;
   }

@@ -38,12 +38,18 @@ WheelSpeeds quantize_to_speed_cm(WheelSpeeds speeds);
 /// Turns a continuous wheel angle into the per-frame tick deltas of the KURT's ENCODER frame.
 class EncoderCounter {
  public:
-  explicit EncoderCounter(int ticks_per_turn) : ticks_per_turn_(ticks_per_turn) {}
+  explicit EncoderCounter(int ticks_per_turn = KurtDriveParams{}.ticks_per_turn)
+      : ticks_per_turn_(ticks_per_turn) {}
   /// Ticks since the previous call for a wheel now at `angle` rad (continuous, not wrapped),
   /// saturated to the frame's int16 range.
   int16_t ticks_since_last(double angle);
   /// Restarts counting from `angle` without producing ticks.
   void reset(double angle);
+  /// Visits the fields that change, for saving, restoring and hashing a state.
+  template <class Archive>
+  void fields(Archive& ar) {
+    ar(ticks_per_turn_, last_total_);
+  }
 
  private:
   int ticks_per_turn_;
@@ -63,12 +69,19 @@ struct PlanarOdometry {
 /// theta clockwise, published as x = z, y = -x, yaw = -theta.
 class KurtOdometry {
  public:
-  explicit KurtOdometry(const KurtDriveParams& params) : params_(params) {}
+  explicit KurtOdometry(const KurtDriveParams& params = {}) : params_(params) {}
   /// Integrates one ENCODER frame (ticks of the left and right side since the previous frame).
   void integrate_frame(int left_ticks, int right_ticks);
   /// The current estimate in REP-103 convention.
   PlanarOdometry estimate() const;
   void reset();
+  /// Visits the fields that change, for saving, restoring and hashing a state.
+  template <class Archive>
+  void fields(Archive& ar) {
+    ar(params_.wheel_perimeter, params_.axis_length, params_.turning_adaptation,
+       params_.ticks_per_turn, params_.frame_period, params_.command_timeout, internal_x_,
+       internal_z_, internal_theta_, linear_, angular_);
+  }
 
  private:
   KurtDriveParams params_;

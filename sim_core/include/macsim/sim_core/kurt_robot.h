@@ -82,8 +82,9 @@ struct KurtConfig {
 /// are read in after_step(), both on the simulation thread.
 class KurtRobot {
  public:
-  /// Everything of the robot that changes besides its bodies.
-  struct ControllerState {
+  /// Everything of the robot that changes besides its bodies: commands, encoders, odometry,
+  /// gyro, crane, magnet, rotunit, the noise generator and the last readings of every sensor.
+  struct State {
     WheelSpeeds commanded{};
     WheelSpeeds active{};
     double last_command_time = -1e9;
@@ -107,6 +108,11 @@ class KurtRobot {
     uint64_t scans = 0, clouds = 0;
     std::mt19937 noise_rng;
     std::normal_distribution<double> noise{0.0, 1.0};
+    // the last readings
+    std::array<RangeReading, 8> ranges{};
+    ImuReading imu;
+    LaserScan scan;
+    PointCloud cloud, cloud_in_progress;
   };
 
   /// Builds the robot at its spec's pose; geoms carry `collision_group` (no self-contacts).
@@ -164,14 +170,14 @@ class KurtRobot {
   /// Unwrapped angle (rad) of the middle wheel of the left (0) or right (1) side.
   double wheel_angle(int side) const { return state_.encoder_angle[side]; }
   /// The eight IR/sonar readings of the last frame.
-  const std::array<RangeReading, 8>& ranges() const { return ranges_; }
+  const std::array<RangeReading, 8>& ranges() const { return state_.ranges; }
   /// Gyro yaw and tilt of the last frame.
-  const ImuReading& imu() const { return imu_; }
+  const ImuReading& imu() const { return state_.imu; }
   /// The last laser sweep; a new one exists when laser_scans() grows.
-  const LaserScan& laser_scan() const { return scan_; }
+  const LaserScan& laser_scan() const { return state_.scan; }
   uint64_t laser_scans() const { return state_.scans; }
   /// The last assembled 3D cloud (one rotunit revolution); new when point_clouds() grows.
-  const PointCloud& point_cloud() const { return cloud_; }
+  const PointCloud& point_cloud() const { return state_.cloud; }
   uint64_t point_clouds() const { return state_.clouds; }
   /// Rotunit angle (rad in [0, 2 pi)) as its encoder reports it, 10240 ticks per turn.
   double rotunit_angle() const;
@@ -186,8 +192,10 @@ class KurtRobot {
   std::vector<ShapeView> shapes() const;
   /// Every body: the chassis, the six wheels, then the crane's (turret, boom, magnet).
   std::vector<dBodyID> bodies() const;
-  const ControllerState& controller_state() const { return state_; }
-  void set_controller_state(const ControllerState& state);
+  /// The robot's state besides its bodies.
+  const State& state() const { return state_; }
+  /// Puts the state back (a held object is re-attached by reattach()).
+  void set_state(const State& state);
 
  private:
   void build_crane(dWorldID world, dSpaceID space, const Pose& base_link);
@@ -217,11 +225,7 @@ class KurtRobot {
   std::unique_ptr<detail::RayCaster> rays_;
   std::vector<std::pair<std::string, std::string>> events_;
 
-  ControllerState state_;
-  std::array<RangeReading, 8> ranges_{};
-  ImuReading imu_;
-  LaserScan scan_;
-  PointCloud cloud_, cloud_in_progress_;
+  State state_;
 };
 
 }  // namespace macsim

@@ -66,9 +66,6 @@ struct ObjectState {
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
 };
 
-/// How far a door is open (the seed's DoorGapAmount).
-enum class DoorGap { Closed, Half, Open };
-
 /// The state of a door-switch structure.
 struct DoorState {
   bool triggered = false;          ///< pressed fully, or triggered virtually
@@ -236,16 +233,21 @@ class World {
   // ---- events, state, reset ------------------------------------------------------------
   /// Events since the last call.
   std::vector<WorldEvent> take_events();
-  /// The complete, restorable state (description and dynamics).
+  /// The complete state, by part.
+  WorldState state() const;
+  /// The complete state, serialised and marked with this world's fingerprint.
   WorldSnapshot snapshot() const;
-  /// Puts the world back to a snapshot of this world: description, time, random state and
-  /// every body (orientations to within ODE's quaternion renormalization, about 1e-16).
+  /// Puts the world back to a snapshot of this world (another world's, or damaged bytes, are
+  /// refused and change nothing): description, time, ids, random state, every body (orientations
+  /// to within ODE's quaternion renormalization, about 1e-16), doors and robots.
   Status restore(const WorldSnapshot& snapshot);
   /// Resets the scope; a reset of everything (or of poses and time, when nothing was spawned)
   /// is bit-identical to loading the world afresh.
   void reset(ResetScope scope);
-  /// Hash of the dynamic state (time, every body, robots, doors): equal states, equal hashes.
+  /// Hash of the complete state (macsim::state_hash(state())): equal states, equal hashes.
   uint64_t state_hash() const;
+  /// Identifies the world as loaded (its description and initial state); snapshots carry it.
+  uint64_t fingerprint() const { return fingerprint_; }
 
  private:
   struct Object;
@@ -256,8 +258,9 @@ class World {
   void build();
   /// Rebuilds ODE from a snapshot's description; bodies of `fresh` objects (and the robots,
   /// if `fresh_robots`) stay as built, at rest at their reference poses.
-  void rebuild(const WorldSnapshot& snapshot, const std::vector<ObjectId>& fresh, bool fresh_robots);
+  void rebuild(const WorldState& state, const std::vector<ObjectId>& fresh, bool fresh_robots);
   void refresh_bodies();
+  uint64_t world_fingerprint() const;
   /// After a supervisor change: refresh the body list and wake every sleeping body.
   void structure_changed();
   void clear_ode();
@@ -306,7 +309,8 @@ class World {
   std::vector<BodyState> last_good_;
   std::vector<WorldEvent> events_;
   mutable std::vector<std::string> textures_;        // texture id - 1 -> file
-  WorldSnapshot initial_;
+  WorldState initial_;
+  uint64_t fingerprint_ = 0;
   unsigned long random_seed_ = 0;                    // this world's dRand state
   ObjectId next_id_ = 1;
   uint64_t steps_ = 0;

@@ -1,4 +1,5 @@
-// What changes: the complete, restorable state of a world (MuJoCo's "data" beside the spec).
+// What changes: the complete, serialisable, hashable state of a world (MuJoCo's "data" beside
+// the spec), by part: objects' current descriptions, bodies, doors, robots, time, ids, random state.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -20,18 +21,40 @@ struct BodyState {
   bool enabled = true;  ///< false while ODE lets it sleep at rest
 };
 
-/// Everything needed to put a world back exactly: its current description (objects may have
-/// been created, destroyed or changed) and its dynamics, time and random state.
-struct WorldSnapshot {
-  uint64_t steps = 0;
-  unsigned long random_seed = 0;                          ///< ODE's dRand state
-  uint32_t next_id = 1;
-  std::vector<std::pair<uint32_t, ObjectSpec>> objects;   ///< id and description, list order
+/// How far a door is open (the seed's DoorGapAmount).
+enum class DoorGap { Closed, Half, Open };
+
+/// What a door-switch structure remembers besides its bodies.
+struct DoorFlags {
+  bool virtual_trigger = false;  ///< pressed by the supervisor, not by a weight
+  bool triggered = false;        ///< pressed, by weight or virtually
+  DoorGap gap = DoorGap::Closed;
+};
+
+/// Everything needed to put a world back exactly, and nothing it can recompute.
+struct WorldState {
+  uint64_t steps = 0;                                   ///< time = steps * step size
+  unsigned long random_seed = 0;                        ///< ODE's dRand state
+  uint32_t next_id = 1;                                 ///< the next object id handed out
+  std::vector<std::pair<uint32_t, ObjectSpec>> objects; ///< id and current description, list order
   std::vector<JointSpec> joints;
   std::vector<DoorSpec> doors;
-  std::vector<uint8_t> door_flags;                        ///< virtual trigger, triggered, gap
-  std::vector<BodyState> bodies;                          ///< objects' then robots' bodies
-  std::vector<KurtRobot::ControllerState> robots;
+  std::vector<DoorFlags> door_flags;                    ///< one per door
+  std::vector<BodyState> bodies;                        ///< portable objects' then robots' bodies
+  std::vector<KurtRobot::State> robots;                 ///< one per robot, in world order
 };
+
+/// A world's complete state, serialised, marked with the world it belongs to.
+struct WorldSnapshot {
+  uint64_t fingerprint = 0;    ///< World::fingerprint() of its world; another world refuses it
+  std::vector<uint8_t> bytes;  ///< serialize(state): native layout, read back by the same build
+};
+
+/// The state as bytes (every field of every part).
+std::vector<uint8_t> serialize(const WorldState& state);
+/// The state back from serialize()'s bytes; throws std::runtime_error on damaged bytes.
+WorldState deserialize(const std::vector<uint8_t>& bytes);
+/// 64-bit XXH3 of serialize(state), without building the bytes: equal states, equal hashes.
+uint64_t state_hash(const WorldState& state);
 
 }  // namespace macsim

@@ -1,0 +1,119 @@
+// The runner owns the world it runs (gz-sim's SimulationRunner): commands from any thread run at
+// one point per step, with the world current when they run; pause, steps on request (lock-step)
+// and real-time pacing; a new world is parsed off the simulation thread and swapped in between
+// two batches of commands. What belongs to one world (its named snapshots, its generation) goes
+// with it.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "macsim/sim_core/world.h"
+
+namespace macsim {
+
+/// A change to the world, run on the simulation thread with the world current at that moment.
+using Command = std::function<void(World&)>;
+
+/// How a world load ended: the new world runs, or the old one runs on and `error` says why.
+struct LoadOutcome {
+  bool ok = false;
+  std::string error;
+};
+
+/// How the loop steps.
+struct RunSettings {
+  bool paused = false;            ///< no stepping but on request
+  double real_time_factor = 1.0;  ///< sim seconds per wall second; 0: as fast as possible
+};
+
+/// What run() calls around each step.
+struct StepHooks {
+  std::function<void()> before_step;       ///< e.g. take every command received so far
+  std::function<void(World&)> after_step;  ///< publish what the step produced
+};
+
+/// Owns and runs one world at a time.
+class Runner {
+ public:
+  /// Builds the first world; throws WorldFileError as World does.
+  explicit Runner(WorldSpec spec, RunSettings settings = {});
+  ~Runner();
+  Runner(const Runner&) = delete;
+  Runner& operator=(const Runner&) = delete;
+
+  // ---- from any thread -------------------------------------------------------------------
+  /// Queues a command; it runs before the next step (or at once while paused).
+  void push(Command command);
+  /// Queues a world load: `parse` runs on a thread of its own while the current world runs on;
+  /// commands queued after it wait and then run on the new world. The new world must have the
+  /// same robots (by name) as the current one. `done` runs on the simulation thread.
+  void load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done);
+  /// Blocks until a command can run or `deadline` passes; true if one can.
+  bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
+
+  // ---- on the simulation thread (in commands, hooks or tests) ----------------------------
+  /// Runs the queued commands in arrival order, swapping in a parsed world where a load stands
+  /// (a load still parsing holds it and everything after it back); returns how many ran.
+  std::size_t apply_commands();
+  /// apply_commands(), then one fixed step of the world.
+  void step();
+  /// The simulator's loop: steps as the settings say, calling the hooks, until `stop` is set or
+  /// the world reaches `last_step` steps.
+  void run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks);
+
+  void pause() { settings_.paused = true; }
+  void resume() { settings_.paused = false; }
+  /// Sim seconds per wall second (> 0), or 0 for as fast as possible; false if not finite or < 0.
+  bool set_real_time_factor(double factor);
+  /// Steps `steps` more steps even while paused; `done` runs once the last one's after_step hook
+  /// has run. False (and nothing queued) while another request is still stepping.
+  bool request_steps(uint64_t steps, std::function<void()> done);
+  /// True while requested steps remain.
+  bool stepping_on_request() const { return requested_steps_ > 0; }
+  const RunSettings& settings() const { return settings_; }
+
+  World& world() { return *world_; }
+  const World& world() const { return *world_; }
+  /// Counts world replacements: ids, snapshots and schedules of an older generation are void.
+  uint64_t generation() const { return generation_; }
+  /// The named snapshots of the current world (emptied when it is replaced).
+  std::map<std::string, WorldSnapshot>& snapshots() { return snapshots_; }
+
+ private:
+  struct Load {
+    std::shared_future<WorldSpec> spec;
+    std::function<void(const LoadOutcome&)> done;
+  };
+  using Item = std::variant<Command, Load>;
+
+  /// True if the item at the queue's front may run now (a load only once parsed).
+  static bool runnable(const Item& item);
+  void replace_world(Load& load);
+  void finish_requested_step();
+
+  std::unique_ptr<World> world_;
+  uint64_t generation_ = 0;
+  std::map<std::string, WorldSnapshot> snapshots_;
+  RunSettings settings_;
+  uint64_t requested_steps_ = 0;
+  std::function<void()> steps_done_;
+
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::deque<Item> pending_;
+  std::vector<std::future<void>> loaders_;  // parses running or done
+};
+
+}  // namespace macsim

@@ -1,0 +1,178 @@
+#include "macsim/sim_core/runner.h"
+
+#include <cmath>
+
+#include "macsim/sim_core/world_loader.h"
+
+namespace macsim {
+
+using Clock = std::chrono::steady_clock;
+
+Runner::Runner(WorldSpec spec, RunSettings settings)
+    : world_(std::make_unique<World>(std::move(spec))), settings_(settings) {}
+
+Runner::~Runner() {
+  std::vector<std::future<void>> loaders;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    loaders.swap(loaders_);
+  }
+  for (auto& loader : loaders) loader.wait();  // a parse still running finishes first
+}
+
+void Runner::push(Command command) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_.emplace_back(std::move(command));
+  }
+  arrived_.notify_one();
+}
+
+void Runner::load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done) {
+  auto promise = std::make_shared<std::promise<WorldSpec>>();
+  std::shared_future<WorldSpec> spec = promise->get_future().share();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_.emplace_back(Load{spec, std::move(done)});
+    std::erase_if(loaders_, [](const std::future<void>& f) {
+      return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    });
+    // Parsed on a thread of its own; when done it wakes the loop, so a paused runner swaps at once.
+    loaders_.push_back(std::async(std::launch::async, [this, promise, parse = std::move(parse)] {
+      try {
+        promise->set_value(parse());
+      } catch (...) {
+        promise->set_exception(std::current_exception());
+      }
+      { std::lock_guard<std::mutex> wake(mutex_); }
+      arrived_.notify_all();
+    }));
+  }
+  arrived_.notify_one();
+}
+
+bool Runner::runnable(const Item& item) {
+  const Load* load = std::get_if<Load>(&item);
+  return !load || load->spec.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+bool Runner::wait_for_commands(Clock::time_point deadline) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return arrived_.wait_until(lock, deadline,
+                             [this] { return !pending_.empty() && runnable(pending_.front()); });
+}
+
+std::size_t Runner::apply_commands() {
+  std::size_t ran = 0;
+  for (;;) {  // one batch per pass: up to and including a parsed load
+    std::deque<Item> batch;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      batch.swap(pending_);
+    }
+    while (!batch.empty()) {
+      if (!runnable(batch.front())) break;
+      Item item = std::move(batch.front());
+      batch.pop_front();
+      if (auto* command = std::get_if<Command>(&item)) {
+        (*command)(*world_);
+        ++ran;
+        continue;
+      }
+      replace_world(std::get<Load>(item));
+      ++ran;
+      break;  // the world changed: the rest is the next batch
+    }
+    const bool more = !batch.empty() && runnable(batch.front());
+    {
+      std::lock_guard<std::mutex> lock(mutex_);  // what was held back goes first again
+      pending_.insert(pending_.begin(), std::make_move_iterator(batch.begin()),
+                      std::make_move_iterator(batch.end()));
+    }
+    if (!more) return ran;
+  }
+}
+
+void Runner::replace_world(Load& load) {
+  LoadOutcome outcome;
+  try {
+    WorldSpec spec = load.spec.get();
+    std::vector<std::string> now, next;
+    for (const auto& r : world_->robots()) now.push_back(r->name());
+    for (const auto& r : spec.robots) next.push_back(r.name);
+    if (now != next) {
+      outcome.error = "the new world must have the same robots (names) as this one";
+    } else {
+      auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
+      world_ = std::move(world);
+      ++generation_;
+      snapshots_.clear();
+      outcome.ok = true;
+    }
+  } catch (const WorldFileError& e) {
+    outcome.error = e.what();
+  } catch (const std::exception& e) {
+    outcome.error = std::string("cannot load the world: ") + e.what();
+  }
+  if (load.done) load.done(outcome);
+}
+
+void Runner::step() {
+  apply_commands();
+  world_->step();
+}
+
+bool Runner::set_real_time_factor(double factor) {
+  if (!std::isfinite(factor) || factor < 0) return false;
+  settings_.real_time_factor = factor;
+  return true;
+}
+
+bool Runner::request_steps(uint64_t steps, std::function<void()> done) {
+  if (requested_steps_ > 0) return false;
+  if (steps == 0) {
+    if (done) done();
+    return true;
+  }
+  requested_steps_ = steps;
+  steps_done_ = std::move(done);
+  return true;
+}
+
+void Runner::finish_requested_step() {
+  if (requested_steps_ == 0 || --requested_steps_ > 0) return;
+  auto done = std::move(steps_done_);
+  steps_done_ = nullptr;
+  if (done) done();
+}
+
+void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks) {
+  auto next = Clock::now();
+  while (!stop.load() && world_->steps() < last_step) {
+    if (settings_.paused && requested_steps_ == 0) {
+      // Requests are served as they come (between steps), not on a polling tick.
+      if (wait_for_commands(Clock::now() + std::chrono::milliseconds(50))) apply_commands();
+      next = Clock::now();
+      continue;
+    }
+    if (hooks.before_step) hooks.before_step();
+    step();
+    if (hooks.after_step) hooks.after_step(*world_);
+    finish_requested_step();  // a requested step is done once its data is out
+    const double pace = settings_.real_time_factor;
+    // Steps on request are paced by the requests, not by the clock.
+    if (pace > 0 && !settings_.paused && requested_steps_ == 0) {
+      next += std::chrono::duration_cast<Clock::duration>(
+          std::chrono::duration<double>(world_->step_size() / pace));
+      const auto now = Clock::now();
+      if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
+      // Until the next step is due, serve requests as they come (between steps).
+      while (wait_for_commands(next)) {
+        apply_commands();
+        if (requested_steps_ > 0) break;  // a step request: go now
+      }
+    }
+  }
+}
+
+}  // namespace macsim

@@ -1,0 +1,211 @@
+// The serialised form of a world's state: one field list per type (`archive(ar, value)`)
+// serves writing, hashing and reading, so no field can be saved but forgotten by the hash.
+// Native byte order and layout: a snapshot is read back by the same build.
+#pragma once
+
+#include <xxhash.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace macsim::detail {
+
+template <class T>
+struct is_std_vector : std::false_type {};
+template <class T, class A>
+struct is_std_vector<std::vector<T, A>> : std::true_type {};
+template <class T>
+struct is_std_array : std::false_type {};
+template <class T, std::size_t N>
+struct is_std_array<std::array<T, N>> : std::true_type {};
+template <class T>
+struct is_std_pair : std::false_type {};
+template <class A, class B>
+struct is_std_pair<std::pair<A, B>> : std::true_type {};
+template <class T>
+struct is_std_optional : std::false_type {};
+template <class T>
+struct is_std_optional<std::optional<T>> : std::true_type {};
+
+/// Numbers, enums and bools are stored as their bytes.
+template <class T>
+constexpr bool kStoredAsBytes = std::is_arithmetic_v<T> || std::is_enum_v<T>;
+/// Fixed-size Eigen vectors and matrices: their coefficients, no padding.
+template <class T>
+constexpr bool kEigenFixed = std::is_base_of_v<Eigen::MatrixBase<T>, T>;
+/// Elements a vector stores as one block of bytes.
+template <class T>
+constexpr bool kBlockElement = kStoredAsBytes<T> || kEigenFixed<T>;
+
+// std::mt19937 is stored as its bytes (its words and index; no padding in libstdc++).
+static_assert(std::is_trivially_copyable_v<std::mt19937>);
+static_assert(sizeof(std::mt19937) == 625 * sizeof(std::mt19937::result_type));
+
+/// Writes values to a sink: `ByteSink` (a snapshot) or `HashSink` (the state hash).
+template <class Sink>
+class StateWriter {
+ public:
+  static constexpr bool kReading = false;
+  template <class... T>
+  void operator()(const T&... values) {
+    (put(values), ...);
+  }
+  Sink& sink() { return sink_; }
+
+ private:
+  template <class T>
+  void put(const T& value) {
+    if constexpr (kStoredAsBytes<T>) {
+      sink_.raw(&value, sizeof value);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      length(value.size());
+      sink_.raw(value.data(), value.size());
+    } else if constexpr (is_std_vector<T>::value) {
+      length(value.size());
+      if constexpr (kBlockElement<typename T::value_type>) {
+        sink_.raw(value.data(), value.size() * sizeof(typename T::value_type));
+      } else {
+        for (const auto& each : value) put(each);
+      }
+    } else if constexpr (is_std_array<T>::value) {
+      for (const auto& each : value) put(each);
+    } else if constexpr (is_std_pair<T>::value) {
+      put(value.first);
+      put(value.second);
+    } else if constexpr (is_std_optional<T>::value) {
+      put(value.has_value());
+      if (value) put(*value);
+    } else if constexpr (kEigenFixed<T>) {
+      sink_.raw(value.data(), sizeof(typename T::Scalar) * value.size());
+    } else if constexpr (std::is_same_v<T, Eigen::Quaterniond>) {
+      sink_.raw(value.coeffs().data(), 4 * sizeof(double));
+    } else if constexpr (std::is_same_v<T, std::mt19937>) {
+      sink_.raw(&value, sizeof value);
+    } else if constexpr (std::is_same_v<T, std::normal_distribution<double>>) {
+      std::ostringstream text;  // its parameters and the cached second value
+      text.precision(17);
+      text << value;
+      put(text.str());
+    } else {
+      archive(*this, const_cast<T&>(value));  // writing never changes the value
+    }
+  }
+  void length(std::size_t n) {
+    const uint64_t n64 = n;
+    sink_.raw(&n64, sizeof n64);
+  }
+  Sink sink_;
+};
+
+/// The bytes of a snapshot.
+struct ByteSink {
+  std::vector<uint8_t> bytes;
+  void raw(const void* data, std::size_t size) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    bytes.insert(bytes.end(), p, p + size);
+  }
+};
+
+/// The 64-bit XXH3 hash of the same bytes, without storing them.
+class HashSink {
+ public:
+  HashSink() : state_(XXH3_createState()) { XXH3_64bits_reset(state_); }
+  ~HashSink() { XXH3_freeState(state_); }
+  HashSink(const HashSink&) = delete;
+  HashSink& operator=(const HashSink&) = delete;
+  void raw(const void* data, std::size_t size) { XXH3_64bits_update(state_, data, size); }
+  uint64_t value() const { return XXH3_64bits_digest(state_); }
+
+ private:
+  XXH3_state_t* state_;
+};
+
+/// Reads values back in the order they were written; throws std::runtime_error when the bytes
+/// run out or a length is impossible (a damaged snapshot, or one of another build).
+class StateReader {
+ public:
+  static constexpr bool kReading = true;
+  explicit StateReader(const std::vector<uint8_t>& bytes) : bytes_(bytes) {}
+  template <class... T>
+  void operator()(T&... values) {
+    (get(values), ...);
+  }
+  bool at_end() const { return at_ == bytes_.size(); }
+
+ private:
+  template <class T>
+  void get(T& value) {
+    if constexpr (kStoredAsBytes<T>) {
+      raw(&value, sizeof value);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      value.resize(length(1));
+      raw(value.data(), value.size());
+    } else if constexpr (is_std_vector<T>::value) {
+      using E = typename T::value_type;
+      if constexpr (kBlockElement<E>) {
+        value.resize(length(sizeof(E)));
+        raw(value.data(), value.size() * sizeof(E));
+      } else {
+        value.clear();
+        value.resize(length(1));
+        for (auto& each : value) get(each);
+      }
+    } else if constexpr (is_std_array<T>::value) {
+      for (auto& each : value) get(each);
+    } else if constexpr (is_std_pair<T>::value) {
+      get(value.first);
+      get(value.second);
+    } else if constexpr (is_std_optional<T>::value) {
+      bool present = false;
+      get(present);
+      if (present) {
+        value.emplace();
+        get(*value);
+      } else {
+        value.reset();
+      }
+    } else if constexpr (kEigenFixed<T>) {
+      raw(value.data(), sizeof(typename T::Scalar) * value.size());
+    } else if constexpr (std::is_same_v<T, Eigen::Quaterniond>) {
+      raw(value.coeffs().data(), 4 * sizeof(double));
+    } else if constexpr (std::is_same_v<T, std::mt19937>) {
+      raw(&value, sizeof value);
+    } else if constexpr (std::is_same_v<T, std::normal_distribution<double>>) {
+      std::string text;
+      get(text);
+      std::istringstream in(text);
+      in >> value;
+      if (!in) throw std::runtime_error("the snapshot has a damaged noise generator");
+    } else {
+      archive(*this, value);
+    }
+  }
+  void raw(void* data, std::size_t size) {
+    if (size > bytes_.size() - at_) throw std::runtime_error("the snapshot is truncated");
+    std::memcpy(data, bytes_.data() + at_, size);
+    at_ += size;
+  }
+  /// A stored element count, checked against the bytes left (each element takes `min_size`).
+  std::size_t length(std::size_t min_size) {
+    uint64_t n = 0;
+    raw(&n, sizeof n);
+    if (n > (bytes_.size() - at_) / min_size) {
+      throw std::runtime_error("the snapshot has an impossible length");
+    }
+    return static_cast<std::size_t>(n);
+  }
+  const std::vector<uint8_t>& bytes_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace macsim::detail

@@ -1,0 +1,199 @@
+// The runner: queued commands run at the step with the world current then, runs are
+// deterministic, a world is parsed off the simulation thread and swapped in between batches,
+// and what belongs to one world (named snapshots, generation) goes with it.
+#include "macsim/sim_core/runner.h"
+
+#include <gtest/gtest.h>
+
+#include <future>
+#include <thread>
+
+#include "macsim/sim_core/world_loader.h"
+#include "support/child_process.h"
+
+namespace macsim {
+namespace {
+
+WorldSpec small_room() { return load_world_file(test::source("worlds/small_room.xml")); }
+
+TEST(Runner, CommandsRunOnlyWhenTheRunnerSteps) {
+  Runner runner(small_room());
+  int applied = 0;
+  std::thread producer([&] {
+    for (int i = 0; i < 100; ++i) runner.push([&applied](World&) { ++applied; });
+  });
+  producer.join();
+  EXPECT_EQ(applied, 0);  // nothing touched the world from the producer's thread
+  runner.step();
+  EXPECT_EQ(applied, 100);
+  runner.step();
+  EXPECT_EQ(applied, 100);
+}
+
+TEST(Runner, CommandsRunInArrivalOrderBeforeTheStep) {
+  Runner runner(small_room());
+  std::vector<uint64_t> seen_at_step;
+  runner.push([&](World& w) { seen_at_step.push_back(w.steps()); });
+  runner.push([&](World& w) { seen_at_step.push_back(w.steps() + 100); });
+  runner.step();
+  ASSERT_EQ(seen_at_step.size(), 2u);
+  EXPECT_EQ(seen_at_step[0], 0u);  // ran before the step advanced time
+  EXPECT_EQ(seen_at_step[1], 100u);
+  EXPECT_EQ(runner.world().steps(), 1u);
+}
+
+TEST(Runner, SameWorldAndCommandsGiveBitIdenticalStates) {
+  auto run = [] {
+    Runner runner(small_room());
+    for (int i = 0; i < 2000; ++i) {
+      if (i % 100 == 0) {
+        runner.push([](World& w) { w.robot("kurt")->command_twist(0.3, 0.4, w.time()); });
+      }
+      runner.step();
+    }
+    return runner.world().snapshot().bytes;
+  };
+  EXPECT_EQ(run(), run());
+}
+
+TEST(Runner, CommandsAfterALoadInTheSameBatchActOnTheNewWorld) {
+  Runner runner(small_room());
+  const World* old_world = &runner.world();
+  for (int i = 0; i < 10; ++i) runner.step();
+  std::vector<const World*> seen;
+  LoadOutcome outcome;
+  runner.push([&](World& w) { seen.push_back(&w); });
+  std::promise<void> parsed;
+  runner.load(
+      [&] {
+        WorldSpec spec = small_room();
+        parsed.set_value();
+        return spec;
+      },
+      [&](const LoadOutcome& o) { outcome = o; });
+  runner.push([&](World& w) {
+    seen.push_back(&w);
+    w.robot("kurt")->command_twist(0.3, 0.0, w.time());  // a cmd_vel right after the load
+  });
+  parsed.get_future().wait();
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the promise is set just after
+  EXPECT_EQ(runner.apply_commands(), 3u);
+  ASSERT_TRUE(outcome.ok) << outcome.error;
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0], old_world);
+  EXPECT_EQ(seen[1], &runner.world());  // the world current when it ran: the new one
+  EXPECT_EQ(runner.world().steps(), 0u);
+  EXPECT_EQ(runner.generation(), 1u);
+  EXPECT_EQ(runner.world().robot("kurt")->active_wheel_speeds().left, 0.0);  // set at the step
+  EXPECT_GT(runner.world().robot("kurt")->state().commanded.left, 0.0);
+}
+
+TEST(Runner, ALoadStillParsingHoldsLaterCommandsWhileTheWorldRunsOn) {
+  Runner runner(small_room());
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  LoadOutcome outcome;
+  bool done = false;
+  runner.load(
+      [released] {
+        released.wait();
+        return small_room();
+      },
+      [&](const LoadOutcome& o) {
+        outcome = o;
+        done = true;
+      });
+  int later = 0;
+  runner.push([&](World&) { ++later; });
+  for (int i = 0; i < 5; ++i) runner.step();  // the old world steps on; the command waits
+  EXPECT_EQ(later, 0);
+  EXPECT_FALSE(done);
+  EXPECT_EQ(runner.world().steps(), 5u);
+  release.set_value();
+  ASSERT_TRUE(runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(10)));
+  runner.apply_commands();
+  EXPECT_TRUE(done);
+  EXPECT_TRUE(outcome.ok);
+  EXPECT_EQ(later, 1);
+  EXPECT_EQ(runner.world().steps(), 0u);
+}
+
+TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
+  Runner runner(small_room());
+  for (int i = 0; i < 3; ++i) runner.step();
+  const uint64_t hash = runner.world().state_hash();
+  std::vector<LoadOutcome> outcomes;
+  auto record = [&](const LoadOutcome& o) { outcomes.push_back(o); };
+  runner.load([] { return load_world_file(test::source("worlds/no_such_world.xml")); }, record);
+  runner.load([] { return load_world_string("<WORLD><BOX>", "broken.xml"); }, record);
+  runner.load(  // its robot is not the same
+      [] { return load_world_string("<WORLD><ROBOT><ID>kurt2</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "r.xml"); },
+      record);
+  runner.load([]() -> WorldSpec { throw std::runtime_error("disk on fire"); }, record);
+  ASSERT_TRUE(runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(10)));
+  while (outcomes.size() < 4) {
+    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(1));
+    runner.apply_commands();
+  }
+  for (const auto& o : outcomes) EXPECT_FALSE(o.ok);
+  EXPECT_NE(outcomes[0].error.find("no_such_world.xml"), std::string::npos) << outcomes[0].error;
+  EXPECT_NE(outcomes[1].error.find("broken.xml:1"), std::string::npos) << outcomes[1].error;
+  EXPECT_NE(outcomes[2].error.find("same robots"), std::string::npos) << outcomes[2].error;
+  EXPECT_NE(outcomes[3].error.find("disk on fire"), std::string::npos) << outcomes[3].error;
+  EXPECT_EQ(runner.generation(), 0u);
+  EXPECT_EQ(runner.world().state_hash(), hash);  // untouched
+}
+
+TEST(Runner, NamedSnapshotsBelongToOneWorld) {
+  Runner runner(small_room());
+  runner.snapshots()["start"] = runner.world().snapshot();
+  const WorldSnapshot kept = runner.world().snapshot();
+  bool loaded = false;
+  runner.load([] { return small_room(); }, [&](const LoadOutcome& o) { loaded = o.ok; });
+  while (!loaded) {
+    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(1));
+    runner.apply_commands();
+  }
+  EXPECT_TRUE(runner.snapshots().empty());
+  // A snapshot is of a description: the same file loaded again takes it; another world refuses it.
+  EXPECT_TRUE(runner.world().restore(kept).ok());
+  World other(load_world_string(R"(<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>
+      <BOX><ID>b</ID><POS>1,0,0.05</POS><SIZE>0.1,0.1,0.1</SIZE></BOX></WORLD>)", "other.xml"));
+  const Status refused = other.restore(kept);
+  EXPECT_EQ(refused.code, ErrorCode::InvalidArgument);
+  EXPECT_NE(refused.message.find("fingerprint"), std::string::npos);
+}
+
+TEST(Runner, StepRequestsRunWhilePausedAndAnswerAfterTheLastStep) {
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  std::atomic<bool> stop{false};
+  int answered = 0;
+  uint64_t answered_at = 0;
+  std::vector<uint64_t> published;
+  StepHooks hooks;
+  hooks.after_step = [&](World& w) { published.push_back(w.steps()); };
+  runner.push([&](World&) {
+    EXPECT_TRUE(runner.request_steps(3, [&] {
+      ++answered;
+      answered_at = runner.world().steps();
+      stop = true;
+    }));
+    EXPECT_FALSE(runner.request_steps(1, nullptr));  // one request at a time
+  });
+  runner.run(stop, 100, hooks);
+  EXPECT_EQ(answered, 1);
+  EXPECT_EQ(answered_at, 3u);
+  EXPECT_EQ(published, (std::vector<uint64_t>{1, 2, 3}));  // every step's data out first
+}
+
+TEST(Runner, RealTimeFactorRefusesNonsense) {
+  Runner runner(small_room());
+  EXPECT_FALSE(runner.set_real_time_factor(std::nan("")));
+  EXPECT_FALSE(runner.set_real_time_factor(-1));
+  EXPECT_FALSE(runner.set_real_time_factor(INFINITY));
+  EXPECT_EQ(runner.settings().real_time_factor, 1.0);
+  EXPECT_TRUE(runner.set_real_time_factor(0));
+}
+
+}  // namespace
+}  // namespace macsim
