@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
       const pid_t macsim = start_macsim(1, "worlds/small_room.xml", {});
       macsim::dds::Participant p({domain + 1, "", "bench_supervisor"});
       macsim::client::SupervisorClient client(p);
-      const auto request = macsim::client::SupervisorClient::request(mm::OP_GET_OBJECT, 1);
+      const auto request = macsim::client::supervisor::get_object(1);
       const auto supervisor =
           round_trips(client, n, [&] { return client.call(request).has_value(); });
       stop(macsim);

@@ -14,6 +14,7 @@
 #include "macsim/msg/rosgraph_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "macsim/render/camera_rig.h"
+#include "robot_commands.h"
 
 namespace macsim {
 
@@ -153,59 +154,35 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     : runner_(runner),
       options_(options),
       clock_(new Clock{{participant, dds::topics::kClock, QosFamily::Sensor}}) {
-  Runner& queue = runner;
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     auto topics = std::make_unique<RobotTopics>(participant, name,
                                                 robot->config().laser == LaserMount::Rotating);
     // Reader callbacks run on Fast DDS's threads: copy the numbers, queue a command, nothing else.
+    auto queue = [&runner](std::optional<Command> command) {
+      if (command) runner.push(std::move(*command));
+    };
     topics->cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
         participant, dds::topics::cmd_vel(name), QosFamily::Command,
-        [&queue, name](const gm::Twist_& twist) {
-          const double linear = twist.linear().x(), angular = twist.angular().z();
-          if (!std::isfinite(linear) || !std::isfinite(angular)) return;  // never into ODE
-          queue.push([name, linear, angular](World& world) {
-            if (KurtRobot* r = world.robot(name)) r->command_twist(linear, angular, world.time());
-          });
+        [queue, name](const gm::Twist_& t) {
+          queue(robot_commands::twist(name, t.linear().x(), t.angular().z()));
         });
     topics->wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
         participant, dds::topics::wheel_speeds(name), QosFamily::Command,
-        [&queue, name](const km::WheelSpeeds_& w) {
-          const WheelSpeeds speeds{w.left(), w.right()};
-          if (!std::isfinite(speeds.left) || !std::isfinite(speeds.right)) return;
-          queue.push([name, speeds](World& world) {
-            if (KurtRobot* r = world.robot(name)) r->command_wheel_speeds(speeds, world.time());
-          });
+        [queue, name](const km::WheelSpeeds_& w) {
+          queue(robot_commands::wheel_speeds(name, {w.left(), w.right()}));
         });
     topics->rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
         participant, dds::topics::rot_vel(name), QosFamily::Command,
-        [&queue, name](const gm::Twist_& twist) {
-          const double speed = twist.angular().z();
-          if (!std::isfinite(speed)) return;
-          queue.push([name, speed](World& world) {
-            if (KurtRobot* r = world.robot(name)) r->command_rotunit(speed);
-          });
-        });
+        [queue, name](const gm::Twist_& t) { queue(robot_commands::rotunit(name, t.angular().z())); });
     topics->crane_command = std::make_unique<dds::Reader<km::CraneCommand_PubSubType>>(
         participant, dds::topics::crane_command(name), QosFamily::Command,
-        [&queue, name](const km::CraneCommand_& c) {
-          const CraneCommand target{c.slew(), c.lift(), c.hoist()};
-          if (!std::isfinite(target.slew) || !std::isfinite(target.lift) ||
-              !std::isfinite(target.hoist)) {
-            return;
-          }
-          queue.push([name, target](World& world) {
-            if (KurtRobot* r = world.robot(name)) r->command_crane(target);
-          });
+        [queue, name](const km::CraneCommand_& c) {
+          queue(robot_commands::crane(name, {c.slew(), c.lift(), c.hoist()}));
         });
     topics->magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
         participant, dds::topics::crane_magnet(name), QosFamily::Command,
-        [&queue, name](const km::MagnetCommand_& m) {
-          const bool on = m.on();
-          queue.push([name, on](World& world) {
-            if (KurtRobot* r = world.robot(name)) r->command_magnet(on);
-          });
-        });
+        [queue, name](const km::MagnetCommand_& m) { queue(robot_commands::magnet(name, m.on())); });
     if (options_.cameras) {
       auto* t = topics.get();
       t->left_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(

@@ -61,9 +61,8 @@ bool SimulationServer::repeated(const Request& q) {
       stepping_->sequence_number() == q.sequence_number()) {
     return true;  // still stepping for it: the reply comes when the steps are done
   }
-  if (auto last = last_reply_.find(q.client_id());
-      last != last_reply_.end() && last->second.sequence_number() == q.sequence_number()) {
-    replies_.write(last->second);
+  if (const Reply* again = replied_.find(q)) {
+    replies_.write(*again);
     return true;
   }
   return false;
@@ -107,7 +106,7 @@ void SimulationServer::execute(const Request& q) {
 }
 
 void SimulationServer::send(const Reply& reply) {
-  last_reply_[reply.client_id()] = reply;
+  replied_.remember(reply);
   replies_.write(reply);
 }
 

@@ -10,6 +10,7 @@
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
+#include "reply_cache.h"
 
 namespace macsim {
 
@@ -32,7 +33,7 @@ class SimulationServer {
 
   Runner& runner_;
   std::optional<Request> stepping_;          // the SIM_STEP request being served
-  std::map<std::string, Reply> last_reply_;  // by client
+  ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;                     // guards last_load_ (Fast DDS's threads)
   std::map<std::string, uint64_t> last_load_;  // by client: the last load request's number
   dds::Writer<macsim_msgs::msg::dds_::SimulationReply_PubSubType> replies_;

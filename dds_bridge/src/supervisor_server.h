@@ -11,6 +11,7 @@
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
+#include "reply_cache.h"
 
 namespace macsim {
 
@@ -38,7 +39,7 @@ class SupervisorServer {
   double last_time_ = 0.0;
   uint64_t generation_ = 0;           // of the world published_ids_ belong to
   std::set<uint32_t> published_ids_;
-  std::map<std::string, Reply> last_reply_;  // by client: a repeated request gets its reply again
+  ReplyCache<Reply> replied_;
   dds::Writer<macsim_msgs::msg::dds_::SupervisorReply_PubSubType> replies_;
   dds::Writer<macsim_msgs::msg::dds_::ObjectState_PubSubType> objects_;
   dds::Writer<macsim_msgs::msg::dds_::DoorState_PubSubType> doors_;

@@ -13,6 +13,7 @@
 
 namespace mm = macsim_msgs::msg::dds_;
 using macsim::client::SupervisorClient;
+namespace supervisor = macsim::client::supervisor;
 using macsim::client::WorldStateClient;
 using Objects = WorldStateClient::Objects;
 
@@ -58,18 +59,18 @@ double z_of(const Objects& o, uint32_t id) {
 
 SupervisorClient::Request create(int shape, std::array<double, 3> size, std::array<double, 3> at,
                                  bool portable, const std::string& user_data) {
-  auto r = SupervisorClient::request(mm::OP_CREATE_OBJECT);
+  mm::Object_ object;
   mm::Component_ c;
   c.shape(shape);
   c.size(size);
   c.pose().orientation().w(1.0);
   c.color({0.6f, 0.6f, 0.6f, 1.0f});
-  r.object().components().push_back(c);
-  r.object().portable(portable);
-  r.object().user_data(user_data);
-  r.object().pose().position(macsim::dds::point(at[0], at[1], at[2]));
-  r.object().pose().orientation().w(1.0);
-  return r;
+  object.components().push_back(c);
+  object.portable(portable);
+  object.user_data(user_data);
+  object.pose().position(macsim::dds::point(at[0], at[1], at[2]));
+  object.pose().orientation().w(1.0);
+  return supervisor::create_object(object);
 }
 
 void create_and_destroy(Context& c) {
@@ -83,15 +84,13 @@ void create_and_destroy(Context& c) {
     return find(o, ids[0]) && find(o, ids[1]) && find(o, ids[2]) && find(o, ids[3]) &&
            std::fabs(z_of(o, ids[0]) - 0.1) < 0.005;
   });
-  call(c, "move the box to (-0.5, 0.9)", SupervisorClient::request(mm::OP_SET_POSITION, ids[0], {-0.5, 0.9, 0.1}));
-  call(c, "paint the sphere blue", SupervisorClient::request(mm::OP_SET_COLOR, ids[2], {0.1, 0.2, 0.9, 1}));
+  call(c, "move the box to (-0.5, 0.9)", supervisor::set_position(ids[0], {-0.5, 0.9, 0.1}));
+  call(c, "paint the sphere blue", supervisor::set_color(ids[2], {0.1f, 0.2f, 0.9f, 1}));
   expect(c, "the box is at y 0.9 and the sphere is blue", [&](const Objects& o, const auto&) {
     return find(o, ids[0]) && std::fabs(find(o, ids[0])->pose().position().y() - 0.9) < 0.01 &&
            find(o, ids[2]) && find(o, ids[2])->components()[0].color()[2] > 0.85f;
   });
-  auto destroy = SupervisorClient::request(mm::OP_DESTROY_BY_USER_DATA);
-  destroy.text("demo");
-  call(c, "destroy the objects with user data 'demo'", destroy);
+  call(c, "destroy the objects with user data 'demo'", supervisor::destroy_by_user_data("demo"));
   expect(c, "all four are gone (disposed)", [&](const Objects& o, const std::set<uint32_t>& gone) {
     for (uint32_t id : ids) {
       if (find(o, id) || !gone.count(id)) return false;
@@ -102,9 +101,8 @@ void create_and_destroy(Context& c) {
 
 void change_properties(Context& c) {
   std::printf("TestChangeObjectProperties: a clean floor, new objects, changed and pushed\n");
-  auto all = SupervisorClient::request(mm::OP_DESTROY_ALL);
-  all.index(1);  // portable ones: walls and doors stay
-  call(c, "destroy all portable objects", all);
+  // Portable ones: walls and doors stay.
+  call(c, "destroy all portable objects", supervisor::destroy_all(mm::DESTROY_PORTABLE_OBJECTS));
   expect(c, "no portable object is left", [](const Objects& o, const auto&) {
     for (const auto& [id, s] : o) {
       if (s.object().portable()) return false;
@@ -113,14 +111,13 @@ void change_properties(Context& c) {
   });
   const uint32_t box = call(c, "create a box", create(0, {0.1, 0.1, 0.1}, {-1.0, 0.0, 0.3}, true, "")).object_id();
   const uint32_t ball = call(c, "create a ball", create(2, {0.1, 0, 0}, {-1.0, 1.0, 0.3}, true, "")).object_id();
-  call(c, "resize the box to 0.3 m", SupervisorClient::request(mm::OP_SET_BOX_SIZE, box, {0.3, 0.3, 0.3}));
-  call(c, "turn the box by 45 degrees", SupervisorClient::request(mm::OP_SET_ORIENTATION, box,
-                                                                  {0, 0, std::sin(M_PI / 8), std::cos(M_PI / 8)}));
+  call(c, "resize the box to 0.3 m", supervisor::set_box_size(box, 0, {0.3, 0.3, 0.3}));
+  call(c, "turn the box by 45 degrees", supervisor::set_orientation(box, {0, 0, std::sin(M_PI / 8), std::cos(M_PI / 8)}));
   expect(c, "the box is 0.3 m large and rests at z 0.15", [&](const Objects& o, const auto&) {
     auto* b = find(o, box);
     return b && b->components()[0].size()[0] == 0.3 && std::fabs(z_of(o, box) - 0.15) < 0.005;
   });
-  call(c, "push the ball with 200 N along +x", SupervisorClient::request(mm::OP_ADD_FORCE, ball, {200, 0, 0}));
+  call(c, "push the ball with 200 N along +x", supervisor::add_force(ball, {200, 0, 0}));
   expect(c, "the ball rolls away along +x", [&](const Objects& o, const auto&) {
     auto* b = find(o, ball);
     return b && b->pose().position().x() > -0.8;
@@ -144,21 +141,17 @@ void composites(Context& c) {
   }
   const Objects now = c.world.objects();
   std::printf("  composite: %s\n", find(now, can)->name().c_str());
-  call(c, "move it to (-0.5, 0.3)", SupervisorClient::request(mm::OP_SET_POSITION, can, {-0.5, 0.3, 0.01}));
+  call(c, "move it to (-0.5, 0.3)", supervisor::set_position(can, {-0.5, 0.3, 0.01}));
   expect(c, "moved", [&](const Objects& o, const auto&) {
     auto* x = find(o, can);
     return x && std::fabs(x->pose().position().x() + 0.5) < 0.02 && std::fabs(x->pose().position().y() - 0.3) < 0.02;
   });
-  call(c, "paint it green", SupervisorClient::request(mm::OP_SET_COLOR, can, {0.1, 0.8, 0.1, 1}));
-  auto texture = SupervisorClient::request(mm::OP_SET_TEXTURE, can);
-  texture.index(0);
-  texture.text(c.textures + "/checker.bmp");
-  call(c, "give its first component the checker texture", texture);
+  call(c, "paint it green", supervisor::set_color(can, {0.1f, 0.8f, 0.1f, 1}));
+  call(c, "give its first component the checker texture",
+       supervisor::set_texture(can, c.textures + "/checker.bmp", 0));
   const double height = find(now, can)->components()[0].size()[2];
-  auto widen = SupervisorClient::request(mm::OP_SET_CYLINDER_SIZE, can, {0.06, height});
-  widen.index(0);
-  widen.flag(true);
-  call(c, "widen its cylinder (the shape is not kept)", widen);
+  call(c, "widen its cylinder (the shape is not kept)",
+       supervisor::set_cylinder_size(can, 0, 0.06, height, true));
   expect(c, "green, textured, its cylinder 0.06 m in radius", [&](const Objects& o, const auto&) {
     auto* x = find(o, can);
     return x && x->components()[1].color()[1] > 0.7f &&
@@ -173,7 +166,7 @@ void ramps(Context& c) {
   c.world.wait([&](const Objects& o, const auto&) {
     found.clear();
     for (const auto& [id, s] : o) {
-      if (s.object().kind() == 2) found.push_back(id);
+      if (s.object().kind() == mm::KIND_RAMP) found.push_back(id);
     }
     return !found.empty();
   });
@@ -186,12 +179,9 @@ void ramps(Context& c) {
     const Objects before = c.world.objects();
     const double x = find(before, ramp)->pose().position().x();
     const double y = find(before, ramp)->pose().position().y();
-    call(c, "move it 0.3 m along x", SupervisorClient::request(mm::OP_SET_POSITION, ramp, {x + 0.3, y, 0}));
-    call(c, "paint it orange", SupervisorClient::request(mm::OP_SET_COLOR, ramp, {0.9, 0.5, 0.1, 1}));
-    auto texture = SupervisorClient::request(mm::OP_SET_TEXTURE, ramp);
-    texture.index(-1);
-    texture.text(c.textures + "/wood.bmp");
-    call(c, "give it the wood texture", texture);
+    call(c, "move it 0.3 m along x", supervisor::set_position(ramp, {x + 0.3, y, 0}));
+    call(c, "paint it orange", supervisor::set_color(ramp, {0.9f, 0.5f, 0.1f, 1}));
+    call(c, "give it the wood texture", supervisor::set_texture(ramp, c.textures + "/wood.bmp"));
     expect(c, "moved, orange, wooden", [&](const Objects& o, const auto&) {
       auto* r = find(o, ramp);
       return r && std::fabs(r->pose().position().x() - (x + 0.3)) < 1e-6 && r->components()[0].color()[1] < 0.6f &&

@@ -40,8 +40,8 @@ int main(int argc, char** argv) {
       }
       std::printf("interfaceTest: loaded %s\n", world.c_str());
     }
-    const auto objects = supervisor.call(SupervisorClient::request(mm::OP_LIST_OBJECTS));
-    const auto doors = supervisor.call(SupervisorClient::request(mm::OP_DOOR_COUNT));
+    const auto objects = supervisor.call(macsim::client::supervisor::list_objects());
+    const auto doors = supervisor.call(macsim::client::supervisor::door_count());
     if (!objects || !doors) {
       std::cerr << "interfaceTest: the supervisor did not answer\n";
       return 2;

@@ -111,6 +111,7 @@ class StateWriter {
 struct ByteSink {
   std::vector<uint8_t> bytes;
   void raw(const void* data, std::size_t size) {
+    if (size == 0) return;
     const auto* p = static_cast<const uint8_t*>(data);
     bytes.insert(bytes.end(), p, p + size);
   }
@@ -191,6 +192,7 @@ class StateReader {
     }
   }
   void raw(void* data, std::size_t size) {
+    if (size == 0) return;  // an empty vector's data() may be null
     if (size > bytes_.size() - at_) throw std::runtime_error("the snapshot is truncated");
     std::memcpy(data, bytes_.data() + at_, size);
     at_ += size;

@@ -55,11 +55,10 @@ std::vector<uint64_t> lockstep_run() {
         EXPECT_TRUE(kurt.wait_delivered());
       }
       if (k == 3) {
-        auto find = client::SupervisorClient::request(mm::OP_FIND_OBJECT);
-        find.name("environment_01/ball_green");
+        const auto find = client::supervisor::find_object("environment_01/ball_green");
         const uint32_t ball = supervisor.call(find)->object_id();
         EXPECT_EQ(
-            supervisor.call(client::SupervisorClient::request(mm::OP_ADD_FORCE, ball, {0, 400, 0}))
+            supervisor.call(client::supervisor::add_force(ball, {0, 400, 0}))
                 ->code(),
             mm::ERR_OK);
       }
@@ -115,14 +114,14 @@ TEST(Lockstep, PauseRunRateLoadAndFeatures) {
   const auto loaded = sim.call(load);
   ASSERT_EQ(loaded->code(), mm::ERR_OK) << loaded->message();
   client::SupervisorClient supervisor(p);
-  EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_LIST_OBJECTS))->count(), 24);
+  EXPECT_EQ(supervisor.call(client::supervisor::list_objects())->count(), 24);
 
   auto bad = Req::request(mm::SIM_LOAD_WORLD);
   bad.world_file("no/such/world.xml");
   const auto refused = sim.call(bad);
   EXPECT_EQ(refused->code(), mm::ERR_BAD_FILE);
   EXPECT_NE(refused->message().find("no/such/world.xml"), std::string::npos);
-  EXPECT_EQ(supervisor.call(client::SupervisorClient::request(mm::OP_LIST_OBJECTS))->count(), 24);
+  EXPECT_EQ(supervisor.call(client::supervisor::list_objects())->count(), 24);
   EXPECT_TRUE(macsim.running());
 }
 

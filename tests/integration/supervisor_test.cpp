@@ -18,6 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 using client::SupervisorClient;
+namespace supervisor = client::supervisor;
 
 using WorldObserver = client::WorldStateClient;
 
@@ -56,18 +57,18 @@ TEST_F(Supervisor, CreateMoveAndDestroyAreSeenOnTheWorldState) {
   // A late joiner gets every object of the loaded world.
   ASSERT_TRUE(observer.wait([](const auto& objects, const auto&) { return objects.size() == 24; }));
 
-  auto create = SupervisorClient::request(mm::OP_CREATE_OBJECT);
+  mm::Object_ object;
   mm::Component_ box;
-  box.shape(0);
+  box.shape(mm::SHAPE_BOX);
   box.size({0.1, 0.1, 0.1});
   box.pose().orientation().w(1.0);
   box.color({0.2f, 0.9f, 0.2f, 1.0f});
-  create.object().components().push_back(box);
-  create.object().portable(true);
-  create.object().name("supervised_box");
-  create.object().pose().position(dds::point(-0.5, 0.3, 0.5));
-  create.object().pose().orientation().w(1.0);
-  const auto created = call(create);
+  object.components().push_back(box);
+  object.portable(true);
+  object.name("supervised_box");
+  object.pose().position(dds::point(-0.5, 0.3, 0.5));
+  object.pose().orientation().w(1.0);
+  const auto created = call(supervisor::create_object(object));
   ASSERT_EQ(created.code(), mm::ERR_OK) << created.message();
   const uint32_t id = created.object_id();
   // It falls and lands on the floor: the observer sees it resting at z = 0.05.
@@ -76,58 +77,55 @@ TEST_F(Supervisor, CreateMoveAndDestroyAreSeenOnTheWorldState) {
     return o != objects.end() && std::fabs(o->second.object().pose().position().z() - 0.05) < 0.003;
   }));
 
-  const auto moved = call(SupervisorClient::request(mm::OP_SET_POSITION, id, {-0.5, -0.6, 0.05}));
+  const auto moved = call(supervisor::set_position(id, {-0.5, -0.6, 0.05}));
   ASSERT_EQ(moved.code(), mm::ERR_OK) << moved.message();
   EXPECT_TRUE(observer.wait([id](const auto& objects, const auto&) {
     auto o = objects.find(id);
     return o != objects.end() && std::fabs(o->second.object().pose().position().y() + 0.6) < 0.01;
   }));
 
-  const auto recolored = call(SupervisorClient::request(mm::OP_SET_COLOR, id, {1, 0, 0, 1}));
+  const auto recolored = call(supervisor::set_color(id, {1, 0, 0, 1}));
   ASSERT_EQ(recolored.code(), mm::ERR_OK);
   EXPECT_TRUE(observer.wait([id](const auto& objects, const auto&) {
     auto o = objects.find(id);
     return o != objects.end() && o->second.object().components()[0].color()[0] == 1.0f;
   }));
 
-  ASSERT_EQ(call(SupervisorClient::request(mm::OP_DESTROY_OBJECT, id)).code(), mm::ERR_OK);
+  ASSERT_EQ(call(supervisor::destroy_object(id)).code(), mm::ERR_OK);
   EXPECT_TRUE(observer.wait([id](const auto& objects, const auto& gone) {
     return !objects.count(id) && gone.count(id);  // the instance was disposed
   }));
 }
 
 TEST_F(Supervisor, BadRequestsGetClearErrorsAndChangeNothing) {
-  const auto list = call(SupervisorClient::request(mm::OP_LIST_OBJECTS));
+  const auto list = call(supervisor::list_objects());
   ASSERT_EQ(list.count(), 24);
   const uint32_t box = [&] {
-    auto find = SupervisorClient::request(mm::OP_FIND_OBJECT);
-    find.name("environment_01/box_red_small");
-    return call(find).object_id();
+    return call(supervisor::find_object("environment_01/box_red_small")).object_id();
   }();
   ASSERT_NE(box, 0u);
-  const auto before = call(SupervisorClient::request(mm::OP_GET_OBJECT, box)).object();
+  const auto before = call(supervisor::get_object(box)).object();
 
-  const auto unknown = call(SupervisorClient::request(mm::OP_SET_POSITION, 999999, {0, 0, 1}));
+  const auto unknown = call(supervisor::set_position(999999, {0, 0, 1}));
   EXPECT_EQ(unknown.code(), mm::ERR_UNKNOWN_OBJECT);
   EXPECT_NE(unknown.message().find("999999"), std::string::npos);
-  const auto nan = call(SupervisorClient::request(mm::OP_SET_POSITION, box, {std::nan(""), 0, 1}));
+  const auto nan = call(supervisor::set_position(box, {std::nan(""), 0, 1}));
   EXPECT_EQ(nan.code(), mm::ERR_INVALID_ARGUMENT);
-  const auto negative = call(SupervisorClient::request(mm::OP_SET_BOX_SIZE, box, {0.1, -1, 0.1}));
+  const auto negative = call(supervisor::set_box_size(box, 0, {0.1, -1, 0.1}));
   EXPECT_EQ(negative.code(), mm::ERR_INVALID_ARGUMENT);
-  const auto wrong = call(SupervisorClient::request(mm::OP_SET_SPHERE_SIZE, box, {0.1}));
+  const auto wrong = call(supervisor::set_sphere_size(box, 0, 0.1));
   EXPECT_EQ(wrong.code(), mm::ERR_WRONG_GEOMETRY);
-  auto texture = SupervisorClient::request(mm::OP_SET_TEXTURE, box);
-  texture.index(-1);
-  texture.text("/nonexistent/picture.bmp");
-  EXPECT_EQ(call(texture).code(), mm::ERR_BAD_TEXTURE);
-  const auto penetrate = call(SupervisorClient::request(mm::OP_SET_POSITION, box, {0.0, -0.3, 0.2}));
+  EXPECT_EQ(call(supervisor::set_texture(box, "/nonexistent/picture.bmp")).code(), mm::ERR_BAD_TEXTURE);
+  const auto penetrate = call(supervisor::set_position(box, {0.0, -0.3, 0.2}));
   EXPECT_EQ(penetrate.code(), mm::ERR_PENETRATION);
-  EXPECT_EQ(call(SupervisorClient::request(12345)).code(), mm::ERR_UNKNOWN_OPERATION);
+  auto unknown_operation = supervisor::list_objects();
+  unknown_operation.operation()._d() = 12345;  // a code this server does not know
+  EXPECT_EQ(call(unknown_operation).code(), mm::ERR_UNKNOWN_OPERATION);
 
   // Nothing changed: the same objects, the box where it was (at rest), same size and colour.
-  const auto still = call(SupervisorClient::request(mm::OP_LIST_OBJECTS));
+  const auto still = call(supervisor::list_objects());
   EXPECT_EQ(still.object_ids(), list.object_ids());
-  const auto after = call(SupervisorClient::request(mm::OP_GET_OBJECT, box)).object();
+  const auto after = call(supervisor::get_object(box)).object();
   EXPECT_NEAR(after.pose().position().x(), before.pose().position().x(), 1e-6);
   EXPECT_NEAR(after.pose().position().y(), before.pose().position().y(), 1e-6);
   EXPECT_EQ(after.components()[0].size(), before.components()[0].size());
@@ -136,22 +134,16 @@ TEST_F(Supervisor, BadRequestsGetClearErrorsAndChangeNothing) {
 }
 
 TEST_F(Supervisor, DoorsResetAndSnapshotsOverDds) {
-  ASSERT_EQ(call(SupervisorClient::request(mm::OP_DOOR_COUNT)).count(), 1);
-  auto trigger = SupervisorClient::request(mm::OP_SET_SWITCH_TRIGGERED);
-  trigger.index(0);
-  trigger.flag(true);
-  ASSERT_EQ(call(trigger).code(), mm::ERR_OK);
-  auto get_door = SupervisorClient::request(mm::OP_GET_DOOR);
-  get_door.index(0);
+  ASSERT_EQ(call(supervisor::door_count()).count(), 1);
+  ASSERT_EQ(call(supervisor::set_switch_triggered(0, true)).code(), mm::ERR_OK);
+  const auto get_door = supervisor::get_door(0);
   bool opened = false;
   for (int i = 0; i < 100 && !opened; ++i) {
-    opened = call(get_door).door().gap() == 2;
+    opened = call(get_door).door().gap() == mm::GAP_OPEN;
     std::this_thread::sleep_for(100ms);
   }
   EXPECT_TRUE(opened);
-  auto reset = SupervisorClient::request(mm::OP_RESET);
-  reset.index(2);  // everything
-  ASSERT_EQ(call(reset).code(), mm::ERR_OK);
+  ASSERT_EQ(call(supervisor::reset(mm::RESET_EVERYTHING)).code(), mm::ERR_OK);
   const auto door = call(get_door).door();
   EXPECT_LT(door.opening(), 0.05);
   EXPECT_FALSE(door.virtually_triggered());

@@ -130,12 +130,9 @@ int main(int argc, char** argv) {
   char empty[] = "";
   request.client_id = (char*)"cyclone_listen";
   request.sequence_number = 1;
-  request.operation = macsim_msgs_msg_dds__OP_FIND_OBJECT;
-  request.name = (char*)object_name;
-  request.text = empty;
-  request.object.name = empty;
-  request.object.material = empty;
-  request.object.user_data = empty;
+  /* The operation is a union: its discriminator is the OP_* code, its member the arguments. */
+  request.operation._d = macsim_msgs_msg_dds__OP_FIND_OBJECT;
+  request.operation._u.find_object.name = (char*)object_name;
   macsim_msgs_msg_dds__SimulationRequest_ sim = {(char*)"cyclone_listen", 1,
                                                  macsim_msgs_msg_dds__SIM_FEATURES, 0, 0.0, empty};
   uint32_t found_id = 0;
@@ -159,22 +156,22 @@ int main(int argc, char** argv) {
             r->sequence_number != request.sequence_number) {
           continue;
         }
-        if (request.operation == macsim_msgs_msg_dds__OP_FIND_OBJECT) {
+        if (request.operation._d == macsim_msgs_msg_dds__OP_FIND_OBJECT) {
           printf("cyclone_listen: supervisor FIND_OBJECT %s: code %d, id %u\n", object_name,
                  r->code, r->object_id);
           if (r->code != macsim_msgs_msg_dds__ERR_OK) return 1;
           found_id = r->object_id;
-          request.operation = macsim_msgs_msg_dds__OP_GET_OBJECT;
-          request.object_id = found_id;
+          request.operation._d = macsim_msgs_msg_dds__OP_GET_OBJECT;
+          request.operation._u.object.object_id = found_id;
           request.sequence_number = 2;
-        } else if (request.operation == macsim_msgs_msg_dds__OP_GET_OBJECT) {
+        } else if (request.operation._d == macsim_msgs_msg_dds__OP_GET_OBJECT) {
           printf("cyclone_listen: supervisor GET_OBJECT %u: code %d, name %s, mass %.3f kg\n",
                  found_id, r->code, r->object.name, r->object.mass);
           got_object = r->code == macsim_msgs_msg_dds__ERR_OK && strcmp(r->object.name, object_name) == 0;
           if (!got_object) return 1;
-          request.operation = macsim_msgs_msg_dds__OP_SET_SWITCH_TRIGGERED;  /* door 0 */
-          request.index = 0;
-          request.flag = true;
+          request.operation._d = macsim_msgs_msg_dds__OP_SET_SWITCH_TRIGGERED;
+          request.operation._u.set_switch_triggered.door = 0;
+          request.operation._u.set_switch_triggered.triggered = true;
           request.sequence_number = 3;
         } else {
           printf("cyclone_listen: supervisor SET_SWITCH_TRIGGERED 0: code %d\n", r->code);

@@ -1,15 +1,15 @@
 // Handles on the simulator's supervisor and on its simulation control, over DDS.
 #pragma once
 
-#include <initializer_list>
-
 #include "macsim/client/request_reply.h"
+#include "macsim/client/supervisor_requests.h"
 #include "macsim/dds/topics.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 
 namespace macsim::client {
 
-/// Calls supervisor operations (macsim_msgs OP_*): create, destroy, move, resize, ... objects.
+/// Calls supervisor operations (macsim_msgs OP_*): create, destroy, move, resize, ... objects;
+/// the requests come from supervisor_requests.h, e.g. call(supervisor::set_mass(id, 0.2)).
 class SupervisorClient
     : public RequestReply<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType,
                           macsim_msgs::msg::dds_::SupervisorReply_PubSubType> {
@@ -19,9 +19,6 @@ class SupervisorClient
       : RequestReply(participant, dds::topics::kSupervisorRequest, dds::topics::kSupervisorReply,
                      std::move(client_id)) {}
 
-  /// A request for an operation on an object, with up to eight numbers.
-  static Request request(int32_t operation, uint32_t object_id = 0,
-                         std::initializer_list<double> values = {});
 };
 
 /// Controls the simulation (macsim_msgs SIM_*): pause, run, real-time factor, lock-step steps,

@@ -1,0 +1,22 @@
+// One supervisor request run against a world: (request, world, named snapshots) -> reply.
+// No DDS here: SupervisorServer calls it on the simulation thread, unit tests call it directly.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "macsim/msg/macsim_msgs.h"
+#include "macsim/sim_core/world.h"
+
+namespace macsim {
+
+/// The named snapshots of the world a request runs on.
+using SnapshotStore = std::map<std::string, WorldSnapshot>;
+
+/// Runs the request's operation; the reply echoes client and sequence number and carries the
+/// result, or an ERR_* code with a message (the world then unchanged).
+macsim_msgs::msg::dds_::SupervisorReply_ dispatch(
+    const macsim_msgs::msg::dds_::SupervisorRequest_& request, World& world,
+    SnapshotStore& snapshots);
+
+}  // namespace macsim
