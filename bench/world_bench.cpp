@@ -266,9 +266,16 @@ int main(int argc, char** argv) {
   // 3. Trials: snapshot, restore, reset.
   macsim::World world(spec);
   for (int i = 0; i < 500; ++i) world.step();
-  std::vector<double> snap, restore, reset;
+  std::vector<double> snap, restore, reset, state, hash;
   for (int i = 0; i < 20; ++i) {
     auto t = Clock::now();
+    const macsim::WorldState parts = world.state();
+    state.push_back(seconds_since(t));
+    t = Clock::now();
+    const uint64_t h = world.state_hash();
+    hash.push_back(seconds_since(t));
+    if (h == 0 && parts.steps == 0) std::printf("#\n");  // keep both
+    t = Clock::now();
     const macsim::WorldSnapshot s = world.snapshot();
     snap.push_back(seconds_since(t));
     t = Clock::now();
@@ -278,6 +285,8 @@ int main(int argc, char** argv) {
     world.reset(macsim::ResetScope::Everything);
     reset.push_back(seconds_since(t));
   }
+  std::printf("state.%s %.1f us\n", spec.name.c_str(), median(state) * 1e6);
+  std::printf("state_hash.%s %.1f us\n", spec.name.c_str(), median(hash) * 1e6);
   std::printf("snapshot.%s %.1f us\n", spec.name.c_str(), median(snap) * 1e6);
   std::printf("restore.%s %.1f us\n", spec.name.c_str(), median(restore) * 1e6);
   std::printf("reset_everything.%s %.1f us\n", spec.name.c_str(), median(reset) * 1e6);

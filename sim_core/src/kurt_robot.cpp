@@ -44,6 +44,10 @@ dBodyID make_body(dWorldID world, const Pose& pose, const dMass& mass) {
 }
 
 
+/// A standard normal number. A fresh distribution each time keeps no cached value, so the
+/// generator alone is the noise's state.
+double gaussian(std::mt19937& rng) { return std::normal_distribution<double>(0.0, 1.0)(rng); }
+
 /// A robot's state as built: encoders and odometry from the drive parameters, seeded noise.
 KurtRobot::State initial_state(const KurtConfig& config) {
   KurtRobot::State s;
@@ -315,7 +319,7 @@ void KurtRobot::read_frame_sensors(double now) {
     state_.ranges[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
   }
   double noise = 0.0;
-  if (config_.gyro_noise > 0) noise = config_.gyro_noise * state_.noise(state_.noise_rng);
+  if (config_.gyro_noise > 0) noise = config_.gyro_noise * gaussian(state_.noise_rng);
   const Eigen::Vector3d x = base.orientation * Eigen::Vector3d::UnitX();
   const Eigen::Vector3d y = base.orientation * Eigen::Vector3d::UnitY();
   state_.imu.yaw = wrap(state_.yaw_unwrapped - state_.start_yaw + config_.gyro_drift * now + noise);
@@ -346,7 +350,7 @@ void KurtRobot::sweep_laser(double now) {
                                            : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
     const auto hit = rays_->cast(origin, base.orientation * local, state_.scan.range_max);
     if (!hit || *hit < state_.scan.range_min) continue;
-    const double range = *hit + config_.laser_noise * state_.noise(state_.noise_rng);
+    const double range = *hit + config_.laser_noise * gaussian(state_.noise_rng);
     state_.scan.ranges[i] = static_cast<float>(range);
     if (turning) state_.cloud_in_progress.points.push_back((state_.scan.origin + local * range).cast<float>());
   }

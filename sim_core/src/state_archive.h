@@ -3,15 +3,13 @@
 // Native byte order and layout: a snapshot is read back by the same build.
 #pragma once
 
-#include <xxhash.h>
-
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
 #include <optional>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -51,7 +49,7 @@ constexpr bool kBlockElement = kStoredAsBytes<T> || kEigenFixed<T>;
 static_assert(std::is_trivially_copyable_v<std::mt19937>);
 static_assert(sizeof(std::mt19937) == 625 * sizeof(std::mt19937::result_type));
 
-/// Writes values to a sink: `ByteSink` (a snapshot) or `HashSink` (the state hash).
+/// Writes values to a sink (`ByteSink`: the bytes of a snapshot, which the state hash hashes).
 template <class Sink>
 class StateWriter {
  public:
@@ -91,11 +89,6 @@ class StateWriter {
       sink_.raw(value.coeffs().data(), 4 * sizeof(double));
     } else if constexpr (std::is_same_v<T, std::mt19937>) {
       sink_.raw(&value, sizeof value);
-    } else if constexpr (std::is_same_v<T, std::normal_distribution<double>>) {
-      std::ostringstream text;  // its parameters and the cached second value
-      text.precision(17);
-      text << value;
-      put(text.str());
     } else {
       archive(*this, const_cast<T&>(value));  // writing never changes the value
     }
@@ -107,28 +100,22 @@ class StateWriter {
   Sink sink_;
 };
 
-/// The bytes of a snapshot.
-struct ByteSink {
-  std::vector<uint8_t> bytes;
+/// The bytes of a snapshot, appended into a buffer that only ever grows (clear() keeps it).
+class ByteSink {
+ public:
   void raw(const void* data, std::size_t size) {
     if (size == 0) return;
-    const auto* p = static_cast<const uint8_t*>(data);
-    bytes.insert(bytes.end(), p, p + size);
+    if (used_ + size > buffer_.size()) buffer_.resize(std::max(2 * buffer_.size(), used_ + size));
+    std::memcpy(buffer_.data() + used_, data, size);
+    used_ += size;
   }
-};
-
-/// The 64-bit XXH3 hash of the same bytes, without storing them.
-class HashSink {
- public:
-  HashSink() : state_(XXH3_createState()) { XXH3_64bits_reset(state_); }
-  ~HashSink() { XXH3_freeState(state_); }
-  HashSink(const HashSink&) = delete;
-  HashSink& operator=(const HashSink&) = delete;
-  void raw(const void* data, std::size_t size) { XXH3_64bits_update(state_, data, size); }
-  uint64_t value() const { return XXH3_64bits_digest(state_); }
+  void clear() { used_ = 0; }
+  const uint8_t* data() const { return buffer_.data(); }
+  std::size_t size() const { return used_; }
 
  private:
-  XXH3_state_t* state_;
+  std::vector<uint8_t> buffer_;
+  std::size_t used_ = 0;
 };
 
 /// Reads values back in the order they were written; throws std::runtime_error when the bytes
@@ -181,12 +168,6 @@ class StateReader {
       raw(value.coeffs().data(), 4 * sizeof(double));
     } else if constexpr (std::is_same_v<T, std::mt19937>) {
       raw(&value, sizeof value);
-    } else if constexpr (std::is_same_v<T, std::normal_distribution<double>>) {
-      std::string text;
-      get(text);
-      std::istringstream in(text);
-      in >> value;
-      if (!in) throw std::runtime_error("the snapshot has a damaged noise generator");
     } else {
       archive(*this, value);
     }

@@ -6,6 +6,8 @@
 #include <map>
 
 #include "macsim/sim_core/world.h"
+#include <xxhash.h>
+
 #include "state_archive.h"
 #include "world_internal.h"
 
@@ -99,7 +101,7 @@ void archive(Ar& ar, KurtRobot::State& s) {
   ar(s.commanded, s.active, s.last_command_time, s.encoder_angle, s.last_hinge_angle, s.encoders,
      s.odometry, s.next_frame_time, s.frames, s.yaw_unwrapped, s.last_yaw, s.start_yaw, s.crane,
      s.magnet_on, s.held_object, s.rotunit_speed, s.rotunit_angle, s.cloud_start_angle,
-     s.next_scan_time, s.scans, s.clouds, s.noise_rng, s.noise, s.ranges, s.imu, s.scan, s.cloud,
+     s.next_scan_time, s.scans, s.clouds, s.noise_rng, s.ranges, s.imu, s.scan, s.cloud,
      s.cloud_in_progress);
 }
 template <class Ar>
@@ -120,10 +122,20 @@ void archive(Ar& ar, RobotSpec& r) {
   ar(r.name, r.type, r.pose, r.encoder_rate, r.source);
 }
 
+namespace {
+/// The values' bytes, in a buffer kept per thread (no allocation per call).
+template <class... T>
+const detail::ByteSink& serialized(const T&... values) {
+  thread_local detail::StateWriter<detail::ByteSink> writer;
+  writer.sink().clear();
+  writer(values...);
+  return writer.sink();
+}
+}  // namespace
+
 std::vector<uint8_t> serialize(const WorldState& state) {
-  detail::StateWriter<detail::ByteSink> writer;
-  writer(state);
-  return std::move(writer.sink().bytes);
+  const auto& bytes = serialized(state);
+  return {bytes.data(), bytes.data() + bytes.size()};
 }
 
 WorldState deserialize(const std::vector<uint8_t>& bytes) {
@@ -135,9 +147,8 @@ WorldState deserialize(const std::vector<uint8_t>& bytes) {
 }
 
 uint64_t state_hash(const WorldState& state) {
-  detail::StateWriter<detail::HashSink> hasher;
-  hasher(state);
-  return hasher.sink().value();
+  const auto& bytes = serialized(state);  // hashed in one pass: XXH3 is fastest on long input
+  return XXH3_64bits(bytes.data(), bytes.size());
 }
 
 // ---- World's state -------------------------------------------------------------------------
@@ -164,10 +175,9 @@ uint64_t World::state_hash() const { return macsim::state_hash(state()); }
 
 uint64_t World::world_fingerprint() const {
   // The world as loaded: its settings, robots and initial state.
-  detail::StateWriter<detail::HashSink> hasher;
-  WorldSpec& spec = const_cast<WorldSpec&>(spec_);
-  hasher(spec.name, spec.physics, spec.ground_friction, spec.materials, spec.robots, initial_);
-  return hasher.sink().value();
+  const auto& bytes = serialized(spec_.name, spec_.physics, spec_.ground_friction,
+                                 spec_.materials, spec_.robots, initial_);
+  return XXH3_64bits(bytes.data(), bytes.size());
 }
 
 void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, bool fresh_robots) {

@@ -106,8 +106,7 @@ class KurtRobot {
     double cloud_start_angle = 0.0;
     double next_scan_time = 0.0;
     uint64_t scans = 0, clouds = 0;
-    std::mt19937 noise_rng;
-    std::normal_distribution<double> noise{0.0, 1.0};
+    std::mt19937 noise_rng;  ///< Gaussian sensor noise is drawn from it alone
     // the last readings
     std::array<RangeReading, 8> ranges{};
     ImuReading imu;
