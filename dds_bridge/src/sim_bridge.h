@@ -42,7 +42,7 @@ class SimBridge {
 
  private:
   struct RobotTopics;
-  void publish_robot(RobotTopics& topics, KurtRobot& robot, double now);
+  void publish_cameras(RobotTopics& topics, double now);
 
   Runner& runner_;
   BridgeOptions options_;

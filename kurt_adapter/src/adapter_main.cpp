@@ -11,25 +11,17 @@
 #include <thread>
 
 #include "macsim/dds/command_line.h"
-#include "macsim/dds/convert.h"
-#include "macsim/dds/kurt_messages.h"
 #include "macsim/dds/participant.h"
 #include "macsim/dds/topics.h"
 #include "macsim/kurt/kurt_driver.h"
-#include "macsim/msg/geometry_msgsPubSubTypes.h"
-#include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/kurt/real_kurt.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
-#include "macsim/msg/nav_msgsPubSubTypes.h"
-#include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/robot/robot_node.h"
 #include "macsim/sim_core/command_queue.h"
 
 namespace {
 
-namespace gm = geometry_msgs::msg::dds_;
-namespace km = kurt_msgs::msg::dds_;
 namespace mm = macsim_msgs::msg::dds_;
-namespace nm = nav_msgs::msg::dds_;
-namespace sm = sensor_msgs::msg::dds_;
 using macsim::dds::QosFamily;
 using Clock = std::chrono::steady_clock;
 using namespace macsim::kurt;
@@ -63,8 +55,8 @@ double wall_stamp() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-/// Changes for the driver, queued by DDS callbacks and run on the CAN loop's thread.
-using CommandQueue = macsim::BasicCommandQueue<KurtDriver&, CanTransport&, double>;
+/// Commands for the robot, queued by DDS callbacks and run on the CAN loop's thread.
+using CommandQueue = macsim::BasicCommandQueue<macsim::robot::RobotInterface&>;
 
 }  // namespace
 
@@ -116,47 +108,12 @@ int main(int argc, char** argv) {
   try {
     macsim::dds::Participant dds(participant);
     CommandQueue queue;
-    macsim::dds::Writer<nm::Odometry_PubSubType> odom(dds, macsim::dds::topics::odom(robot),
-                                                      QosFamily::Sensor);
-    macsim::dds::Writer<sm::JointState_PubSubType> joints(
-        dds, macsim::dds::topics::joint_states(robot), QosFamily::Sensor);
-    macsim::dds::Writer<sm::Imu_PubSubType> imu(dds, macsim::dds::topics::imu(robot),
-                                                QosFamily::Sensor);
-    macsim::dds::Writer<sm::Range_PubSubType> range(dds, macsim::dds::topics::range(robot),
-                                                    QosFamily::Sensor);
-    // Callbacks only queue; the CAN loop runs the commands at its next 10 ms tick.
-    macsim::dds::Reader<gm::Twist_PubSubType> cmd_vel(
-        dds, macsim::dds::topics::cmd_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
-          const double v = t.linear().x(), w = t.angular().z();
-          if (!std::isfinite(v) || !std::isfinite(w)) return;
-          queue.push(
-              [v, w](KurtDriver& d, CanTransport&, double now) { d.command_twist(v, w, now); });
-        });
-    macsim::dds::Reader<km::WheelSpeeds_PubSubType> wheel_speeds(
-        dds, macsim::dds::topics::wheel_speeds(robot), QosFamily::Command,
-        [&](const km::WheelSpeeds_& w) {
-          const macsim::WheelSpeeds s{w.left(), w.right()};
-          if (!std::isfinite(s.left) || !std::isfinite(s.right)) return;
-          queue.push(
-              [s](KurtDriver& d, CanTransport&, double now) { d.command_wheel_speeds(s, now); });
-        });
-    macsim::dds::Reader<gm::Twist_PubSubType> rot_vel(
-        dds, macsim::dds::topics::rot_vel(robot), QosFamily::Command, [&](const gm::Twist_& t) {
-          const double speed = t.angular().z();
-          if (!std::isfinite(speed)) return;
-          queue.push([speed](KurtDriver& d, CanTransport& bus, double) {
-            bus.send(d.command_rotunit(speed));
-          });
-        });
-    // Assumption (documented in README): the crane's magnet hangs on the controller's
-    // actuator output, switched by CONTROL ACTUATOR_ON / ACTUATOR_OFF.
-    macsim::dds::Reader<km::MagnetCommand_PubSubType> magnet(
-        dds, macsim::dds::topics::crane_magnet(robot), QosFamily::Command,
-        [&](const km::MagnetCommand_& m) {
-          const bool on = m.on();
-          queue.push(
-              [on](KurtDriver&, CanTransport& bus, double) { bus.send(encode_actuator(on)); });
-        });
+    KurtDriver driver(params);
+    RealKurt kurt(robot, driver, *can, [] { return seconds(Clock::now()); }, wall_stamp);
+    // The one robot node: the topics of what the robot has; callbacks only queue, and the CAN
+    // loop runs the commands at its next 10 ms tick.
+    macsim::robot::RobotNode node(
+        dds, kurt, [&queue](macsim::robot::RobotCommand command) { queue.push(std::move(command)); });
 
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
     // a simulator on the same domain stays the only one answering the rest.
@@ -166,7 +123,7 @@ int main(int argc, char** argv) {
         dds, macsim::dds::topics::kSimulationRequest, QosFamily::Command,
         [&](const mm::SimulationRequest_& request) {
           if (request.command() != mm::SIM_FEATURES) return;
-          queue.push([&sim_replies, request](KurtDriver&, CanTransport&, double) {
+          queue.push([&sim_replies, request](macsim::robot::RobotInterface&) {
             mm::SimulationReply_ reply;
             reply.client_id(request.client_id());
             reply.sequence_number(request.sequence_number());
@@ -178,71 +135,31 @@ int main(int argc, char** argv) {
 
     std::cout << "kurt_adapter: CAN bus " << can_spec << "; serving on DDS domain "
               << participant.domain << ":\n";
-    for (const auto& [topic, what] : std::vector<std::pair<std::string, std::string>>{
-             {macsim::dds::topics::cmd_vel(robot), "geometry_msgs/Twist, in"},
-             {macsim::dds::topics::wheel_speeds(robot), "kurt_msgs/WheelSpeeds, in"},
-             {macsim::dds::topics::rot_vel(robot), "geometry_msgs/Twist, in"},
-             {macsim::dds::topics::crane_magnet(robot), "kurt_msgs/MagnetCommand, in"},
-             {macsim::dds::topics::odom(robot), "nav_msgs/Odometry, out"},
-             {macsim::dds::topics::joint_states(robot), "sensor_msgs/JointState, out"},
-             {macsim::dds::topics::range(robot), "sensor_msgs/Range, out"},
-             {macsim::dds::topics::imu(robot), "sensor_msgs/Imu, out"},
-             {macsim::dds::topics::kSimulationRequest,
-              "macsim_msgs/SimulationRequest, in: SIM_FEATURES"},
-             {macsim::dds::topics::kSimulationReply, "macsim_msgs/SimulationReply, out"}}) {
-      std::cout << "  " << topic << " (" << what << ")\n";
-    }
+    for (const auto& line : node.topic_lines()) std::cout << "  " << line << "\n";
+    std::cout << "  " << macsim::dds::topics::kSimulationRequest
+              << " (macsim_msgs/SimulationRequest, in: SIM_FEATURES)\n  "
+              << macsim::dds::topics::kSimulationReply << " (macsim_msgs/SimulationReply, out)\n";
+    std::cout << "kurt_adapter: not on this robot:";
+    for (const auto& topic : node.lacking_topics()) std::cout << " " << topic;
+    std::cout << "\n";
     std::cout << std::flush;
 
-    KurtDriver driver(params);
-    double last_yaw = 0.0, last_imu_time = 0.0;
     auto next_tick = Clock::now();
     while (!g_stop.load()) {
-      // Frames from the robot until the next 10 ms tick.
+      // Frames from the robot until the next 10 ms tick; each one's readings go out at once.
       while (true) {
         const auto wait =
             std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - Clock::now());
         auto frame = can->receive(std::max(wait, std::chrono::milliseconds(0)));
         if (!frame) break;
-        const double stamp = wall_stamp();
-        switch (driver.handle(*frame)) {
-          case Update::Odometry: {
-            const auto o = driver.odometry();
-            odom.write(macsim::dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, stamp));
-            joints.write(macsim::dds::kurt_wheel_joints(driver.wheel_angle(0),
-                                                        driver.wheel_angle(1), stamp));
-            break;
-          }
-          case Update::Ranges:
-            for (std::size_t i = 0; i < kRangeChannels.size(); ++i) {
-              range.write(macsim::dds::kurt_range(kRangeChannels[i].frame, kRangeChannels[i].sonar,
-                                                  driver.ranges()[i], stamp));
-            }
-            break;
-          case Update::Imu: {
-            const auto gyro = *driver.gyro();
-            const auto tilt = driver.tilt().value_or(Tilt{});
-            const double dt = last_imu_time > 0 ? stamp - last_imu_time : 0.0;
-            const double rate = dt > 0 ? std::remainder(gyro.yaw - last_yaw, 2 * M_PI) / dt : 0.0;
-            last_yaw = gyro.yaw;
-            last_imu_time = stamp;
-            imu.write(macsim::dds::kurt_imu(tilt.roll_deg * M_PI / 180, tilt.pitch_deg * M_PI / 180,
-                                            gyro.yaw, gyro.variance, rate, stamp));
-            break;
-          }
-          case Update::Rotunit:
-            joints.write(macsim::dds::kurt_rotunit_joint(*driver.rotunit_angle(),
-                                                         driver.rotunit_speed(), stamp));
-            break;
-          default:
-            break;
-        }
+        kurt.handle(*frame);
+        node.publish();
         if (Clock::now() >= next_tick) break;
       }
       // The tick: commands, then the set-point (zero once the last command is 0.6 s old).
-      const double now = seconds(Clock::now());
-      queue.drain(driver, *can, now);
-      can->send(driver.control_frame(now));
+      node.poll_commands();
+      queue.drain(kurt);
+      can->send(driver.control_frame(seconds(Clock::now())));
       next_tick += std::chrono::milliseconds(10);
       if (Clock::now() > next_tick + std::chrono::milliseconds(100)) next_tick = Clock::now();
     }

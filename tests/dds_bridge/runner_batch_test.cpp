@@ -9,7 +9,7 @@
 #include "macsim/client/supervisor_requests.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
-#include "robot_commands.h"
+#include "simulated_kurt.h"
 #include "supervisor_dispatch.h"
 #include "support/world_helpers.h"
 
@@ -44,7 +44,9 @@ TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
               [&](const LoadOutcome& outcome) { loaded = outcome; });
   mm::SupervisorReply_ destroyed, restored, hashed;
   supervise(rq::destroy_object(box), &destroyed);
-  runner.push(*robot_commands::twist("kurt", 0.3, 0.0));
+  // As RobotNode posts a cmd_vel: a command calling the simulated KURT's interface.
+  SimulatedKurt kurt(runner, "kurt");
+  runner.push([&kurt](World&) { kurt.command_twist(0.3, 0.0); });
   supervise(rq::restore_snapshot("before"), &restored);
   supervise(rq::state_hash(), &hashed);
   apply_until(runner, [&] { return hashed.sequence_number() == 0 && hashed.hash() != 0; });

@@ -1,0 +1,46 @@
+// A mock robot (ros2_control's mock GenericSystem): commands come back as readings, so a
+// controller or a node can be tried with no simulator and no robot. Time is given by the owner.
+#pragma once
+
+#include <string>
+
+#include "macsim/robot/robot_interface.h"
+
+namespace macsim::robot {
+
+/// Odometry integrates the commanded twist (wheel speeds through the track width); the crane's
+/// joints, the magnet and the rotunit speed mirror their commands; range readings stay as set.
+class MockRobot : public RobotInterface {
+ public:
+  /// `track`: m between the wheel sides; commands time out after `command_timeout` s.
+  MockRobot(std::string name, Capabilities capabilities, double track = 0.28,
+            double command_timeout = 0.6);
+
+  /// Moves the mock's clock to `now` (s), integrating odometry and the rotunit since the last.
+  void advance(double now);
+  /// What the range sensors report from now on.
+  void set_ranges(std::vector<Range> ranges) { ranges_ = std::move(ranges); }
+
+  std::string name() const override { return name_; }
+  Capabilities capabilities() const override { return capabilities_; }
+  void command_twist(double linear, double angular) override;
+  void command_wheel_speeds(double left, double right) override;
+  void command_rotunit(double speed) override { rotunit_.speed = speed; }
+  void command_crane(double slew, double lift, double hoist) override;
+  void command_magnet(bool on) override { crane_.magnet_on = on; }
+  Readings read() override;
+
+ private:
+  std::string name_;
+  Capabilities capabilities_;
+  double track_, command_timeout_;
+  double now_ = 0, last_command_ = -1e300;
+  double linear_ = 0, angular_ = 0;
+  bool moved_ = false;
+  Odometry odometry_;
+  Rotunit rotunit_;
+  Crane crane_;
+  std::vector<Range> ranges_;
+};
+
+}  // namespace macsim::robot

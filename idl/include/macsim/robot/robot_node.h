@@ -1,0 +1,46 @@
+// One robot node: serves any RobotInterface on rt/<robot>/* (the topics of what it has), for
+// the simulator and the real robot's adapter alike. Reader callbacks only hand commands to the
+// owner's queue; the owner runs them and calls publish() on its own thread.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "macsim/dds/participant.h"
+#include "macsim/robot/robot_interface.h"
+
+namespace macsim::robot {
+
+/// A command for the robot, run on the owner's thread.
+using RobotCommand = std::function<void(RobotInterface&)>;
+/// Hands a command to the owner's queue (called on Fast DDS's threads).
+using PostCommand = std::function<void(RobotCommand)>;
+
+/// Serves one robot over DDS.
+class RobotNode {
+ public:
+  /// Creates the writers and readers of what `robot` has. Commands with a number that is not
+  /// finite are dropped; the rest go to `post`.
+  RobotNode(dds::Participant& participant, RobotInterface& robot, PostCommand post);
+  ~RobotNode();
+  RobotNode(const RobotNode&) = delete;
+  RobotNode& operator=(const RobotNode&) = delete;
+
+  /// Hands over every command the readers hold (call right before the robot acts on them).
+  void poll_commands();
+  /// Reads the robot and writes what is new (the owner's thread).
+  void publish();
+  /// "topic (type, in|out)" of each topic served.
+  std::vector<std::string> topic_lines() const;
+  /// The topics a full KURT3D serves that this robot lacks.
+  std::vector<std::string> lacking_topics() const;
+
+ private:
+  struct Topics;
+  RobotInterface& robot_;
+  std::unique_ptr<Topics> topics_;
+};
+
+}  // namespace macsim::robot

@@ -1,0 +1,257 @@
+#include "macsim/robot/robot_node.h"
+
+#include <cmath>
+#include <cstring>
+#include <initializer_list>
+
+#include "macsim/dds/convert.h"
+#include "macsim/dds/kurt_messages.h"
+#include "macsim/dds/topics.h"
+#include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/kurt_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
+
+namespace macsim::robot {
+
+namespace gm = geometry_msgs::msg::dds_;
+namespace km = kurt_msgs::msg::dds_;
+namespace nm = nav_msgs::msg::dds_;
+namespace sm = sensor_msgs::msg::dds_;
+using dds::QosFamily;
+
+namespace {
+
+bool finite(std::initializer_list<double> values) {
+  for (double v : values) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+template <class T>
+std::unique_ptr<dds::Writer<T>> writer_if(bool has, dds::Participant& p, const std::string& topic) {
+  return has ? std::make_unique<dds::Writer<T>>(p, topic, QosFamily::Sensor) : nullptr;
+}
+
+/// Ground truth of base_footprint in the world frame; twist in the robot frame (as ROS does).
+nm::Odometry_ ground_truth_message(const GroundTruth& g, double stamp) {
+  nm::Odometry_ msg;
+  msg.header(dds::header(stamp, "world"));
+  msg.child_frame_id("base_footprint");
+  msg.pose().pose().position(dds::point(g.position[0], g.position[1], g.position[2]));
+  msg.pose().pose().orientation(
+      dds::quaternion(g.orientation[0], g.orientation[1], g.orientation[2], g.orientation[3]));
+  msg.twist().twist().linear(dds::vector3(g.linear[0], g.linear[1], g.linear[2]));
+  msg.twist().twist().angular(dds::vector3(g.angular[0], g.angular[1], g.angular[2]));
+  return msg;
+}
+
+sm::LaserScan_ scan_message(const Scan& scan, double stamp) {
+  sm::LaserScan_ msg;
+  msg.header(dds::header(stamp, scan.frame));
+  const std::size_t n = scan.ranges.size();
+  msg.angle_min(static_cast<float>(scan.angle_min));
+  msg.angle_max(static_cast<float>(scan.angle_min + scan.angle_increment * (n > 0 ? n - 1 : 0)));
+  msg.angle_increment(static_cast<float>(scan.angle_increment));
+  msg.scan_time(static_cast<float>(scan.scan_time));
+  // The mirror sweeps the beams in half a turn.
+  msg.time_increment(n > 0 ? static_cast<float>(scan.scan_time / 2 / n) : 0.0f);
+  msg.range_min(static_cast<float>(scan.range_min));
+  msg.range_max(static_cast<float>(scan.range_max));
+  msg.ranges(scan.ranges);
+  return msg;
+}
+
+sm::PointCloud2_ cloud_message(const Cloud& cloud, double stamp) {
+  sm::PointCloud2_ msg;
+  msg.header(dds::header(stamp, "base_link"));
+  uint32_t offset = 0;
+  for (const char* axis : {"x", "y", "z"}) {
+    sm::PointField_ field;
+    field.name(axis);
+    field.offset(offset);
+    field.datatype(7);  // FLOAT32
+    field.count(1);
+    msg.fields().push_back(field);
+    offset += 4;
+  }
+  const auto points = static_cast<uint32_t>(cloud.xyz.size() / 3);
+  msg.height(1);
+  msg.width(points);
+  msg.point_step(12);
+  msg.row_step(12 * points);
+  msg.is_bigendian(false);
+  msg.is_dense(true);
+  msg.data().resize(std::size_t{points} * 12);
+  if (points > 0) std::memcpy(msg.data().data(), cloud.xyz.data(), msg.data().size());
+  return msg;
+}
+
+km::CraneState_ crane_message(const Crane& crane, double stamp) {
+  km::CraneState_ msg;
+  msg.header(dds::header(stamp, "base_link"));
+  msg.slew(crane.slew);
+  msg.lift(crane.lift);
+  msg.hoist(crane.hoist);
+  msg.magnet_on(crane.magnet_on);
+  msg.held_object(crane.held_object);
+  return msg;
+}
+
+}  // namespace
+
+struct RobotNode::Topics {
+  std::string name;
+  Capabilities has;
+  // Writers (what the robot has).
+  dds::Writer<nm::Odometry_PubSubType> odom;
+  dds::Writer<sm::JointState_PubSubType> joint_states;
+  std::unique_ptr<dds::Writer<nm::Odometry_PubSubType>> ground_truth;
+  std::unique_ptr<dds::Writer<sm::Range_PubSubType>> range;
+  std::unique_ptr<dds::Writer<sm::Imu_PubSubType>> imu;
+  std::unique_ptr<dds::Writer<sm::LaserScan_PubSubType>> scan;
+  std::unique_ptr<dds::Writer<sm::PointCloud2_PubSubType>> points;
+  std::unique_ptr<dds::Writer<km::CraneState_PubSubType>> crane_state;
+  // Readers last: destroyed first, so no callback outlives what it posts into.
+  std::unique_ptr<dds::Reader<gm::Twist_PubSubType>> cmd_vel, rot_vel;
+  std::unique_ptr<dds::Reader<km::WheelSpeeds_PubSubType>> wheel_speeds;
+  std::unique_ptr<dds::Reader<km::CraneCommand_PubSubType>> crane_command;
+  std::unique_ptr<dds::Reader<km::MagnetCommand_PubSubType>> magnet;
+
+  Topics(dds::Participant& p, const std::string& robot, const Capabilities& c)
+      : name(robot),
+        has(c),
+        odom(p, dds::topics::odom(robot), QosFamily::Sensor),
+        joint_states(p, dds::topics::joint_states(robot), QosFamily::Sensor),
+        ground_truth(writer_if<nm::Odometry_PubSubType>(c.ground_truth, p, dds::topics::ground_truth(robot))),
+        range(writer_if<sm::Range_PubSubType>(c.ranges, p, dds::topics::range(robot))),
+        imu(writer_if<sm::Imu_PubSubType>(c.imu, p, dds::topics::imu(robot))),
+        scan(writer_if<sm::LaserScan_PubSubType>(c.laser, p, dds::topics::scan(robot, c.laser_rotating))),
+        points(writer_if<sm::PointCloud2_PubSubType>(c.points, p, dds::topics::points(robot))),
+        crane_state(writer_if<km::CraneState_PubSubType>(c.crane, p, dds::topics::crane_state(robot))) {}
+};
+
+RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand post)
+    : robot_(robot), topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())) {
+  Topics& t = *topics_;
+  const std::string& name = t.name;
+  // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
+  t.cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
+      p, dds::topics::cmd_vel(name), QosFamily::Command, [post](const gm::Twist_& m) {
+        const double v = m.linear().x(), w = m.angular().z();
+        if (finite({v, w})) post([v, w](RobotInterface& r) { r.command_twist(v, w); });
+      });
+  t.wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
+      p, dds::topics::wheel_speeds(name), QosFamily::Command, [post](const km::WheelSpeeds_& m) {
+        const double l = m.left(), r = m.right();
+        if (finite({l, r})) post([l, r](RobotInterface& it) { it.command_wheel_speeds(l, r); });
+      });
+  if (t.has.rotunit) {
+    t.rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
+        p, dds::topics::rot_vel(name), QosFamily::Command, [post](const gm::Twist_& m) {
+          const double speed = m.angular().z();
+          if (finite({speed})) post([speed](RobotInterface& r) { r.command_rotunit(speed); });
+        });
+  }
+  if (t.has.crane) {
+    t.crane_command = std::make_unique<dds::Reader<km::CraneCommand_PubSubType>>(
+        p, dds::topics::crane_command(name), QosFamily::Command, [post](const km::CraneCommand_& m) {
+          const double slew = m.slew(), lift = m.lift(), hoist = m.hoist();
+          if (finite({slew, lift, hoist})) {
+            post([slew, lift, hoist](RobotInterface& r) { r.command_crane(slew, lift, hoist); });
+          }
+        });
+  }
+  if (t.has.magnet) {
+    t.magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
+        p, dds::topics::crane_magnet(name), QosFamily::Command, [post](const km::MagnetCommand_& m) {
+          const bool on = m.on();
+          post([on](RobotInterface& r) { r.command_magnet(on); });
+        });
+  }
+}
+
+RobotNode::~RobotNode() = default;
+
+void RobotNode::poll_commands() {
+  Topics& t = *topics_;
+  t.cmd_vel->poll();
+  t.wheel_speeds->poll();
+  if (t.rot_vel) t.rot_vel->poll();
+  if (t.crane_command) t.crane_command->poll();
+  if (t.magnet) t.magnet->poll();
+}
+
+void RobotNode::publish() {
+  Topics& t = *topics_;
+  const Readings r = robot_.read();
+  const double now = r.stamp;
+  if (r.odometry) {
+    const Odometry& o = *r.odometry;
+    t.odom.write(dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now));
+  }
+  if (r.ground_truth && t.ground_truth) t.ground_truth->write(ground_truth_message(*r.ground_truth, now));
+  if (r.odometry) {
+    t.joint_states.write(dds::kurt_wheel_joints(r.odometry->left_wheel, r.odometry->right_wheel, now));
+  }
+  if (r.imu && t.imu) {
+    const Imu& i = *r.imu;
+    t.imu->write(dds::kurt_imu(i.roll, i.pitch, i.yaw, i.yaw_variance, i.yaw_rate, now));
+  }
+  if (t.range) {
+    for (const Range& each : r.ranges) t.range->write(dds::kurt_range(each.frame, each.sonar, each.range, now));
+  }
+  if (r.crane && t.crane_state) t.crane_state->write(crane_message(*r.crane, now));
+  if (r.scan && t.scan) t.scan->write(scan_message(*r.scan, now));
+  // The driver publishes the rotunit in joint_states messages of its own.
+  if (r.rotunit) t.joint_states.write(dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now));
+  if (r.cloud && t.points) t.points->write(cloud_message(*r.cloud, now));
+}
+
+namespace {
+struct TopicLine {
+  bool served;
+  std::string topic;
+  const char* what;
+};
+
+std::vector<TopicLine> topic_table(const std::string& n, const Capabilities& c) {
+  return {{true, dds::topics::cmd_vel(n), "geometry_msgs/Twist, in"},
+          {true, dds::topics::wheel_speeds(n), "kurt_msgs/WheelSpeeds, in"},
+          {c.rotunit, dds::topics::rot_vel(n), "geometry_msgs/Twist, in"},
+          {c.crane, dds::topics::crane_command(n), "kurt_msgs/CraneCommand, in"},
+          {c.magnet, dds::topics::crane_magnet(n), "kurt_msgs/MagnetCommand, in"},
+          {true, dds::topics::odom(n), "nav_msgs/Odometry, out"},
+          {c.ground_truth, dds::topics::ground_truth(n), "nav_msgs/Odometry, out"},
+          {true, dds::topics::joint_states(n), "sensor_msgs/JointState, out"},
+          {c.ranges, dds::topics::range(n), "sensor_msgs/Range, out"},
+          {c.imu, dds::topics::imu(n), "sensor_msgs/Imu, out"},
+          {c.laser, dds::topics::scan(n, c.laser_rotating), "sensor_msgs/LaserScan, out"},
+          {c.points, dds::topics::points(n), "sensor_msgs/PointCloud2, out"},
+          {c.crane, dds::topics::crane_state(n), "kurt_msgs/CraneState, out"}};
+}
+}  // namespace
+
+std::vector<std::string> RobotNode::topic_lines() const {
+  std::vector<std::string> lines;
+  for (const auto& line : topic_table(topics_->name, topics_->has)) {
+    if (line.served) lines.push_back(line.topic + " (" + line.what + ")");
+  }
+  return lines;
+}
+
+std::vector<std::string> RobotNode::lacking_topics() const {
+  Capabilities full;
+  full.ground_truth = full.ranges = full.imu = full.rotunit = full.laser = full.laser_rotating =
+      full.points = full.crane = full.magnet = true;
+  std::vector<std::string> lacking;
+  const auto served = topic_table(topics_->name, topics_->has);
+  const auto all = topic_table(topics_->name, full);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (!served[i].served) lacking.push_back(all[i].topic);
+  }
+  return lacking;
+}
+
+}  // namespace macsim::robot

@@ -1,0 +1,81 @@
+#include "macsim/kurt/real_kurt.h"
+
+#include <cmath>
+
+#include "macsim/kurt/kurt_can.h"
+
+namespace macsim::kurt {
+
+RealKurt::RealKurt(std::string name, KurtDriver& driver, CanTransport& can,
+                   std::function<double()> clock, std::function<double()> stamp)
+    : name_(std::move(name)),
+      driver_(driver),
+      can_(can),
+      clock_(std::move(clock)),
+      stamp_(std::move(stamp)) {}
+
+robot::Capabilities RealKurt::capabilities() const {
+  robot::Capabilities c;
+  c.ranges = c.imu = c.rotunit = c.magnet = true;
+  return c;
+}
+
+void RealKurt::command_twist(double linear, double angular) {
+  driver_.command_twist(linear, angular, clock_());
+}
+
+void RealKurt::command_wheel_speeds(double left, double right) {
+  driver_.command_wheel_speeds({left, right}, clock_());
+}
+
+void RealKurt::command_rotunit(double speed) { can_.send(driver_.command_rotunit(speed)); }
+
+void RealKurt::command_crane(double, double, double) {}
+
+// Assumption (kurt_adapter/README.md): the crane's magnet hangs on the controller's actuator
+// output, switched by CONTROL ACTUATOR_ON / ACTUATOR_OFF.
+void RealKurt::command_magnet(bool on) { can_.send(encode_actuator(on)); }
+
+void RealKurt::handle(const CanFrame& frame) {
+  const double stamp = stamp_();
+  switch (driver_.handle(frame)) {
+    case Update::Odometry: {
+      const auto o = driver_.odometry();
+      pending_.odometry = robot::Odometry{o.x, o.y, o.yaw, o.linear, o.angular,
+                                          driver_.wheel_angle(0), driver_.wheel_angle(1)};
+      break;
+    }
+    case Update::Ranges:
+      pending_.ranges.clear();
+      for (std::size_t i = 0; i < kRangeChannels.size(); ++i) {
+        pending_.ranges.push_back(
+            {kRangeChannels[i].frame, kRangeChannels[i].sonar, driver_.ranges()[i]});
+      }
+      break;
+    case Update::Imu: {
+      const auto gyro = *driver_.gyro();
+      const auto tilt = driver_.tilt().value_or(Tilt{});
+      const double dt = last_imu_time_ > 0 ? stamp - last_imu_time_ : 0.0;
+      const double rate = dt > 0 ? std::remainder(gyro.yaw - last_yaw_, 2 * M_PI) / dt : 0.0;
+      last_yaw_ = gyro.yaw;
+      last_imu_time_ = stamp;
+      pending_.imu = robot::Imu{tilt.roll_deg * M_PI / 180, tilt.pitch_deg * M_PI / 180, gyro.yaw,
+                                gyro.variance, rate};
+      break;
+    }
+    case Update::Rotunit:
+      pending_.rotunit = robot::Rotunit{*driver_.rotunit_angle(), driver_.rotunit_speed()};
+      break;
+    default:
+      return;
+  }
+  pending_.stamp = stamp;
+}
+
+robot::Readings RealKurt::read() {
+  robot::Readings out = std::move(pending_);
+  pending_ = robot::Readings{};
+  return out;
+}
+
+}  // namespace macsim::kurt
