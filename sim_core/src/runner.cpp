@@ -97,11 +97,12 @@ void Runner::replace_world(Load& load) {
   LoadOutcome outcome;
   try {
     WorldSpec spec = load.spec.get();
-    std::vector<std::string> now, next;
-    for (const auto& r : world_->robots()) now.push_back(r->name());
-    for (const auto& r : spec.robots) next.push_back(r.name);
+    // The robots' topics are served for the whole run: the same robots, by name and type.
+    std::vector<std::pair<std::string, std::string>> now, next;
+    for (const auto& r : world_->robots()) now.emplace_back(r->name(), r->spec().type);
+    for (const auto& r : spec.robots) next.emplace_back(r.name, r.type);
     if (now != next) {
-      outcome.error = "the new world must have the same robots (names) as this one";
+      outcome.error = "the new world must have the same robots (names and types) as this one";
     } else {
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
       world_ = std::move(world);

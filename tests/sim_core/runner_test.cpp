@@ -129,9 +129,12 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
   runner.load(  // its robot is not the same
       [] { return load_world_string("<WORLD><ROBOT><ID>kurt2</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "r.xml"); },
       record);
+  runner.load(  // nor of the same type
+      [] { return load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt2</TYPE></ROBOT></WORLD>", "t.xml"); },
+      record);
   runner.load([]() -> WorldSpec { throw std::runtime_error("disk on fire"); }, record);
   ASSERT_TRUE(runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(10)));
-  while (outcomes.size() < 4) {
+  while (outcomes.size() < 5) {
     runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(1));
     runner.apply_commands();
   }
@@ -139,7 +142,8 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
   EXPECT_NE(outcomes[0].error.find("no_such_world.xml"), std::string::npos) << outcomes[0].error;
   EXPECT_NE(outcomes[1].error.find("broken.xml:1"), std::string::npos) << outcomes[1].error;
   EXPECT_NE(outcomes[2].error.find("same robots"), std::string::npos) << outcomes[2].error;
-  EXPECT_NE(outcomes[3].error.find("disk on fire"), std::string::npos) << outcomes[3].error;
+  EXPECT_NE(outcomes[3].error.find("names and types"), std::string::npos) << outcomes[3].error;
+  EXPECT_NE(outcomes[4].error.find("disk on fire"), std::string::npos) << outcomes[4].error;
   EXPECT_EQ(runner.generation(), 0u);
   EXPECT_EQ(runner.world().state_hash(), hash);  // untouched
 }

@@ -58,7 +58,7 @@ class Runner {
   void push(Command command);
   /// Queues a world load: `parse` runs on a thread of its own while the current world runs on;
   /// commands queued after it wait and then run on the new world. The new world must have the
-  /// same robots (by name) as the current one. `done` runs on the simulation thread.
+  /// same robots (names and types) as the current one. `done` runs on the simulation thread.
   void load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done);
   /// Blocks until a command can run or `deadline` passes; true if one can.
   bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
