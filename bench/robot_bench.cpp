@@ -59,7 +59,7 @@ double step_rate(const macsim::WorldSpec& base, const Setup& setup, double secon
     for (long i = 0; i < steps; ++i) {
       if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.2, world.time());
       world.step();
-      if (rig && i % camera_every == 0) rig->submit(macsim::render::capture_scene(world));
+      if (rig && i % camera_every == 0) rig->submit(macsim::capture_scene(world));
     }
     if (rig) rig->wait_idle();
     rates.push_back(steps / seconds_since(start));
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
     macsim::render::CameraIntrinsics in;
     in.width = w;
     in.height = h;
-    const auto scene = macsim::render::capture_scene(world);
+    const auto scene = macsim::capture_scene(world);
     for (int i = 0; i < 5; ++i) renderer.render(scene, scene.robots[0].left_camera, in);
     const auto t0 = Clock::now();
     const int frames = 60;

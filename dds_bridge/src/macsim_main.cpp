@@ -94,7 +94,7 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
   for (long i = 0; i < steps; ++i) runner.step();
   try {
     render::OffscreenRenderer renderer(intrinsics.width, intrinsics.height);
-    const render::Scene scene = render::capture_scene(runner.world());
+    const macsim::Scene scene = macsim::capture_scene(runner.world());
     for (const auto& [mode, file] : jobs) {
       const cv::Mat image = renderer.render(scene, render::camera_pose(mode, scene), intrinsics);
       if (!cv::imwrite(file, image)) {
@@ -252,7 +252,7 @@ int main(int argc, char** argv) {
                      : UINT64_MAX;
     // The viewer (if any) gets a copy of the scene about 30 times a second of wall time.
     std::mutex scene_mutex;
-    macsim::render::Scene latest_scene = macsim::render::capture_scene(runner->world());
+    macsim::Scene latest_scene = macsim::capture_scene(runner->world());
     auto next_scene = start;
     std::atomic<bool> finished{false};
     macsim::StepHooks hooks;
@@ -264,7 +264,7 @@ int main(int argc, char** argv) {
       supervisor.publish();
       if (viewer && Clock::now() >= next_scene) {
         std::lock_guard<std::mutex> lock(scene_mutex);
-        latest_scene = macsim::render::capture_scene(world);
+        latest_scene = macsim::capture_scene(world);
         next_scene = Clock::now() + std::chrono::milliseconds(33);
       }
       if (status_period > 0 && Clock::now() >= next_status) {

@@ -83,7 +83,8 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     auto topics = std::make_unique<RobotTopics>(participant, runner, name);
-    if (options_.cameras) {
+    const auto& stereo = robot->config().cameras;  // a robot type without cameras has none
+    if (options_.cameras && stereo) {
       auto* t = topics.get();
       t->left_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(
           participant, dds::topics::image(name, "left"), QosFamily::Sensor);
@@ -94,8 +95,7 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
       t->right_info = std::make_unique<dds::Writer<sm::CameraInfo_PubSubType>>(
           participant, dds::topics::camera_info(name, "right"), QosFamily::Sensor);
       const render::CameraIntrinsics in = options_.camera;
-      const double baseline =
-          (render::left_camera_mount().position - render::right_camera_mount().position).norm();
+      const double baseline = stereo->baseline();
       // Runs on the render thread: writers are thread-safe, the world is never touched.
       auto publish = [t, in, baseline](const render::CameraImage& f) {
         // Each image goes out as soon as it is rendered, with its camera info.
@@ -151,7 +151,7 @@ void SimBridge::publish_cameras(RobotTopics& t, double now) {
     const bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
                                    [](const auto& rig) { return rig->idle(); });
     if (ready) {
-      const render::Scene scene = render::capture_scene(runner_.world());
+      const Scene scene = capture_scene(runner_.world());
       for (auto& rig : t.cameras) rig->submit(scene);
     } else {
       ++t.stereo_skipped;

@@ -17,6 +17,7 @@ struct Registry {
     KurtConfig kurt2;
     kurt2.crane = false;
     kurt2.laser = LaserMount::Fixed;
+    kurt2.cameras.reset();  // the KURT2 has no stereo pair
     types["kurt2"] = std::make_unique<KurtConfig>(kurt2);
   }
 };

@@ -209,7 +209,7 @@ void World::build() {
     KurtConfig config = *find_robot_type(robot.type);
     config.noise_seed = spec_.physics.seed + static_cast<uint32_t>(robots_.size());
     config.drive.frame_period = 1.0 / robot.encoder_rate;
-    robots_.push_back(std::make_unique<KurtRobot>(world_, space_, robot, group--, config));
+    robots_.push_back(std::unique_ptr<KurtRobot>(new KurtRobot(world_, space_, robot, group--, config)));
   }
   refresh_bodies();
 }

@@ -17,7 +17,7 @@ namespace {
 using render::CameraIntrinsics;
 using render::CameraMode;
 using render::OffscreenRenderer;
-using render::Scene;
+using macsim::Scene;
 
 // A scene with one box of `color` centred 2 m ahead of a camera at the origin.
 Scene box_ahead(const Color& color, const std::string& texture = "") {
@@ -73,7 +73,7 @@ TEST(Renderer, TheStereoPairSeesDisparity) {
   ObjectSpec marker = primitive(Shape::Box, {0.1, 0.1, 1.0}, {-0.45, 0.0, 0.5}, false);
   marker.components[0].color = {0.05f, 0.05f, 1.0f, 1};
   ASSERT_TRUE(world.create_object(marker).ok());
-  const Scene scene = render::capture_scene(world);
+  const Scene scene = capture_scene(world);
   OffscreenRenderer renderer(320, 240);
   CameraIntrinsics in;
   in.width = 320;
@@ -102,7 +102,7 @@ TEST(Renderer, TheStereoPairSeesDisparity) {
 
 TEST(CameraModes, EveryModeHasANameAndAPose) {
   World world(shipped_world("DemoWorld_v1.xml"));
-  const Scene scene = render::capture_scene(world);
+  const Scene scene = capture_scene(world);
   OffscreenRenderer renderer(160, 120);
   CameraIntrinsics in;
   in.width = 160;
@@ -168,7 +168,7 @@ TEST(CameraRig, RendersOnItsOwnThreadAndKeepsTheNewestScene) {
   });
   for (int i = 0; i < 5; ++i) {
     run_for(world, 0.05);
-    rig.submit(render::capture_scene(world));  // never blocks the physics
+    rig.submit(capture_scene(world));  // never blocks the physics
   }
   rig.wait_idle();
   std::lock_guard<std::mutex> lock(mutex);

@@ -3,16 +3,17 @@
 // its rotating unit, and the crane arm with its electromagnet.
 #pragma once
 
-#include <ode/common.h>
-
 #include <array>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "macsim/sim_core/kurt_drive.h"
 #include "macsim/sim_core/kurt_sensors.h"
+#include "macsim/sim_core/ode_handles.h"
 #include "macsim/sim_core/world_spec.h"
 
 namespace macsim {
@@ -62,13 +63,24 @@ struct CraneParams {
   double capture_distance = 0.01;  ///< m; a magnetizable object this close is grabbed
 };
 
-/// Everything a robot type fixes: drive, body, sensors, crane, noise.
+/// A stereo camera pair: optical centres in base_link (x forward, y left, z up).
+struct StereoMount {
+  /// Ours for the KURT3D: a 0.12 m baseline on a mast 0.42 m above base_link, looking 15
+  /// degrees down over the crane.
+  Pose left{{0.05, 0.06, 0.42}, Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
+  Pose right{{0.05, -0.06, 0.42}, Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
+  /// Distance between the optical centres, m.
+  double baseline() const { return (left.position - right.position).norm(); }
+};
+
+/// Everything a robot type fixes: drive, body, sensors, cameras, crane, noise.
 struct KurtConfig {
   KurtDriveParams drive;
   KurtBodyParams body;
   bool crane = true;
   CraneParams crane_params;
   bool range_sensors = true;  ///< IR and sonar, read with every encoder frame (100 Hz)
+  std::optional<StereoMount> cameras = StereoMount{};  ///< none on a robot without a stereo pair
   LaserMount laser = LaserMount::Rotating;
   double laser_rate = 75.0;    ///< Hz, LMS200 sweeps
   double laser_noise = 0.005;  ///< m, Gaussian sigma of each beam
@@ -114,9 +126,6 @@ class KurtRobot {
     PointCloud cloud, cloud_in_progress;
   };
 
-  /// Builds the robot at its spec's pose; geoms carry `collision_group` (no self-contacts).
-  KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int collision_group,
-            const KurtConfig& config = {});
   ~KurtRobot();
   KurtRobot(const KurtRobot&) = delete;
   KurtRobot& operator=(const KurtRobot&) = delete;
@@ -143,10 +152,6 @@ class KurtRobot {
   /// Reads encoders, gyro, ranges and the laser, and runs the magnet; call after each step
   /// of `step` seconds that ended at sim time `now`.
   void after_step(double now, double step);
-  /// The body of an object about to be destroyed: let go of it if the magnet holds it.
-  void forget_body(dBodyID body);
-  /// After a restore: hold `body` (the state's held_object) with the magnet again.
-  void reattach(dBodyID body);
   /// Events since the last call: {type, detail}, type "attached" or "released".
   std::vector<std::pair<std::string, std::string>> take_events();
 
@@ -189,15 +194,25 @@ class KurtRobot {
 
   /// The robot's shapes where they are now, for drawing.
   std::vector<ShapeView> shapes() const;
-  /// Every body: the chassis, the six wheels, then the crane's (turret, boom, magnet).
-  std::vector<dBodyID> bodies() const;
   /// The robot's state besides its bodies.
   const State& state() const { return state_; }
   /// Puts the state back (a held object is re-attached by reattach()).
   void set_state(const State& state);
 
  private:
-  void build_crane(dWorldID world, dSpaceID space, const Pose& base_link);
+  // ---- ODE's side, for the World that owns the robot ------------------------------------
+  friend class World;
+  /// Builds the robot at its spec's pose; geoms carry `collision_group` (no self-contacts).
+  KurtRobot(dxWorld* world, dxSpace* space, const RobotSpec& spec, int collision_group,
+            const KurtConfig& config);
+  /// Every body: the chassis, the six wheels, then the crane's (turret, boom, magnet).
+  std::vector<dxBody*> bodies() const;
+  /// The body of an object about to be destroyed: let go of it if the magnet holds it.
+  void forget_body(dxBody* body);
+  /// After a restore: hold `body` (the state's held_object) with the magnet again.
+  void reattach(dxBody* body);
+
+  void build_crane(dxWorld* world, dxSpace* space, const Pose& base_link);
   void update_wheel_angles();
   void read_frame_sensors(double now);
   void sweep_laser(double now);
@@ -207,19 +222,23 @@ class KurtRobot {
   std::string name_;
   RobotSpec spec_;
   KurtConfig config_;
-  dWorldID world_;
-  dSpaceID space_;
-  dBodyID chassis_ = nullptr;
-  std::array<dBodyID, 6> wheels_{};  // left front, left middle, left rear, right ...
-  std::array<dJointID, 6> hinges_{};
-  std::vector<dGeomID> geoms_;
+  dxWorld* world_;
+  dxSpace* space_;
+  dxBody* chassis_ = nullptr;
+  std::array<dxBody*, 6> wheels_{};  // left front, left middle, left rear, right ...
+  std::array<dxJoint*, 6> hinges_{};
+  std::vector<dxGeom*> geoms_;
   std::unique_ptr<detail::GeomTag> chassis_tag_, wheel_tag_, crane_tag_;
   // crane
-  dBodyID turret_ = nullptr, boom_ = nullptr, magnet_ = nullptr;
-  dJointID slew_ = nullptr, lift_ = nullptr, hoist_ = nullptr;
-  dGeomID capture_ = nullptr;  // not in the space: the magnet's reach
-  dJointID hold_ = nullptr;    // magnet -> held object
-  dBodyID held_body_ = nullptr;
+  dxBody* turret_ = nullptr;
+  dxBody* boom_ = nullptr;
+  dxBody* magnet_ = nullptr;
+  dxJoint* slew_ = nullptr;
+  dxJoint* lift_ = nullptr;
+  dxJoint* hoist_ = nullptr;
+  dxGeom* capture_ = nullptr;  // not in the space: the magnet's reach
+  dxJoint* hold_ = nullptr;    // magnet -> held object
+  dxBody* held_body_ = nullptr;
   std::unique_ptr<dJointFeedback> hold_feedback_;
   std::unique_ptr<detail::RayCaster> rays_;
   std::vector<std::pair<std::string, std::string>> events_;

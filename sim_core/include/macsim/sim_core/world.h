@@ -2,8 +2,6 @@
 // through the supervisor operations (the seed's "Simulation Control Interface").
 #pragma once
 
-#include <ode/common.h>
-
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -12,6 +10,7 @@
 #include <vector>
 
 #include "macsim/sim_core/kurt_robot.h"
+#include "macsim/sim_core/ode_handles.h"
 #include "macsim/sim_core/world_spec.h"
 #include "macsim/sim_core/world_state.h"
 
@@ -283,7 +282,7 @@ class World {
   Status resize_component(ObjectId id, int component, Shape shape, const Eigen::Vector3d& size,
                           PenetrationPolicy policy);
   Status dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
-                      dBodyID& body) const;
+                      dxBody*& body) const;
   Status check_door(int door) const;
   Status move_door_part(int door, bool leaf, const Eigen::Vector3d& position);
   void update_doors();
@@ -291,20 +290,20 @@ class World {
   void check_stability();
   void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail = "");
   Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
-  static void near_callback(void* data, dGeomID a, dGeomID b);
+  static void near_callback(void* data, dxGeom* a, dxGeom* b);
 
   WorldSpec spec_;                                   // as loaded
-  dWorldID world_ = nullptr;
-  dSpaceID space_ = nullptr;
-  dJointGroupID contact_group_ = nullptr;
+  dxWorld* world_ = nullptr;
+  dxSpace* space_ = nullptr;
+  dxJointGroup* contact_group_ = nullptr;
   void* threading_ = nullptr;
-  dGeomID ground_ = nullptr;
+  dxGeom* ground_ = nullptr;
   std::unique_ptr<detail::GeomTag> ground_tag_;
   std::vector<std::unique_ptr<Object>> objects_;     // list order = the seed's indices
   std::vector<std::unique_ptr<Joint>> joints_;
   std::vector<std::unique_ptr<Door>> doors_;
   std::vector<std::unique_ptr<KurtRobot>> robots_;
-  std::vector<dBodyID> bodies_;                      // every body, for the stability check
+  std::vector<dxBody*> bodies_;                      // every body, for the stability check
   std::vector<std::string> body_names_;              // owner of each body, for reports
   std::vector<BodyState> last_good_;
   std::vector<WorldEvent> events_;

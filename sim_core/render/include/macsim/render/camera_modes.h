@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "macsim/render/scene.h"
+#include "macsim/sim_core/scene.h"
 
 namespace macsim::render {
 

@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "macsim/render/scene.h"
+#include "macsim/sim_core/scene.h"
 
 namespace macsim::render {
 

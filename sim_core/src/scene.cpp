@@ -1,16 +1,8 @@
-#include "macsim/render/scene.h"
+#include "macsim/sim_core/scene.h"
 
-namespace macsim::render {
+#include "macsim/sim_core/world.h"
 
-Pose left_camera_mount() {
-  return {{0.05, 0.06, 0.42},
-          Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
-}
-
-Pose right_camera_mount() {
-  return {{0.05, -0.06, 0.42},
-          Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
-}
+namespace macsim {
 
 Scene capture_scene(const World& world) {
   Scene scene;
@@ -18,7 +10,13 @@ Scene capture_scene(const World& world) {
   scene.shapes = world.shapes();
   for (const auto& robot : world.robots()) {
     const Pose base = robot->base_link_pose();
-    scene.robots.push_back({robot->name(), base, base * left_camera_mount(), base * right_camera_mount()});
+    RobotView view{robot->name(), base, false, base, base};
+    if (const auto& cameras = robot->config().cameras) {
+      view.has_cameras = true;
+      view.left_camera = base * cameras->left;
+      view.right_camera = base * cameras->right;
+    }
+    scene.robots.push_back(view);
   }
   if (!scene.shapes.empty()) {
     scene.bounds_min = scene.bounds_max = scene.shapes.front().pose.position;
@@ -30,4 +28,4 @@ Scene capture_scene(const World& world) {
   return scene;
 }
 
-}  // namespace macsim::render
+}  // namespace macsim
