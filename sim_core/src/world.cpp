@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
 
@@ -107,6 +108,7 @@ constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1
 }  // namespace
 
 World::World(WorldSpec spec) : spec_(std::move(spec)) {
+  bounds::check_world(spec_);  // a spec built in code keeps the same bounds as a file
   detail::ensure_ode_ready();
   for (const auto& robot : spec_.robots) {
     if (!find_robot_type(robot.type)) {

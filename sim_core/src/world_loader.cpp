@@ -1,4 +1,5 @@
 #include "macsim/sim_core/world_loader.h"
+#include "macsim/sim_core/world_bounds.h"
 
 #include <tinyxml2.h>
 
@@ -213,8 +214,11 @@ class Loader {
   explicit Loader(const WarningSink& warn, const std::vector<MaterialSpec>& materials = {})
       : warn_(warn) {
     world_.materials = materials;
-    if (!world_.material("default"))
-      world_.materials.insert(world_.materials.begin(), MaterialSpec{"default"});
+    if (!world_.material("default")) {
+      MaterialSpec fallback;
+      fallback.name = "default";
+      world_.materials.insert(world_.materials.begin(), fallback);
+    }
   }
 
   WorldSpec take() { return std::move(world_); }
@@ -295,6 +299,7 @@ class Loader {
 
   void read_physics(const Reader& r, const XMLElement* physics) {
     PhysicsSpec& spec = world_.physics;
+    spec.source = r.where(physics);
     for (auto* e = physics->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = upper(e->Name());
       if (tag == "STEP") {
@@ -302,7 +307,12 @@ class Loader {
       } else if (tag == "GRAVITY") {
         spec.gravity = r.vector3(e);
       } else if (tag == "ITERATIONS") {
-        spec.solver_iterations = static_cast<int>(r.positive(e));
+        const double iterations = r.positive(e);
+        if (iterations != std::floor(iterations) || iterations > bounds::kMaxSolverIterations) {
+          r.fail(e, "<ITERATIONS> must be a whole number from 1 to " +
+                        std::to_string(bounds::kMaxSolverIterations) + ", got " + r.text(e));
+        }
+        spec.solver_iterations = static_cast<int>(iterations);
       } else if (tag == "ERP") {
         spec.erp = r.positive(e);
       } else if (tag == "CFM") {
@@ -317,6 +327,7 @@ class Loader {
 
   void read_material(const Reader& r, const XMLElement* element) {
     MaterialSpec m;
+    m.source = r.where(element);
     for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = upper(e->Name());
       if (tag == "NAME") {
@@ -818,6 +829,7 @@ WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
   loader.load_root(doc, path);
   WorldSpec world = loader.take();
   check_references(world);
+  bounds::check_world(world);
   return world;
 }
 
@@ -834,6 +846,7 @@ WorldSpec load_environment_file(const std::string& path, const std::string& impo
   loader.load_root(doc, (absolute.parent_path() / "<import_environment>").string());
   WorldSpec world = loader.take();
   check_references(world);
+  bounds::check_world(world);
   return world;
 }
 
@@ -845,6 +858,7 @@ WorldSpec load_world_string(const std::string& xml, const std::string& name,
   loader.load_root(doc, name);
   WorldSpec world = loader.take();
   check_references(world);
+  bounds::check_world(world);
   return world;
 }
 

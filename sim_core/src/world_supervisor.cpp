@@ -6,6 +6,7 @@
 
 #include "macsim/sim_core/texture.h"
 #include "macsim/sim_core/world.h"
+#include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
 
@@ -17,45 +18,10 @@ Status invalid(const std::string& message) {
   return Status::error(ErrorCode::InvalidArgument, message);
 }
 
-bool finite_pose(const Pose& p) {
-  return p.position.allFinite() && p.orientation.coeffs().allFinite() &&
-         p.orientation.norm() > 1e-9;
-}
-
-std::string describe(const Eigen::Vector3d& v) {
-  char text[96];
-  std::snprintf(text, sizeof(text), "(%g, %g, %g)", v.x(), v.y(), v.z());
-  return text;
-}
-
-/// Why a component's size is unusable for its shape, or empty.
-std::string size_problem(const ComponentSpec& c) {
-  const bool box_ok = c.size.allFinite() && (c.size.array() > 0).all();
-  const bool cylinder_ok = std::isfinite(c.size.x()) && std::isfinite(c.size.z()) &&
-                           c.size.x() > 0 && c.size.z() > 0;
-  const bool sphere_ok = std::isfinite(c.size.x()) && c.size.x() > 0;
-  switch (c.shape) {
-    case Shape::Box: return box_ok ? "" : "box sizes must be finite and positive, got " + describe(c.size);
-    case Shape::Cylinder:
-      return cylinder_ok ? "" : "cylinder radius and height must be finite and positive";
-    case Shape::Sphere: return sphere_ok ? "" : "sphere radius must be finite and positive";
-  }
-  return "unknown shape";
-}
-
-std::string ramp_problem(const RampGeometry& r) {
-  if (!std::isfinite(r.width) || !std::isfinite(r.height) || !std::isfinite(r.angle) ||
-      r.width <= 0 || r.height <= 0) {
-    return "ramp width and height must be finite and positive";
-  }
-  if (r.angle <= 0 || r.angle >= M_PI / 2) return "ramp angle must lie in (0, pi/2) rad";
-  return "";
-}
-
-bool valid_name(const std::string& name) {
-  return !name.empty() && std::all_of(name.begin(), name.end(), [](unsigned char c) {
-    return std::isalnum(c) || c == '_' || c == '-' || c == '.' || c == '/';
-  });
+/// Why a pose is unusable (out of bounds, not finite, a zero quaternion), or nothing.
+std::optional<std::string> pose_problem(const Pose& p) {
+  if (auto problem = bounds::position_problem(p.position)) return problem;
+  return bounds::orientation_problem(p.orientation);
 }
 
 }  // namespace
@@ -188,7 +154,6 @@ Status World::validate_new_object(ObjectSpec& spec) const {
     return invalid("door and switch parts are created with import_environment(), not alone");
   }
   if (spec.ramp) {
-    if (auto p = ramp_problem(*spec.ramp); !p.empty()) return invalid(p);
     spec.kind = ObjectKind::Ramp;
     spec.portable = false;
     ComponentSpec box = spec.ramp->box();
@@ -200,25 +165,16 @@ Status World::validate_new_object(ObjectSpec& spec) const {
   } else if (spec.kind == ObjectKind::Ramp) {
     return invalid("a ramp needs its ramp geometry (width, height, angle)");
   }
-  if (spec.components.empty()) return invalid("an object needs at least one component");
+  if (auto p = bounds::object_problem(spec)) return invalid(*p);
   for (const auto& c : spec.components) {
-    if (auto p = size_problem(c); !p.empty()) return invalid(p);
-    if (!finite_pose(c.pose)) return invalid("a component's pose is not finite");
-    for (float channel : c.color) {
-      if (!std::isfinite(channel) || channel < 0 || channel > 1) return invalid("colour channels must lie in [0, 1]");
-    }
     if (!c.texture.empty()) {
       if (auto p = texture_problem(c.texture)) return Status::error(ErrorCode::BadTexture, *p);
     }
   }
-  if (!finite_pose(spec.pose)) return invalid("the object's pose is not finite");
   spec.pose.orientation.normalize();
-  if (!std::isfinite(spec.density) || spec.density <= 0) {
-    return invalid("density must be finite and positive");
-  }
   if (!spec_.material(spec.material)) return invalid("unknown material '" + spec.material + "'");
-  if (!spec.name.empty() && !valid_name(spec.name)) {
-    return invalid("object name '" + spec.name + "' may hold only letters, digits, _ - . and /");
+  if (!spec.name.empty()) {
+    if (auto p = bounds::name_problem(spec.name)) return invalid(*p);
   }
   if (!spec.name.empty() && find_object(spec.name)) {
     return invalid("an object named '" + spec.name + "' exists already");
@@ -297,15 +253,15 @@ Status World::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
 
 Result<std::vector<ObjectId>> World::import_environment(const std::string& file,
                                                         const std::string& id, const Pose& pose) {
-  if (!finite_pose(pose)) return {invalid("the import's pose is not finite")};
-  if (!valid_name(id) || id.find('/') != std::string::npos) {
-    return {invalid("import id '" + id + "' may hold only letters, digits, _ - and .")};
-  }
+  if (auto p = pose_problem(pose)) return {invalid("the import's " + *p)};
+  if (auto p = bounds::id_problem(id)) return {invalid("import id: " + *p)};
   WorldSpec fragment;
   try {
     fragment = load_environment_file(file, id, spec_.materials);
   } catch (const WorldFileError& e) {
     return {Status::error(ErrorCode::BadFile, e.what())};
+  } catch (const std::exception& e) {  // e.g. a path the file system refuses
+    return {Status::error(ErrorCode::BadFile, "cannot import '" + file + "': " + e.what())};
   }
   Pose frame = pose;
   frame.orientation.normalize();
@@ -313,6 +269,11 @@ Result<std::vector<ObjectId>> World::import_environment(const std::string& file,
   for (auto& joint : fragment.joints) {
     joint.axis = frame.orientation * joint.axis;
     joint.anchor = frame.position + frame.orientation * joint.anchor;
+  }
+  try {  // placed: still within bounds?
+    bounds::check_world(fragment);
+  } catch (const WorldFileError& e) {
+    return {invalid(e.what())};
   }
   std::vector<ObjectId> ids;
   if (Status s = add_spec_objects(std::move(fragment), &ids); !s.ok()) return {s};
@@ -432,6 +393,9 @@ Status World::change_object(ObjectId id, PenetrationPolicy policy,
   ObjectSpec spec = o.spec;
   Pose pose = old_state.pose;
   if (Status s = change(spec, pose); !s.ok()) return s;
+  ObjectSpec placed = spec;  // the changed object where it will stand: within bounds?
+  placed.pose = pose;
+  if (auto p = bounds::object_problem(placed)) return invalid(*p);
   ObjectState state = old_state;
   state.pose = pose;
   rebuild_object(o, spec, state);
@@ -454,7 +418,7 @@ Status World::change_object(ObjectId id, PenetrationPolicy policy,
 }
 
 Status World::set_pose(ObjectId id, const Pose& pose, PenetrationPolicy policy) {
-  if (!finite_pose(pose)) return invalid("the pose is not finite");
+  if (auto p = pose_problem(pose)) return invalid(*p);
   const Object* o = find(id);
   if (o && o->door >= 0) {
     return Status::error(ErrorCode::NotApplicable,
@@ -504,9 +468,6 @@ Status World::resize_component(ObjectId id, int component, Shape shape,
                          "component " + std::to_string(component) + " of '" + o->spec.name +
                              "' is a " + shape_name(actual) + ", not a " + shape_name(shape));
   }
-  ComponentSpec probe = o->spec.components[component];
-  probe.size = size;
-  if (auto p = size_problem(probe); !p.empty()) return invalid(p);
   const bool wall = o->spec.kind == ObjectKind::Wall;
   return change_object(id, policy, [&](ObjectSpec& spec, Pose&) {
     spec.components[component].size = size;
@@ -536,7 +497,6 @@ Status World::set_ramp(ObjectId id, const RampGeometry& ramp, PenetrationPolicy 
   if (o->spec.kind != ObjectKind::Ramp) {
     return Status::error(ErrorCode::WrongGeometry, "'" + o->spec.name + "' is not a ramp");
   }
-  if (auto p = ramp_problem(ramp); !p.empty()) return invalid(p);
   return change_object(id, policy, [&](ObjectSpec& spec, Pose&) {
     ComponentSpec box = ramp.box();
     box.color = spec.components.front().color;
@@ -608,10 +568,14 @@ Status World::set_density(ObjectId id, double density) {
 }
 
 Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
-                           dBodyID& body) const {
+                           dxBody*& body) const {
   const Object* o = nullptr;
   if (Status s = check_object_id(id, o); !s.ok()) return s;
-  if (!value.allFinite()) return invalid(std::string(what) + " must be finite");
+  const bool angular = std::string(what) == "angular velocity";
+  const double max = std::string(what) == "linear velocity" ? bounds::kMaxSpeed
+                     : angular                              ? bounds::kMaxAngularSpeed
+                                                            : bounds::kMaxForce;
+  if (auto p = bounds::magnitude_problem(value, max, what)) return invalid(*p);
   if (!o->body) {
     return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: no " + what);
   }
@@ -738,7 +702,7 @@ Status World::set_switch_triggered(int door, bool triggered) {
 
 Status World::move_door_part(int door, bool leaf, const Eigen::Vector3d& position) {
   if (Status s = check_door(door); !s.ok()) return s;
-  if (!position.allFinite()) return invalid("the position is not finite");
+  if (auto p = bounds::position_problem(position)) return invalid(*p);
   Door& d = *doors_[door];
   const std::string moving_name = leaf ? d.spec.leaf : d.spec.switch_platform;
   const std::string fixed_name = leaf ? d.spec.frame : d.spec.switch_base;

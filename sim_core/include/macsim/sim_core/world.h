@@ -109,7 +109,7 @@ enum class ResetScope {
 class World {
  public:
   /// Builds the world; throws WorldFileError (with the spec's file and line) on what cannot be
-  /// built, such as an unknown robot type. Seeds ODE's random generator for determinism.
+  /// built: an unknown robot type, a magnitude out of bounds (world_bounds.h). Seeds ODE's random generator for determinism.
   explicit World(WorldSpec spec);
   ~World();
   World(const World&) = delete;

@@ -43,6 +43,7 @@ struct PhysicsSpec {
   double erp = 0.2;                          ///< error reduction parameter
   double cfm = 1e-5;                         ///< constraint force mixing
   uint32_t seed = 1;                         ///< ODE random seed (QuickStep reordering)
+  SourceLocation source;                     ///< the <PHYSICS> element, if any
 };
 
 /// A named surface: friction, restitution and a default density for objects made of it.
@@ -52,6 +53,7 @@ struct MaterialSpec {
   double bounce = 0.0;           ///< restitution in [0, 1]; a contact uses the larger
   double bounce_velocity = 0.1;  ///< m/s, slower impacts do not bounce
   double density = 100.0;        ///< kg/m^3, default for objects of this material
+  SourceLocation source;
 };
 
 /// Collision shapes of the seed: box, cylinder (axis along local z) and sphere.
