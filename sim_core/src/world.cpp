@@ -118,25 +118,9 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
                            "unknown robot type '" + robot.type + "' (known: " + known + ")");
     }
   }
-  WorldSpec fragment;
-  fragment.objects = spec_.objects;
-  fragment.joints = spec_.joints;
-  fragment.doors = spec_.doors;
-  std::vector<ObjectId> ids;
-  for (const auto& object : fragment.objects) {
-    auto record = std::make_unique<Object>();
-    record->id = next_id_++;
-    record->spec = object;
-    objects_.push_back(std::move(record));
-  }
-  for (const auto& joint : fragment.joints) {
-    joints_.push_back(std::make_unique<Joint>(Joint{joint, nullptr, 0.0}));
-  }
-  for (const auto& door : fragment.doors) {
-    auto record = std::make_unique<Door>();
-    record->spec = door;
-    doors_.push_back(std::move(record));
-  }
+  for (const auto& object : spec_.objects) add_object_record(next_id_++, object);
+  for (const auto& joint : spec_.joints) add_joint_record(joint);
+  for (const auto& door : spec_.doors) add_door_record(door, {});
   random_seed_ = spec_.physics.seed;
   build();
   initial_ = state();
@@ -144,6 +128,39 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
 }
 
 World::~World() { clear_ode(); }
+
+World::Object& World::add_object_record(ObjectId id, ObjectSpec spec) {
+  auto record = std::make_unique<Object>();
+  record->id = id;
+  record->spec = std::move(spec);
+  objects_.push_back(std::move(record));
+  return *objects_.back();
+}
+
+World::Joint& World::add_joint_record(JointSpec spec) {
+  joints_.push_back(std::make_unique<Joint>(Joint{std::move(spec), nullptr, 0.0}));
+  return *joints_.back();
+}
+
+void World::add_door_record(DoorSpec spec, DoorFlags flags) {
+  auto record = std::make_unique<Door>();
+  record->spec = std::move(spec);
+  record->flags = flags;
+  doors_.push_back(std::move(record));
+}
+
+void World::wire_doors() {
+  for (auto& object : objects_) object->door = -1;
+  for (std::size_t d = 0; d < doors_.size(); ++d) {
+    Door& door = *doors_[d];
+    door.door_joint = joint_named(door.spec.door_joint);
+    door.switch_joint = door.spec.switch_joint.empty() ? nullptr : joint_named(door.spec.switch_joint);
+    const DoorSpec& s = door.spec;
+    for (const std::string* part : {&s.leaf, &s.frame, &s.switch_platform, &s.switch_base}) {
+      if (auto id = find_object(*part)) find(*id)->door = static_cast<int>(d);
+    }
+  }
+}
 
 void World::clear_ode() {
   if (!world_) return;
@@ -193,17 +210,7 @@ void World::build() {
       std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1, nullptr});
   dGeomSetData(ground_, ground_tag_.get());
 
-  for (auto& door : doors_) {
-    door->door_joint = joint_named(door->spec.door_joint);
-    door->switch_joint =
-        door->spec.switch_joint.empty() ? nullptr : joint_named(door->spec.switch_joint);
-  }
-  for (std::size_t d = 0; d < doors_.size(); ++d) {
-    const auto& s = doors_[d]->spec;
-    for (const std::string* part : {&s.leaf, &s.frame, &s.switch_platform, &s.switch_base}) {
-      if (auto id = find_object(*part)) find(*id)->door = static_cast<int>(d);
-    }
-  }
+  wire_doors();
   for (auto& object : objects_) build_object(*object);
   for (auto& joint : joints_) build_joint(*joint);
   int group = kRobotGroupBase;

@@ -183,21 +183,11 @@ uint64_t World::world_fingerprint() const {
 void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, bool fresh_robots) {
   clear_ode();
   objects_.clear();
-  for (const auto& [id, spec] : s.objects) {
-    auto record = std::make_unique<Object>();
-    record->id = id;
-    record->spec = spec;
-    objects_.push_back(std::move(record));
-  }
   joints_.clear();
-  for (const auto& spec : s.joints) joints_.push_back(std::make_unique<Joint>(Joint{spec, nullptr, 0.0}));
   doors_.clear();
-  for (std::size_t i = 0; i < s.doors.size(); ++i) {
-    auto record = std::make_unique<Door>();
-    record->spec = s.doors[i];
-    record->flags = s.door_flags[i];
-    doors_.push_back(std::move(record));
-  }
+  for (const auto& [id, spec] : s.objects) add_object_record(id, spec);
+  for (const auto& spec : s.joints) add_joint_record(spec);
+  for (std::size_t i = 0; i < s.doors.size(); ++i) add_door_record(s.doors[i], s.door_flags[i]);
   build();  // bodies at their reference poses: joints take their zero there
   std::size_t body = 0;
   for (const auto& [id, spec] : s.objects) {

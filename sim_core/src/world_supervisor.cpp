@@ -184,12 +184,9 @@ Status World::validate_new_object(ObjectSpec& spec) const {
 
 Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy) {
   if (Status s = validate_new_object(spec); !s.ok()) return {s};
-  auto record = std::make_unique<Object>();
-  record->id = next_id_++;
-  if (spec.name.empty()) spec.name = "object_" + std::to_string(record->id);
-  record->spec = std::move(spec);
-  Object& o = *record;
-  objects_.push_back(std::move(record));
+  const ObjectId id = next_id_++;
+  if (spec.name.empty()) spec.name = "object_" + std::to_string(id);
+  Object& o = add_object_record(id, std::move(spec));
   build_object(o);
   Status status;
   status.penetrated = penetrations(o);
@@ -215,33 +212,11 @@ Status World::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
     if (!spec_.material(m.name)) spec_.materials.push_back(m);
   }
   std::vector<Object*> added;
-  for (auto& object : fragment.objects) {
-    auto record = std::make_unique<Object>();
-    record->id = next_id_++;
-    record->spec = std::move(object);
-    added.push_back(record.get());
-    objects_.push_back(std::move(record));
-  }
+  for (auto& object : fragment.objects) added.push_back(&add_object_record(next_id_++, std::move(object)));
   std::vector<Joint*> new_joints;
-  for (auto& joint : fragment.joints) {
-    joints_.push_back(std::make_unique<Joint>(Joint{std::move(joint), nullptr, 0.0}));
-    new_joints.push_back(joints_.back().get());
-  }
-  for (auto& door : fragment.doors) {
-    auto record = std::make_unique<Door>();
-    record->spec = std::move(door);
-    record->door_joint = joint_named(record->spec.door_joint);
-    record->switch_joint =
-        record->spec.switch_joint.empty() ? nullptr : joint_named(record->spec.switch_joint);
-    const int index = static_cast<int>(doors_.size());
-    for (const std::string* part : {&record->spec.leaf, &record->spec.frame,
-                                    &record->spec.switch_platform, &record->spec.switch_base}) {
-      for (Object* o : added) {
-        if (o->spec.name == *part) o->door = index;
-      }
-    }
-    doors_.push_back(std::move(record));
-  }
+  for (auto& joint : fragment.joints) new_joints.push_back(&add_joint_record(std::move(joint)));
+  for (auto& door : fragment.doors) add_door_record(std::move(door), {});
+  wire_doors();
   for (Object* o : added) {
     build_object(*o);
     if (ids) ids->push_back(o->id);
@@ -306,15 +281,9 @@ Status World::destroy_object(ObjectId id) {
       if (auto part_id = find_object(*part)) erase_object(*part_id);
     }
     doors_.erase(doors_.begin() + door);
-    for (auto& other : objects_) {
-      if (other->door > door) {
-        --other->door;
-        other->tag.group = 1'000'000 + other->door;
-      }
-    }
-    for (auto& d : doors_) {
-      d->door_joint = joint_named(d->spec.door_joint);
-      d->switch_joint = d->spec.switch_joint.empty() ? nullptr : joint_named(d->spec.switch_joint);
+    wire_doors();
+    for (auto& other : objects_) {  // the later doors' indices moved down: so do their groups
+      if (other->door >= door) other->tag.group = 1'000'000 + other->door;
     }
   } else {
     erase_object(id);

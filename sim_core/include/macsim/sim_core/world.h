@@ -254,6 +254,11 @@ class World {
   struct Door;
   friend struct WorldAccess;
 
+  // The one factory of each record, and the one wiring of doors to their joints and parts.
+  Object& add_object_record(ObjectId id, ObjectSpec spec);
+  Joint& add_joint_record(JointSpec spec);
+  void add_door_record(DoorSpec spec, DoorFlags flags);
+  void wire_doors();
   void build();
   /// Rebuilds ODE from a snapshot's description; bodies of `fresh` objects (and the robots,
   /// if `fresh_robots`) stay as built, at rest at their reference poses.
