@@ -112,9 +112,8 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// What the command line asks for.
+struct Options {
   std::string world_file;
   macsim::dds::ParticipantOptions participant{0, "", "macsim"};
   double rtf = 1.0;
@@ -133,114 +132,109 @@ int main(int argc, char** argv) {
   bool viewer = false;
   std::string camera_mode = "MouseKeyboard";
   std::string viewer_screenshot;
+};
 
+/// Reads the command line; an exit code if the program should exit now (--help, a bad option).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
   macsim::dds::CommandLine cli("macsim",
                                "Loads a MACSim world, steps its physics and serves it over DDS.");
-  cli.option("world", "FILE", "world file to load (required)", &world_file);
-  cli.participant_options(&participant);
-  cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &realtime);
-  cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &rtf);
-  cli.flag("as-fast-as-possible", "step without waiting for the wall clock", &as_fast_as_possible);
-  cli.flag("paused", "start paused (run, pause and step with simulation requests)", &paused);
+  cli.option("world", "FILE", "world file to load (required)", &o.world_file);
+  cli.participant_options(&o.participant);
+  cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &o.realtime);
+  cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &o.rtf);
+  cli.flag("as-fast-as-possible", "step without waiting for the wall clock", &o.as_fast_as_possible);
+  cli.flag("paused", "start paused (run, pause and step with simulation requests)", &o.paused);
   cli.flag("lockstep", "step only when a controller asks (SIM_STEP requests); implies --paused",
-           &lockstep);
+           &o.lockstep);
   cli.option("duration", "SECONDS", "stop after this much sim time (default: run until SIGINT)",
-             &duration);
+             &o.duration);
   cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
-             &status_period);
+             &o.status_period);
   cli.repeated_option("snapshot", "MODE:FILE.png",
                       "render a camera mode (MouseOnly, MouseKeyboard, FixedFollow, Follow, "
                       "Inside, LeftCamera, RightCamera, Manual) offscreen after the world settled, "
                       "write the PNG, exit",
-                      &snapshots);
+                      &o.snapshots);
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
-             &settle);
-  cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)", &snapshot_size);
+             &o.settle);
+  cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)", &o.snapshot_size);
   cli.option("cameras", "WxH|off",
              "render and publish each robot's stereo cameras at this size (default 320x240)",
-             &cameras);
+             &o.cameras);
   cli.option("camera-rate", "HZ", "camera frames per second of sim time (default 15)",
-             &camera_rate);
-  cli.flag("viewer", "open a window on the world (needs an X display)", &viewer);
+             &o.camera_rate);
+  cli.flag("viewer", "open a window on the world (needs an X display)", &o.viewer);
   cli.option("camera-mode", "MODE", "the window's first camera mode (default MouseKeyboard)",
-             &camera_mode);
+             &o.camera_mode);
   cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
-             &viewer_screenshot);
-  cli.flag("validate", "load the world, print a summary and exit", &validate);
-  if (auto code = cli.parse(argc, argv)) return *code;
-  if (world_file.empty()) {
+             &o.viewer_screenshot);
+  cli.flag("validate", "load the world, print a summary and exit", &o.validate);
+  if (auto code = cli.parse(argc, argv)) return code;
+  if (o.world_file.empty()) {
     std::cerr << "macsim: --world FILE is required (see --help)\n";
     return 2;
   }
-  if (!(rtf > 0.0) || !(duration >= 0.0) || !(status_period >= 0.0)) {
-    std::cerr << "macsim: --rtf must be positive, --duration and --status not negative\n";
+  if (!(o.rtf >= macsim::kMinRealTimeFactor) || !std::isfinite(o.rtf) || !(o.duration >= 0.0) ||
+      !(o.status_period >= 0.0)) {
+    std::cerr << "macsim: --rtf must be at least " << macsim::kMinRealTimeFactor
+              << ", --duration and --status not negative\n";
     return 2;
   }
-  if (realtime) rtf = 1.0;
+  if (o.realtime) o.rtf = 1.0;
 
-  std::unique_ptr<macsim::Runner> runner;
-  try {
-    auto spec = macsim::load_world_file(
-        world_file, [](const std::string& warning) { std::cerr << warning << "\n"; });
-    print_summary(spec);
-    runner = std::make_unique<macsim::Runner>(
-        std::move(spec),
-        macsim::RunSettings{paused || lockstep, as_fast_as_possible ? 0.0 : rtf});
-  } catch (const macsim::WorldFileError& e) {
-    std::cerr << "macsim: " << e.what() << std::endl;
-    return 1;
-  }
-  if (validate) return 0;
-  if (!snapshots.empty()) return write_snapshots(*runner, snapshots, settle, snapshot_size);
+  return std::nullopt;
+}
 
+/// Serves the runner's world over DDS until SIGINT/SIGTERM or --duration; the exit code.
+int serve(macsim::Runner& runner, const Options& o) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   macsim::render::ViewerOptions viewer_options;
-  if (viewer) {
-    auto mode = macsim::render::camera_mode_from_name(camera_mode);
+  if (o.viewer) {
+    auto mode = macsim::render::camera_mode_from_name(o.camera_mode);
     if (!mode) {
-      std::cerr << "macsim: unknown --camera-mode '" << camera_mode << "'\n";
+      std::cerr << "macsim: unknown --camera-mode '" << o.camera_mode << "'\n";
       return 2;
     }
     viewer_options.mode = *mode;
-    viewer_options.screenshot = viewer_screenshot;
+    viewer_options.screenshot = o.viewer_screenshot;
   }
 
   try {
-    macsim::dds::Participant dds(participant);
+    macsim::dds::Participant dds(o.participant);
     macsim::BridgeOptions bridge_options;
-    bridge_options.cameras = cameras != "off";
-    bridge_options.camera_rate = camera_rate;
+    bridge_options.cameras = o.cameras != "off";
+    bridge_options.camera_rate = o.camera_rate;
     if (bridge_options.cameras &&
-        (std::sscanf(cameras.c_str(), "%dx%d", &bridge_options.camera.width,
+        (std::sscanf(o.cameras.c_str(), "%dx%d", &bridge_options.camera.width,
                      &bridge_options.camera.height) != 2 ||
          bridge_options.camera.width <= 0 || bridge_options.camera.height <= 0 ||
-         camera_rate <= 0)) {
+         o.camera_rate <= 0)) {
       std::cerr << "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive "
                    "rate; got '"
-                << cameras << "'\n";
+                << o.cameras << "'\n";
       return 2;
     }
-    macsim::SimBridge bridge(dds, *runner, bridge_options);
-    macsim::SupervisorServer supervisor(dds, *runner);
-    macsim::SimulationServer control(dds, *runner);
-    std::cout << "macsim: serving on DDS domain " << participant.domain << ":\n";
+    macsim::SimBridge bridge(dds, runner, bridge_options);
+    macsim::SupervisorServer supervisor(dds, runner);
+    macsim::SimulationServer control(dds, runner);
+    std::cout << "macsim: serving on DDS domain " << o.participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
     for (const auto& topic : macsim::SupervisorServer::topic_names())
       std::cout << "  " << topic << "\n";
     std::cout << "  " << macsim::dds::topics::kSimulationRequest
               << " (macsim_msgs/SimulationRequest, in)\n  " << macsim::dds::topics::kSimulationReply
               << " (macsim_msgs/SimulationReply, out)\n";
-    if (lockstep) {
+    if (o.lockstep) {
       std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
-    } else if (paused) {
+    } else if (o.paused) {
       std::printf("macsim: stepping paused until a SIM_RUN request");
-    } else if (as_fast_as_possible) {
+    } else if (o.as_fast_as_possible) {
       std::printf("macsim: stepping as fast as possible");
     } else {
-      std::printf("macsim: stepping at real-time factor %g", rtf);
+      std::printf("macsim: stepping at real-time factor %g", o.rtf);
     }
-    if (duration > 0) std::printf(", for %g s of sim time", duration);
+    if (o.duration > 0) std::printf(", for %g s of sim time", o.duration);
     std::printf("\n");
     std::fflush(stdout);
 
@@ -248,11 +242,11 @@ int main(int argc, char** argv) {
     const auto start = Clock::now();
     auto next_status = start;
     const uint64_t last_step =
-        duration > 0 ? static_cast<uint64_t>(std::llround(duration / runner->world().step_size()))
+        o.duration > 0 ? static_cast<uint64_t>(std::llround(o.duration / runner.world().step_size()))
                      : UINT64_MAX;
     // The viewer (if any) gets a copy of the scene about 30 times a second of wall time.
     std::mutex scene_mutex;
-    macsim::Scene latest_scene = macsim::capture_scene(runner->world());
+    macsim::Scene latest_scene = macsim::capture_scene(runner.world());
     auto next_scene = start;
     std::atomic<bool> finished{false};
     macsim::StepHooks hooks;
@@ -260,24 +254,24 @@ int main(int argc, char** argv) {
     hooks.after_step = [&](macsim::World& world) {
       bridge.publish();
       // Steps on request (lock-step): the step is done when its data is out, images included.
-      if (runner->stepping_on_request()) bridge.wait_for_cameras();
+      if (runner.stepping_on_request()) bridge.wait_for_cameras();
       supervisor.publish();
-      if (viewer && Clock::now() >= next_scene) {
+      if (o.viewer && Clock::now() >= next_scene) {
         std::lock_guard<std::mutex> lock(scene_mutex);
         latest_scene = macsim::capture_scene(world);
         next_scene = Clock::now() + std::chrono::milliseconds(33);
       }
-      if (status_period > 0 && Clock::now() >= next_status) {
+      if (o.status_period > 0 && Clock::now() >= next_status) {
         print_status(world);
         next_status += std::chrono::duration_cast<Clock::duration>(
-            std::chrono::duration<double>(status_period));
+            std::chrono::duration<double>(o.status_period));
       }
     };
     auto loop = [&] {
-      runner->run(g_stop, last_step, hooks);
+      runner.run(g_stop, last_step, hooks);
       finished.store(true);
     };
-    if (viewer) {
+    if (o.viewer) {
       std::thread physics(loop);
       const int code = macsim::render::run_viewer(
           viewer_options,
@@ -293,7 +287,7 @@ int main(int argc, char** argv) {
       loop();
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-    const auto& world = runner->world();
+    const auto& world = runner.world();
     std::printf(
         "macsim: stopped at sim time %.3f s after %llu steps in %.3f s wall: %.0f steps/s, "
         "real-time factor %.2f\n",
@@ -305,4 +299,27 @@ int main(int argc, char** argv) {
     return 3;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (auto code = parse_options(argc, argv, o)) return *code;
+  std::unique_ptr<macsim::Runner> runner;
+  try {
+    auto spec = macsim::load_world_file(
+        o.world_file, [](const std::string& warning) { std::cerr << warning << "\n"; });
+    print_summary(spec);
+    runner = std::make_unique<macsim::Runner>(
+        std::move(spec),
+        macsim::RunSettings{o.paused || o.lockstep, o.as_fast_as_possible ? 0.0 : o.rtf});
+  } catch (const macsim::WorldFileError& e) {
+    std::cerr << "macsim: " << e.what() << std::endl;
+    return 1;
+  }
+  if (o.validate) return 0;
+  if (!o.snapshots.empty()) return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
+
+  return serve(*runner, o);
 }

@@ -2,6 +2,7 @@
 
 #include "macsim/dds/topics.h"
 #include "macsim/sim_core/world_loader.h"
+#include "supervisor_codec.h"
 
 namespace macsim {
 
@@ -29,10 +30,16 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
           }
           last->second = r.sequence_number();
         }
-        runner_.load([file = r.world_file()] { return load_world_file(file); },
-                     [this, r](const LoadOutcome& outcome) {
-                       send(reply_to(r, outcome.ok ? mm::ERR_OK : mm::ERR_BAD_FILE, outcome.error));
-                     });
+        const bool queued = runner_.load(
+            [file = r.world_file()] { return load_world_file(file); },
+            [this, r](const LoadOutcome& outcome) {
+              send(reply_to(r, codec::error_code(outcome.code), outcome.error));
+            });
+        if (!queued) {
+          runner_.push([this, r](World&) {
+            send(reply_to(r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
+          });
+        }
       });
 }
 
@@ -79,7 +86,9 @@ void SimulationServer::execute(const Request& q) {
       break;
     case mm::SIM_SET_RTF:
       if (!runner_.set_real_time_factor(q.real_time_factor())) {
-        replies_.write(reply_to(q, mm::ERR_INVALID_ARGUMENT, "real_time_factor must be >= 0"));
+        send(reply_to(q, mm::ERR_INVALID_ARGUMENT,
+                      "real_time_factor must be 0 (as fast as possible) or at least " +
+                          std::to_string(kMinRealTimeFactor)));
         return;
       }
       break;
@@ -89,7 +98,7 @@ void SimulationServer::execute(const Request& q) {
             stepping_.reset();
             send(reply_to(q, mm::ERR_OK, ""));
           })) {
-        replies_.write(reply_to(q, mm::ERR_INVALID_ARGUMENT, "a step request is still running"));
+        send(reply_to(q, mm::ERR_INVALID_ARGUMENT, "a step request is still running"));
         return;
       }
       stepping_ = q;
@@ -98,8 +107,8 @@ void SimulationServer::execute(const Request& q) {
     case mm::SIM_STATUS:
       break;
     default:
-      replies_.write(reply_to(q, mm::ERR_UNKNOWN_OPERATION,
-                              "unknown simulation command " + std::to_string(q.command())));
+      send(reply_to(q, mm::ERR_UNKNOWN_OPERATION,
+                    "unknown simulation command " + std::to_string(q.command())));
       return;
   }
   send(reply_to(q, mm::ERR_OK, ""));

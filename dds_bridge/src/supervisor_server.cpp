@@ -37,13 +37,19 @@ void SupervisorServer::execute(const Request& q, World& world) {
 void SupervisorServer::publish_world_state(World& world) {
   const double now = world.time();
   if (runner_.generation() != generation_) {
-    // Ids belong to one world: every instance of the old world goes, whatever its id.
+    // Ids and doors belong to one world: every instance of the old world goes.
     for (uint32_t gone : published_ids_) {
       mm::ObjectState_ state;
       state.id(gone);
       objects_.dispose(state);
     }
     published_ids_.clear();
+    for (const std::string& gone : published_doors_) {
+      mm::DoorState_ state;
+      state.name(gone);
+      doors_.dispose(state);
+    }
+    published_doors_.clear();
     generation_ = runner_.generation();
   }
   std::set<uint32_t> present;
@@ -62,13 +68,22 @@ void SupervisorServer::publish_world_state(World& world) {
     objects_.dispose(state);  // the object was destroyed: its instance goes too
   }
   published_ids_ = std::move(present);
+  std::set<std::string> doors;
   for (int d = 0; d < world.door_count(); ++d) {
     mm::DoorState_ state;
     state.name(world.door_name(d));
     state.stamp(now);
     state.door(codec::door_message(world, d));
     doors_.write(state);
+    doors.insert(state.name());
   }
+  for (const std::string& gone : published_doors_) {
+    if (doors.count(gone)) continue;
+    mm::DoorState_ state;
+    state.name(gone);
+    doors_.dispose(state);  // the door was destroyed: its instance goes too
+  }
+  published_doors_ = std::move(doors);
 }
 
 std::vector<std::string> SupervisorServer::topic_names() {

@@ -39,6 +39,7 @@ class SupervisorServer {
   double last_time_ = 0.0;
   uint64_t generation_ = 0;           // of the world published_ids_ belong to
   std::set<uint32_t> published_ids_;
+  std::set<std::string> published_doors_;
   ReplyCache<Reply> replied_;
   dds::Writer<macsim_msgs::msg::dds_::SupervisorReply_PubSubType> replies_;
   dds::Writer<macsim_msgs::msg::dds_::ObjectState_PubSubType> objects_;

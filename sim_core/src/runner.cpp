@@ -1,5 +1,6 @@
 #include "macsim/sim_core/runner.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "macsim/sim_core/world_loader.h"
@@ -28,27 +29,34 @@ void Runner::push(Command command) {
   arrived_.notify_one();
 }
 
-void Runner::load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done) {
+bool Runner::load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done) {
   auto promise = std::make_shared<std::promise<WorldSpec>>();
   std::shared_future<WorldSpec> spec = promise->get_future().share();
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    pending_.emplace_back(Load{spec, std::move(done)});
+    if (loading_) return false;
     std::erase_if(loaders_, [](const std::future<void>& f) {
       return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
     });
     // Parsed on a thread of its own; when done it wakes the loop, so a paused runner swaps at once.
-    loaders_.push_back(std::async(std::launch::async, [this, promise, parse = std::move(parse)] {
-      try {
-        promise->set_value(parse());
-      } catch (...) {
-        promise->set_exception(std::current_exception());
-      }
-      { std::lock_guard<std::mutex> wake(mutex_); }
-      arrived_.notify_all();
-    }));
+    try {
+      loaders_.push_back(std::async(std::launch::async, [this, promise, parse = std::move(parse)] {
+        try {
+          promise->set_value(parse());
+        } catch (...) {
+          promise->set_exception(std::current_exception());
+        }
+        { std::lock_guard<std::mutex> wake(mutex_); }
+        arrived_.notify_all();
+      }));
+    } catch (const std::system_error&) {
+      return false;  // no thread to be had: refused like a second load
+    }
+    loading_ = true;
+    pending_.emplace_back(Load{std::move(spec), std::move(done)});
   }
   arrived_.notify_one();
+  return true;
 }
 
 bool Runner::runnable(const Item& item) {
@@ -102,6 +110,7 @@ void Runner::replace_world(Load& load) {
     for (const auto& r : world_->robots()) now.emplace_back(r->name(), r->spec().type);
     for (const auto& r : spec.robots) next.emplace_back(r.name, r.type);
     if (now != next) {
+      outcome.code = ErrorCode::InvalidArgument;
       outcome.error = "the new world must have the same robots (names and types) as this one";
     } else {
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
@@ -111,9 +120,15 @@ void Runner::replace_world(Load& load) {
       outcome.ok = true;
     }
   } catch (const WorldFileError& e) {
+    outcome.code = ErrorCode::BadFile;
     outcome.error = e.what();
   } catch (const std::exception& e) {
+    outcome.code = ErrorCode::BadFile;
     outcome.error = std::string("cannot load the world: ") + e.what();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    loading_ = false;
   }
   if (load.done) load.done(outcome);
 }
@@ -124,7 +139,7 @@ void Runner::step() {
 }
 
 bool Runner::set_real_time_factor(double factor) {
-  if (!std::isfinite(factor) || factor < 0) return false;
+  if (!std::isfinite(factor) || (factor != 0 && factor < kMinRealTimeFactor)) return false;
   settings_.real_time_factor = factor;
   return true;
 }
@@ -167,8 +182,10 @@ void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHo
           std::chrono::duration<double>(world_->step_size() / pace));
       const auto now = Clock::now();
       if (now > next + std::chrono::milliseconds(100)) next = now;  // fell behind: no burst
-      // Until the next step is due, serve requests as they come (between steps).
-      while (wait_for_commands(next)) {
+      // Until the next step is due, serve requests as they come (between steps), looking at
+      // `stop` at least every 50 ms.
+      while (!stop.load() && Clock::now() < next) {
+        if (!wait_for_commands(std::min(next, Clock::now() + std::chrono::milliseconds(50)))) continue;
         apply_commands();
         if (requested_steps_ > 0) break;  // a step request: go now
       }

@@ -40,7 +40,15 @@ template <class T>
 constexpr bool kStoredAsBytes = std::is_arithmetic_v<T> || std::is_enum_v<T>;
 /// Fixed-size Eigen vectors and matrices: their coefficients, no padding.
 template <class T>
-constexpr bool kEigenFixed = std::is_base_of_v<Eigen::MatrixBase<T>, T>;
+constexpr bool kEigenFixed = [] {
+  if constexpr (std::is_base_of_v<Eigen::MatrixBase<T>, T>) {
+    static_assert(T::SizeAtCompileTime != Eigen::Dynamic, "only fixed-size Eigen types are stored");
+    static_assert(sizeof(T) == sizeof(typename T::Scalar) * T::SizeAtCompileTime,
+                  "a fixed-size Eigen type is its coefficients, no padding");
+    return true;
+  }
+  return false;
+}();
 /// Elements a vector stores as one block of bytes.
 template <class T>
 constexpr bool kBlockElement = kStoredAsBytes<T> || kEigenFixed<T>;
@@ -133,7 +141,12 @@ class StateReader {
  private:
   template <class T>
   void get(T& value) {
-    if constexpr (kStoredAsBytes<T>) {
+    if constexpr (std::is_same_v<T, bool>) {
+      uint8_t byte = 0;  // a bool is 0 or 1: anything else is damage, not a bool
+      raw(&byte, 1);
+      if (byte > 1) throw std::runtime_error("the snapshot has a damaged flag");
+      value = byte == 1;
+    } else if constexpr (kStoredAsBytes<T>) {
       raw(&value, sizeof value);
     } else if constexpr (std::is_same_v<T, std::string>) {
       value.resize(length(1));

@@ -109,6 +109,8 @@ constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1
 
 World::World(WorldSpec spec) : spec_(std::move(spec)) {
   bounds::check_world(spec_);  // a spec built in code keeps the same bounds as a file
+  for (auto& object : spec_.objects) normalize_orientations(object);
+  for (auto& robot : spec_.robots) robot.pose.orientation.normalize();
   detail::ensure_ode_ready();
   for (const auto& robot : spec_.robots) {
     if (!find_robot_type(robot.type)) {

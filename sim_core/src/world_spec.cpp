@@ -93,4 +93,9 @@ const ObjectSpec* WorldSpec::object(const std::string& object_name) const {
   return nullptr;
 }
 
+void normalize_orientations(ObjectSpec& object) {
+  object.pose.orientation.normalize();
+  for (auto& c : object.components) c.pose.orientation.normalize();
+}
+
 }  // namespace macsim

@@ -3,11 +3,13 @@
 #include "macsim/sim_core/world_state.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "macsim/sim_core/world.h"
 #include <xxhash.h>
 
+#include "macsim/sim_core/world_bounds.h"
 #include "state_archive.h"
 #include "world_internal.h"
 
@@ -212,6 +214,43 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
   events_.clear();
 }
 
+namespace {
+/// Why decoded state cannot be put into ODE, or nothing: what a file or a request could not
+/// hold either (bounds), codes out of range, bodies that are not finite or not plausible.
+std::optional<std::string> state_problem(const WorldState& s) {
+  for (const auto& [id, o] : s.objects) {
+    if (auto p = bounds::name_problem(o.name)) return p;
+    if (static_cast<int>(o.kind) < 0 || static_cast<int>(o.kind) > static_cast<int>(ObjectKind::DoorLeaf)) {
+      return std::string("an object of an unknown kind");
+    }
+    if (auto p = bounds::object_problem(o)) return "'" + o.name + "': " + *p;
+  }
+  for (const auto& j : s.joints) {
+    if (j.type != JointSpec::Type::Slider && j.type != JointSpec::Type::Hinge) {
+      return std::string("a joint of an unknown type");
+    }
+    if (auto p = bounds::joint_problem(j)) return "joint '" + j.name + "': " + *p;
+  }
+  for (const auto& f : s.door_flags) {
+    if (f.gap != DoorGap::Closed && f.gap != DoorGap::Half && f.gap != DoorGap::Open) {
+      return std::string("a door with an unknown gap");
+    }
+  }
+  for (const auto& b : s.bodies) {
+    if (!detail::plausible(b) || b.orientation.norm() < 1e-9) return std::string("a body that is not plausible");
+  }
+  for (const auto& r : s.robots) {
+    const bool finite = std::isfinite(r.commanded.left) && std::isfinite(r.commanded.right) &&
+                        std::isfinite(r.active.left) && std::isfinite(r.active.right) &&
+                        std::isfinite(r.crane.slew) && std::isfinite(r.crane.lift) &&
+                        std::isfinite(r.crane.hoist) && std::isfinite(r.rotunit_speed) &&
+                        std::isfinite(r.rotunit_angle);
+    if (!finite) return std::string("a robot whose commands are not finite");
+  }
+  return std::nullopt;
+}
+}  // namespace
+
 Status World::restore(const WorldSnapshot& snapshot) {
   if (snapshot.fingerprint != fingerprint_) {
     return Status::error(ErrorCode::InvalidArgument,
@@ -222,6 +261,9 @@ Status World::restore(const WorldSnapshot& snapshot) {
     s = deserialize(snapshot.bytes);
   } catch (const std::runtime_error& e) {
     return Status::error(ErrorCode::InvalidArgument, std::string("cannot restore: ") + e.what());
+  }
+  if (auto p = state_problem(s)) {
+    return Status::error(ErrorCode::InvalidArgument, "cannot restore a damaged snapshot: " + *p);
   }
   std::size_t portable = 0;
   for (const auto& object : s.objects) portable += object.second.portable ? 1 : 0;

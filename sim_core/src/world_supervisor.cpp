@@ -166,12 +166,12 @@ Status World::validate_new_object(ObjectSpec& spec) const {
     return invalid("a ramp needs its ramp geometry (width, height, angle)");
   }
   if (auto p = bounds::object_problem(spec)) return invalid(*p);
+  normalize_orientations(spec);
   for (const auto& c : spec.components) {
     if (!c.texture.empty()) {
       if (auto p = texture_problem(c.texture)) return Status::error(ErrorCode::BadTexture, *p);
     }
   }
-  spec.pose.orientation.normalize();
   if (!spec_.material(spec.material)) return invalid("unknown material '" + spec.material + "'");
   if (!spec.name.empty()) {
     if (auto p = bounds::name_problem(spec.name)) return invalid(*p);

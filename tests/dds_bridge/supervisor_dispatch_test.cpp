@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "macsim/client/supervisor_requests.h"
+#include "macsim/dds/convert.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -427,6 +428,20 @@ TEST(SupervisorDispatch, EveryOperationAndErrorCodeOfTheIdlHasItsTest) {
   EXPECT_EQ(operations, idl_codes("OP_"));
   EXPECT_EQ(operations.size(), 37u);
   EXPECT_EQ(errors, idl_codes("ERR_"));
+}
+
+TEST(SupervisorDispatch, AComponentsQuaternionIsNormalizedBeforeItReachesOde) {
+  Fixture f;
+  mm::Object_ o = sphere_at(0, -1.0, 0.5, 0.07);
+  o.components()[0].shape(mm::SHAPE_BOX);
+  o.components()[0].size({0.1, 0.1, 0.1});
+  o.components()[0].pose().orientation(dds::quaternion(0.7071, 0, 0, 0));  // not unit length
+  const Reply r = f.ok(rq::create_object(o));
+  const Eigen::Quaterniond q = f.world.object(r.object_id())->components[0].pose.orientation;
+  EXPECT_NEAR(q.norm(), 1.0, 1e-12);
+  run_for(f.world, 0.2);
+  EXPECT_TRUE(f.world.object_state(r.object_id()).value.pose.position.allFinite());
+  EXPECT_NEAR(f.world.object_mass(r.object_id()).value, 0.1, 1e-9);
 }
 
 TEST(SupervisorDispatch, PenetrationWhenAllowedIsAppliedAndReported) {

@@ -123,27 +123,34 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
   for (int i = 0; i < 3; ++i) runner.step();
   const uint64_t hash = runner.world().state_hash();
   std::vector<LoadOutcome> outcomes;
-  auto record = [&](const LoadOutcome& o) { outcomes.push_back(o); };
-  runner.load([] { return load_world_file(test::source("worlds/no_such_world.xml")); }, record);
-  runner.load([] { return load_world_string("<WORLD><BOX>", "broken.xml"); }, record);
-  runner.load(  // its robot is not the same
-      [] { return load_world_string("<WORLD><ROBOT><ID>kurt2</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "r.xml"); },
-      record);
-  runner.load(  // nor of the same type
-      [] { return load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt2</TYPE></ROBOT></WORLD>", "t.xml"); },
-      record);
-  runner.load([]() -> WorldSpec { throw std::runtime_error("disk on fire"); }, record);
-  ASSERT_TRUE(runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(10)));
-  while (outcomes.size() < 5) {
-    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(1));
-    runner.apply_commands();
-  }
+  // One load at a time: each is answered before the next is asked.
+  auto load = [&](std::function<WorldSpec()> parse) {
+    const std::size_t before = outcomes.size();
+    ASSERT_TRUE(runner.load(std::move(parse), [&](const LoadOutcome& o) { outcomes.push_back(o); }));
+    for (int i = 0; i < 100 && outcomes.size() == before; ++i) {
+      runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
+      runner.apply_commands();
+    }
+    ASSERT_EQ(outcomes.size(), before + 1);
+  };
+  load([] { return load_world_file(test::source("worlds/no_such_world.xml")); });
+  load([] { return load_world_string("<WORLD><BOX>", "broken.xml"); });
+  load([] {  // its robot is not the same
+    return load_world_string("<WORLD><ROBOT><ID>kurt2</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "r.xml");
+  });
+  load([] {  // nor of the same type
+    return load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt2</TYPE></ROBOT></WORLD>", "t.xml");
+  });
+  load([]() -> WorldSpec { throw std::runtime_error("disk on fire"); });
+  ASSERT_EQ(outcomes.size(), 5u);
   for (const auto& o : outcomes) EXPECT_FALSE(o.ok);
   EXPECT_NE(outcomes[0].error.find("no_such_world.xml"), std::string::npos) << outcomes[0].error;
   EXPECT_NE(outcomes[1].error.find("broken.xml:1"), std::string::npos) << outcomes[1].error;
   EXPECT_NE(outcomes[2].error.find("same robots"), std::string::npos) << outcomes[2].error;
   EXPECT_NE(outcomes[3].error.find("names and types"), std::string::npos) << outcomes[3].error;
   EXPECT_NE(outcomes[4].error.find("disk on fire"), std::string::npos) << outcomes[4].error;
+  EXPECT_EQ(outcomes[0].code, ErrorCode::BadFile);
+  EXPECT_EQ(outcomes[2].code, ErrorCode::InvalidArgument);
   EXPECT_EQ(runner.generation(), 0u);
   EXPECT_EQ(runner.world().state_hash(), hash);  // untouched
 }
@@ -154,10 +161,11 @@ TEST(Runner, NamedSnapshotsBelongToOneWorld) {
   const WorldSnapshot kept = runner.world().snapshot();
   bool loaded = false;
   runner.load([] { return small_room(); }, [&](const LoadOutcome& o) { loaded = o.ok; });
-  while (!loaded) {
-    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(1));
+  for (int i = 0; i < 100 && !loaded; ++i) {
+    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
     runner.apply_commands();
   }
+  ASSERT_TRUE(loaded);
   EXPECT_TRUE(runner.snapshots().empty());
   // A snapshot is of a description: the same file loaded again takes it; another world refuses it.
   EXPECT_TRUE(runner.world().restore(kept).ok());
@@ -195,8 +203,32 @@ TEST(Runner, RealTimeFactorRefusesNonsense) {
   EXPECT_FALSE(runner.set_real_time_factor(std::nan("")));
   EXPECT_FALSE(runner.set_real_time_factor(-1));
   EXPECT_FALSE(runner.set_real_time_factor(INFINITY));
+  EXPECT_FALSE(runner.set_real_time_factor(1e-6));  // waits too long to serve anyone
+  EXPECT_FALSE(runner.set_real_time_factor(1e-300));
   EXPECT_EQ(runner.settings().real_time_factor, 1.0);
+  EXPECT_TRUE(runner.set_real_time_factor(kMinRealTimeFactor));
   EXPECT_TRUE(runner.set_real_time_factor(0));
+}
+
+TEST(Runner, OneLoadAtATime) {
+  Runner runner(small_room());
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  int done = 0;
+  EXPECT_TRUE(runner.load(
+      [released] {
+        released.wait();
+        return small_room();
+      },
+      [&](const LoadOutcome&) { ++done; }));
+  EXPECT_FALSE(runner.load([] { return small_room(); }, [&](const LoadOutcome&) { ++done; }));
+  release.set_value();
+  for (int i = 0; i < 100 && done == 0; ++i) {
+    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
+    runner.apply_commands();
+  }
+  EXPECT_EQ(done, 1);
+  EXPECT_TRUE(runner.load([] { return small_room(); }, nullptr));  // the next one is welcome
 }
 
 }  // namespace

@@ -124,6 +124,32 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
   std::fill(huge_length.bytes.begin() + 20, huge_length.bytes.begin() + 28, 0xff);  // objects' count
   EXPECT_EQ(world.restore(huge_length).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(world.restore(WorldSnapshot{}).code, ErrorCode::InvalidArgument);
+  // Well-formed bytes, damaged values: refused before anything reaches ODE.
+  auto damaged = [&](const std::function<void(WorldState&)>& damage) {
+    WorldState s = world.state();
+    damage(s);
+    return world.restore({world.fingerprint(), serialize(s)});
+  };
+  EXPECT_EQ(damaged([](WorldState& s) { s.bodies[0].position.x() = std::nan(""); }).code,
+            ErrorCode::InvalidArgument);
+  EXPECT_EQ(damaged([](WorldState& s) { s.objects[0].second.components[0].shape = static_cast<Shape>(7); }).code,
+            ErrorCode::InvalidArgument);
+  EXPECT_EQ(damaged([](WorldState& s) { s.objects[3].second.components[0].size.x() = 1e308; }).code,
+            ErrorCode::InvalidArgument);
+  EXPECT_EQ(damaged([](WorldState& s) { s.door_flags[0].gap = static_cast<DoorGap>(9); }).code,
+            ErrorCode::InvalidArgument);
+  EXPECT_EQ(damaged([](WorldState& s) { s.robots[0].crane.slew = INFINITY; }).code,
+            ErrorCode::InvalidArgument);
+  WorldSnapshot bad_flag = snapshot;  // the last body's sleep flag is its last byte before the robots
+  const WorldState decoded = deserialize(bad_flag.bytes);
+  const std::size_t before_robots = [&] {
+    WorldState no_robots = decoded;
+    no_robots.robots.clear();
+    return serialize(no_robots).size() - sizeof(uint64_t);  // less the robots' count
+  }();
+  ASSERT_EQ(bad_flag.bytes[before_robots - 1], decoded.bodies.back().enabled ? 1 : 0);
+  bad_flag.bytes[before_robots - 1] = 2;
+  EXPECT_EQ(world.restore(bad_flag).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(world.state_hash(), hash);
 }
 

@@ -26,11 +26,16 @@ namespace macsim {
 /// A change to the world, run on the simulation thread with the world current at that moment.
 using Command = std::function<void(World&)>;
 
-/// How a world load ended: the new world runs, or the old one runs on and `error` says why.
+/// How a world load ended: the new world runs, or the old one runs on and `error` says why
+/// (`code`: BadFile when it cannot be read or built, InvalidArgument when it does not fit).
 struct LoadOutcome {
   bool ok = false;
+  ErrorCode code = ErrorCode::Ok;
   std::string error;
 };
+
+/// The slowest real-time factor the loop runs at: slower would mean waits too long to serve.
+inline constexpr double kMinRealTimeFactor = 1e-3;
 
 /// How the loop steps.
 struct RunSettings {
@@ -59,7 +64,8 @@ class Runner {
   /// Queues a world load: `parse` runs on a thread of its own while the current world runs on;
   /// commands queued after it wait and then run on the new world. The new world must have the
   /// same robots (names and types) as the current one. `done` runs on the simulation thread.
-  void load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done);
+  /// False (and nothing queued) while another load is still on its way: one at a time.
+  bool load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done);
   /// Blocks until a command can run or `deadline` passes; true if one can.
   bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
 
@@ -75,7 +81,8 @@ class Runner {
 
   void pause() { settings_.paused = true; }
   void resume() { settings_.paused = false; }
-  /// Sim seconds per wall second (> 0), or 0 for as fast as possible; false if not finite or < 0.
+  /// Sim seconds per wall second (kMinRealTimeFactor or more), or 0 for as fast as possible;
+  /// false (and unchanged) otherwise.
   bool set_real_time_factor(double factor);
   /// Steps `steps` more steps even while paused; `done` runs once the last one's after_step hook
   /// has run. False (and nothing queued) while another request is still stepping.
@@ -114,6 +121,7 @@ class Runner {
   std::condition_variable arrived_;
   std::deque<Item> pending_;
   std::vector<std::future<void>> loaders_;  // parses running or done
+  bool loading_ = false;                     // a load is queued or parsing (guarded by mutex_)
 };
 
 }  // namespace macsim

@@ -133,6 +133,9 @@ struct ObjectSpec {
   double mass() const { return density * volume(); }
 };
 
+/// Makes the object's and its components' quaternions unit length (they must be non-zero).
+void normalize_orientations(ObjectSpec& object);
+
 /// A box object (the seed's create{Box}{Portable,Fixed}Object), centred at `position`.
 ObjectSpec box_object(const Eigen::Vector3d& position, const Eigen::Vector3d& size,
                       bool portable = true, const std::string& user_data = "");
