@@ -8,8 +8,9 @@
 
 int main(int argc, char** argv) {
   if (argc < 2 || std::string(argv[1]) == "--help") {
-    std::printf("usage: bench_step_rate WORLD_FILE [SIM_SECONDS]\n"
-                "Steps the world (robots driving in a circle) and prints steps/s.\n");
+    std::printf(
+        "usage: bench_step_rate WORLD_FILE [SIM_SECONDS]\n"
+        "Steps the world (robots driving in a circle) and prints steps/s.\n");
     return argc < 2 ? 2 : 0;
   }
   const double seconds = argc > 2 ? std::stod(argv[2]) : 10.0;
@@ -23,7 +24,8 @@ int main(int argc, char** argv) {
     }
     sim.step();
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string name = world.spec().name;
   std::printf("step_rate.%s %.0f steps/s\n", name.c_str(), steps / wall);
   std::printf("real_time_factor.%s %.1f x\n", name.c_str(), world.time() / wall);

@@ -59,7 +59,8 @@ class RawOdeWorld {
     dWorldDestroy(world_);
   }
   void step() {
-    for (std::size_t i = 0; i < hinges_.size(); ++i) dJointSetHingeParam(hinges_[i], dParamVel, 5.0);
+    for (std::size_t i = 0; i < hinges_.size(); ++i)
+      dJointSetHingeParam(hinges_[i], dParamVel, 5.0);
     dSpaceCollide(space_, this, &RawOdeWorld::near);
     dWorldQuickStep(world_, step_);
     dJointGroupEmpty(contacts_);
@@ -84,9 +85,12 @@ class RawOdeWorld {
   }
   dGeomID geom(const macsim::ComponentSpec& c) {
     switch (c.shape) {
-      case macsim::Shape::Box: return dCreateBox(space_, c.size.x(), c.size.y(), c.size.z());
-      case macsim::Shape::Cylinder: return dCreateCylinder(space_, c.size.x(), c.size.z());
-      case macsim::Shape::Sphere: return dCreateSphere(space_, c.size.x());
+      case macsim::Shape::Box:
+        return dCreateBox(space_, c.size.x(), c.size.y(), c.size.z());
+      case macsim::Shape::Cylinder:
+        return dCreateCylinder(space_, c.size.x(), c.size.z());
+      case macsim::Shape::Sphere:
+        return dCreateSphere(space_, c.size.x());
     }
     return nullptr;
   }
@@ -167,10 +171,13 @@ class RawOdeWorld {
     // The crane: turret on a vertical hinge, boom on a horizontal one, magnet on a slider.
     dBodyID turret = add_box(pose.position + Eigen::Vector3d(0.05, 0, 0.30), 1.0, {0.1, 0.1, 0.05});
     dBodyID boom = add_box(pose.position + Eigen::Vector3d(0.30, 0, 0.327), 0.5, {0.5, 0.04, 0.04});
-    dBodyID magnet = add_box(pose.position + Eigen::Vector3d(0.55, 0, 0.29), 0.2, {0.07, 0.07, 0.03});
+    dBodyID magnet =
+        add_box(pose.position + Eigen::Vector3d(0.55, 0, 0.29), 0.2, {0.07, 0.07, 0.03});
     const Eigen::Vector3d p = pose.position;
-    add_motor(dJointCreateHinge(world_, nullptr), turret, chassis, p + Eigen::Vector3d(0.05, 0, 0.275), {0, 0, 1});
-    add_motor(dJointCreateHinge(world_, nullptr), boom, turret, p + Eigen::Vector3d(0.05, 0, 0.327), {0, -1, 0});
+    add_motor(dJointCreateHinge(world_, nullptr), turret, chassis,
+              p + Eigen::Vector3d(0.05, 0, 0.275), {0, 0, 1});
+    add_motor(dJointCreateHinge(world_, nullptr), boom, turret, p + Eigen::Vector3d(0.05, 0, 0.327),
+              {0, -1, 0});
     dJointID slider = dJointCreateSlider(world_, nullptr);
     dJointAttach(slider, magnet, boom);
     dJointSetSliderAxis(slider, 0, 0, -1);
@@ -230,7 +237,8 @@ macsim::WorldSpec pile(int n) {
 int main(int argc, char** argv) {
   const std::string world_file = argc > 1 ? argv[1] : "worlds/DemoWorld_v1.xml";
   if (world_file == "--help") {
-    std::printf("usage: bench_world [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
+    std::printf(
+        "usage: bench_world [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
     return 0;
   }
   const macsim::WorldSpec spec = macsim::load_world_file(world_file);

@@ -62,8 +62,8 @@ void print_status(const macsim::World& world) {
 }
 
 /// --snapshot: settle, render each requested camera mode offscreen, write the PNGs.
-int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requests,
-                    double settle, const std::string& size) {
+int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requests, double settle,
+                    const std::string& size) {
   namespace render = macsim::render;
   std::vector<std::pair<render::CameraMode, std::string>> jobs;
   for (const auto& request : requests) {
@@ -142,7 +142,8 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   cli.participant_options(&o.participant);
   cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &o.realtime);
   cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &o.rtf);
-  cli.flag("as-fast-as-possible", "step without waiting for the wall clock", &o.as_fast_as_possible);
+  cli.flag("as-fast-as-possible", "step without waiting for the wall clock",
+           &o.as_fast_as_possible);
   cli.flag("paused", "start paused (run, pause and step with simulation requests)", &o.paused);
   cli.flag("lockstep", "step only when a controller asks (SIM_STEP requests); implies --paused",
            &o.lockstep);
@@ -157,7 +158,8 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
                       &o.snapshots);
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
              &o.settle);
-  cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)", &o.snapshot_size);
+  cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)",
+             &o.snapshot_size);
   cli.option("cameras", "WxH|off",
              "render and publish each robot's stereo cameras at this size (default 320x240)",
              &o.cameras);
@@ -242,8 +244,9 @@ int serve(macsim::Runner& runner, const Options& o) {
     const auto start = Clock::now();
     auto next_status = start;
     const uint64_t last_step =
-        o.duration > 0 ? static_cast<uint64_t>(std::llround(o.duration / runner.world().step_size()))
-                     : UINT64_MAX;
+        o.duration > 0
+            ? static_cast<uint64_t>(std::llround(o.duration / runner.world().step_size()))
+            : UINT64_MAX;
     // The viewer (if any) gets a copy of the scene about 30 times a second of wall time.
     std::mutex scene_mutex;
     macsim::Scene latest_scene = macsim::capture_scene(runner.world());

@@ -64,7 +64,11 @@ robot::Readings SimulatedKurt::read() {
   if (r->odometry_frames() != frames_) {  // every encoder frame
     frames_ = r->odometry_frames();
     const PlanarOdometry o = r->odometry();
-    out.odometry = robot::Odometry{o.x, o.y, o.yaw, o.linear, o.angular,
+    out.odometry = robot::Odometry{o.x,
+                                   o.y,
+                                   o.yaw,
+                                   o.linear,
+                                   o.angular,
                                    std::remainder(r->wheel_angle(0), 2 * M_PI),
                                    std::remainder(r->wheel_angle(1), 2 * M_PI)};
     const Pose pose = r->base_footprint_pose();
@@ -90,9 +94,13 @@ robot::Readings SimulatedKurt::read() {
   if (r->laser_scans() != scans_) {  // every sweep
     scans_ = r->laser_scans();
     const LaserScan& s = r->laser_scan();
-    out.scan = robot::Scan{capabilities_.laser_rotating ? "laser360" : "laser", s.angle_min,
-                           s.angle_increment, s.range_min, s.range_max,
-                           1.0 / r->config().laser_rate, s.ranges};
+    out.scan = robot::Scan{capabilities_.laser_rotating ? "laser360" : "laser",
+                           s.angle_min,
+                           s.angle_increment,
+                           s.range_min,
+                           s.range_max,
+                           1.0 / r->config().laser_rate,
+                           s.ranges};
     if (capabilities_.rotunit) out.rotunit = robot::Rotunit{r->rotunit_angle(), r->rotunit_speed()};
   }
   if (r->point_clouds() != clouds_) {  // every revolution

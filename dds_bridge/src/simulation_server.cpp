@@ -30,11 +30,11 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
           }
           last->second = r.sequence_number();
         }
-        const bool queued = runner_.load(
-            [file = r.world_file()] { return load_world_file(file); },
-            [this, r](const LoadOutcome& outcome) {
-              send(reply_to(r, codec::error_code(outcome.code), outcome.error));
-            });
+        const bool queued =
+            runner_.load([file = r.world_file()] { return load_world_file(file); },
+                         [this, r](const LoadOutcome& outcome) {
+                           send(reply_to(r, codec::error_code(outcome.code), outcome.error));
+                         });
         if (!queued) {
           runner_.push([this, r](World&) {
             send(reply_to(r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
@@ -58,7 +58,8 @@ SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
   r.state_hash(world.state_hash());
   r.paused(runner_.settings().paused);
   r.real_time_factor(runner_.settings().real_time_factor);
-  r.features("simulator,supervisor,lockstep,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
+  r.features(
+      "simulator,supervisor,lockstep,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
   return r;
 }
 

@@ -32,7 +32,7 @@ class SimulationServer {
   bool repeated(const Request& request);
 
   Runner& runner_;
-  std::optional<Request> stepping_;          // the SIM_STEP request being served
+  std::optional<Request> stepping_;  // the SIM_STEP request being served
   ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;                     // guards last_load_ (Fast DDS's threads)
   std::map<std::string, uint64_t> last_load_;  // by client: the last load request's number

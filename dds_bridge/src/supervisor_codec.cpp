@@ -33,8 +33,8 @@ static_assert(static_cast<int>(ResetScope::Everything) == mm::RESET_EVERYTHING);
 gm::Pose_ pose_message(const Pose& p) {
   gm::Pose_ m;
   m.position(dds::point(p.position.x(), p.position.y(), p.position.z()));
-  m.orientation(dds::quaternion(p.orientation.x(), p.orientation.y(), p.orientation.z(),
-                                p.orientation.w()));
+  m.orientation(
+      dds::quaternion(p.orientation.x(), p.orientation.y(), p.orientation.z(), p.orientation.w()));
   return m;
 }
 
@@ -42,7 +42,9 @@ Eigen::Vector3d vector_of(const gm::Vector3_& v) { return {v.x(), v.y(), v.z()};
 Eigen::Vector3d vector_of(const gm::Point_& p) { return {p.x(), p.y(), p.z()}; }
 Eigen::Quaterniond quaternion_of(const gm::Quaternion_& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
-Pose pose_of(const gm::Pose_& m) { return {vector_of(m.position()), quaternion_of(m.orientation())}; }
+Pose pose_of(const gm::Pose_& m) {
+  return {vector_of(m.position()), quaternion_of(m.orientation())};
+}
 
 mm::Object_ object_message(const World& world, ObjectId id) {
   mm::Object_ o;
@@ -93,7 +95,8 @@ std::optional<ObjectSpec> spec_of(const mm::Object_& o, std::string& error) {
   spec.user_shape = o.user_shape();
   for (const auto& m : o.components()) {
     if (m.shape() < mm::SHAPE_BOX || m.shape() > mm::SHAPE_SPHERE) {
-      error = "unknown shape code " + std::to_string(m.shape()) + " (SHAPE_BOX, SHAPE_CYLINDER or SHAPE_SPHERE)";
+      error = "unknown shape code " + std::to_string(m.shape()) +
+              " (SHAPE_BOX, SHAPE_CYLINDER or SHAPE_SPHERE)";
       return std::nullopt;
     }
     ComponentSpec c;
@@ -129,14 +132,22 @@ mm::Door_ door_message(const World& world, int door) {
 
 const char* event_name(WorldEvent::Type type) {
   switch (type) {
-    case WorldEvent::Type::SwitchTriggered: return "switch_triggered";
-    case WorldEvent::Type::SwitchReleased: return "switch_released";
-    case WorldEvent::Type::DoorOpened: return "door_opened";
-    case WorldEvent::Type::DoorClosed: return "door_closed";
-    case WorldEvent::Type::Penetration: return "penetration";
-    case WorldEvent::Type::Instability: return "instability";
-    case WorldEvent::Type::ObjectAttached: return "attached";
-    case WorldEvent::Type::ObjectReleased: return "released";
+    case WorldEvent::Type::SwitchTriggered:
+      return "switch_triggered";
+    case WorldEvent::Type::SwitchReleased:
+      return "switch_released";
+    case WorldEvent::Type::DoorOpened:
+      return "door_opened";
+    case WorldEvent::Type::DoorClosed:
+      return "door_closed";
+    case WorldEvent::Type::Penetration:
+      return "penetration";
+    case WorldEvent::Type::Instability:
+      return "instability";
+    case WorldEvent::Type::ObjectAttached:
+      return "attached";
+    case WorldEvent::Type::ObjectReleased:
+      return "released";
   }
   return "?";
 }

@@ -17,8 +17,8 @@ PenetrationPolicy policy(bool allow_penetration) {
 }
 
 /// Runs the operation and fills the reply's results; nullopt for an unknown operation.
-std::optional<Status> run(const mm::SupervisorOperation_& op, World& world, SnapshotStore& snapshots,
-           mm::SupervisorReply_& reply) {
+std::optional<Status> run(const mm::SupervisorOperation_& op, World& world,
+                          SnapshotStore& snapshots, mm::SupervisorReply_& reply) {
   switch (op._d()) {
     case mm::OP_LIST_OBJECTS:
       for (ObjectId each : world.object_ids()) {
@@ -76,20 +76,28 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world, Snap
       return Status{};
     case mm::OP_DESTROY_ALL:
       switch (op.destroy_all().which()) {
-        case mm::DESTROY_EVERY_OBJECT: reply.count(world.destroy_all_objects()); return Status{};
-        case mm::DESTROY_PORTABLE_OBJECTS: reply.count(world.destroy_all_portable_objects()); return Status{};
-        case mm::DESTROY_FIXED_OBJECTS: reply.count(world.destroy_all_fixed_objects()); return Status{};
+        case mm::DESTROY_EVERY_OBJECT:
+          reply.count(world.destroy_all_objects());
+          return Status{};
+        case mm::DESTROY_PORTABLE_OBJECTS:
+          reply.count(world.destroy_all_portable_objects());
+          return Status{};
+        case mm::DESTROY_FIXED_OBJECTS:
+          reply.count(world.destroy_all_fixed_objects());
+          return Status{};
       }
       return Status::error(ErrorCode::InvalidArgument,
                            "which must be DESTROY_EVERY_OBJECT, DESTROY_PORTABLE_OBJECTS or "
-                           "DESTROY_FIXED_OBJECTS; got " + std::to_string(op.destroy_all().which()));
+                           "DESTROY_FIXED_OBJECTS; got " +
+                               std::to_string(op.destroy_all().which()));
     case mm::OP_SET_POSE: {
       const auto& a = op.set_pose();
       return world.set_pose(a.object_id(), codec::pose_of(a.pose()), policy(a.allow_penetration()));
     }
     case mm::OP_SET_POSITION: {
       const auto& a = op.set_position();
-      return world.set_position(a.object_id(), vector_of(a.position()), policy(a.allow_penetration()));
+      return world.set_position(a.object_id(), vector_of(a.position()),
+                                policy(a.allow_penetration()));
     }
     case mm::OP_SET_ORIENTATION: {
       const auto& a = op.set_orientation();
@@ -124,7 +132,8 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world, Snap
       const auto& a = op.set_texture();
       return world.set_texture(a.object_id(), a.file(), a.component_index());
     }
-    case mm::OP_SET_MASS: return world.set_mass(op.set_mass().object_id(), op.set_mass().mass());
+    case mm::OP_SET_MASS:
+      return world.set_mass(op.set_mass().object_id(), op.set_mass().mass());
     case mm::OP_SET_DENSITY:
       return world.set_density(op.set_density().object_id(), op.set_density().density());
     case mm::OP_SET_LINEAR_VELOCITY:
@@ -135,7 +144,8 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world, Snap
       return world.add_force(op.vector().object_id(), vector_of(op.vector().value()));
     case mm::OP_ADD_TORQUE:
       return world.add_torque(op.vector().object_id(), vector_of(op.vector().value()));
-    case mm::OP_SET_FROZEN: return world.set_frozen(op.flag().object_id(), op.flag().value());
+    case mm::OP_SET_FROZEN:
+      return world.set_frozen(op.flag().object_id(), op.flag().value());
     case mm::OP_SET_MAGNETIZABLE:
       return world.set_magnetizable(op.flag().object_id(), op.flag().value());
     case mm::OP_SET_USER_DATA:
@@ -160,16 +170,19 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world, Snap
       return world.set_switch_triggered(op.set_switch_triggered().door(),
                                         op.set_switch_triggered().triggered());
     case mm::OP_SET_DOOR_POSITION:
-      return world.set_door_position(op.door_position().door(), vector_of(op.door_position().position()));
+      return world.set_door_position(op.door_position().door(),
+                                     vector_of(op.door_position().position()));
     case mm::OP_SET_SWITCH_POSITION:
       return world.set_switch_position(op.door_position().door(),
                                        vector_of(op.door_position().position()));
     case mm::OP_RESET: {
       const int scope = op.reset().scope();
-      if (scope != mm::RESET_POSES && scope != mm::RESET_POSES_AND_TIME && scope != mm::RESET_EVERYTHING) {
-        return Status::error(ErrorCode::InvalidArgument,
-                             "scope must be RESET_POSES, RESET_POSES_AND_TIME or RESET_EVERYTHING; got " +
-                                 std::to_string(scope));
+      if (scope != mm::RESET_POSES && scope != mm::RESET_POSES_AND_TIME &&
+          scope != mm::RESET_EVERYTHING) {
+        return Status::error(
+            ErrorCode::InvalidArgument,
+            "scope must be RESET_POSES, RESET_POSES_AND_TIME or RESET_EVERYTHING; got " +
+                std::to_string(scope));
       }
       world.reset(static_cast<ResetScope>(scope));
       return Status{};

@@ -17,9 +17,8 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
       events_(participant, dds::topics::kWorldEvents, QosFamily::Command) {
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later.
   requests_ = std::make_unique<dds::Reader<mm::SupervisorRequest_PubSubType>>(
-      participant, dds::topics::kSupervisorRequest, QosFamily::Command, [this](const Request& r) {
-        runner_.push([this, r](World& world) { execute(r, world); });
-      });
+      participant, dds::topics::kSupervisorRequest, QosFamily::Command,
+      [this](const Request& r) { runner_.push([this, r](World& world) { execute(r, world); }); });
 }
 
 SupervisorServer::~SupervisorServer() { requests_.reset(); }

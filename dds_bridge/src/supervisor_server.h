@@ -37,7 +37,7 @@ class SupervisorServer {
   Runner& runner_;
   double next_state_time_ = 0.0;
   double last_time_ = 0.0;
-  uint64_t generation_ = 0;           // of the world published_ids_ belong to
+  uint64_t generation_ = 0;  // of the world published_ids_ belong to
   std::set<uint32_t> published_ids_;
   std::set<std::string> published_doors_;
   ReplyCache<Reply> replied_;

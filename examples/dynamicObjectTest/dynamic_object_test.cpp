@@ -34,8 +34,8 @@ mm::SupervisorReply_ call(Context& c, const std::string& what, const SupervisorC
     ++c.failures;
     return {};
   }
-  std::printf("  %-48s %s%s\n", what.c_str(), reply->code() == mm::ERR_OK ? "ok" : "error: ",
-              reply->message().c_str());
+  std::printf("  %-48s %s%s\n", what.c_str(),
+              reply->code() == mm::ERR_OK ? "ok" : "error: ", reply->message().c_str());
   return *reply;
 }
 
@@ -76,14 +76,23 @@ SupervisorClient::Request create(int shape, std::array<double, 3> size, std::arr
 void create_and_destroy(Context& c) {
   std::printf("TestObjectCreateAndDestroy: create, relocate, recolour and destroy objects\n");
   std::vector<uint32_t> ids;
-  ids.push_back(call(c, "create a portable box", create(0, {0.2, 0.2, 0.2}, {-0.5, 0.3, 0.5}, true, "demo")).object_id());
-  ids.push_back(call(c, "create a portable cylinder", create(1, {0.05, 0, 0.2}, {-0.5, -0.5, 0.5}, true, "demo")).object_id());
-  ids.push_back(call(c, "create a portable sphere", create(2, {0.08, 0, 0}, {-1.5, 0.3, 0.5}, true, "demo")).object_id());
-  ids.push_back(call(c, "create a fixed box", create(0, {0.3, 0.3, 0.3}, {-2.5, -1.5, 0.15}, false, "demo")).object_id());
-  expect(c, "the four objects appear; the box lands on the floor (z 0.1)", [&](const Objects& o, const auto&) {
-    return find(o, ids[0]) && find(o, ids[1]) && find(o, ids[2]) && find(o, ids[3]) &&
-           std::fabs(z_of(o, ids[0]) - 0.1) < 0.005;
-  });
+  ids.push_back(
+      call(c, "create a portable box", create(0, {0.2, 0.2, 0.2}, {-0.5, 0.3, 0.5}, true, "demo"))
+          .object_id());
+  ids.push_back(call(c, "create a portable cylinder",
+                     create(1, {0.05, 0, 0.2}, {-0.5, -0.5, 0.5}, true, "demo"))
+                    .object_id());
+  ids.push_back(
+      call(c, "create a portable sphere", create(2, {0.08, 0, 0}, {-1.5, 0.3, 0.5}, true, "demo"))
+          .object_id());
+  ids.push_back(
+      call(c, "create a fixed box", create(0, {0.3, 0.3, 0.3}, {-2.5, -1.5, 0.15}, false, "demo"))
+          .object_id());
+  expect(c, "the four objects appear; the box lands on the floor (z 0.1)",
+         [&](const Objects& o, const auto&) {
+           return find(o, ids[0]) && find(o, ids[1]) && find(o, ids[2]) && find(o, ids[3]) &&
+                  std::fabs(z_of(o, ids[0]) - 0.1) < 0.005;
+         });
   call(c, "move the box to (-0.5, 0.9)", supervisor::set_position(ids[0], {-0.5, 0.9, 0.1}));
   call(c, "paint the sphere blue", supervisor::set_color(ids[2], {0.1f, 0.2f, 0.9f, 1}));
   expect(c, "the box is at y 0.9 and the sphere is blue", [&](const Objects& o, const auto&) {
@@ -109,10 +118,13 @@ void change_properties(Context& c) {
     }
     return true;
   });
-  const uint32_t box = call(c, "create a box", create(0, {0.1, 0.1, 0.1}, {-1.0, 0.0, 0.3}, true, "")).object_id();
-  const uint32_t ball = call(c, "create a ball", create(2, {0.1, 0, 0}, {-1.0, 1.0, 0.3}, true, "")).object_id();
+  const uint32_t box =
+      call(c, "create a box", create(0, {0.1, 0.1, 0.1}, {-1.0, 0.0, 0.3}, true, "")).object_id();
+  const uint32_t ball =
+      call(c, "create a ball", create(2, {0.1, 0, 0}, {-1.0, 1.0, 0.3}, true, "")).object_id();
   call(c, "resize the box to 0.3 m", supervisor::set_box_size(box, 0, {0.3, 0.3, 0.3}));
-  call(c, "turn the box by 45 degrees", supervisor::set_orientation(box, {0, 0, std::sin(M_PI / 8), std::cos(M_PI / 8)}));
+  call(c, "turn the box by 45 degrees",
+       supervisor::set_orientation(box, {0, 0, std::sin(M_PI / 8), std::cos(M_PI / 8)}));
   expect(c, "the box is 0.3 m large and rests at z 0.15", [&](const Objects& o, const auto&) {
     auto* b = find(o, box);
     return b && b->components()[0].size()[0] == 0.3 && std::fabs(z_of(o, box) - 0.15) < 0.005;
@@ -144,7 +156,8 @@ void composites(Context& c) {
   call(c, "move it to (-0.5, 0.3)", supervisor::set_position(can, {-0.5, 0.3, 0.01}));
   expect(c, "moved", [&](const Objects& o, const auto&) {
     auto* x = find(o, can);
-    return x && std::fabs(x->pose().position().x() + 0.5) < 0.02 && std::fabs(x->pose().position().y() - 0.3) < 0.02;
+    return x && std::fabs(x->pose().position().x() + 0.5) < 0.02 &&
+           std::fabs(x->pose().position().y() - 0.3) < 0.02;
   });
   call(c, "paint it green", supervisor::set_color(can, {0.1f, 0.8f, 0.1f, 1}));
   call(c, "give its first component the checker texture",
@@ -161,7 +174,8 @@ void composites(Context& c) {
 }
 
 void ramps(Context& c) {
-  std::printf("TestRampFunctions: relocate, recolour, retexture ramps and print their dimensions\n");
+  std::printf(
+      "TestRampFunctions: relocate, recolour, retexture ramps and print their dimensions\n");
   std::vector<uint32_t> found;
   c.world.wait([&](const Objects& o, const auto&) {
     found.clear();
@@ -184,14 +198,15 @@ void ramps(Context& c) {
     call(c, "give it the wood texture", supervisor::set_texture(ramp, c.textures + "/wood.bmp"));
     expect(c, "moved, orange, wooden", [&](const Objects& o, const auto&) {
       auto* r = find(o, ramp);
-      return r && std::fabs(r->pose().position().x() - (x + 0.3)) < 1e-6 && r->components()[0].color()[1] < 0.6f &&
+      return r && std::fabs(r->pose().position().x() - (x + 0.3)) < 1e-6 &&
+             r->components()[0].color()[1] < 0.6f &&
              r->components()[0].texture().find("wood.bmp") != std::string::npos;
     });
     const Objects now = c.world.objects();
     const auto* r = find(now, ramp);
     const double width = r->ramp()[0], height = r->ramp()[1], angle = r->ramp()[2];
-    std::printf("  %s: width %.3f m, height %.3f m, depth %.3f m, angle %.1f deg\n", r->name().c_str(),
-                width, height, height / std::tan(angle), angle * 180 / M_PI);
+    std::printf("  %s: width %.3f m, height %.3f m, depth %.3f m, angle %.1f deg\n",
+                r->name().c_str(), width, height, height / std::tan(angle), angle * 180 / M_PI);
   }
 }
 
@@ -206,7 +221,8 @@ int main(int argc, char** argv) {
       "objects, 4 ramp functions), against a running macsim (e.g. on worlds/DemoWorld_v1.xml).\n"
       "Exit 0: every effect seen; 1: some effect not seen; 2: usage, or no simulator.");
   cli.participant_options(&participant);
-  cli.option("textures", "DIR", "folder of BMP textures (default worlds/DemoEnvironment_v1/textures)", &textures);
+  cli.option("textures", "DIR",
+             "folder of BMP textures (default worlds/DemoEnvironment_v1/textures)", &textures);
   // The seed's form: the test number as the first argument.
   int test = 0;
   std::vector<char*> rest{argv[0]};
@@ -232,13 +248,22 @@ int main(int argc, char** argv) {
     }
     Context c{supervisor, world, std::filesystem::absolute(textures).string()};
     switch (test) {
-      case 1: create_and_destroy(c); break;
-      case 2: change_properties(c); break;
-      case 3: composites(c); break;
-      case 4: ramps(c); break;
+      case 1:
+        create_and_destroy(c);
+        break;
+      case 2:
+        change_properties(c);
+        break;
+      case 3:
+        composites(c);
+        break;
+      case 4:
+        ramps(c);
+        break;
     }
-    std::printf("dynamicObjectTest %d: %s\n", test,
-                c.failures == 0 ? "every effect seen" : (std::to_string(c.failures) + " failed").c_str());
+    std::printf(
+        "dynamicObjectTest %d: %s\n", test,
+        c.failures == 0 ? "every effect seen" : (std::to_string(c.failures) + " failed").c_str());
     return c.failures == 0 ? 0 : 1;
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "dynamicObjectTest: DDS error: " << e.what() << "\n";

@@ -14,10 +14,11 @@ using macsim::client::SupervisorClient;
 int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{0, "", "interfaceTest"};
   std::string world;
-  macsim::dds::CommandLine cli("interfaceTest",
-                               "Asks the running simulator to load a world (as MACSim's "
-                               "interfaceTest -load did), then lists its objects and doors.\n"
-                               "Exit 0: loaded; 1: the simulator refused; 2: usage, or no simulator.");
+  macsim::dds::CommandLine cli(
+      "interfaceTest",
+      "Asks the running simulator to load a world (as MACSim's "
+      "interfaceTest -load did), then lists its objects and doors.\n"
+      "Exit 0: loaded; 1: the simulator refused; 2: usage, or no simulator.");
   cli.participant_options(&participant);
   cli.option("load", "WORLD", "world file to load (a path the simulator can read)", &world);
   if (auto code = cli.parse(argc, argv)) return *code;

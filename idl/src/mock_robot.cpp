@@ -38,8 +38,10 @@ void MockRobot::advance(double now) {
   odometry_.yaw = std::remainder(odometry_.yaw + w * dt, 2 * M_PI);
   odometry_.linear = v;
   odometry_.angular = w;
-  odometry_.left_wheel = std::remainder(odometry_.left_wheel + (v - w * track_ / 2) * dt / 0.06, 2 * M_PI);
-  odometry_.right_wheel = std::remainder(odometry_.right_wheel + (v + w * track_ / 2) * dt / 0.06, 2 * M_PI);
+  odometry_.left_wheel =
+      std::remainder(odometry_.left_wheel + (v - w * track_ / 2) * dt / 0.06, 2 * M_PI);
+  odometry_.right_wheel =
+      std::remainder(odometry_.right_wheel + (v + w * track_ / 2) * dt / 0.06, 2 * M_PI);
   rotunit_.angle = std::fmod(rotunit_.angle + rotunit_.speed * dt, 2 * M_PI);
   moved_ = true;
 }

@@ -124,12 +124,15 @@ struct RobotNode::Topics {
         has(c),
         odom(p, dds::topics::odom(robot), QosFamily::Sensor),
         joint_states(p, dds::topics::joint_states(robot), QosFamily::Sensor),
-        ground_truth(writer_if<nm::Odometry_PubSubType>(c.ground_truth, p, dds::topics::ground_truth(robot))),
+        ground_truth(writer_if<nm::Odometry_PubSubType>(c.ground_truth, p,
+                                                        dds::topics::ground_truth(robot))),
         range(writer_if<sm::Range_PubSubType>(c.ranges, p, dds::topics::range(robot))),
         imu(writer_if<sm::Imu_PubSubType>(c.imu, p, dds::topics::imu(robot))),
-        scan(writer_if<sm::LaserScan_PubSubType>(c.laser, p, dds::topics::scan(robot, c.laser_rotating))),
+        scan(writer_if<sm::LaserScan_PubSubType>(c.laser, p,
+                                                 dds::topics::scan(robot, c.laser_rotating))),
         points(writer_if<sm::PointCloud2_PubSubType>(c.points, p, dds::topics::points(robot))),
-        crane_state(writer_if<km::CraneState_PubSubType>(c.crane, p, dds::topics::crane_state(robot))) {}
+        crane_state(
+            writer_if<km::CraneState_PubSubType>(c.crane, p, dds::topics::crane_state(robot))) {}
 };
 
 RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand post)
@@ -156,7 +159,8 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   }
   if (t.has.crane) {
     t.crane_command = std::make_unique<dds::Reader<km::CraneCommand_PubSubType>>(
-        p, dds::topics::crane_command(name), QosFamily::Command, [post](const km::CraneCommand_& m) {
+        p, dds::topics::crane_command(name), QosFamily::Command,
+        [post](const km::CraneCommand_& m) {
           const double slew = m.slew(), lift = m.lift(), hoist = m.hoist();
           if (finite({slew, lift, hoist})) {
             post([slew, lift, hoist](RobotInterface& r) { r.command_crane(slew, lift, hoist); });
@@ -165,7 +169,8 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   }
   if (t.has.magnet) {
     t.magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
-        p, dds::topics::crane_magnet(name), QosFamily::Command, [post](const km::MagnetCommand_& m) {
+        p, dds::topics::crane_magnet(name), QosFamily::Command,
+        [post](const km::MagnetCommand_& m) {
           const bool on = m.on();
           post([on](RobotInterface& r) { r.command_magnet(on); });
         });
@@ -191,21 +196,25 @@ void RobotNode::publish() {
     const Odometry& o = *r.odometry;
     t.odom.write(dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now));
   }
-  if (r.ground_truth && t.ground_truth) t.ground_truth->write(ground_truth_message(*r.ground_truth, now));
+  if (r.ground_truth && t.ground_truth)
+    t.ground_truth->write(ground_truth_message(*r.ground_truth, now));
   if (r.odometry) {
-    t.joint_states.write(dds::kurt_wheel_joints(r.odometry->left_wheel, r.odometry->right_wheel, now));
+    t.joint_states.write(
+        dds::kurt_wheel_joints(r.odometry->left_wheel, r.odometry->right_wheel, now));
   }
   if (r.imu && t.imu) {
     const Imu& i = *r.imu;
     t.imu->write(dds::kurt_imu(i.roll, i.pitch, i.yaw, i.yaw_variance, i.yaw_rate, now));
   }
   if (t.range) {
-    for (const Range& each : r.ranges) t.range->write(dds::kurt_range(each.frame, each.sonar, each.range, now));
+    for (const Range& each : r.ranges)
+      t.range->write(dds::kurt_range(each.frame, each.sonar, each.range, now));
   }
   if (r.crane && t.crane_state) t.crane_state->write(crane_message(*r.crane, now));
   if (r.scan && t.scan) t.scan->write(scan_message(*r.scan, now));
   // The driver publishes the rotunit in joint_states messages of its own.
-  if (r.rotunit) t.joint_states.write(dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now));
+  if (r.rotunit)
+    t.joint_states.write(dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now));
   if (r.cloud && t.points) t.points->write(cloud_message(*r.cloud, now));
 }
 

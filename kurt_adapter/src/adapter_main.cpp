@@ -109,11 +109,13 @@ int main(int argc, char** argv) {
     macsim::dds::Participant dds(participant);
     CommandQueue queue;
     KurtDriver driver(params);
-    RealKurt kurt(robot, driver, *can, [] { return seconds(Clock::now()); }, wall_stamp);
+    RealKurt kurt(
+        robot, driver, *can, [] { return seconds(Clock::now()); }, wall_stamp);
     // The one robot node: the topics of what the robot has; callbacks only queue, and the CAN
     // loop runs the commands at its next 10 ms tick.
-    macsim::robot::RobotNode node(
-        dds, kurt, [&queue](macsim::robot::RobotCommand command) { queue.push(std::move(command)); });
+    macsim::robot::RobotNode node(dds, kurt, [&queue](macsim::robot::RobotCommand command) {
+      queue.push(std::move(command));
+    });
 
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
     // a simulator on the same domain stays the only one answering the rest.

@@ -41,8 +41,8 @@ void RealKurt::handle(const CanFrame& frame) {
   switch (driver_.handle(frame)) {
     case Update::Odometry: {
       const auto o = driver_.odometry();
-      pending_.odometry = robot::Odometry{o.x, o.y, o.yaw, o.linear, o.angular,
-                                          driver_.wheel_angle(0), driver_.wheel_angle(1)};
+      pending_.odometry = robot::Odometry{
+          o.x, o.y, o.yaw, o.linear, o.angular, driver_.wheel_angle(0), driver_.wheel_angle(1)};
       break;
     }
     case Update::Ranges:

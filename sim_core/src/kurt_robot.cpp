@@ -43,7 +43,6 @@ dBodyID make_body(dWorldID world, const Pose& pose, const dMass& mass) {
   return body;
 }
 
-
 /// A standard normal number. A fresh distribution each time keeps no cached value, so the
 /// generator alone is the noise's state.
 double gaussian(std::mt19937& rng) { return std::normal_distribution<double>(0.0, 1.0)(rng); }
@@ -101,7 +100,8 @@ KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int 
   dMass mass;
   dMassSetParameters(&mass, body.base_mass, 0, 0, 0, body.base_inertia.x(), body.base_inertia.y(),
                      body.base_inertia.z(), 0, 0, 0);
-  chassis_ = make_body(world, {base_link + q * Eigen::Vector3d(0, 0, -body.com_below_base_link), q}, mass);
+  chassis_ =
+      make_body(world, {base_link + q * Eigen::Vector3d(0, 0, -body.com_below_base_link), q}, mass);
   dGeomID box = dCreateBox(space, body.base_size.x(), body.base_size.y(), body.base_size.z());
   dGeomSetBody(box, chassis_);
   dGeomSetOffsetPosition(box, 0, 0, body.com_below_base_link);
@@ -136,7 +136,8 @@ KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int 
     geoms_.push_back(geom);
   }
   if (config_.crane) build_crane(world, space, {base_link, q});
-  for (std::size_t i = 0; i < state_.ranges.size(); ++i) state_.ranges[i] = {&kurt_range_sensors()[i], kInvalidRange};
+  for (std::size_t i = 0; i < state_.ranges.size(); ++i)
+    state_.ranges[i] = {&kurt_range_sensors()[i], kInvalidRange};
   state_.start_yaw = state_.last_yaw = yaw_of(q);
   command_rotunit(config_.rotunit_speed);
   state_.next_scan_time = 1.0 / config_.laser_rate;
@@ -183,7 +184,8 @@ void KurtRobot::build_crane(dWorldID world, dSpaceID space, const Pose& base_lin
 
   // The magnet hangs below the boom tip on the hoist (a slider along the boom's down axis).
   dMassSetCylinderTotal(&m, c.magnet_mass, 3, c.magnet_radius, kMagnetHeight);
-  magnet_ = make_body(world, {at(c.pivot_x + c.boom_length, 0, c.pivot_height - 0.02 - kMagnetHeight / 2), q}, m);
+  magnet_ = make_body(
+      world, {at(c.pivot_x + c.boom_length, 0, c.pivot_height - 0.02 - kMagnetHeight / 2), q}, m);
   add_geom(dCreateCylinder(space, c.magnet_radius, kMagnetHeight), magnet_);
   hoist_ = dJointCreateSlider(world, nullptr);
   dJointAttach(hoist_, magnet_, boom_);
@@ -263,8 +265,9 @@ void KurtRobot::before_step(double now) {
   dJointSetHingeParam(lift_, dParamVel,
                       servo_velocity(state_.crane.lift, dJointGetHingeAngle(lift_), c.lift_speed));
   dJointSetSliderParam(hoist_, dParamFMax, c.hoist_force);
-  dJointSetSliderParam(hoist_, dParamVel, servo_velocity(state_.crane.hoist,
-                                                         dJointGetSliderPosition(hoist_), c.hoist_speed));
+  dJointSetSliderParam(
+      hoist_, dParamVel,
+      servo_velocity(state_.crane.hoist, dJointGetSliderPosition(hoist_), c.hoist_speed));
 }
 
 void KurtRobot::update_wheel_angles() {
@@ -309,13 +312,16 @@ void KurtRobot::read_frame_sensors(double now) {
     for (double offset : {-s.field_of_view / 2, 0.0, s.field_of_view / 2}) {
       const Eigen::Vector3d dir =
           base.orientation * Eigen::Vector3d(std::cos(s.yaw + offset), std::sin(s.yaw + offset), 0);
-      if (auto hit = rays_->cast(origin, dir, s.max_range + 0.05)) nearest = std::min(nearest, *hit);
+      if (auto hit = rays_->cast(origin, dir, s.max_range + 0.05))
+        nearest = std::min(nearest, *hit);
     }
     // The sensor gives an ADC value and the driver converts it back (whole centimetres,
     // invalid outside its raw window), so readings carry the real robot's quirks: IR valid
     // from 0.10 only up to 0.53 m, ultrasound only from 0.23 m.
     const bool echo = nearest >= s.min_range && nearest <= s.max_range;
-    const int raw = !echo ? 0 : s.sonar ? sonar_raw_from_range(nearest) : ir_raw_from_range(nearest);
+    const int raw = !echo     ? 0
+                    : s.sonar ? sonar_raw_from_range(nearest)
+                              : ir_raw_from_range(nearest);
     state_.ranges[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
   }
   double noise = 0.0;
@@ -346,13 +352,15 @@ void KurtRobot::sweep_laser(double now) {
       Eigen::AngleAxisd(state_.scan.rotunit_angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   for (int i = 0; i < 181; ++i) {
     const double a = state_.scan.angle_min + i * state_.scan.angle_increment;
-    const Eigen::Vector3d local = rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
-                                           : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+    const Eigen::Vector3d local =
+        rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
+                 : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
     const auto hit = rays_->cast(origin, base.orientation * local, state_.scan.range_max);
     if (!hit || *hit < state_.scan.range_min) continue;
     const double range = *hit + config_.laser_noise * gaussian(state_.noise_rng);
     state_.scan.ranges[i] = static_cast<float>(range);
-    if (turning) state_.cloud_in_progress.points.push_back((state_.scan.origin + local * range).cast<float>());
+    if (turning)
+      state_.cloud_in_progress.points.push_back((state_.scan.origin + local * range).cast<float>());
   }
   ++state_.scans;
   if (rotating && !turning) {  // a cloud is one revolution: none is assembled while it stands

@@ -185,7 +185,8 @@ void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHo
       // Until the next step is due, serve requests as they come (between steps), looking at
       // `stop` at least every 50 ms.
       while (!stop.load() && Clock::now() < next) {
-        if (!wait_for_commands(std::min(next, Clock::now() + std::chrono::milliseconds(50)))) continue;
+        if (!wait_for_commands(std::min(next, Clock::now() + std::chrono::milliseconds(50))))
+          continue;
         apply_commands();
         if (requested_steps_ > 0) break;  // a step request: go now
       }

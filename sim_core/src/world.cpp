@@ -57,7 +57,8 @@ void set_exact_quaternion(dBodyID body, const Eigen::Quaterniond& orientation) {
       for (int i = 0; i < 4 && found; ++i) {
         const double guess = q[i] / factor;
         found = false;
-        for (const double c : {guess, std::nextafter(guess, -INFINITY), std::nextafter(guess, INFINITY)}) {
+        for (const double c :
+             {guess, std::nextafter(guess, -INFINITY), std::nextafter(guess, INFINITY)}) {
           if (c * factor == q[i]) {
             trial[i] = c;
             found = true;
@@ -156,7 +157,8 @@ void World::wire_doors() {
   for (std::size_t d = 0; d < doors_.size(); ++d) {
     Door& door = *doors_[d];
     door.door_joint = joint_named(door.spec.door_joint);
-    door.switch_joint = door.spec.switch_joint.empty() ? nullptr : joint_named(door.spec.switch_joint);
+    door.switch_joint =
+        door.spec.switch_joint.empty() ? nullptr : joint_named(door.spec.switch_joint);
     const DoorSpec& s = door.spec;
     for (const std::string* part : {&s.leaf, &s.frame, &s.switch_platform, &s.switch_base}) {
       if (auto id = find_object(*part)) find(*id)->door = static_cast<int>(d);
@@ -220,7 +222,8 @@ void World::build() {
     KurtConfig config = *find_robot_type(robot.type);
     config.noise_seed = spec_.physics.seed + static_cast<uint32_t>(robots_.size());
     config.drive.frame_period = 1.0 / robot.encoder_rate;
-    robots_.push_back(std::unique_ptr<KurtRobot>(new KurtRobot(world_, space_, robot, group--, config)));
+    robots_.push_back(
+        std::unique_ptr<KurtRobot>(new KurtRobot(world_, space_, robot, group--, config)));
   }
   refresh_bodies();
 }
@@ -614,7 +617,8 @@ void World::step() {
     const DoorGap before = door->flags.gap;
     door->flags.gap = door_state_of(*door).gap;
     if (door->flags.gap != before && door->flags.gap != DoorGap::Half) {
-      emit(door->flags.gap == DoorGap::Open ? WorldEvent::Type::DoorOpened : WorldEvent::Type::DoorClosed,
+      emit(door->flags.gap == DoorGap::Open ? WorldEvent::Type::DoorOpened
+                                            : WorldEvent::Type::DoorClosed,
            door->spec.name);
     }
   }

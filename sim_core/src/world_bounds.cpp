@@ -99,9 +99,11 @@ std::optional<std::string> orientation_problem(const Eigen::Quaterniond& q) {
   return std::string("orientation must be a finite, non-zero quaternion");
 }
 
-std::optional<std::string> magnitude_problem(const Eigen::Vector3d& v, double max, const char* what) {
+std::optional<std::string> magnitude_problem(const Eigen::Vector3d& v, double max,
+                                             const char* what) {
   if (v.allFinite() && v.norm() <= max) return std::nullopt;
-  return std::string(what) + " must be finite and at most " + number(max) + " in size, got " + vector(v);
+  return std::string(what) + " must be finite and at most " + number(max) + " in size, got " +
+         vector(v);
 }
 
 std::optional<std::string> object_problem(const ObjectSpec& o) {
@@ -165,15 +167,18 @@ std::optional<std::string> joint_problem(const JointSpec& j) {
     return "a joint's axis must be finite and not zero, got " + vector(j.axis);
   }
   if (auto p = position_problem(j.anchor)) return "a joint's anchor: " + *p;
-  if (!within(j.lo, -kMaxCoordinate, kMaxCoordinate) || !within(j.hi, -kMaxCoordinate, kMaxCoordinate) ||
-      j.lo > j.hi) {
-    return "a joint's stops must be finite with lo <= hi, got " + number(j.lo) + " and " + number(j.hi);
+  if (!within(j.lo, -kMaxCoordinate, kMaxCoordinate) ||
+      !within(j.hi, -kMaxCoordinate, kMaxCoordinate) || j.lo > j.hi) {
+    return "a joint's stops must be finite with lo <= hi, got " + number(j.lo) + " and " +
+           number(j.hi);
   }
   if (!within(j.max_force, 0, kMaxForce)) {
-    return "a joint's motor force must lie in [0, " + number(kMaxForce) + "], got " + number(j.max_force);
+    return "a joint's motor force must lie in [0, " + number(kMaxForce) + "], got " +
+           number(j.max_force);
   }
   if (!within(std::abs(j.velocity), 0, kMaxSpeed)) {
-    return "a joint's motor speed must be at most " + number(kMaxSpeed) + " in size, got " + number(j.velocity);
+    return "a joint's motor speed must be at most " + number(kMaxSpeed) + " in size, got " +
+           number(j.velocity);
   }
   if (j.body1 == j.body2) return "a joint needs two different bodies, got '" + j.body1 + "' twice";
   return std::nullopt;
@@ -198,7 +203,8 @@ void check_world(const WorldSpec& world) {
     fail({}, world.file, "the ground's friction must lie in [0, " + number(kMaxFriction) + "]");
   }
   for (const auto& m : world.materials) {
-    if (auto p = material_problem(m)) fail(m.source, world.file, "material '" + m.name + "': " + *p);
+    if (auto p = material_problem(m))
+      fail(m.source, world.file, "material '" + m.name + "': " + *p);
   }
   for (const auto& o : world.objects) {
     if (auto p = name_problem(o.name)) fail(o.source, world.file, *p);

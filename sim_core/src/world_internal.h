@@ -11,12 +11,12 @@ namespace macsim {
 /// An object as ODE holds it, beside its current description.
 struct World::Object {
   ObjectId id = 0;
-  ObjectSpec spec;   // pose: where it was placed (for jointed bodies: the joint's zero)
+  ObjectSpec spec;  // pose: where it was placed (for jointed bodies: the joint's zero)
   dBodyID body = nullptr;
   std::vector<dGeomID> geoms;
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // centre of mass in the object's frame
   detail::GeomTag tag;
-  int door = -1;     // index of the door it belongs to, -1 if none
+  int door = -1;  // index of the door it belongs to, -1 if none
 };
 
 /// A joint and, while it is being rebuilt, the position it had.

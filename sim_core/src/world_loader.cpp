@@ -1,5 +1,4 @@
 #include "macsim/sim_core/world_loader.h"
-#include "macsim/sim_core/world_bounds.h"
 
 #include <tinyxml2.h>
 
@@ -13,6 +12,7 @@
 #include <sstream>
 
 #include "macsim/sim_core/texture.h"
+#include "macsim/sim_core/world_bounds.h"
 
 namespace macsim {
 

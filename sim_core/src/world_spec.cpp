@@ -6,18 +6,24 @@ namespace macsim {
 
 const char* shape_name(Shape shape) {
   switch (shape) {
-    case Shape::Box: return "BOX";
-    case Shape::Cylinder: return "CYLINDER";
-    case Shape::Sphere: return "SPHERE";
+    case Shape::Box:
+      return "BOX";
+    case Shape::Cylinder:
+      return "CYLINDER";
+    case Shape::Sphere:
+      return "SPHERE";
   }
   return "?";
 }
 
 double component_volume(const ComponentSpec& c) {
   switch (c.shape) {
-    case Shape::Box: return c.size.x() * c.size.y() * c.size.z();
-    case Shape::Cylinder: return M_PI * c.size.x() * c.size.x() * c.size.z();
-    case Shape::Sphere: return 4.0 / 3.0 * M_PI * std::pow(c.size.x(), 3);
+    case Shape::Box:
+      return c.size.x() * c.size.y() * c.size.z();
+    case Shape::Cylinder:
+      return M_PI * c.size.x() * c.size.x() * c.size.z();
+    case Shape::Sphere:
+      return 4.0 / 3.0 * M_PI * std::pow(c.size.x(), 3);
   }
   return 0.0;
 }
@@ -41,8 +47,8 @@ ObjectSpec primitive(Shape shape, const Eigen::Vector3d& position, const Eigen::
 }
 }  // namespace
 
-ObjectSpec box_object(const Eigen::Vector3d& position, const Eigen::Vector3d& size,
-                      bool portable, const std::string& user_data) {
+ObjectSpec box_object(const Eigen::Vector3d& position, const Eigen::Vector3d& size, bool portable,
+                      const std::string& user_data) {
   return primitive(Shape::Box, position, size, portable, user_data);
 }
 

@@ -2,13 +2,13 @@
 // fields are listed once, in its archive() below; saving, reading back and hashing all use them.
 #include "macsim/sim_core/world_state.h"
 
+#include <xxhash.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "macsim/sim_core/world.h"
-#include <xxhash.h>
-
 #include "macsim/sim_core/world_bounds.h"
 #include "state_archive.h"
 #include "world_internal.h"
@@ -91,8 +91,8 @@ void archive(Ar& ar, ImuReading& i) {
 }
 template <class Ar>
 void archive(Ar& ar, LaserScan& s) {
-  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges,
-     s.rotunit_angle, s.origin);
+  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges, s.rotunit_angle,
+     s.origin);
 }
 template <class Ar>
 void archive(Ar& ar, PointCloud& c) {
@@ -177,8 +177,8 @@ uint64_t World::state_hash() const { return macsim::state_hash(state()); }
 
 uint64_t World::world_fingerprint() const {
   // The world as loaded: its settings, robots and initial state.
-  const auto& bytes = serialized(spec_.name, spec_.physics, spec_.ground_friction,
-                                 spec_.materials, spec_.robots, initial_);
+  const auto& bytes = serialized(spec_.name, spec_.physics, spec_.ground_friction, spec_.materials,
+                                 spec_.robots, initial_);
   return XXH3_64bits(bytes.data(), bytes.size());
 }
 
@@ -220,7 +220,8 @@ namespace {
 std::optional<std::string> state_problem(const WorldState& s) {
   for (const auto& [id, o] : s.objects) {
     if (auto p = bounds::name_problem(o.name)) return p;
-    if (static_cast<int>(o.kind) < 0 || static_cast<int>(o.kind) > static_cast<int>(ObjectKind::DoorLeaf)) {
+    if (static_cast<int>(o.kind) < 0 ||
+        static_cast<int>(o.kind) > static_cast<int>(ObjectKind::DoorLeaf)) {
       return std::string("an object of an unknown kind");
     }
     if (auto p = bounds::object_problem(o)) return "'" + o.name + "': " + *p;
@@ -237,7 +238,8 @@ std::optional<std::string> state_problem(const WorldState& s) {
     }
   }
   for (const auto& b : s.bodies) {
-    if (!detail::plausible(b) || b.orientation.norm() < 1e-9) return std::string("a body that is not plausible");
+    if (!detail::plausible(b) || b.orientation.norm() < 1e-9)
+      return std::string("a body that is not plausible");
   }
   for (const auto& r : s.robots) {
     const bool finite = std::isfinite(r.commanded.left) && std::isfinite(r.commanded.right) &&

@@ -37,7 +37,8 @@ World::Object* World::find(ObjectId id) const {
 
 Status World::check_object_id(ObjectId id, const Object*& out) const {
   out = find(id);
-  if (!out) return Status::error(ErrorCode::UnknownObject, "no object with id " + std::to_string(id));
+  if (!out)
+    return Status::error(ErrorCode::UnknownObject, "no object with id " + std::to_string(id));
   return {};
 }
 
@@ -98,7 +99,9 @@ Result<ObjectState> World::object_state(ObjectId id) const {
 Result<double> World::object_mass(ObjectId id) const {
   const Object* o = nullptr;
   if (Status s = check_object_id(id, o); !s.ok()) return {s};
-  if (!o->body) return {Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no mass")};
+  if (!o->body)
+    return {
+        Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no mass")};
   dMass m;
   dBodyGetMass(o->body, &m);
   return {{}, m.mass};
@@ -107,7 +110,9 @@ Result<double> World::object_mass(ObjectId id) const {
 Result<Eigen::Matrix3d> World::object_inertia(ObjectId id) const {
   const Object* o = nullptr;
   if (Status s = check_object_id(id, o); !s.ok()) return {s};
-  if (!o->body) return {Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no inertia")};
+  if (!o->body)
+    return {Status::error(ErrorCode::NotApplicable,
+                          "'" + o->spec.name + "' is fixed: it has no inertia")};
   dMass m;
   dBodyGetMass(o->body, &m);
   Eigen::Matrix3d inertia;
@@ -194,8 +199,8 @@ Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy)
     if (policy == PenetrationPolicy::Refuse) {
       destroy_ode_object(o);
       objects_.pop_back();
-      return {Status::error(ErrorCode::Penetration, "'" + o.spec.name + "' would penetrate " +
-                                                        status.penetrated.front())};
+      return {Status::error(ErrorCode::Penetration,
+                            "'" + o.spec.name + "' would penetrate " + status.penetrated.front())};
     }
     emit(WorldEvent::Type::Penetration, o.spec.name, "created inside " + status.penetrated.front());
   }
@@ -206,13 +211,15 @@ Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy)
 Status World::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
   if (!fragment.robots.empty()) return invalid("robots cannot be added to a running world");
   for (const auto& object : fragment.objects) {
-    if (find_object(object.name)) return invalid("an object named '" + object.name + "' exists already");
+    if (find_object(object.name))
+      return invalid("an object named '" + object.name + "' exists already");
   }
   for (const auto& m : fragment.materials) {
     if (!spec_.material(m.name)) spec_.materials.push_back(m);
   }
   std::vector<Object*> added;
-  for (auto& object : fragment.objects) added.push_back(&add_object_record(next_id_++, std::move(object)));
+  for (auto& object : fragment.objects)
+    added.push_back(&add_object_record(next_id_++, std::move(object)));
   std::vector<Joint*> new_joints;
   for (auto& joint : fragment.joints) new_joints.push_back(&add_joint_record(std::move(joint)));
   for (auto& door : fragment.doors) add_door_record(std::move(door), {});
@@ -277,7 +284,8 @@ Status World::destroy_object(ObjectId id) {
     // A door part takes its whole door-switch structure with it.
     const int door = o->door;
     const DoorSpec parts = doors_[door]->spec;
-    for (const std::string* part : {&parts.leaf, &parts.frame, &parts.switch_platform, &parts.switch_base}) {
+    for (const std::string* part :
+         {&parts.leaf, &parts.frame, &parts.switch_platform, &parts.switch_base}) {
       if (auto part_id = find_object(*part)) erase_object(*part_id);
     }
     doors_.erase(doors_.begin() + door);
@@ -346,8 +354,8 @@ void World::rebuild_object(Object& o, const ObjectSpec& spec, const ObjectState&
   build_object(o);
   if (o.body) {
     const Pose body = state.pose * Pose{o.com, Eigen::Quaterniond::Identity()};
-    detail::set_body_state(o.body, {body.position, body.orientation, state.linear_velocity,
-                                    state.angular_velocity});
+    detail::set_body_state(
+        o.body, {body.position, body.orientation, state.linear_velocity, state.angular_velocity});
   }
   for (Joint* j : attached) build_joint(*j);
 }
@@ -374,9 +382,9 @@ Status World::change_object(ObjectId id, PenetrationPolicy policy,
     if (policy == PenetrationPolicy::Refuse) {
       rebuild_object(o, old_spec, old_state);
       structure_changed();
-      Status refused = Status::error(ErrorCode::Penetration, "refused: '" + o.spec.name +
-                                                                 "' would penetrate '" +
-                                                                 status.penetrated.front() + "'");
+      Status refused =
+          Status::error(ErrorCode::Penetration, "refused: '" + o.spec.name + "' would penetrate '" +
+                                                    status.penetrated.front() + "'");
       refused.penetrated = status.penetrated;
       return refused;
     }
@@ -419,8 +427,8 @@ Status World::set_orientation(ObjectId id, const Eigen::Quaterniond& orientation
   return set_pose(id, pose, policy);
 }
 
-Status World::resize_component(ObjectId id, int component, Shape shape,
-                               const Eigen::Vector3d& size, PenetrationPolicy policy) {
+Status World::resize_component(ObjectId id, int component, Shape shape, const Eigen::Vector3d& size,
+                               PenetrationPolicy policy) {
   const Object* o = nullptr;
   if (Status s = check_object_id(id, o); !s.ok()) return s;
   if (o->spec.kind == ObjectKind::Ramp) {
@@ -455,8 +463,7 @@ Status World::set_cylinder_size(ObjectId id, int component, double radius, doubl
   return resize_component(id, component, Shape::Cylinder, {radius, 0.0, height}, policy);
 }
 
-Status World::set_sphere_size(ObjectId id, int component, double radius,
-                              PenetrationPolicy policy) {
+Status World::set_sphere_size(ObjectId id, int component, double radius, PenetrationPolicy policy) {
   return resize_component(id, component, Shape::Sphere, {radius, 0.0, 0.0}, policy);
 }
 
@@ -480,7 +487,8 @@ Status World::set_color(ObjectId id, const Color& color, int component) {
   const Object* found = nullptr;
   if (Status s = check_object_id(id, found); !s.ok()) return s;
   for (float channel : color) {
-    if (!std::isfinite(channel) || channel < 0 || channel > 1) return invalid("colour channels must lie in [0, 1]");
+    if (!std::isfinite(channel) || channel < 0 || channel > 1)
+      return invalid("colour channels must lie in [0, 1]");
   }
   Object& o = *find(id);
   if (component < -1 || component >= static_cast<int>(o.spec.components.size())) {
@@ -515,7 +523,8 @@ Status World::set_mass(ObjectId id, double mass) {
   if (Status s = check_object_id(id, o); !s.ok()) return s;
   if (!std::isfinite(mass) || mass <= 0) return invalid("mass must be finite and positive");
   if (!o->spec.portable) {
-    return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no mass");
+    return Status::error(ErrorCode::NotApplicable,
+                         "'" + o->spec.name + "' is fixed: it has no mass");
   }
   return change_object(id, PenetrationPolicy::Allow, [&](ObjectSpec& spec, Pose&) {
     spec.density = mass / spec.volume();
@@ -526,9 +535,11 @@ Status World::set_mass(ObjectId id, double mass) {
 Status World::set_density(ObjectId id, double density) {
   const Object* o = nullptr;
   if (Status s = check_object_id(id, o); !s.ok()) return s;
-  if (!std::isfinite(density) || density <= 0) return invalid("density must be finite and positive");
+  if (!std::isfinite(density) || density <= 0)
+    return invalid("density must be finite and positive");
   if (!o->spec.portable) {
-    return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: it has no density");
+    return Status::error(ErrorCode::NotApplicable,
+                         "'" + o->spec.name + "' is fixed: it has no density");
   }
   return change_object(id, PenetrationPolicy::Allow, [&](ObjectSpec& spec, Pose&) {
     spec.density = density;
@@ -592,8 +603,10 @@ Status World::set_frozen(ObjectId id, bool frozen) {
   const Object* found = nullptr;
   if (Status s = check_object_id(id, found); !s.ok()) return s;
   Object& o = *find(id);
-  if (!o.body) return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is fixed already");
-  if (o.door >= 0) return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is part of a door");
+  if (!o.body)
+    return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is fixed already");
+  if (o.door >= 0)
+    return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is part of a door");
   o.spec.frozen = frozen;
   if (frozen) {
     dBodySetLinearVel(o.body, 0, 0, 0);
@@ -640,7 +653,8 @@ std::optional<int> World::find_door(const std::string& name) const {
 Status World::check_door(int door) const {
   if (door < 0 || door >= door_count()) {
     return Status::error(ErrorCode::UnknownObject, "no door with index " + std::to_string(door) +
-                                                       " (there are " + std::to_string(door_count()) + ")");
+                                                       " (there are " +
+                                                       std::to_string(door_count()) + ")");
   }
   return {};
 }
@@ -702,8 +716,8 @@ Status World::move_door_part(int door, bool leaf, const Eigen::Vector3d& positio
     build_object(o);
     if (o.body) {
       const Pose body = state.pose * Pose{o.com, Eigen::Quaterniond::Identity()};
-      detail::set_body_state(o.body, {body.position, body.orientation, state.linear_velocity,
-                                      state.angular_velocity});
+      detail::set_body_state(
+          o.body, {body.position, body.orientation, state.linear_velocity, state.angular_velocity});
     }
     for (const auto& hit : penetrations(o)) status.penetrated.push_back(hit);
   }

@@ -73,7 +73,9 @@ TEST(RunnerBatch, ARefusedLoadLeavesLaterCommandsOnTheOldWorld) {
               [&](const LoadOutcome& outcome) { loaded = outcome; });
   mm::SupervisorReply_ destroyed;
   destroyed.code(-1);
-  runner.push([&](World& world) { destroyed = dispatch(rq::destroy_object(box), world, runner.snapshots()); });
+  runner.push([&](World& world) {
+    destroyed = dispatch(rq::destroy_object(box), world, runner.snapshots());
+  });
   apply_until(runner, [&] { return destroyed.code() != -1; });
   ASSERT_TRUE(loaded.has_value());
   EXPECT_FALSE(loaded->ok);

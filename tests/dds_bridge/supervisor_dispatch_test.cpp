@@ -150,8 +150,8 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_SET_POSITION, "set position",
        [](Fixture& f) {
          f.ok(rq::set_position(f.id(kBox), {0.3, 0.0, 0.05}));
-         EXPECT_TRUE(f.world.object_state(f.id(kBox)).value.pose.position.isApprox(
-             Eigen::Vector3d(0.3, 0.0, 0.05), 1e-12));
+         EXPECT_TRUE(f.world.object_state(f.id(kBox))
+                         .value.pose.position.isApprox(Eigen::Vector3d(0.3, 0.0, 0.05), 1e-12));
        }},
       {mm::OP_SET_ORIENTATION, "set orientation",
        [](Fixture& f) {
@@ -188,11 +188,13 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_SET_COLOR, "set colour",
        [](Fixture& f) {
          f.ok(rq::set_color(f.id(kBox), {0.1f, 0.2f, 0.3f, 1.0f}));
-         EXPECT_EQ(f.world.object(f.id(kBox))->components[0].color, (Color{0.1f, 0.2f, 0.3f, 1.0f}));
+         EXPECT_EQ(f.world.object(f.id(kBox))->components[0].color,
+                   (Color{0.1f, 0.2f, 0.3f, 1.0f}));
        }},
       {mm::OP_SET_TEXTURE, "set texture",
        [](Fixture& f) {
-         f.ok(rq::set_texture(f.id(kBox), source("worlds/DemoEnvironment_v1/textures/checker.bmp")));
+         f.ok(
+             rq::set_texture(f.id(kBox), source("worlds/DemoEnvironment_v1/textures/checker.bmp")));
          EXPECT_NE(f.world.object(f.id(kBox))->components[0].texture.find("checker.bmp"),
                    std::string::npos);
        }},
@@ -209,12 +211,14 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_SET_LINEAR_VELOCITY, "set linear velocity",
        [](Fixture& f) {
          f.ok(rq::set_linear_velocity(f.id(kBall), {0.1, 0.2, 0.3}));
-         EXPECT_EQ(f.world.object_state(f.id(kBall)).value.linear_velocity, Eigen::Vector3d(0.1, 0.2, 0.3));
+         EXPECT_EQ(f.world.object_state(f.id(kBall)).value.linear_velocity,
+                   Eigen::Vector3d(0.1, 0.2, 0.3));
        }},
       {mm::OP_SET_ANGULAR_VELOCITY, "set angular velocity",
        [](Fixture& f) {
          f.ok(rq::set_angular_velocity(f.id(kBall), {0.0, 0.0, 2.0}));
-         EXPECT_EQ(f.world.object_state(f.id(kBall)).value.angular_velocity, Eigen::Vector3d(0, 0, 2));
+         EXPECT_EQ(f.world.object_state(f.id(kBall)).value.angular_velocity,
+                   Eigen::Vector3d(0, 0, 2));
        }},
       {mm::OP_ADD_FORCE, "add force",
        [](Fixture& f) {
@@ -255,7 +259,8 @@ std::vector<OperationCase> operation_cases() {
          EXPECT_EQ(r.door().name(), f.world.door_name(0));
          EXPECT_EQ(r.door().gap(), mm::GAP_CLOSED);
          const DoorParts parts = f.world.door_parts(0).value;
-         EXPECT_EQ(r.object_ids(), (std::vector<uint32_t>{parts.leaf, parts.frame, *parts.platform, *parts.base}));
+         EXPECT_EQ(r.object_ids(),
+                   (std::vector<uint32_t>{parts.leaf, parts.frame, *parts.platform, *parts.base}));
        }},
       {mm::OP_SET_SWITCH_TRIGGERED, "trigger switch",
        [](Fixture& f) {
@@ -265,7 +270,8 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_SET_DOOR_POSITION, "move door",
        [](Fixture& f) {
          const ObjectId leaf = f.world.door_parts(0).value.leaf;
-         const Eigen::Vector3d to = f.world.object_state(leaf).value.pose.position + Eigen::Vector3d(0, 0.5, 0);
+         const Eigen::Vector3d to =
+             f.world.object_state(leaf).value.pose.position + Eigen::Vector3d(0, 0.5, 0);
          f.ok(rq::set_door_position(0, {to.x(), to.y(), to.z()}));
          EXPECT_TRUE(f.world.object_state(leaf).value.pose.position.isApprox(to, 1e-9));
        }},
@@ -338,7 +344,10 @@ struct ErrorCase {
 /// At least one request per error code; each changes nothing.
 std::vector<ErrorCase> error_cases() {
   return {
-      {mm::ERR_UNKNOWN_OBJECT, "unknown id", [](Fixture&) { return rq::set_position(999999, {0, 0, 1}); },
+      {mm::ERR_UNKNOWN_OBJECT, "unknown id",
+       [](Fixture&) {
+         return rq::set_position(999999, {0, 0, 1});
+       },
        "999999"},
       {mm::ERR_UNKNOWN_OBJECT, "unknown name", [](Fixture&) { return rq::find_object("no/such"); },
        "no/such"},
@@ -348,9 +357,15 @@ std::vector<ErrorCase> error_cases() {
       {mm::ERR_WRONG_GEOMETRY, "ramp of a box",
        [](Fixture& f) { return rq::set_ramp(f.id(kBox), 1, 0.1, 0.2); }, "not a ramp"},
       {mm::ERR_INVALID_ARGUMENT, "NaN position",
-       [](Fixture& f) { return rq::set_position(f.id(kBox), {std::nan(""), 0, 1}); }, ""},
+       [](Fixture& f) {
+         return rq::set_position(f.id(kBox), {std::nan(""), 0, 1});
+       },
+       ""},
       {mm::ERR_INVALID_ARGUMENT, "negative size",
-       [](Fixture& f) { return rq::set_box_size(f.id(kBox), 0, {0.1, -1, 0.1}); }, ""},
+       [](Fixture& f) {
+         return rq::set_box_size(f.id(kBox), 0, {0.1, -1, 0.1});
+       },
+       ""},
       {mm::ERR_INVALID_ARGUMENT, "unknown shape code",
        [](Fixture&) {
          mm::Object_ o = sphere_at(0, -1, 0.5, 0.1);
@@ -358,15 +373,19 @@ std::vector<ErrorCase> error_cases() {
          return rq::create_object(o);
        },
        "99"},
-      {mm::ERR_INVALID_ARGUMENT, "unknown destroy selection", [](Fixture&) { return rq::destroy_all(7); },
-       "7"},
-      {mm::ERR_INVALID_ARGUMENT, "unknown reset scope", [](Fixture&) { return rq::reset(-1); }, "-1"},
-      {mm::ERR_INVALID_ARGUMENT, "unknown snapshot", [](Fixture&) { return rq::restore_snapshot("nope"); },
-       "nope"},
+      {mm::ERR_INVALID_ARGUMENT, "unknown destroy selection",
+       [](Fixture&) { return rq::destroy_all(7); }, "7"},
+      {mm::ERR_INVALID_ARGUMENT, "unknown reset scope", [](Fixture&) { return rq::reset(-1); },
+       "-1"},
+      {mm::ERR_INVALID_ARGUMENT, "unknown snapshot",
+       [](Fixture&) { return rq::restore_snapshot("nope"); }, "nope"},
       {mm::ERR_NOT_APPLICABLE, "mass of a fixed object",
        [](Fixture& f) { return rq::set_mass(f.id(kPost), 1.0); }, "fixed"},
       {mm::ERR_NOT_APPLICABLE, "velocity of a fixed object",
-       [](Fixture& f) { return rq::set_linear_velocity(f.id(kPost), {1, 0, 0}); }, "fixed"},
+       [](Fixture& f) {
+         return rq::set_linear_velocity(f.id(kPost), {1, 0, 0});
+       },
+       "fixed"},
       {mm::ERR_PENETRATION, "into the post",
        [](Fixture& f) {
          const Eigen::Vector3d post = f.world.object_state(f.id(kPost)).value.pose.position;
@@ -374,9 +393,13 @@ std::vector<ErrorCase> error_cases() {
        },
        "post"},
       {mm::ERR_BAD_TEXTURE, "missing texture",
-       [](Fixture& f) { return rq::set_texture(f.id(kBox), "/nonexistent/picture.bmp"); }, "picture.bmp"},
+       [](Fixture& f) { return rq::set_texture(f.id(kBox), "/nonexistent/picture.bmp"); },
+       "picture.bmp"},
       {mm::ERR_BAD_FILE, "missing environment",
-       [](Fixture&) { return rq::import_environment("/nonexistent/env.xml", "x", {0, 0, 0}); }, "env.xml"},
+       [](Fixture&) {
+         return rq::import_environment("/nonexistent/env.xml", "x", {0, 0, 0});
+       },
+       "env.xml"},
       {mm::ERR_UNKNOWN_OPERATION, "unknown operation",
        [](Fixture&) {
          auto r = rq::list_objects();
@@ -415,7 +438,8 @@ std::set<int32_t> idl_codes(const std::string& prefix) {
   const std::string all = text.str();
   std::set<int32_t> codes;
   const std::regex line("const int32 " + prefix + "[A-Z_]+ = ([0-9]+);");
-  for (auto m = std::sregex_iterator(all.begin(), all.end(), line); m != std::sregex_iterator(); ++m) {
+  for (auto m = std::sregex_iterator(all.begin(), all.end(), line); m != std::sregex_iterator();
+       ++m) {
     codes.insert(std::stoi((*m)[1]));
   }
   return codes;

@@ -18,9 +18,9 @@ TEST(MockRobot, OdometryFollowsTheCommandsUntilTheirTimeout) {
   const Readings r = mock.read();
   ASSERT_TRUE(r.odometry.has_value());
   EXPECT_NEAR(r.odometry->x, 0.2 * 0.6, 1e-9);
-  EXPECT_EQ(r.odometry->linear, 0.0);  // timed out
+  EXPECT_EQ(r.odometry->linear, 0.0);              // timed out
   EXPECT_FALSE(mock.read().odometry.has_value());  // nothing new since
-  mock.command_wheel_speeds(-0.14, 0.14);  // turning in place at 1 rad/s
+  mock.command_wheel_speeds(-0.14, 0.14);          // turning in place at 1 rad/s
   mock.advance(1.1);
   const Readings turned = mock.read();
   EXPECT_NEAR(turned.odometry->yaw, 0.1, 1e-9);

@@ -38,7 +38,8 @@ struct Served {
   dds::Participant controller_side{{domain, source("deploy/dds/localhost.xml"), "controller"}};
   robot::MockRobot mock{"kurt", rover()};
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node{robot_side, mock, [this](robot::RobotCommand c) { queue.push(std::move(c)); }};
+  robot::RobotNode node{robot_side, mock,
+                        [this](robot::RobotCommand c) { queue.push(std::move(c)); }};
 
   /// The owner's loop for `seconds`: commands, then time, then readings, every 10 ms.
   void run(double seconds) {
@@ -59,7 +60,8 @@ TEST(RobotNode, ServesAMockRobotCommandsInReadingsOut) {
   s.mock.set_ranges({{"ir_left", false, 0.3}, {"ultrasound_front", true, 0.7}});
   client::RobotClient controller(s.controller_side, "kurt");
   Samples<sm::Range_PubSubType> ranges(s.controller_side, dds::topics::range("kurt"));
-  for (int i = 0; i < 300 && !controller.commander_matched(); ++i) std::this_thread::sleep_for(10ms);
+  for (int i = 0; i < 300 && !controller.commander_matched(); ++i)
+    std::this_thread::sleep_for(10ms);
   ASSERT_TRUE(controller.commander_matched());
   controller.drive(std::nan(""), 0.0);  // dropped by the node, never reaches the robot
   controller.drive(0.5, 0.0);
@@ -69,7 +71,8 @@ TEST(RobotNode, ServesAMockRobotCommandsInReadingsOut) {
   ASSERT_TRUE(odom.has_value());
   EXPECT_NEAR(odom->pose().pose().position().x(), 0.5 * 0.6, 0.02);  // until the 0.6 s timeout
   EXPECT_TRUE(std::isfinite(odom->pose().pose().position().y()));
-  const auto sonar = ranges.wait_for([](const sm::Range_& r) { return r.header().frame_id() == "ultrasound_front"; }, 2s);
+  const auto sonar = ranges.wait_for(
+      [](const sm::Range_& r) { return r.header().frame_id() == "ultrasound_front"; }, 2s);
   ASSERT_TRUE(sonar.has_value());
   EXPECT_NEAR(sonar->range(), 0.7, 1e-6);
 }
@@ -90,9 +93,9 @@ TEST(RobotNode, ServesWhatTheRobotHasAndNamesWhatItLacks) {
   EXPECT_FALSE(served("rt/kurt/crane/command"));
   EXPECT_FALSE(served("rt/kurt/ground_truth"));
   const auto lacking = s.node.lacking_topics();
-  EXPECT_EQ(lacking, (std::vector<std::string>{"rt/kurt/crane/command", "rt/kurt/ground_truth",
-                                               "rt/kurt/scan360", "rt/kurt/points",
-                                               "rt/kurt/crane/state"}));
+  EXPECT_EQ(lacking,
+            (std::vector<std::string>{"rt/kurt/crane/command", "rt/kurt/ground_truth",
+                                      "rt/kurt/scan360", "rt/kurt/points", "rt/kurt/crane/state"}));
 }
 
 TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
@@ -101,9 +104,10 @@ TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
   full.crane = true;
   robot::MockRobot crane_robot("arm", full);
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node(s.robot_side, crane_robot, [&](robot::RobotCommand c) { queue.push(std::move(c)); });
-  dds::Writer<km::CraneCommand_PubSubType> command(s.controller_side, dds::topics::crane_command("arm"),
-                                                   dds::QosFamily::Command);
+  robot::RobotNode node(s.robot_side, crane_robot,
+                        [&](robot::RobotCommand c) { queue.push(std::move(c)); });
+  dds::Writer<km::CraneCommand_PubSubType> command(
+      s.controller_side, dds::topics::crane_command("arm"), dds::QosFamily::Command);
   Samples<km::CraneState_PubSubType> state(s.controller_side, dds::topics::crane_state("arm"));
   km::CraneCommand_ c;
   c.slew(0.4);

@@ -57,10 +57,8 @@ std::vector<uint64_t> lockstep_run() {
       if (k == 3) {
         const auto find = client::supervisor::find_object("environment_01/ball_green");
         const uint32_t ball = supervisor.call(find)->object_id();
-        EXPECT_EQ(
-            supervisor.call(client::supervisor::add_force(ball, {0, 400, 0}))
-                ->code(),
-            mm::ERR_OK);
+        EXPECT_EQ(supervisor.call(client::supervisor::add_force(ball, {0, 400, 0}))->code(),
+                  mm::ERR_OK);
       }
       auto reply = sim.step(100);
       EXPECT_TRUE(reply.has_value());

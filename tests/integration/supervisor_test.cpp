@@ -26,11 +26,12 @@ class Supervisor : public ::testing::Test {
  protected:
   void SetUp() override {
     domain_ = unique_test_domain();
-    macsim_ = std::make_unique<ChildProcess>(std::vector<std::string>{
-        bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
-        std::to_string(domain_), "--cameras", "off"});
+    macsim_ = std::make_unique<ChildProcess>(
+        std::vector<std::string>{bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"),
+                                 "--domain", std::to_string(domain_), "--cameras", "off"});
     ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
-    participant_ = std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "supervisor_test"});
+    participant_ =
+        std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "supervisor_test"});
     client_ = std::make_unique<SupervisorClient>(*participant_);
     ASSERT_TRUE(client_->wait_for_server(20s));
   }
@@ -115,7 +116,8 @@ TEST_F(Supervisor, BadRequestsGetClearErrorsAndChangeNothing) {
   EXPECT_EQ(negative.code(), mm::ERR_INVALID_ARGUMENT);
   const auto wrong = call(supervisor::set_sphere_size(box, 0, 0.1));
   EXPECT_EQ(wrong.code(), mm::ERR_WRONG_GEOMETRY);
-  EXPECT_EQ(call(supervisor::set_texture(box, "/nonexistent/picture.bmp")).code(), mm::ERR_BAD_TEXTURE);
+  EXPECT_EQ(call(supervisor::set_texture(box, "/nonexistent/picture.bmp")).code(),
+            mm::ERR_BAD_TEXTURE);
   const auto penetrate = call(supervisor::set_position(box, {0.0, -0.3, 0.2}));
   EXPECT_EQ(penetrate.code(), mm::ERR_PENETRATION);
   auto unknown_operation = supervisor::list_objects();

@@ -4,9 +4,9 @@
  * and the door states for `seconds`; writes a crane command; calls the supervisor (find an
  * object by name, then get it by the id found), turns the rotunit (for clouds), switches the
  * magnet on (seen in the crane state), drives by wheel speeds for 2 s (seen in odometry),
- * triggers the door's switch through the supervisor and hears the world event and the simulation control (features) through
- * their request/reply topics; prints how many samples of each it took and the replies.
- * Exit 0 if every topic delivered and every call was answered, 1 otherwise.
+ * triggers the door's switch through the supervisor and hears the world event and the simulation
+ * control (features) through their request/reply topics; prints how many samples of each it took
+ * and the replies. Exit 0 if every topic delivered and every call was answered, 1 otherwise.
  *   cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME] */
 #include <dds/dds.h>
 #include <stdio.h>
@@ -116,15 +116,15 @@ int main(int argc, char** argv) {
    * until its reply comes (macsim answers a repeat without doing it again). */
   dds_entity_t sup_request = reliable_writer(
       participant, &macsim_msgs_msg_dds__SupervisorRequest__desc, "rt/macsim/supervisor/request");
-  dds_entity_t sup_reply = reliable_reader(
-      participant, &macsim_msgs_msg_dds__SupervisorReply__desc, "rt/macsim/supervisor/reply");
+  dds_entity_t sup_reply = reliable_reader(participant, &macsim_msgs_msg_dds__SupervisorReply__desc,
+                                           "rt/macsim/supervisor/reply");
   dds_entity_t sim_request = reliable_writer(
       participant, &macsim_msgs_msg_dds__SimulationRequest__desc, "rt/macsim/simulation/request");
-  dds_entity_t sim_reply = reliable_reader(
-      participant, &macsim_msgs_msg_dds__SimulationReply__desc, "rt/macsim/simulation/reply");
+  dds_entity_t sim_reply = reliable_reader(participant, &macsim_msgs_msg_dds__SimulationReply__desc,
+                                           "rt/macsim/simulation/reply");
   /* World events (reliable, volatile): the switch triggered through the supervisor below. */
-  dds_entity_t events =
-      reliable_reader(participant, &macsim_msgs_msg_dds__WorldEvent__desc, "rt/macsim/world/events");
+  dds_entity_t events = reliable_reader(participant, &macsim_msgs_msg_dds__WorldEvent__desc,
+                                        "rt/macsim/world/events");
   macsim_msgs_msg_dds__SupervisorRequest_ request;
   memset(&request, 0, sizeof request);
   char empty[] = "";
@@ -133,8 +133,8 @@ int main(int argc, char** argv) {
   /* The operation is a union: its discriminator is the OP_* code, its member the arguments. */
   request.operation._d = macsim_msgs_msg_dds__OP_FIND_OBJECT;
   request.operation._u.find_object.name = (char*)object_name;
-  macsim_msgs_msg_dds__SimulationRequest_ sim = {(char*)"cyclone_listen", 1,
-                                                 macsim_msgs_msg_dds__SIM_FEATURES, 0, 0.0, empty};
+  macsim_msgs_msg_dds__SimulationRequest_ sim = {
+      (char*)"cyclone_listen", 1, macsim_msgs_msg_dds__SIM_FEATURES, 0, 0.0, empty};
   uint32_t found_id = 0;
   int got_object = 0, got_features = 0, switched = 0, event_seen = 0;
 
@@ -167,7 +167,8 @@ int main(int argc, char** argv) {
         } else if (request.operation._d == macsim_msgs_msg_dds__OP_GET_OBJECT) {
           printf("cyclone_listen: supervisor GET_OBJECT %u: code %d, name %s, mass %.3f kg\n",
                  found_id, r->code, r->object.name, r->object.mass);
-          got_object = r->code == macsim_msgs_msg_dds__ERR_OK && strcmp(r->object.name, object_name) == 0;
+          got_object =
+              r->code == macsim_msgs_msg_dds__ERR_OK && strcmp(r->object.name, object_name) == 0;
           if (!got_object) return 1;
           request.operation._d = macsim_msgs_msg_dds__OP_SET_SWITCH_TRIGGERED;
           request.operation._u.set_switch_triggered.door = 0;

@@ -14,10 +14,10 @@
 namespace macsim::test {
 namespace {
 
+using macsim::Scene;
 using render::CameraIntrinsics;
 using render::CameraMode;
 using render::OffscreenRenderer;
-using macsim::Scene;
 
 // A scene with one box of `color` centred 2 m ahead of a camera at the origin.
 Scene box_ahead(const Color& color, const std::string& texture = "") {

@@ -110,7 +110,8 @@ TEST(Runner, ALoadStillParsingHoldsLaterCommandsWhileTheWorldRunsOn) {
   EXPECT_FALSE(done);
   EXPECT_EQ(runner.world().steps(), 5u);
   release.set_value();
-  ASSERT_TRUE(runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(10)));
+  ASSERT_TRUE(
+      runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(10)));
   runner.apply_commands();
   EXPECT_TRUE(done);
   EXPECT_TRUE(outcome.ok);
@@ -126,7 +127,8 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
   // One load at a time: each is answered before the next is asked.
   auto load = [&](std::function<WorldSpec()> parse) {
     const std::size_t before = outcomes.size();
-    ASSERT_TRUE(runner.load(std::move(parse), [&](const LoadOutcome& o) { outcomes.push_back(o); }));
+    ASSERT_TRUE(
+        runner.load(std::move(parse), [&](const LoadOutcome& o) { outcomes.push_back(o); }));
     for (int i = 0; i < 100 && outcomes.size() == before; ++i) {
       runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
       runner.apply_commands();
@@ -136,10 +138,12 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
   load([] { return load_world_file(test::source("worlds/no_such_world.xml")); });
   load([] { return load_world_string("<WORLD><BOX>", "broken.xml"); });
   load([] {  // its robot is not the same
-    return load_world_string("<WORLD><ROBOT><ID>kurt2</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "r.xml");
+    return load_world_string("<WORLD><ROBOT><ID>kurt2</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
+                             "r.xml");
   });
   load([] {  // nor of the same type
-    return load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt2</TYPE></ROBOT></WORLD>", "t.xml");
+    return load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt2</TYPE></ROBOT></WORLD>",
+                             "t.xml");
   });
   load([]() -> WorldSpec { throw std::runtime_error("disk on fire"); });
   ASSERT_EQ(outcomes.size(), 5u);
@@ -170,7 +174,8 @@ TEST(Runner, NamedSnapshotsBelongToOneWorld) {
   // A snapshot is of a description: the same file loaded again takes it; another world refuses it.
   EXPECT_TRUE(runner.world().restore(kept).ok());
   World other(load_world_string(R"(<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>
-      <BOX><ID>b</ID><POS>1,0,0.05</POS><SIZE>0.1,0.1,0.1</SIZE></BOX></WORLD>)", "other.xml"));
+      <BOX><ID>b</ID><POS>1,0,0.05</POS><SIZE>0.1,0.1,0.1</SIZE></BOX></WORLD>)",
+                                "other.xml"));
   const Status refused = other.restore(kept);
   EXPECT_EQ(refused.code, ErrorCode::InvalidArgument);
   EXPECT_NE(refused.message.find("fingerprint"), std::string::npos);

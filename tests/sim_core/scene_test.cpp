@@ -12,7 +12,8 @@ namespace {
 TEST(Scene, RobotsCarryTheCamerasOfTheirType) {
   World world(load_world_string(R"(<WORLD>
       <ROBOT><ID>k3</ID><TYPE>kurt3d</TYPE></ROBOT>
-      <ROBOT><ID>k2</ID><TYPE>kurt2</TYPE><POS>2,0,0</POS></ROBOT></WORLD>)", "two.xml"));
+      <ROBOT><ID>k2</ID><TYPE>kurt2</TYPE><POS>2,0,0</POS></ROBOT></WORLD>)",
+                                "two.xml"));
   const Scene scene = capture_scene(world);
   ASSERT_EQ(scene.robots.size(), 2u);
   const RobotView& k3 = scene.robots[0];

@@ -32,8 +32,9 @@ TEST(WorldBounds, AWorldFileOutOfBoundsIsRefusedWithItsLine) {
   expect_refused(kBox + "<DIMS>0.1,0.1,0.1</DIMS><POS>1e308,0,0</POS></OBJECT>", 2, "position");
   expect_refused(kBox + "<DIMS>0.1,0.1,0.1</DIMS><DENSITY>1e308</DENSITY></OBJECT>", 2, "density");
   expect_refused(kBox + "<DIMS>100,100,100</DIMS></OBJECT>", 2, "mass");  // 1e8 kg portable
-  expect_refused("<OBJECT><ID>s</ID><TYPE>PORTABLE</TYPE><SHAPE>SPHERE</SHAPE><RADIUS>1e308</RADIUS></OBJECT>",
-                 2, "radius");
+  expect_refused(
+      "<OBJECT><ID>s</ID><TYPE>PORTABLE</TYPE><SHAPE>SPHERE</SHAPE><RADIUS>1e308</RADIUS></OBJECT>",
+      2, "radius");
   expect_refused("<PHYSICS><STEP>1e308</STEP></PHYSICS>", 2, "step");
   expect_refused("<PHYSICS><STEP>1e-300</STEP></PHYSICS>", 2, "step");
   expect_refused("<PHYSICS><GRAVITY>0,0,-1e308</GRAVITY></PHYSICS>", 2, "gravity");
@@ -41,9 +42,10 @@ TEST(WorldBounds, AWorldFileOutOfBoundsIsRefusedWithItsLine) {
   expect_refused("<PHYSICS><CFM>1e308</CFM></PHYSICS>", 2, "CFM");
   expect_refused("<PHYSICS>\n<ITERATIONS>0.5</ITERATIONS></PHYSICS>", 3, "whole number");
   expect_refused("<PHYSICS>\n<ITERATIONS>1e9</ITERATIONS></PHYSICS>", 3, "whole number");
-  expect_refused("<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><POS>1e308,0,0</POS></ROBOT>", 2, "position");
-  expect_refused("<RAMP><ID>r</ID><WIDTH>1</WIDTH><HEIGHT>0.1</HEIGHT><ANGLE>1e-10</ANGLE></RAMP>", 2,
-                 "ramp length");
+  expect_refused("<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><POS>1e308,0,0</POS></ROBOT>", 2,
+                 "position");
+  expect_refused("<RAMP><ID>r</ID><WIDTH>1</WIDTH><HEIGHT>0.1</HEIGHT><ANGLE>1e-10</ANGLE></RAMP>",
+                 2, "ramp length");
 }
 
 TEST(WorldBounds, ASpecBuiltInCodeKeepsTheSameBounds) {
@@ -76,9 +78,10 @@ TEST(WorldBounds, NamesFollowOneRuleEverywhere) {
   EXPECT_EQ(world.create_object(spec).status.code, ErrorCode::InvalidArgument);
   spec.name = "mine/box";
   EXPECT_TRUE(world.create_object(spec).ok());
-  EXPECT_EQ(world.import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"), "..",
-                                     Pose{}).status.code,
-            ErrorCode::InvalidArgument);
+  EXPECT_EQ(
+      world.import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"), "..", Pose{})
+          .status.code,
+      ErrorCode::InvalidArgument);
 }
 
 TEST(WorldBounds, HostileRequestsAreRefusedAndChangeNothing) {
@@ -104,14 +107,19 @@ TEST(WorldBounds, HostileRequestsAreRefusedAndChangeNothing) {
       {"torque huge", world.add_torque(ball, {0, 0, huge})},
       {"switch far", world.set_switch_position(0, {huge, 0, 0})},
       {"door far", world.set_door_position(0, {0, huge, 0})},
-      {"import far", world.import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"),
-                                              "far", Pose{{huge, 0, 0}, {1, 0, 0, 0}}).status},
-      {"create dense", world.create_object([huge] {
-         ObjectSpec s = box_object({0, -1.0, 0.3}, {0.1, 0.1, 0.1});
-         s.density = huge;
-         return s;
-       }()).status},
-      {"create huge portable", world.create_object(box_object({0, -1.0, 0.3}, {500, 500, 500})).status},
+      {"import far", world
+                         .import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"),
+                                             "far", Pose{{huge, 0, 0}, {1, 0, 0, 0}})
+                         .status},
+      {"create dense", world
+                           .create_object([huge] {
+                             ObjectSpec s = box_object({0, -1.0, 0.3}, {0.1, 0.1, 0.1});
+                             s.density = huge;
+                             return s;
+                           }())
+                           .status},
+      {"create huge portable",
+       world.create_object(box_object({0, -1.0, 0.3}, {500, 500, 500})).status},
   };
   for (const auto& [what, status] : refused) {
     EXPECT_EQ(status.code, ErrorCode::InvalidArgument) << what << ": " << status.message;

@@ -2,10 +2,9 @@
 // hand computation, penetration checks, bad requests, instability containment.
 #include <gtest/gtest.h>
 
-#include "macsim/sim_core/world_bounds.h"
-
 #include <opencv2/imgcodecs.hpp>
 
+#include "macsim/sim_core/world_bounds.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -140,20 +139,25 @@ TEST_F(WorldObjects, BadRequestsGiveClearErrorsAndLeaveTheWorldUnchanged) {
       {world.set_mass(box, -1.0), ErrorCode::InvalidArgument},
       {world.set_mass(box, nan), ErrorCode::InvalidArgument},
       {world.set_density(box, 0.0), ErrorCode::InvalidArgument},
-      {world.set_linear_velocity(box, {std::numeric_limits<double>::infinity(), 0, 0}), ErrorCode::InvalidArgument},
+      {world.set_linear_velocity(box, {std::numeric_limits<double>::infinity(), 0, 0}),
+       ErrorCode::InvalidArgument},
       {world.add_force(box, {nan, 0, 0}), ErrorCode::InvalidArgument},
       {world.set_ramp(box, {1, 0.1, 0.2}), ErrorCode::WrongGeometry},
-      {world.set_ramp(id_of(world, "environment_02/ramp_00"), {1, 0.1, 2.0}), ErrorCode::InvalidArgument},
+      {world.set_ramp(id_of(world, "environment_02/ramp_00"), {1, 0.1, 2.0}),
+       ErrorCode::InvalidArgument},
       {world.set_color(box, {std::nanf(""), 0, 0, 1}), ErrorCode::InvalidArgument},
       {world.set_texture(box, "no/such.bmp"), ErrorCode::BadTexture},
       {world.set_switch_triggered(5, true), ErrorCode::UnknownObject},
       {world.set_door_position(0, {nan, 0, 0}), ErrorCode::InvalidArgument},
-      {world.create_object(primitive(Shape::Sphere, {-1, 0, 0}, {0, 0, 1})).status, ErrorCode::InvalidArgument},
+      {world.create_object(primitive(Shape::Sphere, {-1, 0, 0}, {0, 0, 1})).status,
+       ErrorCode::InvalidArgument},
       {world.create_object(ObjectSpec{}).status, ErrorCode::InvalidArgument},
-      {world.import_environment("no/such/file.xml", "door_09", at(0, 0, 0)).status, ErrorCode::BadFile},
+      {world.import_environment("no/such/file.xml", "door_09", at(0, 0, 0)).status,
+       ErrorCode::BadFile},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    EXPECT_EQ(cases[i].status.code, cases[i].expected) << "case " << i << ": " << cases[i].status.message;
+    EXPECT_EQ(cases[i].status.code, cases[i].expected)
+        << "case " << i << ": " << cases[i].status.message;
     EXPECT_FALSE(cases[i].status.message.empty()) << "case " << i;
   }
   EXPECT_EQ(world.state_hash(), hash);

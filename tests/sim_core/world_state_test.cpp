@@ -42,37 +42,55 @@ struct StateChange {
 
 std::vector<StateChange> single_part_changes() {
   return {
-      {"crane target", [](World& w) { w.robot("kurt")->command_crane({0.3, 0.0, 0.0}); }},
+      {"crane target",
+       [](World& w) {
+         w.robot("kurt")->command_crane({0.3, 0.0, 0.0});
+       }},
       {"magnet", [](World& w) { w.robot("kurt")->command_magnet(true); }},
       {"rotunit speed", [](World& w) { w.robot("kurt")->command_rotunit(0.5); }},
-      {"rotunit angle", [](World& w) { change_robot(w, [](auto& s) { s.rotunit_angle += 0.01; }); }},
+      {"rotunit angle",
+       [](World& w) { change_robot(w, [](auto& s) { s.rotunit_angle += 0.01; }); }},
       {"noise seed", [](World& w) { change_robot(w, [](auto& s) { s.noise_rng.seed(7); }); }},
-      {"noise generator's position", [](World& w) { change_robot(w, [](auto& s) { s.noise_rng.discard(1); }); }},
-      {"laser scan buffer", [](World& w) { change_robot(w, [](auto& s) { s.scan.ranges[90] += 0.5f; }); }},
+      {"noise generator's position",
+       [](World& w) { change_robot(w, [](auto& s) { s.noise_rng.discard(1); }); }},
+      {"laser scan buffer",
+       [](World& w) { change_robot(w, [](auto& s) { s.scan.ranges[90] += 0.5f; }); }},
       {"point cloud in progress",
-       [](World& w) { change_robot(w, [](auto& s) { s.cloud_in_progress.points.emplace_back(1, 2, 3); }); }},
-      {"range buffer", [](World& w) { change_robot(w, [](auto& s) { s.ranges[3].range = 0.42; }); }},
+       [](World& w) {
+         change_robot(w, [](auto& s) { s.cloud_in_progress.points.emplace_back(1, 2, 3); });
+       }},
+      {"range buffer",
+       [](World& w) { change_robot(w, [](auto& s) { s.ranges[3].range = 0.42; }); }},
       {"imu buffer", [](World& w) { change_robot(w, [](auto& s) { s.imu.pitch = 0.1; }); }},
-      {"odometry", [](World& w) { change_robot(w, [](auto& s) { s.odometry.integrate_frame(10, 12); }); }},
-      {"encoder counter", [](World& w) { change_robot(w, [](auto& s) { s.encoders[0].reset(1.0); }); }},
+      {"odometry",
+       [](World& w) { change_robot(w, [](auto& s) { s.odometry.integrate_frame(10, 12); }); }},
+      {"encoder counter",
+       [](World& w) { change_robot(w, [](auto& s) { s.encoders[0].reset(1.0); }); }},
       {"wheel command", [](World& w) { w.robot("kurt")->command_twist(0.2, 0.0, w.time()); }},
-      {"door gap", [](World& w) { change_world(w, [](auto& s) { s.door_flags[0].gap = DoorGap::Half; }); }},
+      {"door gap",
+       [](World& w) { change_world(w, [](auto& s) { s.door_flags[0].gap = DoorGap::Half; }); }},
       {"door switch", [](World& w) { ASSERT_TRUE(w.set_switch_triggered(0, true).ok()); }},
       {"next object id", [](World& w) { change_world(w, [](auto& s) { ++s.next_id; }); }},
       {"ODE random seed", [](World& w) { change_world(w, [](auto& s) { ++s.random_seed; }); }},
       {"time", [](World& w) { change_world(w, [](auto& s) { ++s.steps; }); }},
       {"a colour",
-       [](World& w) { ASSERT_TRUE(w.set_color(id_of(w, "environment_00/can_00"), {0, 1, 0, 1}).ok()); }},
+       [](World& w) {
+         ASSERT_TRUE(w.set_color(id_of(w, "environment_00/can_00"), {0, 1, 0, 1}).ok());
+       }},
       {"a size",
        [](World& w) {
          ASSERT_TRUE(w.set_cylinder_size(id_of(w, "environment_00/can_00"), 0, 0.031, 0.12,
-                                         PenetrationPolicy::Allow).ok());
+                                         PenetrationPolicy::Allow)
+                         .ok());
        }},
-      {"user data", [](World& w) { ASSERT_TRUE(w.set_user_data(id_of(w, "environment_00/can_00"), "x").ok()); }},
-      {"a frozen flag", [](World& w) { ASSERT_TRUE(w.set_frozen(id_of(w, "environment_00/can_00"), true).ok()); }},
+      {"user data",
+       [](World& w) { ASSERT_TRUE(w.set_user_data(id_of(w, "environment_00/can_00"), "x").ok()); }},
+      {"a frozen flag",
+       [](World& w) { ASSERT_TRUE(w.set_frozen(id_of(w, "environment_00/can_00"), true).ok()); }},
       {"a body's velocity",
        [](World& w) {
-         ASSERT_TRUE(w.set_linear_velocity(id_of(w, "environment_01/ball_green"), {0, 0, 1e-9}).ok());
+         ASSERT_TRUE(
+             w.set_linear_velocity(id_of(w, "environment_01/ball_green"), {0, 0, 1e-9}).ok());
        }},
   };
 }
@@ -121,7 +139,8 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
   longer.bytes.push_back(0);
   EXPECT_EQ(world.restore(longer).code, ErrorCode::InvalidArgument);
   WorldSnapshot huge_length = snapshot;
-  std::fill(huge_length.bytes.begin() + 20, huge_length.bytes.begin() + 28, 0xff);  // objects' count
+  std::fill(huge_length.bytes.begin() + 20, huge_length.bytes.begin() + 28,
+            0xff);  // objects' count
   EXPECT_EQ(world.restore(huge_length).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(world.restore(WorldSnapshot{}).code, ErrorCode::InvalidArgument);
   // Well-formed bytes, damaged values: refused before anything reaches ODE.
@@ -132,7 +151,9 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
   };
   EXPECT_EQ(damaged([](WorldState& s) { s.bodies[0].position.x() = std::nan(""); }).code,
             ErrorCode::InvalidArgument);
-  EXPECT_EQ(damaged([](WorldState& s) { s.objects[0].second.components[0].shape = static_cast<Shape>(7); }).code,
+  EXPECT_EQ(damaged([](WorldState& s) {
+              s.objects[0].second.components[0].shape = static_cast<Shape>(7);
+            }).code,
             ErrorCode::InvalidArgument);
   EXPECT_EQ(damaged([](WorldState& s) { s.objects[3].second.components[0].size.x() = 1e308; }).code,
             ErrorCode::InvalidArgument);
@@ -140,7 +161,8 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
             ErrorCode::InvalidArgument);
   EXPECT_EQ(damaged([](WorldState& s) { s.robots[0].crane.slew = INFINITY; }).code,
             ErrorCode::InvalidArgument);
-  WorldSnapshot bad_flag = snapshot;  // the last body's sleep flag is its last byte before the robots
+  WorldSnapshot bad_flag =
+      snapshot;  // the last body's sleep flag is its last byte before the robots
   const WorldState decoded = deserialize(bad_flag.bytes);
   const std::size_t before_robots = [&] {
     WorldState no_robots = decoded;
@@ -195,14 +217,17 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
     EXPECT_EQ(restored.bodies[i].position, snapshot.bodies[i].position) << i;
     EXPECT_EQ(restored.bodies[i].linear_velocity, snapshot.bodies[i].linear_velocity) << i;
     EXPECT_TRUE(restored.bodies[i].orientation.coeffs().isApprox(
-        snapshot.bodies[i].orientation.coeffs(), 1e-15)) << i;
+        snapshot.bodies[i].orientation.coeffs(), 1e-15))
+        << i;
   }
   // The continuation follows the first run physically; it is not bit-identical, as ODE
   // renormalizes the quaternions it is given and keeps its sleep counters to itself.
   trial(world, 1.0);
   const WorldState after_second_run = world.state();
   for (std::size_t i = 0; i < after_first_run.bodies.size(); ++i) {
-    EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(), 0.01) << i;
+    EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(),
+              0.01)
+        << i;
   }
 }
 
@@ -259,7 +284,8 @@ TEST(WorldState, ASnapshotOfAnotherWorldIsRefused) {
   World demo(shipped_world("DemoWorld_v1.xml"));
   World two_robots(load_world_string(R"(<WORLD>
       <ROBOT><ID>a</ID><TYPE>kurt3d</TYPE></ROBOT>
-      <ROBOT><ID>b</ID><TYPE>kurt3d</TYPE><POS>2,0,0</POS></ROBOT></WORLD>)", "two.xml"));
+      <ROBOT><ID>b</ID><TYPE>kurt3d</TYPE><POS>2,0,0</POS></ROBOT></WORLD>)",
+                                     "two.xml"));
   EXPECT_EQ(demo.restore(two_robots.snapshot()).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(demo.object_count(), 24);  // untouched
 }

@@ -326,6 +326,8 @@ Request reset(int32_t scope) {
 }
 
 Request save_snapshot(const std::string& name) { return snapshot(mm::OP_SAVE_SNAPSHOT, name); }
-Request restore_snapshot(const std::string& name) { return snapshot(mm::OP_RESTORE_SNAPSHOT, name); }
+Request restore_snapshot(const std::string& name) {
+  return snapshot(mm::OP_RESTORE_SNAPSHOT, name);
+}
 
 }  // namespace macsim::client::supervisor

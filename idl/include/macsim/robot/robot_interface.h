@@ -45,7 +45,7 @@ struct GroundTruth {
 struct Range {
   std::string frame;  ///< e.g. "ir_left_front", "ultrasound_front"
   bool sonar = false;
-  double range = 0;   ///< m, or -0.01 when invalid (as the real driver reports)
+  double range = 0;  ///< m, or -0.01 when invalid (as the real driver reports)
 };
 
 /// Gyro and tilt.
@@ -60,7 +60,7 @@ struct Scan {
   std::string frame;  ///< "laser360" on the rotunit, "laser" when fixed
   double angle_min = 0, angle_increment = 0;
   double range_min = 0, range_max = 0;
-  double scan_time = 0;    ///< s between sweeps
+  double scan_time = 0;       ///< s between sweeps
   std::vector<float> ranges;  ///< m; +inf where nothing was hit
 };
 

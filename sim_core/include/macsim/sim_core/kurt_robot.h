@@ -67,8 +67,10 @@ struct CraneParams {
 struct StereoMount {
   /// Ours for the KURT3D: a 0.12 m baseline on a mast 0.42 m above base_link, looking 15
   /// degrees down over the crane.
-  Pose left{{0.05, 0.06, 0.42}, Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
-  Pose right{{0.05, -0.06, 0.42}, Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
+  Pose left{{0.05, 0.06, 0.42},
+            Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
+  Pose right{{0.05, -0.06, 0.42},
+             Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
   /// Distance between the optical centres, m.
   double baseline() const { return (left.position - right.position).norm(); }
 };

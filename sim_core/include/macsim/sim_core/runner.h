@@ -121,7 +121,7 @@ class Runner {
   std::condition_variable arrived_;
   std::deque<Item> pending_;
   std::vector<std::future<void>> loaders_;  // parses running or done
-  bool loading_ = false;                     // a load is queued or parsing (guarded by mutex_)
+  bool loading_ = false;                    // a load is queued or parsing (guarded by mutex_)
 };
 
 }  // namespace macsim

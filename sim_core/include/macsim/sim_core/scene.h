@@ -24,7 +24,8 @@ struct Scene {
   double time = 0.0;
   std::vector<ShapeView> shapes;
   std::vector<RobotView> robots;
-  Eigen::Vector3d bounds_min = Eigen::Vector3d::Constant(-3), bounds_max = Eigen::Vector3d::Constant(3);
+  Eigen::Vector3d bounds_min = Eigen::Vector3d::Constant(-3),
+                  bounds_max = Eigen::Vector3d::Constant(3);
 };
 
 /// Copies the world's objects and robots into a Scene (on the simulation thread).

@@ -41,7 +41,9 @@ struct Status {
   std::string message;
   std::vector<std::string> penetrated;  ///< objects the change penetrates (when allowed)
   bool ok() const { return code == ErrorCode::Ok; }
-  static Status error(ErrorCode code, std::string message) { return {code, std::move(message), {}}; }
+  static Status error(ErrorCode code, std::string message) {
+    return {code, std::move(message), {}};
+  }
 };
 
 /// A value or an error.
@@ -67,11 +69,11 @@ struct ObjectState {
 
 /// The state of a door-switch structure.
 struct DoorState {
-  bool triggered = false;          ///< pressed fully, or triggered virtually
+  bool triggered = false;  ///< pressed fully, or triggered virtually
   bool virtually_triggered = false;
   DoorGap gap = DoorGap::Closed;
-  double opening = 0.0;            ///< 0 closed .. 1 fully open
-  double switch_travel = 0.0;      ///< 0 up .. 1 pressed fully
+  double opening = 0.0;        ///< 0 closed .. 1 fully open
+  double switch_travel = 0.0;  ///< 0 up .. 1 pressed fully
 };
 
 /// The objects a door is made of.
@@ -100,16 +102,17 @@ struct WorldEvent {
 
 /// How much reset() puts back.
 enum class ResetScope {
-  Poses,          ///< poses and velocities of loaded objects and robots; time goes on
-  PosesAndTime,   ///< that, plus sim time 0 and the random seed
-  Everything,     ///< the world as loaded: spawned objects removed, destroyed ones back
+  Poses,         ///< poses and velocities of loaded objects and robots; time goes on
+  PosesAndTime,  ///< that, plus sim time 0 and the random seed
+  Everything,    ///< the world as loaded: spawned objects removed, destroyed ones back
 };
 
 /// The ODE world of one simulation.
 class World {
  public:
   /// Builds the world; throws WorldFileError (with the spec's file and line) on what cannot be
-  /// built: an unknown robot type, a magnitude out of bounds (world_bounds.h). Seeds ODE's random generator for determinism.
+  /// built: an unknown robot type, a magnitude out of bounds (world_bounds.h). Seeds ODE's random
+  /// generator for determinism.
   explicit World(WorldSpec spec);
   ~World();
   World(const World&) = delete;
@@ -177,7 +180,8 @@ class World {
   int destroy_all_fixed_objects();
 
   // ---- objects: changing ---------------------------------------------------------------
-  Status set_pose(ObjectId id, const Pose& pose, PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_pose(ObjectId id, const Pose& pose,
+                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
   Status set_position(ObjectId id, const Eigen::Vector3d& position,
                       PenetrationPolicy policy = PenetrationPolicy::Refuse);
   Status set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
@@ -297,25 +301,25 @@ class World {
   Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
   static void near_callback(void* data, dxGeom* a, dxGeom* b);
 
-  WorldSpec spec_;                                   // as loaded
+  WorldSpec spec_;  // as loaded
   dxWorld* world_ = nullptr;
   dxSpace* space_ = nullptr;
   dxJointGroup* contact_group_ = nullptr;
   void* threading_ = nullptr;
   dxGeom* ground_ = nullptr;
   std::unique_ptr<detail::GeomTag> ground_tag_;
-  std::vector<std::unique_ptr<Object>> objects_;     // list order = the seed's indices
+  std::vector<std::unique_ptr<Object>> objects_;  // list order = the seed's indices
   std::vector<std::unique_ptr<Joint>> joints_;
   std::vector<std::unique_ptr<Door>> doors_;
   std::vector<std::unique_ptr<KurtRobot>> robots_;
-  std::vector<dxBody*> bodies_;                      // every body, for the stability check
-  std::vector<std::string> body_names_;              // owner of each body, for reports
+  std::vector<dxBody*> bodies_;          // every body, for the stability check
+  std::vector<std::string> body_names_;  // owner of each body, for reports
   std::vector<BodyState> last_good_;
   std::vector<WorldEvent> events_;
-  mutable std::vector<std::string> textures_;        // texture id - 1 -> file
+  mutable std::vector<std::string> textures_;  // texture id - 1 -> file
   WorldState initial_;
   uint64_t fingerprint_ = 0;
-  unsigned long random_seed_ = 0;                    // this world's dRand state
+  unsigned long random_seed_ = 0;  // this world's dRand state
   ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
   int contacts_ = 0;

@@ -11,15 +11,15 @@
 
 namespace macsim::bounds {
 
-inline constexpr double kMaxCoordinate = 1e4;    ///< m: |x|, |y|, |z| of any position
-inline constexpr double kMinSize = 1e-4;         ///< m: a box side, a radius, a height
-inline constexpr double kMaxSize = 1e3;          ///< m
-inline constexpr double kMinDensity = 1.0;       ///< kg/m^3
-inline constexpr double kMaxDensity = 1e5;       ///< kg/m^3 (osmium: 2.26e4)
-inline constexpr double kMinMass = 1e-5;         ///< kg, of a portable object
-inline constexpr double kMaxMass = 1e6;          ///< kg, of a portable object
-inline constexpr double kMinStep = 1e-6;         ///< s
-inline constexpr double kMaxStep = 0.1;          ///< s
+inline constexpr double kMaxCoordinate = 1e4;  ///< m: |x|, |y|, |z| of any position
+inline constexpr double kMinSize = 1e-4;       ///< m: a box side, a radius, a height
+inline constexpr double kMaxSize = 1e3;        ///< m
+inline constexpr double kMinDensity = 1.0;     ///< kg/m^3
+inline constexpr double kMaxDensity = 1e5;     ///< kg/m^3 (osmium: 2.26e4)
+inline constexpr double kMinMass = 1e-5;       ///< kg, of a portable object
+inline constexpr double kMaxMass = 1e6;        ///< kg, of a portable object
+inline constexpr double kMinStep = 1e-6;       ///< s
+inline constexpr double kMaxStep = 0.1;        ///< s
 inline constexpr int kMaxSolverIterations = 1000;
 inline constexpr double kMaxGravity = 1e3;       ///< m/s^2
 inline constexpr double kMaxFriction = 1e3;      ///< Coulomb mu
@@ -39,7 +39,8 @@ std::optional<std::string> position_problem(const Eigen::Vector3d& position);
 /// A finite quaternion that can be normalized.
 std::optional<std::string> orientation_problem(const Eigen::Quaterniond& orientation);
 /// A finite vector of norm at most `max` (`what` names it in the message).
-std::optional<std::string> magnitude_problem(const Eigen::Vector3d& v, double max, const char* what);
+std::optional<std::string> magnitude_problem(const Eigen::Vector3d& v, double max,
+                                             const char* what);
 /// An object's pose, components (shape sizes, offsets, colours), density, derived mass (when
 /// portable) and ramp geometry.
 std::optional<std::string> object_problem(const ObjectSpec& object);

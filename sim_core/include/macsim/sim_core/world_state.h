@@ -1,5 +1,6 @@
 // What changes: the complete, serialisable, hashable state of a world (MuJoCo's "data" beside
-// the spec), by part: objects' current descriptions, bodies, doors, robots, time, ids, random state.
+// the spec), by part: objects' current descriptions, bodies, doors, robots, time, ids, random
+// state.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -33,15 +34,15 @@ struct DoorFlags {
 
 /// Everything needed to put a world back exactly, and nothing it can recompute.
 struct WorldState {
-  uint64_t steps = 0;                                   ///< time = steps * step size
-  unsigned long random_seed = 0;                        ///< ODE's dRand state
-  uint32_t next_id = 1;                                 ///< the next object id handed out
-  std::vector<std::pair<uint32_t, ObjectSpec>> objects; ///< id and current description, list order
+  uint64_t steps = 0;                                    ///< time = steps * step size
+  unsigned long random_seed = 0;                         ///< ODE's dRand state
+  uint32_t next_id = 1;                                  ///< the next object id handed out
+  std::vector<std::pair<uint32_t, ObjectSpec>> objects;  ///< id and current description, list order
   std::vector<JointSpec> joints;
   std::vector<DoorSpec> doors;
-  std::vector<DoorFlags> door_flags;                    ///< one per door
-  std::vector<BodyState> bodies;                        ///< portable objects' then robots' bodies
-  std::vector<KurtRobot::State> robots;                 ///< one per robot, in world order
+  std::vector<DoorFlags> door_flags;     ///< one per door
+  std::vector<BodyState> bodies;         ///< portable objects' then robots' bodies
+  std::vector<KurtRobot::State> robots;  ///< one per robot, in world order
 };
 
 /// A world's complete state, serialised, marked with the world it belongs to.

@@ -10,22 +10,19 @@ namespace macsim::client {
 
 /// Calls supervisor operations (macsim_msgs OP_*): create, destroy, move, resize, ... objects;
 /// the requests come from supervisor_requests.h, e.g. call(supervisor::set_mass(id, 0.2)).
-class SupervisorClient
-    : public RequestReply<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType,
-                          macsim_msgs::msg::dds_::SupervisorReply_PubSubType> {
+class SupervisorClient : public RequestReply<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType,
+                                             macsim_msgs::msg::dds_::SupervisorReply_PubSubType> {
  public:
   /// `client_id` empty: one is made from the process id.
   explicit SupervisorClient(dds::Participant& participant, std::string client_id = "")
       : RequestReply(participant, dds::topics::kSupervisorRequest, dds::topics::kSupervisorReply,
                      std::move(client_id)) {}
-
 };
 
 /// Controls the simulation (macsim_msgs SIM_*): pause, run, real-time factor, lock-step steps,
 /// load a world, ask what the participant supports.
-class SimulationClient
-    : public RequestReply<macsim_msgs::msg::dds_::SimulationRequest_PubSubType,
-                          macsim_msgs::msg::dds_::SimulationReply_PubSubType> {
+class SimulationClient : public RequestReply<macsim_msgs::msg::dds_::SimulationRequest_PubSubType,
+                                             macsim_msgs::msg::dds_::SimulationReply_PubSubType> {
  public:
   explicit SimulationClient(dds::Participant& participant, std::string client_id = "")
       : RequestReply(participant, dds::topics::kSimulationRequest, dds::topics::kSimulationReply,

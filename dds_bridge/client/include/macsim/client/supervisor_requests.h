@@ -31,7 +31,8 @@ Request destroy_all(int32_t which);
 Request set_pose(uint32_t object_id, const Vec3& position, const Quat& orientation,
                  bool allow_penetration = false);
 Request set_position(uint32_t object_id, const Vec3& position, bool allow_penetration = false);
-Request set_orientation(uint32_t object_id, const Quat& orientation, bool allow_penetration = false);
+Request set_orientation(uint32_t object_id, const Quat& orientation,
+                        bool allow_penetration = false);
 /// Full sizes of a box component, m.
 Request set_box_size(uint32_t object_id, int32_t component, const Vec3& size,
                      bool allow_penetration = false);
