@@ -95,9 +95,10 @@ void SimulationServer::execute(const Request& q) {
       break;
     case mm::SIM_STEP:
       if (q.steps() == 0) break;  // zero steps: answered at once
-      if (!runner_.request_steps(q.steps(), [this, q] {
+      if (!runner_.request_steps(q.steps(), [this, q](bool completed) {
             stepping_.reset();
-            send(reply_to(q, mm::ERR_OK, ""));
+            send(completed ? reply_to(q, mm::ERR_OK, "")
+                           : reply_to(q, mm::ERR_NOT_APPLICABLE, "cancelled by SIM_PAUSE"));
           })) {
         send(reply_to(q, mm::ERR_INVALID_ARGUMENT, "a step request is still running"));
         return;

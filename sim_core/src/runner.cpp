@@ -144,10 +144,19 @@ bool Runner::set_real_time_factor(double factor) {
   return true;
 }
 
-bool Runner::request_steps(uint64_t steps, std::function<void()> done) {
+void Runner::pause() {
+  settings_.paused = true;
+  if (requested_steps_ == 0) return;
+  requested_steps_ = 0;  // a huge request can be stopped
+  auto done = std::move(steps_done_);
+  steps_done_ = nullptr;
+  if (done) done(false);
+}
+
+bool Runner::request_steps(uint64_t steps, std::function<void(bool)> done) {
   if (requested_steps_ > 0) return false;
   if (steps == 0) {
-    if (done) done();
+    if (done) done(true);
     return true;
   }
   requested_steps_ = steps;
@@ -159,7 +168,7 @@ void Runner::finish_requested_step() {
   if (requested_steps_ == 0 || --requested_steps_ > 0) return;
   auto done = std::move(steps_done_);
   steps_done_ = nullptr;
-  if (done) done();
+  if (done) done(true);
 }
 
 void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks) {

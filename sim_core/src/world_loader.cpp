@@ -195,11 +195,7 @@ class Reader {
   const WarningSink& warn_;
 };
 
-bool valid_id(const std::string& id) {
-  return !id.empty() && std::all_of(id.begin(), id.end(), [](unsigned char c) {
-    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
-  });
-}
+bool valid_id(const std::string& id) { return !bounds::id_problem(id).has_value(); }
 
 /// What one loaded file (and its imports) contributed, for the naming conventions.
 struct FileContents {
@@ -242,6 +238,8 @@ class Loader {
     return prefix.empty() ? id : prefix + "/" + id;
   }
 
+  std::size_t imported_files_ = 0;  // every <IMPORT> read so far, at any depth
+
   void claim_name(const Reader& r, const XMLElement* e, const std::string& name) {
     if (!names_.insert(name).second) r.fail(e, "duplicate id '" + name + "'");
   }
@@ -272,6 +270,9 @@ class Loader {
         object.name = full_name(prefix, object.name);
         claim_name(r, e, object.name);
         object.pose = frame * object.pose;
+        if (world_.objects.size() >= bounds::kMaxObjects) {
+          r.fail(e, "a world holds at most " + std::to_string(bounds::kMaxObjects) + " objects");
+        }
         contents.objects.push_back(object.name);
         world_.objects.push_back(std::move(object));
       } else if (tag == "JOINT") {
@@ -712,6 +713,14 @@ class Loader {
     const std::string shown = path.lexically_normal().string();
     if (!fs::is_regular_file(path)) {
       r.fail(import, "imported file '" + shown + "' (import '" + id + "') does not exist");
+    }
+    if (stack_.size() >= bounds::kMaxImportDepth) {
+      r.fail(import, "imports nest at most " + std::to_string(bounds::kMaxImportDepth) +
+                         " deep (import '" + id + "')");
+    }
+    if (++imported_files_ > bounds::kMaxImportedFiles) {
+      r.fail(import, "a world imports at most " + std::to_string(bounds::kMaxImportedFiles) +
+                         " files in all (import '" + id + "': do the imports fan out?)");
     }
     const std::string canonical = fs::weakly_canonical(path).string();
     if (std::find(stack_.begin(), stack_.end(), canonical) != stack_.end()) {

@@ -190,7 +190,8 @@ TEST(Runner, StepRequestsRunWhilePausedAndAnswerAfterTheLastStep) {
   StepHooks hooks;
   hooks.after_step = [&](World& w) { published.push_back(w.steps()); };
   runner.push([&](World&) {
-    EXPECT_TRUE(runner.request_steps(3, [&] {
+    EXPECT_TRUE(runner.request_steps(3, [&](bool completed) {
+      EXPECT_TRUE(completed);
       ++answered;
       answered_at = runner.world().steps();
       stop = true;
@@ -201,6 +202,27 @@ TEST(Runner, StepRequestsRunWhilePausedAndAnswerAfterTheLastStep) {
   EXPECT_EQ(answered, 1);
   EXPECT_EQ(answered_at, 3u);
   EXPECT_EQ(published, (std::vector<uint64_t>{1, 2, 3}));  // every step's data out first
+}
+
+TEST(Runner, APauseCancelsAHugeStepRequest) {
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  std::atomic<bool> stop{false};
+  std::optional<bool> completed;
+  runner.push([&](World&) {
+    runner.request_steps(1'000'000'000'000'000'000ull, [&](bool c) {
+      completed = c;
+      stop = true;
+    });
+  });
+  StepHooks hooks;
+  hooks.after_step = [&](World& w) {
+    if (w.steps() == 5) runner.push([&](World&) { runner.pause(); });  // as SIM_PAUSE does
+  };
+  runner.run(stop, 1000, hooks);
+  ASSERT_TRUE(completed.has_value());
+  EXPECT_FALSE(*completed);
+  EXPECT_FALSE(runner.stepping_on_request());
+  EXPECT_LE(runner.world().steps(), 7u);
 }
 
 TEST(Runner, RealTimeFactorRefusesNonsense) {

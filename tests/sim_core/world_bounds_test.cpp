@@ -130,6 +130,42 @@ TEST(WorldBounds, HostileRequestsAreRefusedAndChangeNothing) {
   EXPECT_TRUE(world.object_state(box).value.pose.position.allFinite());
 }
 
+TEST(WorldBounds, ImportsNestAndFanOutWithinLimits) {
+  const auto dir = temp_dir("bounds_imports");
+  // 40 files each importing the next: refused where the depth runs out, naming file and line.
+  for (int i = 0; i < 40; ++i) {
+    write_file(dir / ("deep_" + std::to_string(i) + ".xml"),
+               "<ENVIRONMENT>\n<IMPORT><ID>n</ID><NAME>deep_" + std::to_string(i + 1) +
+                   ".xml</NAME></IMPORT></ENVIRONMENT>");
+  }
+  write_file(dir / "deep_40.xml", "<ENVIRONMENT/>");
+  write_file(dir / "deep.xml", "<WORLD><IMPORT><ID>n</ID><NAME>deep_0.xml</NAME></IMPORT></WORLD>");
+  try {
+    load_world_file((dir / "deep.xml").string());
+    FAIL() << "loaded";
+  } catch (const WorldFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("nest at most"), std::string::npos) << e.what();
+    EXPECT_EQ(e.line(), 2);
+  }
+  // 20 files each importing the next twice (2^20 imports): refused once the count runs out.
+  for (int i = 0; i < 20; ++i) {
+    const std::string next = "wide_" + std::to_string(i + 1) + ".xml";
+    write_file(dir / ("wide_" + std::to_string(i) + ".xml"),
+               "<ENVIRONMENT><IMPORT><ID>a</ID><NAME>" + next +
+                   "</NAME></IMPORT><IMPORT><ID>b</ID><NAME>" + next +
+                   "</NAME></IMPORT></ENVIRONMENT>");
+  }
+  write_file(dir / "wide_20.xml", "<ENVIRONMENT/>");
+  write_file(dir / "wide.xml", "<WORLD><IMPORT><ID>w</ID><NAME>wide_0.xml</NAME></IMPORT></WORLD>");
+  try {
+    load_world_file((dir / "wide.xml").string());
+    FAIL() << "loaded";
+  } catch (const WorldFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("fan out"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(WorldBounds, TheShippedWorldsKeepTheBounds) {
   for (const char* file : {"DemoWorld_v1.xml", "small_room.xml", "ramps.xml", "liftability.xml"}) {
     EXPECT_NO_THROW(bounds::check_world(shipped_world(file))) << file;

@@ -79,14 +79,16 @@ class Runner {
   /// the world reaches `last_step` steps.
   void run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks);
 
-  void pause() { settings_.paused = true; }
+  /// Stops stepping; a step request still running is cancelled (its `done` gets false).
+  void pause();
   void resume() { settings_.paused = false; }
   /// Sim seconds per wall second (kMinRealTimeFactor or more), or 0 for as fast as possible;
   /// false (and unchanged) otherwise.
   bool set_real_time_factor(double factor);
-  /// Steps `steps` more steps even while paused; `done` runs once the last one's after_step hook
-  /// has run. False (and nothing queued) while another request is still stepping.
-  bool request_steps(uint64_t steps, std::function<void()> done);
+  /// Steps `steps` more steps even while paused; `done(true)` runs once the last one's
+  /// after_step hook has run, `done(false)` if a pause cancels it first. False (and nothing
+  /// queued) while another request is still stepping.
+  bool request_steps(uint64_t steps, std::function<void(bool completed)> done);
   /// True while requested steps remain.
   bool stepping_on_request() const { return requested_steps_ > 0; }
   const RunSettings& settings() const { return settings_; }
@@ -115,7 +117,7 @@ class Runner {
   std::map<std::string, WorldSnapshot> snapshots_;
   RunSettings settings_;
   uint64_t requested_steps_ = 0;
-  std::function<void()> steps_done_;
+  std::function<void(bool)> steps_done_;
 
   std::mutex mutex_;
   std::condition_variable arrived_;
