@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_world_arg.h"
 #include "macsim/render/camera_rig.h"
 #include "macsim/sim_core/robot_types.h"
 #include "macsim/sim_core/world.h"
@@ -74,13 +75,13 @@ double step_rate(const macsim::WorldSpec& base, const Setup& setup, double secon
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string world_file = argc > 1 ? argv[1] : "worlds/DemoWorld_v1.xml";
-  if (world_file == "--help") {
-    std::printf(
-        "usage: bench_robot [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
-    return 0;
-  }
-  const macsim::WorldSpec spec = macsim::load_world_file(world_file);
+  int exit_code = 0;
+  const auto loaded = macsim::bench::world_argument(
+      argc, argv,
+      "usage: bench_robot [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)",
+      "worlds/DemoWorld_v1.xml", exit_code);
+  if (!loaded) return exit_code;
+  const macsim::WorldSpec& spec = *loaded;
   const double seconds = 10.0;
   const std::vector<Setup> setups = {
       {"no_sensors", false, false},

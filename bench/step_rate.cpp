@@ -1,20 +1,32 @@
 // Steps a world as fast as possible and prints `name value unit` lines.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
+#include "bench_world_arg.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::string(argv[1]) == "--help") {
-    std::printf(
-        "usage: bench_step_rate WORLD_FILE [SIM_SECONDS]\n"
-        "Steps the world (robots driving in a circle) and prints steps/s.\n");
-    return argc < 2 ? 2 : 0;
+  const char* usage =
+      "usage: bench_step_rate WORLD_FILE [SIM_SECONDS]\n"
+      "Steps the world (robots driving in a circle) and prints steps/s.";
+  if (argc < 2) {
+    std::fprintf(stderr, "%s\n", usage);
+    return 2;
   }
-  const double seconds = argc > 2 ? std::stod(argv[2]) : 10.0;
-  macsim::Runner sim(macsim::load_world_file(argv[1]));
+  int exit_code = 0;
+  auto loaded = macsim::bench::world_argument(argc, argv, usage, "", exit_code);
+  if (!loaded) return exit_code;
+  char* end = nullptr;
+  const double seconds = argc > 2 ? std::strtod(argv[2], &end) : 10.0;
+  if (argc > 2 && (*end != '\0' || !(seconds > 0) || seconds > 1e6)) {
+    std::fprintf(stderr, "bench_step_rate: SIM_SECONDS must be a number in (0, 1e6], got '%s'\n",
+                 argv[2]);
+    return 2;
+  }
+  macsim::Runner sim(std::move(*loaded));
   auto& world = sim.world();
   const auto steps = static_cast<long>(seconds / world.step_size());
   const auto start = std::chrono::steady_clock::now();

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_world_arg.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 
@@ -235,13 +236,13 @@ macsim::WorldSpec pile(int n) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string world_file = argc > 1 ? argv[1] : "worlds/DemoWorld_v1.xml";
-  if (world_file == "--help") {
-    std::printf(
-        "usage: bench_world [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)\n");
-    return 0;
-  }
-  const macsim::WorldSpec spec = macsim::load_world_file(world_file);
+  int exit_code = 0;
+  const auto loaded = macsim::bench::world_argument(
+      argc, argv,
+      "usage: bench_world [WORLD_FILE]  (default worlds/DemoWorld_v1.xml, from the repo root)",
+      "worlds/DemoWorld_v1.xml", exit_code);
+  if (!loaded) return exit_code;
+  const macsim::WorldSpec& spec = *loaded;
 
   // 1. sim_core against raw ODE, alternating runs so both see the same machine noise.
   std::vector<double> core_rates, raw_rates;

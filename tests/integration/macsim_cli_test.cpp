@@ -29,6 +29,26 @@ TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
   }
 }
 
+TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
+  if (!std::filesystem::exists(bin("bench_world"))) GTEST_SKIP() << "benchmarks not built";
+  struct Case {
+    std::vector<std::string> argv;
+    int code;
+    const char* says;
+  };
+  for (const Case& c : std::vector<Case>{
+           {{bin("bench_world"), "--help"}, 0, "usage: bench_world"},
+           {{bin("bench_world"), "--bogus"}, 2, "unknown option '--bogus'"},
+           {{bin("bench_world"), "/nonexistent/world.xml"}, 1, "no such world file"},
+           {{bin("bench_robot"), "-h"}, 0, "usage: bench_robot"},
+           {{bin("bench_step_rate")}, 2, "usage: bench_step_rate"},
+           {{bin("bench_step_rate"), source("worlds/small_room.xml"), "abc"}, 2, "SIM_SECONDS"}}) {
+    ChildProcess p(c.argv);
+    EXPECT_EQ(p.wait_for_exit(20s), c.code) << c.argv.back() << ": " << p.output();
+    EXPECT_NE(p.output().find(c.says), std::string::npos) << p.output();
+  }
+}
+
 TEST(MacsimCli, MalformedWorldExitsNonZeroNamingFileAndLine) {
   const std::string path = ::testing::TempDir() + "malformed_world.xml";
   std::ofstream(path)
