@@ -49,6 +49,18 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
   }
 }
 
+TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
+  for (const char* program : {"cyclone_listen", "cyclone_drive"}) {
+    ChildProcess help({bin(program), "--help"});
+    EXPECT_EQ(help.wait_for_exit(3s), 0) << program;
+    EXPECT_NE(help.output().find("usage"), std::string::npos) << help.output();
+    for (const char* bad : {"--bogus", "0", "12abc", "999"}) {
+      ChildProcess p({bin(program), bad});
+      EXPECT_EQ(p.wait_for_exit(3s), 2) << program << " " << bad << ": " << p.output();
+    }
+  }
+}
+
 TEST(MacsimCli, MalformedWorldExitsNonZeroNamingFileAndLine) {
   const std::string path = ::testing::TempDir() + "malformed_world.xml";
   std::ofstream(path)

@@ -11,11 +11,20 @@
 #include "nav_msgs.h"
 
 int main(int argc, char** argv) {
-  if (argc < 2 || strcmp(argv[1], "--help") == 0) {
-    printf("usage: cyclone_drive DOMAIN [ROBOT]\n");
-    return argc < 2 ? 2 : 0;
+  const char* usage =
+      "usage: cyclone_drive DOMAIN [ROBOT]  (DOMAIN 1..232; it drives the robot there)";
+  if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+    printf("%s\n", usage);
+    return 0;
   }
-  const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
+  /* It commands a robot: never on a bad argument or the default domain 0. */
+  char* end = NULL;
+  const long domain_number = argc > 1 ? strtol(argv[1], &end, 10) : 0;
+  if (argc < 2 || *end != '\0' || domain_number < 1 || domain_number > 232) {
+    fprintf(stderr, "%s\n", usage);
+    return 2;
+  }
+  const dds_domainid_t domain = (dds_domainid_t)domain_number;
   const char* robot = argc > 2 ? argv[2] : "kurt";
   char odom_name[128], cmd_name[128];
   snprintf(odom_name, sizeof odom_name, "rt/%s/odom", robot);
@@ -23,7 +32,8 @@ int main(int argc, char** argv) {
 
   dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
   if (participant < 0) {
-    fprintf(stderr, "cyclone_drive: cannot create a participant: %s\n", dds_strretcode(-participant));
+    fprintf(stderr, "cyclone_drive: cannot create a participant: %s\n",
+            dds_strretcode(-participant));
     return 1;
   }
   dds_entity_t odom_topic =
@@ -62,7 +72,8 @@ int main(int argc, char** argv) {
       }
     }
     if (have_start && x - start_x > 0.2) {
-      printf("cyclone_drive: the robot moved %.3f m (%d odometry samples)\n", x - start_x, odometry);
+      printf("cyclone_drive: the robot moved %.3f m (%d odometry samples)\n", x - start_x,
+             odometry);
       fflush(stdout);
       twist.linear.x = 0.0;
       dds_write(writer, &twist);

@@ -54,11 +54,21 @@ static dds_entity_t reliable_reader(dds_entity_t participant, const dds_topic_de
 }
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    printf("usage: cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME]\n");
+  const char* usage =
+      "usage: cyclone_listen DOMAIN [SECONDS] [OBJECT_NAME]  (DOMAIN 1..232; it drives the robot, "
+      "moves the crane and triggers a door there)";
+  if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+    printf("%s\n", usage);
+    return 0;
+  }
+  /* It commands a robot: never on a bad argument or the default domain 0. */
+  char* end = NULL;
+  const long domain_number = argc > 1 ? strtol(argv[1], &end, 10) : 0;
+  if (argc < 2 || *end != '\0' || domain_number < 1 || domain_number > 232) {
+    fprintf(stderr, "%s\n", usage);
     return 2;
   }
-  const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
+  const dds_domainid_t domain = (dds_domainid_t)domain_number;
   const int seconds = argc > 2 ? atoi(argv[2]) : 5;
   const char* object_name = argc > 3 ? argv[3] : "environment_01/ball_green";
   dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
