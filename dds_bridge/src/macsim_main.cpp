@@ -132,6 +132,14 @@ struct Options {
   bool viewer = false;
   std::string camera_mode = "MouseKeyboard";
   std::string viewer_screenshot;
+  int max_objects = int(macsim::bounds::kMaxObjects);
+  int max_import_depth = int(macsim::bounds::kMaxImportDepth);
+  int max_imported_files = int(macsim::bounds::kMaxImportedFiles);
+
+  macsim::LoadLimits limits() const {
+    return {std::size_t(max_import_depth), std::size_t(max_imported_files),
+            std::size_t(max_objects)};
+  }
 };
 
 /// Reads the command line; an exit code if the program should exit now (--help, a bad option).
@@ -171,7 +179,22 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
              &o.viewer_screenshot);
   cli.flag("validate", "load the world, print a summary and exit", &o.validate);
+  cli.option("max-objects", "N",
+             "refuse a world of more objects (default " + std::to_string(o.max_objects) + ")",
+             &o.max_objects);
+  cli.option("max-import-depth", "N",
+             "refuse imports nested deeper (default " + std::to_string(o.max_import_depth) + ")",
+             &o.max_import_depth);
+  cli.option("max-imported-files", "N",
+             "refuse a world importing more files in all (default " +
+                 std::to_string(o.max_imported_files) + ")",
+             &o.max_imported_files);
   if (auto code = cli.parse(argc, argv)) return code;
+  if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1) {
+    std::cerr << "macsim: --max-objects, --max-import-depth and --max-imported-files must be at "
+                 "least 1\n";
+    return 2;
+  }
   if (o.world_file.empty()) {
     std::cerr << "macsim: --world FILE is required (see --help)\n";
     return 2;
@@ -219,7 +242,7 @@ int serve(macsim::Runner& runner, const Options& o) {
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
-    macsim::SimulationServer control(dds, runner);
+    macsim::SimulationServer control(dds, runner, o.limits());
     std::cout << "macsim: serving on DDS domain " << o.participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
     for (const auto& topic : macsim::SupervisorServer::topic_names())
@@ -311,8 +334,10 @@ int main(int argc, char** argv) {
   if (auto code = parse_options(argc, argv, o)) return *code;
   std::unique_ptr<macsim::Runner> runner;
   try {
-    auto spec = macsim::load_world_file(
-        o.world_file, [](const std::string& warning) { std::cerr << warning << "\n"; });
+    macsim::LoadOptions load;
+    load.warn = [](const std::string& warning) { std::cerr << warning << "\n"; };
+    load.limits = o.limits();
+    auto spec = macsim::load_world_file(o.world_file, load);
     print_summary(spec);
     runner = std::make_unique<macsim::Runner>(
         std::move(spec),

@@ -8,8 +8,9 @@ namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
 
-SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner)
+SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits)
     : runner_(runner),
+      limits_(limits),
       replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command) {
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread.
@@ -30,11 +31,15 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
           }
           last->second = r.sequence_number();
         }
-        const bool queued =
-            runner_.load([file = r.world_file()] { return load_world_file(file); },
-                         [this, r](const LoadOutcome& outcome) {
-                           send(reply_to(r, codec::error_code(outcome.code), outcome.error));
-                         });
+        const bool queued = runner_.load(
+            [file = r.world_file(), this] {
+              LoadOptions options;
+              options.limits = limits_;
+              return load_world_file(file, options);
+            },
+            [this, r](const LoadOutcome& outcome) {
+              send(reply_to(r, codec::error_code(outcome.code), outcome.error));
+            });
         if (!queued) {
           runner_.push([this, r](World&) {
             send(reply_to(r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));

@@ -10,6 +10,7 @@
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/world_loader.h"
 #include "reply_cache.h"
 
 namespace macsim {
@@ -18,7 +19,8 @@ namespace macsim {
 /// once its last step's data is out, a SIM_LOAD_WORLD once the new world runs (or was refused).
 class SimulationServer {
  public:
-  SimulationServer(dds::Participant& participant, Runner& runner);
+  /// Worlds loaded on request are held to `limits`.
+  SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {});
   ~SimulationServer();
 
  private:
@@ -32,6 +34,7 @@ class SimulationServer {
   bool repeated(const Request& request);
 
   Runner& runner_;
+  const LoadLimits limits_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
   ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;                     // guards last_load_ (Fast DDS's threads)

@@ -212,7 +212,16 @@ mm::SupervisorReply_ dispatch(const mm::SupervisorRequest_& request, World& worl
   mm::SupervisorReply_ reply;
   reply.client_id(request.client_id());
   reply.sequence_number(request.sequence_number());
-  const std::optional<Status> ran = run(request.operation(), world, snapshots, reply);
+  std::optional<Status> ran;
+  try {
+    ran = run(request.operation(), world, snapshots, reply);
+  } catch (const std::exception& e) {  // e.g. out of memory, or a check inside ODE
+    reply = mm::SupervisorReply_{};
+    reply.client_id(request.client_id());
+    reply.sequence_number(request.sequence_number());
+    ran = Status::error(ErrorCode::InvalidArgument,
+                        std::string("the request could not be carried out: ") + e.what());
+  }
   if (!ran) {
     reply.code(mm::ERR_UNKNOWN_OPERATION);
     reply.message("unknown operation " + std::to_string(request.operation()._d()));

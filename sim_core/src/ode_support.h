@@ -3,20 +3,31 @@
 
 #include <ode/ode.h>
 
+#include <stdexcept>
+
 #include "macsim/sim_core/world_spec.h"
 
 namespace macsim::detail {
 
 /// Stored in every geom's user data: who owns it (no self-contacts) and its friction.
 struct GeomTag {
-  int group = -1;                ///< collision group; geoms of one group never collide
-  double friction = 1.0;         ///< Coulomb mu; a contact uses the geometric mean of both
-  double bounce = 0.0;           ///< restitution; a contact uses the larger
-  double bounce_velocity = 0.1;  ///< m/s below which nothing bounces
+  int group = -1;                      ///< collision group; geoms of one group never collide
+  double friction = 1.0;               ///< Coulomb mu; a contact uses the geometric mean of both
+  double bounce = 0.0;                 ///< restitution; a contact uses the larger
+  double bounce_velocity = 0.1;        ///< m/s below which nothing bounces
   const ObjectSpec* object = nullptr;  ///< the object it belongs to (magnetizable, name)
 };
 
-/// Process-wide ODE set-up (dInitODE2, message handler) and per-thread data; idempotent.
+/// An argument check of ODE that failed (its debug or error handler): thrown instead of ODE's
+/// abort. ODE checks at an API entry before it changes anything, so the world stays as it was;
+/// thrown inside a collision or a step, the world it came from cannot be trusted any more.
+class OdeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Process-wide ODE set-up (dInitODE2, handlers that throw OdeError) and per-thread data;
+/// idempotent.
 void ensure_ode_ready();
 
 inline void to_ode(const Eigen::Quaterniond& q, dQuaternion out) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "macsim/sim_core/world_loader.h"
 
@@ -83,7 +84,11 @@ std::size_t Runner::apply_commands() {
       Item item = std::move(batch.front());
       batch.pop_front();
       if (auto* command = std::get_if<Command>(&item)) {
-        (*command)(*world_);
+        try {
+          (*command)(*world_);
+        } catch (const std::exception& e) {  // a command's own errors are its replies
+          std::cerr << "macsim: a command failed and was dropped: " << e.what() << std::endl;
+        }
         ++ran;
         continue;
       }
@@ -135,7 +140,9 @@ void Runner::replace_world(Load& load) {
 
 void Runner::step() {
   apply_commands();
-  world_->step();
+  // A body gone non-finite or wild was put back and reported (an Instability event naming it);
+  // pausing keeps a learning run from stepping on through a broken world unnoticed.
+  if (!world_->step() && settings_.pause_on_instability) pause();
 }
 
 bool Runner::set_real_time_factor(double factor) {

@@ -3,15 +3,32 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 namespace macsim {
 
 std::optional<std::string> texture_problem(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) return "texture file '" + path + "' does not exist";
-  char magic[2] = {};
-  std::ifstream(path, std::ios::binary).read(magic, 2);
-  if (magic[0] != 'B' || magic[1] != 'M') return "texture '" + path + "' is not a BMP file";
-  const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    return "texture file '" + path + "' does not exist";
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return texture_bytes_problem(path, bytes.str());
+}
+
+std::optional<std::string> texture_bytes_problem(const std::string& path,
+                                                 const std::string& bytes) {
+  if (bytes.size() < 2 || bytes[0] != 'B' || bytes[1] != 'M') {
+    return "texture '" + path + "' is not a BMP file";
+  }
+  cv::Mat image;
+  try {
+    image = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),
+                         cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+  }
   if (image.empty()) return "texture '" + path + "' cannot be decoded as a BMP image";
   const int w = image.cols, h = image.rows;
   const bool power_of_two = w > 0 && (w & (w - 1)) == 0;

@@ -19,12 +19,20 @@ namespace {
 void quiet_message(int, const char*, va_list) {
   // ODE's "LCP internal error, s <= 0" messages are harmless solver notes in contact piles.
 }
+
+[[noreturn]] void throw_ode_error(int number, const char* format, va_list arguments) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, arguments);
+  throw OdeError("ODE error " + std::to_string(number) + ": " + text);
+}
 }  // namespace
 
 void ensure_ode_ready() {
   static const bool initialized = [] {
     dInitODE2(0);
     dSetMessageHandler(&quiet_message);
+    dSetErrorHandler(&throw_ode_error);  // ODE would abort the process
+    dSetDebugHandler(&throw_ode_error);
     return true;
   }();
   (void)initialized;
@@ -574,7 +582,8 @@ void World::update_doors() {
   }
 }
 
-void World::check_stability() {
+bool World::check_stability() {
+  bool stable = true;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     BodyState now = detail::body_state(bodies_[i]);
     if (detail::plausible(now)) {
@@ -588,24 +597,35 @@ void World::check_stability() {
     detail::set_body_state(bodies_[i], back);
     emit(WorldEvent::Type::Instability, body_names_[i],
          "a body went unstable (non-finite or implausible state); put back at rest");
+    stable = false;
   }
+  return stable;
 }
 
-void World::step() {
+bool World::step() {
   detail::ensure_ode_ready();
+  if (!fault_.empty()) return false;
   const double now = time();
   update_doors();
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
-  dSpaceCollide(space_, this, &World::near_callback);
-  // QuickStep reorders constraints with ODE's one global random generator: give it this
-  // world's own state, so worlds in one process never disturb each other's runs.
-  dRandSetSeed(random_seed_);
-  dWorldQuickStep(world_, spec_.physics.step);
+  try {
+    dSpaceCollide(space_, this, &World::near_callback);
+    // QuickStep reorders constraints with ODE's one global random generator: give it this
+    // world's own state, so worlds in one process never disturb each other's runs.
+    dRandSetSeed(random_seed_);
+    dWorldQuickStep(world_, spec_.physics.step);
+  } catch (const detail::OdeError& e) {
+    // Inside a step ODE's own state may be left half-changed: this world steps no more.
+    fault_ = e.what();
+    emit(WorldEvent::Type::Instability, spec_.name,
+         std::string(e.what()) + "; this world steps no more (load a world)");
+    return false;
+  }
   random_seed_ = dRandGetSeed();
   dJointGroupEmpty(contact_group_);
   ++steps_;
-  check_stability();
+  const bool stable = check_stability();
   for (auto& robot : robots_) {
     robot->after_step(time(), spec_.physics.step);
     for (auto& [type, detail] : robot->take_events()) {
@@ -622,6 +642,7 @@ void World::step() {
            door->spec.name);
     }
   }
+  return stable;
 }
 
 DoorState World::door_state_of(const Door& door) const {

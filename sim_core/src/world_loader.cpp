@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
@@ -77,7 +78,8 @@ std::string xml_error_message(const tinyxml2::XMLDocument& doc) {
 /// Reads one file's elements; knows where it is for messages.
 class Reader {
  public:
-  Reader(std::string file, const WarningSink& warn) : file_(std::move(file)), warn_(warn) {}
+  Reader(std::string file, const WarningSink& warn, const WorldFiles& files)
+      : file_(std::move(file)), warn_(warn), files_(files) {}
 
   const std::string& file() const { return file_; }
 
@@ -184,7 +186,9 @@ class Reader {
         (relative.is_absolute() ? relative : fs::path(file_).parent_path() / relative)
             .lexically_normal()
             .string();
-    if (auto problem = texture_problem(path)) fail(e, *problem);
+    const auto bytes = files_.read(path);
+    if (!bytes) fail(e, "texture file '" + path + "' does not exist");
+    if (auto problem = texture_bytes_problem(path, *bytes)) fail(e, *problem);
     return path;
   }
 
@@ -193,6 +197,7 @@ class Reader {
  private:
   std::string file_;
   const WarningSink& warn_;
+  const WorldFiles& files_;
 };
 
 bool valid_id(const std::string& id) { return !bounds::id_problem(id).has_value(); }
@@ -207,8 +212,8 @@ struct FileContents {
 /// Loads a world file and its <IMPORT> tree into one WorldSpec.
 class Loader {
  public:
-  explicit Loader(const WarningSink& warn, const std::vector<MaterialSpec>& materials = {})
-      : warn_(warn) {
+  explicit Loader(const LoadOptions& options, const std::vector<MaterialSpec>& materials = {})
+      : warn_(options.warn), limits_(options.limits), files_(*options.files) {
     world_.materials = materials;
     if (!world_.material("default")) {
       MaterialSpec fallback;
@@ -221,14 +226,14 @@ class Loader {
 
   void load_root(tinyxml2::XMLDocument& doc, const std::string& file) {
     if (doc.Error()) throw WorldFileError(file, doc.ErrorLineNum(), xml_error_message(doc));
-    const Reader r(file, warn_);
+    const Reader r(file, warn_, files_);
     const XMLElement* root = doc.RootElement();
     if (!root || upper(root->Name()) != "WORLD") {
       r.fail(root, "the root element of a world file must be <WORLD>");
     }
     world_.file = file;
     world_.name = fs::path(file).stem().string();
-    if (fs::exists(file)) stack_.push_back(fs::weakly_canonical(file).string());
+    if (files_.read(file)) stack_.push_back(files_.identity(file));
     FileContents contents;
     read_children(r, root, Pose{}, "", contents, true);
   }
@@ -270,8 +275,9 @@ class Loader {
         object.name = full_name(prefix, object.name);
         claim_name(r, e, object.name);
         object.pose = frame * object.pose;
-        if (world_.objects.size() >= bounds::kMaxObjects) {
-          r.fail(e, "a world holds at most " + std::to_string(bounds::kMaxObjects) + " objects");
+        if (world_.objects.size() >= limits_.max_objects) {
+          r.fail(e, "a world holds at most " + std::to_string(limits_.max_objects) +
+                        " objects (LoadLimits::max_objects)");
         }
         contents.objects.push_back(object.name);
         world_.objects.push_back(std::move(object));
@@ -711,25 +717,27 @@ class Loader {
     const fs::path path =
         fs::path(file).is_absolute() ? fs::path(file) : fs::path(r.file()).parent_path() / file;
     const std::string shown = path.lexically_normal().string();
-    if (!fs::is_regular_file(path)) {
+    if (stack_.size() >= limits_.max_import_depth) {
+      r.fail(import, "imports nest at most " + std::to_string(limits_.max_import_depth) +
+                         " deep (import '" + id + "'; LoadLimits::max_import_depth)");
+    }
+    if (++imported_files_ > limits_.max_imported_files) {
+      r.fail(import, "a world imports at most " + std::to_string(limits_.max_imported_files) +
+                         " files in all (import '" + id +
+                         "': do the imports fan out? LoadLimits::max_imported_files)");
+    }
+    const auto bytes = files_.read(shown);
+    if (!bytes) {
       r.fail(import, "imported file '" + shown + "' (import '" + id + "') does not exist");
     }
-    if (stack_.size() >= bounds::kMaxImportDepth) {
-      r.fail(import, "imports nest at most " + std::to_string(bounds::kMaxImportDepth) +
-                         " deep (import '" + id + "')");
-    }
-    if (++imported_files_ > bounds::kMaxImportedFiles) {
-      r.fail(import, "a world imports at most " + std::to_string(bounds::kMaxImportedFiles) +
-                         " files in all (import '" + id + "': do the imports fan out?)");
-    }
-    const std::string canonical = fs::weakly_canonical(path).string();
+    const std::string canonical = files_.identity(shown);
     if (std::find(stack_.begin(), stack_.end(), canonical) != stack_.end()) {
       r.fail(import, "import cycle: '" + shown + "' imports itself (through import '" + id + "')");
     }
     tinyxml2::XMLDocument doc;
-    doc.LoadFile(shown.c_str());
+    doc.Parse(bytes->data(), bytes->size());
     if (doc.Error()) throw WorldFileError(shown, doc.ErrorLineNum(), xml_error_message(doc));
-    const Reader child(shown, warn_);
+    const Reader child(shown, warn_, files_);
     const XMLElement* root = doc.RootElement();
     if (!root || upper(root->Name()) != "ENVIRONMENT") {
       child.fail(root, "the root element of an imported file must be <ENVIRONMENT>");
@@ -792,6 +800,8 @@ class Loader {
   }
 
   const WarningSink& warn_;
+  const LoadLimits limits_;
+  const WorldFiles& files_;
   WorldSpec world_;
   std::set<std::string> names_;
   std::vector<std::string> stack_;  // canonical paths of the files being read
@@ -826,32 +836,83 @@ void check_references(WorldSpec& world) {
   }
 }
 
-}  // namespace
-
-WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
-  if (!std::filesystem::is_regular_file(path)) {
-    throw WorldFileError(path, 0, "no such world file");
-  }
+/// Parses `bytes` as the world `name` and checks it whole.
+WorldSpec load_world_bytes(const std::string& bytes, const std::string& name,
+                           const LoadOptions& options) {
   tinyxml2::XMLDocument doc;
-  doc.LoadFile(path.c_str());
-  Loader loader(warn);
-  loader.load_root(doc, path);
+  doc.Parse(bytes.data(), bytes.size());
+  Loader loader(options);
+  loader.load_root(doc, name);
   WorldSpec world = loader.take();
   check_references(world);
   bounds::check_world(world);
   return world;
 }
 
+}  // namespace
+
+const WorldFiles& disk_files() {
+  class DiskFiles : public WorldFiles {
+   public:
+    std::optional<std::string> read(const std::string& path) const override {
+      std::error_code error;
+      if (!fs::is_regular_file(path, error)) return std::nullopt;
+      std::ifstream in(path, std::ios::binary);
+      std::ostringstream bytes;
+      bytes << in.rdbuf();
+      if (!in) return std::nullopt;
+      return bytes.str();
+    }
+    std::string identity(const std::string& path) const override {
+      std::error_code error;
+      const fs::path canonical = fs::weakly_canonical(path, error);
+      return error ? fs::path(path).lexically_normal().string() : canonical.string();
+    }
+  };
+  static const DiskFiles files;
+  return files;
+}
+
+void MemoryFiles::add(const std::string& path, std::string bytes) {
+  files_[fs::path(path).lexically_normal().string()] = std::move(bytes);
+}
+
+std::optional<std::string> MemoryFiles::read(const std::string& path) const {
+  const auto found = files_.find(fs::path(path).lexically_normal().string());
+  if (found == files_.end()) return std::nullopt;
+  return found->second;
+}
+
+std::string MemoryFiles::identity(const std::string& path) const {
+  return fs::path(path).lexically_normal().string();
+}
+
+WorldSpec load_world_file(const std::string& path, const LoadOptions& options) {
+  const auto bytes = options.files->read(path);
+  if (!bytes) throw WorldFileError(path, 0, "no such world file");
+  return load_world_bytes(*bytes, path, options);
+}
+
+WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
+  LoadOptions options;
+  options.warn = warn;
+  return load_world_file(path, options);
+}
+
 WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
                                 const std::vector<MaterialSpec>& materials,
                                 const WarningSink& warn) {
   // The file becomes the one import of a world file that would sit beside it.
-  const fs::path absolute = fs::absolute(path);
+  std::error_code error;
+  const fs::path absolute = fs::absolute(path, error);
+  if (error) throw WorldFileError(path, 0, "cannot resolve the path: " + error.message());
   const std::string xml = "<WORLD><IMPORT><ID>" + import_id + "</ID><NAME>" + absolute.string() +
                           "</NAME></IMPORT></WORLD>";
   tinyxml2::XMLDocument doc;
   doc.Parse(xml.c_str(), xml.size());
-  Loader loader(warn, materials);
+  LoadOptions options;
+  options.warn = warn;
+  Loader loader(options, materials);
   loader.load_root(doc, (absolute.parent_path() / "<import_environment>").string());
   WorldSpec world = loader.take();
   check_references(world);
@@ -860,15 +921,15 @@ WorldSpec load_environment_file(const std::string& path, const std::string& impo
 }
 
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
+                            const LoadOptions& options) {
+  return load_world_bytes(xml, name, options);
+}
+
+WorldSpec load_world_string(const std::string& xml, const std::string& name,
                             const WarningSink& warn) {
-  tinyxml2::XMLDocument doc;
-  doc.Parse(xml.c_str(), xml.size());
-  Loader loader(warn);
-  loader.load_root(doc, name);
-  WorldSpec world = loader.take();
-  check_references(world);
-  bounds::check_world(world);
-  return world;
+  LoadOptions options;
+  options.warn = warn;
+  return load_world_bytes(xml, name, options);
 }
 
 }  // namespace macsim

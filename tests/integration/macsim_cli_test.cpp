@@ -61,6 +61,33 @@ TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
   }
 }
 
+TEST(MacsimCli, TestBinariesRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
+  for (const char* program :
+       {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
+        "asan_tests", "integration_tests"}) {
+    ChildProcess p({bin(program), "--bogus"});
+    EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();
+    EXPECT_NE(p.output().find("unknown argument '--bogus'"), std::string::npos) << p.output();
+    EXPECT_EQ(p.output().find("[ RUN      ]"), std::string::npos) << program;
+  }
+}
+
+TEST(MacsimCli, TheWorldLimitsCanBeLoweredAndRaised) {
+  const std::string world = source("worlds/DemoWorld_v1.xml");
+  ChildProcess low({bin("macsim"), "--world", world, "--validate", "--max-objects", "10"});
+  EXPECT_EQ(low.wait_for_exit(20s), 1) << low.output();
+  EXPECT_NE(low.output().find("a world holds at most 10 objects"), std::string::npos)
+      << low.output();
+  ChildProcess shallow({bin("macsim"), "--world", world, "--validate", "--max-import-depth", "1"});
+  EXPECT_EQ(shallow.wait_for_exit(20s), 1) << shallow.output();
+  EXPECT_NE(shallow.output().find("imports nest at most 1 deep"), std::string::npos)
+      << shallow.output();
+  ChildProcess high({bin("macsim"), "--world", world, "--validate", "--max-objects", "200000"});
+  EXPECT_EQ(high.wait_for_exit(20s), 0) << high.output();
+  ChildProcess zero({bin("macsim"), "--world", world, "--validate", "--max-objects", "0"});
+  EXPECT_EQ(zero.wait_for_exit(20s), 2) << zero.output();
+}
+
 TEST(MacsimCli, MalformedWorldExitsNonZeroNamingFileAndLine) {
   const std::string path = ::testing::TempDir() + "malformed_world.xml";
   std::ofstream(path)

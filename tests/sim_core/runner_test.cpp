@@ -8,6 +8,7 @@
 #include <future>
 #include <thread>
 
+#include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
 #include "support/child_process.h"
 
@@ -223,6 +224,38 @@ TEST(Runner, APauseCancelsAHugeStepRequest) {
   EXPECT_FALSE(*completed);
   EXPECT_FALSE(runner.stepping_on_request());
   EXPECT_LE(runner.world().steps(), 7u);
+}
+
+TEST(Runner, AWorldGoneNonFiniteAtRunTimePausesWithAnEventNamingTheObject) {
+  Runner runner(small_room(), RunSettings{false, 0.0});
+  std::atomic<bool> stop{false};
+  std::vector<WorldEvent> events;
+  StepHooks hooks;
+  hooks.after_step = [&](World& w) {
+    for (auto& e : w.take_events()) events.push_back(e);
+    if (w.steps() == 10) {
+      // The largest force a request may give, on a light ball: beyond 1000 m/s in one step.
+      runner.push([](World& world) {
+        const ObjectId ball = *world.find_object("green_ball");
+        ASSERT_TRUE(world.add_force(ball, {0, 0, bounds::kMaxForce}).ok());
+      });
+    }
+    if (w.steps() == 50) stop = true;  // reached only if the runner ran on
+  };
+  std::thread watchdog([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    stop = true;  // run() returns once paused and stopped
+  });
+  runner.run(stop, 1000, hooks);
+  watchdog.join();
+  EXPECT_TRUE(runner.settings().paused);
+  EXPECT_EQ(runner.world().steps(), 11u);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].type, WorldEvent::Type::Instability);
+  EXPECT_EQ(events[0].subject, "green_ball");
+  EXPECT_TRUE(runner.world()
+                  .object_state(*runner.world().find_object("green_ball"))
+                  .value.pose.position.allFinite());
 }
 
 TEST(Runner, RealTimeFactorRefusesNonsense) {

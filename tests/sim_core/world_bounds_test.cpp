@@ -166,6 +166,38 @@ TEST(WorldBounds, ImportsNestAndFanOutWithinLimits) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(WorldBounds, TheLimitsAreOverridableAndFilesMayComeFromMemory) {
+  MemoryFiles files;
+  files.add("mem/world.xml",
+            "<WORLD>\n<IMPORT><ID>a</ID><NAME>part.xml</NAME></IMPORT>\n"
+            "<IMPORT><ID>b</ID><NAME>part.xml</NAME></IMPORT>\n</WORLD>");
+  const std::string box_c = "<OBJECT><ID>c</ID><TYPE>PORTABLE</TYPE><SHAPE>BOX</SHAPE>";
+  files.add("mem/part.xml", "<ENVIRONMENT>\n" + kBox + "<DIMS>0.1,0.1,0.1</DIMS></OBJECT>\n" +
+                                box_c + "<DIMS>0.1,0.1,0.1</DIMS></OBJECT>\n</ENVIRONMENT>");
+  LoadOptions options;
+  options.files = &files;
+  EXPECT_EQ(load_world_file("mem/world.xml", options).objects.size(), 4u);  // from memory
+  options.limits.max_objects = 3;
+  try {
+    load_world_file("mem/world.xml", options);
+    FAIL() << "loaded";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.file(), "mem/part.xml");
+    EXPECT_EQ(e.line(), 3);  // the fourth object
+    EXPECT_NE(std::string(e.what()).find("at most 3 objects"), std::string::npos) << e.what();
+  }
+  options.limits = {};
+  options.limits.max_imported_files = 1;
+  try {
+    load_world_file("mem/world.xml", options);
+    FAIL() << "loaded";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 3);  // the second import
+    EXPECT_NE(std::string(e.what()).find("at most 1 files"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_world_file("mem/none.xml", options), WorldFileError);
+}
+
 TEST(WorldBounds, TheShippedWorldsKeepTheBounds) {
   for (const char* file : {"DemoWorld_v1.xml", "small_room.xml", "ramps.xml", "liftability.xml"}) {
     EXPECT_NO_THROW(bounds::check_world(shipped_world(file))) << file;

@@ -39,8 +39,9 @@ inline constexpr double kMinRealTimeFactor = 1e-3;
 
 /// How the loop steps.
 struct RunSettings {
-  bool paused = false;            ///< no stepping but on request
-  double real_time_factor = 1.0;  ///< sim seconds per wall second; 0: as fast as possible
+  bool paused = false;               ///< no stepping but on request
+  double real_time_factor = 1.0;     ///< sim seconds per wall second; 0: as fast as possible
+  bool pause_on_instability = true;  ///< pause when a step had to put a body back
 };
 
 /// What run() calls around each step.

@@ -120,8 +120,9 @@ class World {
 
   // ---- stepping ------------------------------------------------------------------------
   /// Advances one fixed step: doors and robots' motors, collisions, QuickStep, encoders,
-  /// instability check (a body gone NaN or wild is put back and reported).
-  void step();
+  /// instability check (a body gone NaN or wild is put back and reported). False when a body
+  /// went unstable or ODE reported an error (then this world steps no more).
+  bool step();
   double time() const { return static_cast<double>(steps_) * spec_.physics.step; }
   uint64_t steps() const { return steps_; }
   double step_size() const { return spec_.physics.step; }
@@ -296,7 +297,7 @@ class World {
   Status move_door_part(int door, bool leaf, const Eigen::Vector3d& position);
   void update_doors();
   DoorState door_state_of(const Door& door) const;
-  void check_stability();
+  bool check_stability();  // false if a body had to be put back
   void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail = "");
   Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
   static void near_callback(void* data, dxGeom* a, dxGeom* b);
@@ -315,6 +316,7 @@ class World {
   std::vector<dxBody*> bodies_;          // every body, for the stability check
   std::vector<std::string> body_names_;  // owner of each body, for reports
   std::vector<BodyState> last_good_;
+  std::string fault_;  // ODE's error inside a step: the world steps no more
   std::vector<WorldEvent> events_;
   mutable std::vector<std::string> textures_;  // texture id - 1 -> file
   WorldState initial_;

@@ -28,6 +28,7 @@ inline constexpr double kMaxAngularSpeed = 1e4;  ///< rad/s
 inline constexpr double kMaxForce = 1e6;         ///< N (and N m for torques)
 inline constexpr double kMaxEncoderRate = 1e4;   ///< Hz
 inline constexpr std::size_t kMaxNameLength = 256;
+// The defaults of LoadLimits (world_loader.h), which a load may raise or lower:
 inline constexpr std::size_t kMaxImportDepth = 32;       ///< <IMPORT>s nested in one another
 inline constexpr std::size_t kMaxImportedFiles = 10000;  ///< imports read for one world in all
 inline constexpr std::size_t kMaxObjects = 100000;       ///< objects of one world

@@ -1,10 +1,14 @@
 // Loads world files (XML, tinyxml2) into a WorldSpec; errors name the file and line.
 #pragma once
 
+#include <cstddef>
 #include <functional>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_spec.h"
 
 namespace macsim {
@@ -26,7 +30,47 @@ class WorldFileError : public std::runtime_error {
 /// Receives warnings ("FILE:LINE: message") about suspicious but loadable content.
 using WarningSink = std::function<void(const std::string&)>;
 
+/// Where a world's files are read from: the disk, or a set held in memory (tests, fuzzing).
+class WorldFiles {
+ public:
+  virtual ~WorldFiles() = default;
+  /// The bytes of the regular file at `path`, or nothing (missing, a directory, unreadable).
+  virtual std::optional<std::string> read(const std::string& path) const = 0;
+  /// One spelling per file (symlinks resolved where there are any), to find import cycles.
+  virtual std::string identity(const std::string& path) const = 0;
+};
+
+/// The file system; never throws (a path it refuses reads as missing).
+const WorldFiles& disk_files();
+
+/// Files held in memory by their lexically normal path.
+class MemoryFiles : public WorldFiles {
+ public:
+  void add(const std::string& path, std::string bytes);
+  std::optional<std::string> read(const std::string& path) const override;
+  std::string identity(const std::string& path) const override;
+
+ private:
+  std::map<std::string, std::string> files_;
+};
+
+/// How much one world may hold, so a generated or hostile file is refused fast instead of
+/// exhausting memory; `macsim --max-objects`, `--max-import-depth`, `--max-imported-files`.
+struct LoadLimits {
+  std::size_t max_import_depth = bounds::kMaxImportDepth;      ///< <IMPORT>s nested
+  std::size_t max_imported_files = bounds::kMaxImportedFiles;  ///< imports read in all
+  std::size_t max_objects = bounds::kMaxObjects;               ///< objects, imported included
+};
+
+/// What a load may be told besides the file.
+struct LoadOptions {
+  WarningSink warn;                         ///< warnings, or none
+  LoadLimits limits;                        ///< the caps on imports and objects
+  const WorldFiles* files = &disk_files();  ///< where the file and its imports are read
+};
+
 /// Loads a world file; throws WorldFileError and never returns a half-loaded world.
+WorldSpec load_world_file(const std::string& path, const LoadOptions& options);
 WorldSpec load_world_file(const std::string& path, const WarningSink& warn = {});
 
 /// Loads an environment file as an <IMPORT> of that id at the origin would, resolving material
@@ -36,6 +80,8 @@ WorldSpec load_environment_file(const std::string& path, const std::string& impo
                                 const WarningSink& warn = {});
 
 /// Loads a world from XML text; `name` stands for the file in messages and relative paths.
+WorldSpec load_world_string(const std::string& xml, const std::string& name,
+                            const LoadOptions& options);
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
                             const WarningSink& warn = {});
 

@@ -1,0 +1,14 @@
+// The main of every test binary: GoogleTest's flags, and an unknown argument refused (exit 2)
+// instead of running the whole suite as if it had not been given.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);  // takes out the --gtest_* flags it knows
+  if (argc > 1) {
+    std::cerr << argv[0] << ": unknown argument '" << argv[1] << "' (GoogleTest's flags: --help)\n";
+    return 2;
+  }
+  return RUN_ALL_TESTS();
+}
