@@ -17,6 +17,8 @@ PACKAGES=(
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # the interactive window (freeglut on X) and a virtual X server for its tests
   libglut-dev xvfb xauth
+  # the fuzzers' stage of the tests: clang with libFuzzer and the sanitizers' runtimes
+  clang-14 libclang-rt-14-dev
   # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test
   libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
   # several hosts in tests: network namespaces joined by a veth pair; DDS Security certificates

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/shared_memory.h"
 #include "macsim/dds/topics.h"
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
@@ -225,6 +226,11 @@ int serve(macsim::Runner& runner, const Options& o) {
     viewer_options.screenshot = o.viewer_screenshot;
   }
 
+  // What killed participants (an earlier macsim among them) left in shared memory goes first.
+  if (const auto stale = macsim::dds::clean_stale_shared_memory(); !stale.removed.empty()) {
+    std::cout << "macsim: removed " << stale.removed.size()
+              << " stale Fast DDS shared-memory files of killed participants" << std::endl;
+  }
   try {
     macsim::dds::Participant dds(o.participant);
     macsim::BridgeOptions bridge_options;

@@ -2,6 +2,7 @@
 
 #include "macsim/dds/topics.h"
 #include "macsim/sim_core/world_loader.h"
+#include "simulation_dispatch.h"
 #include "supervisor_codec.h"
 
 namespace macsim {
@@ -52,20 +53,7 @@ SimulationServer::~SimulationServer() { requests_.reset(); }
 
 SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
                                                    const std::string& message) const {
-  Reply r;
-  r.client_id(q.client_id());
-  r.sequence_number(q.sequence_number());
-  r.code(code);
-  r.message(message);
-  const World& world = runner_.world();
-  r.sim_time(world.time());
-  r.steps(world.steps());
-  r.state_hash(world.state_hash());
-  r.paused(runner_.settings().paused);
-  r.real_time_factor(runner_.settings().real_time_factor);
-  r.features(
-      "simulator,supervisor,lockstep,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
-  return r;
+  return simulation_reply(q, runner_, code, message);
 }
 
 bool SimulationServer::repeated(const Request& q) {
@@ -83,42 +71,15 @@ bool SimulationServer::repeated(const Request& q) {
 
 void SimulationServer::execute(const Request& q) {
   if (repeated(q)) return;
-  switch (q.command()) {
-    case mm::SIM_PAUSE:
-      runner_.pause();
-      break;
-    case mm::SIM_RUN:
-      runner_.resume();
-      break;
-    case mm::SIM_SET_RTF:
-      if (!runner_.set_real_time_factor(q.real_time_factor())) {
-        send(reply_to(q, mm::ERR_INVALID_ARGUMENT,
-                      "real_time_factor must be 0 (as fast as possible) or at least " +
-                          std::to_string(kMinRealTimeFactor)));
-        return;
-      }
-      break;
-    case mm::SIM_STEP:
-      if (q.steps() == 0) break;  // zero steps: answered at once
-      if (!runner_.request_steps(q.steps(), [this, q](bool completed) {
-            stepping_.reset();
-            send(completed ? reply_to(q, mm::ERR_OK, "")
-                           : reply_to(q, mm::ERR_NOT_APPLICABLE, "cancelled by SIM_PAUSE"));
-          })) {
-        send(reply_to(q, mm::ERR_INVALID_ARGUMENT, "a step request is still running"));
-        return;
-      }
-      stepping_ = q;
-      return;  // answered when its last step's data is out
-    case mm::SIM_FEATURES:
-    case mm::SIM_STATUS:
-      break;
-    default:
-      send(reply_to(q, mm::ERR_UNKNOWN_OPERATION,
-                    "unknown simulation command " + std::to_string(q.command())));
-      return;
+  auto reply = dispatch_simulation(q, runner_, [this](const Reply& stepped) {
+    stepping_.reset();
+    send(stepped);
+  });
+  if (reply) {
+    send(*reply);
+  } else {
+    stepping_ = q;
   }
-  send(reply_to(q, mm::ERR_OK, ""));
 }
 
 void SimulationServer::send(const Reply& reply) {

@@ -28,11 +28,12 @@ int main(int argc, char** argv) {
   double speed = 0.3;
   double timeout = 60.0;
   double discovery_timeout = 15.0;
+  double reconnect_timeout = 30.0;
 
   macsim::dds::CommandLine cli("helloKurt",
                                "Drives a KURT3D forward by a distance measured by its odometry, "
                                "then stops.\nExit 0: arrived; 1: timeout; 2: usage or no robot "
-                               "found; 3: the robot went silent.");
+                               "found; 3: the robot went silent and did not come back.");
   cli.participant_options(&participant);
   cli.option("robot", "NAME", "robot namespace (default kurt)", &robot);
   cli.option("distance", "METERS", "distance to drive (default 1.0)", &distance);
@@ -40,8 +41,13 @@ int main(int argc, char** argv) {
   cli.option("timeout", "SECONDS", "give up after this long (default 60)", &timeout);
   cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 15)",
              &discovery_timeout);
+  cli.option("reconnect-timeout", "SECONDS",
+             "when the robot goes silent (a simulator restarted), wait this long for it to come "
+             "back and carry on (default 30)",
+             &reconnect_timeout);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (distance <= 0 || speed <= 0 || timeout <= 0 || discovery_timeout <= 0) {
+  if (distance <= 0 || speed <= 0 || timeout <= 0 || discovery_timeout <= 0 ||
+      reconnect_timeout < 0) {
     std::cerr << "helloKurt: --distance, --speed and the timeouts must be positive\n";
     return 2;
   }
@@ -69,16 +75,26 @@ int main(int argc, char** argv) {
     const auto deadline = Clock::now() + std::chrono::duration<double>(timeout);
     double next_report = 0.1;
     double travelled = 0.0;
+    double before_outages = 0.0;  // travelled up to the last outage
     constexpr double kTolerance = 0.005;
     while (true) {
-      auto odom = kurt.wait_for_odometry(std::chrono::milliseconds(2000));
-      if (!odom) {
+      auto next = kurt.next_odometry(std::chrono::milliseconds(2000),
+                                     std::chrono::milliseconds(int(reconnect_timeout * 1000)));
+      if (!next.odometry) {
         kurt.stop();
-        std::fprintf(stderr, "helloKurt: robot '%s' went silent (no odometry for 2 s)\n",
+        std::fprintf(stderr, "helloKurt: robot '%s' went silent and did not come back\n",
                      robot.c_str());
         return 3;
       }
-      travelled = planar_distance(*odom, *start);
+      auto& odom = next.odometry;
+      if (next.returned) {
+        // Its odometry may have started again (a restarted simulator): count from here on.
+        before_outages = travelled;
+        start = odom;
+        std::printf("helloKurt: robot '%s' is back; %.2f m to go\n", robot.c_str(),
+                    distance - travelled);
+      }
+      travelled = before_outages + planar_distance(*odom, *start);
       const double remaining = distance - travelled;
       if (remaining <= kTolerance) break;
       if (Clock::now() > deadline) {
@@ -104,7 +120,7 @@ int main(int argc, char** argv) {
       kurt.stop();
       auto odom = kurt.wait_for_odometry(std::chrono::milliseconds(500));
       if (odom && std::fabs(odom->twist().twist().linear().x()) < 1e-6) {
-        travelled = planar_distance(*odom, *start);
+        travelled = before_outages + planar_distance(*odom, *start);
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(25));

@@ -15,6 +15,26 @@
 #include "macsim/kurt/can_frame.h"
 
 namespace macsim::kurt {
+
+std::array<uint8_t, 16> to_datagram(const CanFrame& frame) {
+  std::array<uint8_t, 16> bytes{};
+  const uint32_t id = htonl(frame.id);
+  std::memcpy(bytes.data(), &id, 4);
+  bytes[4] = frame.dlc;
+  std::memcpy(bytes.data() + 8, frame.data.data(), 8);
+  return bytes;
+}
+
+std::optional<CanFrame> from_datagram(const uint8_t* bytes, std::size_t size) {
+  if (size != 16 || bytes[4] > 8) return std::nullopt;
+  CanFrame frame;
+  uint32_t id;
+  std::memcpy(&id, bytes, 4);
+  frame.id = ntohl(id);
+  frame.dlc = bytes[4];
+  std::memcpy(frame.data.data(), bytes + 8, 8);
+  return frame;
+}
 namespace {
 
 /// Waits until `fd` is readable; false on timeout.
@@ -107,28 +127,19 @@ class UdpBus final : public CanTransport {
   ~UdpBus() override { ::close(fd_); }
 
   bool send(const CanFrame& frame) override {
-    uint8_t bytes[16] = {};
-    const uint32_t id = htonl(frame.id);
-    std::memcpy(bytes, &id, 4);
-    bytes[4] = frame.dlc;
-    std::memcpy(bytes + 8, frame.data.data(), 8);
-    return ::sendto(fd_, bytes, sizeof bytes, 0, reinterpret_cast<const sockaddr*>(&peer_),
-                    sizeof peer_) == static_cast<ssize_t>(sizeof bytes);
+    const auto bytes = to_datagram(frame);
+    return ::sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&peer_),
+                    sizeof peer_) == static_cast<ssize_t>(bytes.size());
   }
   std::optional<CanFrame> receive(std::chrono::milliseconds timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    uint8_t bytes[16];
-    while (true) {  // a datagram of another size is not a frame: skip it
+    uint8_t bytes[17];  // one more: a longer datagram is seen as such
+    while (true) {      // a datagram that is not a frame is skipped
       if (!readable(fd_, remaining(deadline))) return std::nullopt;
-      if (::recv(fd_, bytes, sizeof bytes, 0) == static_cast<ssize_t>(sizeof bytes)) break;
+      const ssize_t n = ::recv(fd_, bytes, sizeof bytes, 0);
+      if (n < 0) continue;
+      if (auto frame = from_datagram(bytes, std::size_t(n))) return frame;
     }
-    CanFrame frame;
-    uint32_t id;
-    std::memcpy(&id, bytes, 4);
-    frame.id = ntohl(id);
-    frame.dlc = bytes[4];
-    std::memcpy(frame.data.data(), bytes + 8, 8);
-    return frame;
   }
 
  private:

@@ -5,10 +5,12 @@
 namespace macsim::kurt {
 
 void KurtDriver::command_twist(double linear, double angular, double now) {
+  if (!std::isfinite(linear) || !std::isfinite(angular)) return;
   command_wheel_speeds(wheel_speeds_from_twist(linear, angular, params_), now);
 }
 
 void KurtDriver::command_wheel_speeds(WheelSpeeds speeds, double now) {
+  if (!std::isfinite(speeds.left) || !std::isfinite(speeds.right) || !std::isfinite(now)) return;
   target_ = speeds;
   last_command_ = now;
 }

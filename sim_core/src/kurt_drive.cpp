@@ -15,7 +15,8 @@ WheelSpeeds wheel_speeds_from_twist(double linear, double angular, const KurtDri
 }
 
 int speed_cm(double speed) {
-  // The driver sends (int)(speed * 100): truncation towards zero.
+  // The driver sends (int)(speed * 100): truncation towards zero. NaN is no speed.
+  if (std::isnan(speed)) return 0;
   return static_cast<int>(std::clamp(std::trunc(speed * 100.0), -32768.0, 32767.0));
 }
 
@@ -92,6 +93,7 @@ int sonar_raw_from_range(double range) {
 
 int rotunit_speed_command(double speed) {
   // The command is an int16 on the bus: saturate (about +-402 rad/s) instead of wrapping.
+  if (std::isnan(speed)) return 0;
   return static_cast<int>(std::clamp(speed / (2.0 * M_PI) * 10240 / 20, -32768.0, 32767.0));
 }
 

@@ -121,14 +121,6 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
   for (auto& object : spec_.objects) normalize_orientations(object);
   for (auto& robot : spec_.robots) robot.pose.orientation.normalize();
   detail::ensure_ode_ready();
-  for (const auto& robot : spec_.robots) {
-    if (!find_robot_type(robot.type)) {
-      std::string known;
-      for (const auto& name : robot_type_names()) known += (known.empty() ? "" : ", ") + name;
-      throw WorldFileError(robot.source.file, robot.source.line,
-                           "unknown robot type '" + robot.type + "' (known: " + known + ")");
-    }
-  }
   for (const auto& object : spec_.objects) add_object_record(next_id_++, object);
   for (const auto& joint : spec_.joints) add_joint_record(joint);
   for (const auto& door : spec_.doors) add_door_record(door, {});

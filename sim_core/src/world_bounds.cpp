@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "macsim/sim_core/robot_types.h"
 #include "macsim/sim_core/world_loader.h"
 
 namespace macsim::bounds {
@@ -185,6 +186,11 @@ std::optional<std::string> joint_problem(const JointSpec& j) {
 }
 
 std::optional<std::string> robot_problem(const RobotSpec& r) {
+  if (!find_robot_type(r.type)) {
+    std::string known;
+    for (const auto& name : robot_type_names()) known += (known.empty() ? "" : ", ") + name;
+    return "unknown robot type '" + r.type + "' (known: " + known + ")";
+  }
   if (auto p = position_problem(r.pose.position)) return p;
   if (auto p = orientation_problem(r.pose.orientation)) return p;
   if (!std::isfinite(r.encoder_rate) || r.encoder_rate <= 0 || r.encoder_rate > kMaxEncoderRate) {

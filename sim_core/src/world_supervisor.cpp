@@ -197,10 +197,13 @@ Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy)
   status.penetrated = penetrations(o);
   if (!status.penetrated.empty()) {
     if (policy == PenetrationPolicy::Refuse) {
+      Status refused =
+          Status::error(ErrorCode::Penetration,
+                        "'" + o.spec.name + "' would penetrate " + status.penetrated.front());
       destroy_ode_object(o);
-      objects_.pop_back();
-      return {Status::error(ErrorCode::Penetration,
-                            "'" + o.spec.name + "' would penetrate " + status.penetrated.front())};
+      objects_.pop_back();  // `o` is gone from here on
+      next_id_ = id;        // the world as it was, its next id included
+      return {refused};
     }
     emit(WorldEvent::Type::Penetration, o.spec.name, "created inside " + status.penetrated.front());
   }

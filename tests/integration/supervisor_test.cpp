@@ -4,6 +4,7 @@
 #include <signal.h>
 
 #include <cmath>
+#include <thread>
 
 #include "macsim/client/supervisor_client.h"
 #include "macsim/client/world_state.h"
@@ -21,6 +22,37 @@ using client::SupervisorClient;
 namespace supervisor = client::supervisor;
 
 using WorldObserver = client::WorldStateClient;
+
+/// Bytes on the wire under another type's name: what a broken or hostile peer could send.
+struct RawSample {
+  std::string bytes;
+};
+template <const char* kName>
+class RawType : public eprosima::fastdds::dds::TopicDataType {
+ public:
+  using type = RawSample;
+  RawType() {
+    setName(kName);
+    m_typeSize = 1024;
+    m_isGetKeyDefined = false;
+  }
+  bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override {
+    const std::string& bytes = static_cast<RawSample*>(data)->bytes;
+    std::copy(bytes.begin(), bytes.end(), payload->data);
+    payload->length = uint32_t(bytes.size());
+    return true;
+  }
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t*, void*) override { return false; }
+  std::function<uint32_t()> getSerializedSizeProvider(void* data) override {
+    const auto n = uint32_t(static_cast<RawSample*>(data)->bytes.size());
+    return [n] { return n; };
+  }
+  void* createData() override { return new RawSample; }
+  void deleteData(void* data) override { delete static_cast<RawSample*>(data); }
+  bool getKey(void*, eprosima::fastrtps::rtps::InstanceHandle_t*, bool) override { return false; }
+};
+constexpr char kSupervisorRequestType[] = "macsim_msgs::msg::dds_::SupervisorRequest_";
+constexpr char kSimulationRequestType[] = "macsim_msgs::msg::dds_::SimulationRequest_";
 
 class Supervisor : public ::testing::Test {
  protected:
@@ -133,6 +165,33 @@ TEST_F(Supervisor, BadRequestsGetClearErrorsAndChangeNothing) {
   EXPECT_EQ(after.components()[0].size(), before.components()[0].size());
   EXPECT_EQ(after.components()[0].texture(), before.components()[0].texture());
   EXPECT_TRUE(macsim_->running());
+}
+
+TEST_F(Supervisor, BrokenPacketsOnTheRequestTopicsAreDroppedAndMacsimServesOn) {
+  // A peer sends bytes under the request types' names: a bad CDR encapsulation, a union
+  // discriminator of no member, lengths past the end, nothing at all.
+  dds::Participant raw_peer({domain_, "", "broken_peer"});
+  dds::Writer<RawType<kSupervisorRequestType>> supervisor_raw(
+      raw_peer, dds::topics::kSupervisorRequest, dds::QosFamily::Command);
+  dds::Writer<RawType<kSimulationRequestType>> simulation_raw(
+      raw_peer, dds::topics::kSimulationRequest, dds::QosFamily::Command);
+  for (int i = 0; i < 100 && (supervisor_raw.matched() == 0 || simulation_raw.matched() == 0); ++i)
+    std::this_thread::sleep_for(50ms);
+  ASSERT_EQ(supervisor_raw.matched(), 1);
+  const std::vector<std::string> broken{
+      std::string("\x07\x01\x00\x00", 4) + std::string(40, '\xff'),  // bad encapsulation
+      std::string("\x00\x01\x00\x00", 4) + std::string(60, '\xff'),  // huge lengths
+      std::string("\x00\x01\x00\x00\x08\x00\x00\x00abc", 11),        // truncated string
+      std::string("\x00\x01\x00\x00", 4),                            // nothing after the header
+      std::string(3, '\x00')};
+  for (const auto& bytes : broken) {
+    EXPECT_TRUE(supervisor_raw.write(RawSample{bytes}));
+    EXPECT_TRUE(simulation_raw.write(RawSample{bytes}));
+  }
+  EXPECT_TRUE(supervisor_raw.wait_acknowledged(5s));
+  EXPECT_TRUE(simulation_raw.wait_acknowledged(5s));
+  EXPECT_TRUE(macsim_->running()) << macsim_->output();
+  EXPECT_EQ(call(supervisor::list_objects()).count(), 24);  // and it still answers
 }
 
 TEST_F(Supervisor, DoorsResetAndSnapshotsOverDds) {

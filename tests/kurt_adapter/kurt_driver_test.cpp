@@ -88,6 +88,22 @@ TEST(KurtDriver, GyroIsIgnoredForItsFirstHundredFrames) {
   EXPECT_DOUBLE_EQ(driver.gyro()->yaw, 10 * M_PI / 180);
 }
 
+TEST(KurtDriver, ACommandThatIsNotFiniteIsIgnored) {
+  // Found by the CAN fuzzer: a NaN speed reached an int conversion (undefined behaviour).
+  KurtDriver driver;
+  driver.command_twist(0.3, 0.0, 0.0);
+  driver.command_twist(std::nan(""), 0.0, 0.1);
+  driver.command_wheel_speeds({INFINITY, 0.1}, 0.1);
+  EXPECT_EQ(driver.commanded(0.2).left, 0.3);  // the last good command holds
+  EXPECT_EQ(driver.commanded(0.7).left, 0.0);  // and times out from when it came
+  const auto control = decode_control(driver.control_frame(0.2));
+  ASSERT_TRUE(control.has_value());
+  EXPECT_EQ(control->left_cm, 30);
+  EXPECT_EQ(speed_cm(std::nan("")), 0);
+  EXPECT_EQ(speed_cm(INFINITY), 32767);
+  EXPECT_EQ(rotunit_speed_command(std::nan("")), 0);
+}
+
 TEST(KurtDriver, CommandsMapAsTheDriverAndTimeOutAfterSixTenths) {
   KurtDriver driver;
   driver.command_twist(0.2, 0.5, 100.0);  // full track: 0.2 -+ 0.28 * 0.5 = 0.06, 0.34

@@ -89,6 +89,21 @@ TEST_F(WorldObjects, RelocatingIntoAnotherObjectIsRefusedByDefault) {
   EXPECT_EQ(world.state_hash(), hash);
 }
 
+TEST_F(WorldObjects, CreatingInsideAnotherObjectCanBeRefusedAndChangesNothing) {
+  // Found by the request fuzzer: the refusal read the new object's name after freeing it.
+  const uint64_t hash = world.state_hash();
+  const int count = world.object_count();
+  ObjectSpec spec = box_object({0.0, -0.3, 0.2}, {0.05, 0.05, 0.05});  // inside the post
+  spec.name = "intruder";
+  const auto made = world.create_object(spec, PenetrationPolicy::Refuse);
+  EXPECT_EQ(made.status.code, ErrorCode::Penetration);
+  EXPECT_NE(made.status.message.find("'intruder' would penetrate environment_01/post"),
+            std::string::npos)
+      << made.status.message;
+  EXPECT_EQ(world.object_count(), count);
+  EXPECT_EQ(world.state_hash(), hash);  // the next id too
+}
+
 TEST_F(WorldObjects, RelocatingIntoAnotherObjectCanBeAllowedAndIsReported) {
   const ObjectId box = id_of(world, "environment_01/box_red_small");
   const Status s = world.set_position(box, {0.0, -0.3, 0.2}, PenetrationPolicy::Allow);

@@ -1,5 +1,7 @@
 #include "macsim/client/robot_client.h"
 
+#include <iostream>
+
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 
@@ -30,6 +32,19 @@ std::optional<RobotClient::Odometry> RobotClient::wait_for_odometry(
   }
   returned_ = received_;
   return latest_;
+}
+
+RobotClient::Next RobotClient::next_odometry(std::chrono::milliseconds silence,
+                                             std::chrono::milliseconds patience) {
+  if (auto odometry = wait_for_odometry(silence)) return {odometry, false};
+  std::cerr << "macsim client: robot '" << robot_name_ << "' went silent (no odometry for "
+            << silence.count() / 1000.0 << " s); waiting up to " << patience.count() / 1000.0
+            << " s for it to come back" << std::endl;
+  auto odometry = wait_for_odometry(patience);
+  if (odometry) {
+    std::cerr << "macsim client: robot '" << robot_name_ << "' is back" << std::endl;
+  }
+  return {odometry, odometry.has_value()};
 }
 
 std::optional<RobotClient::Odometry> RobotClient::latest_odometry() const {

@@ -40,6 +40,21 @@ struct ParticipantOptions {
 /// Highest domain id Fast DDS's default port mapping allows.
 inline constexpr int kMaxDomainId = 232;
 
+/// A generated type whose deserialize answers a malformed sample with false, so that Fast DDS
+/// drops it, instead of letting Fast CDR's exception end the process (one bad packet on the
+/// network must not kill a participant). Every topic of a Participant uses it.
+template <class PubSubType>
+class CheckedType : public PubSubType {
+ public:
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override {
+    try {
+      return PubSubType::deserialize(payload, data);
+    } catch (...) {  // eprosima::fastcdr::exception::Exception: bad encapsulation, union, length
+      return false;
+    }
+  }
+};
+
 /// Owns a DomainParticipant (from the default participant QoS after the XML profiles are
 /// loaded), one publisher, one subscriber and the topics; deletes them all on destruction.
 class Participant {
@@ -54,7 +69,7 @@ class Participant {
   fdds::Topic* topic(const std::string& name) {
     auto found = topics_.find(name);
     if (found != topics_.end()) return found->second;
-    fdds::TypeSupport type(new PubSubType());
+    fdds::TypeSupport type(new CheckedType<PubSubType>());
     return make_topic(name, type);
   }
 

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -18,6 +19,12 @@ struct CanFrame {
   std::array<uint8_t, 8> data{};
   bool operator==(const CanFrame& other) const = default;
 };
+
+/// A frame as one datagram of the userspace bus: 16 bytes, SocketCAN's frame layout with the
+/// id in network order.
+std::array<uint8_t, 16> to_datagram(const CanFrame& frame);
+/// The frame of a datagram; nothing unless it is 16 bytes with a length code of at most 8.
+std::optional<CanFrame> from_datagram(const uint8_t* bytes, std::size_t size);
 
 /// Raised when a CAN transport cannot be opened or used; the message says which and why.
 struct CanError : std::runtime_error {

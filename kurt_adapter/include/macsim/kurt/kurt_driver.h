@@ -18,7 +18,8 @@ class KurtDriver {
  public:
   explicit KurtDriver(const KurtDriveParams& params = {}) : params_(params), odometry_(params) {}
 
-  /// A cmd_vel: wheel speeds v -+ axis_length * omega, held until the command timeout.
+  /// A cmd_vel: wheel speeds v -+ axis_length * omega, held until the command timeout. A
+  /// command with a number that is not finite is ignored (as RobotNode drops it).
   void command_twist(double linear, double angular, double now);
   /// Wheel rim speeds (m/s), held until the command timeout.
   void command_wheel_speeds(WheelSpeeds speeds, double now);

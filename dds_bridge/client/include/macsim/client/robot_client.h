@@ -37,6 +37,15 @@ class RobotClient {
 
   /// Waits until an odometry sample newer than the last one returned arrives.
   std::optional<Odometry> wait_for_odometry(std::chrono::milliseconds timeout);
+  /// What next_odometry() found.
+  struct Next {
+    std::optional<Odometry> odometry;  ///< nothing: the robot did not come back in time
+    bool returned = false;  ///< the first odometry after an outage (it may start from zero)
+  };
+  /// The next odometry, riding out an outage: when none comes within `silence`, it says so on
+  /// stderr (the robot went silent: a simulator killed or restarted, the adapter gone), and
+  /// waits up to `patience` more for the robot to serve again, then says that too.
+  Next next_odometry(std::chrono::milliseconds silence, std::chrono::milliseconds patience);
   /// The latest odometry received, if any.
   std::optional<Odometry> latest_odometry() const;
   /// True once a participant serving this robot's cmd_vel has been matched.
