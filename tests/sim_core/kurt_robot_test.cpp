@@ -132,10 +132,8 @@ TEST(KurtRobot, SeveralRobotsShareAWorldAndObeyTheirOwnCommands) {
 }
 
 TEST(KurtRobot, UnknownRobotTypesAreNamedWithTheKnownOnes) {
-  WorldSpec spec =
-      load_world_string("<WORLD>\n<ROBOT><ID>r</ID><TYPE>kurt9</TYPE></ROBOT></WORLD>", "w.xml");
-  try {
-    World world(std::move(spec));
+  try {  // refused when the file is loaded, not only when the world is built
+    load_world_string("<WORLD>\n<ROBOT><ID>r</ID><TYPE>kurt9</TYPE></ROBOT></WORLD>", "w.xml");
     FAIL();
   } catch (const WorldFileError& e) {
     EXPECT_EQ(e.line(), 2);
