@@ -233,6 +233,23 @@ macsim::WorldSpec pile(int n) {
   return macsim::load_world_string(xml + "</WORLD>", "pile.xml");
 }
 
+/// `n` boxes of 10 cm on a grid 0.25 m apart, resting on the floor.
+macsim::WorldSpec resting_boxes(int n) {
+  macsim::WorldSpec spec;
+  spec.name = "resting_boxes_" + std::to_string(n);
+  macsim::MaterialSpec fallback;
+  fallback.name = "default";
+  spec.materials.push_back(fallback);
+  const int side = static_cast<int>(std::ceil(std::sqrt(n)));
+  for (int i = 0; i < n; ++i) {
+    spec.objects.push_back(macsim::box_object(
+        {(i % side) * 0.25 - side * 0.125, (i / side) * 0.25 - side * 0.125, 0.0499},
+        {0.1, 0.1, 0.1}));
+    spec.objects.back().name = "box_" + std::to_string(i);
+  }
+  return spec;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -271,6 +288,24 @@ int main(int argc, char** argv) {
     std::printf("step_rate.objects_%d %.0f steps/s\n", n,
                 rate([&] { world.step(); }, world.step_size(), seconds));
   }
+
+  // 2b. Scale: grids of boxes resting on the floor (asleep once settled); the cost should grow
+  // about linearly with their number.
+  std::map<int, double> resting;
+  for (int n : {1000, 5000, 20000}) {
+    macsim::World world(resting_boxes(n));
+    for (int i = 0; i < 200; ++i) world.step();  // settle: they fall asleep
+    const auto start = Clock::now();
+    int steps = 0;
+    while (seconds_since(start) < 1.0 || steps < 5) {
+      world.step();
+      ++steps;
+    }
+    resting[n] = steps / seconds_since(start);
+    std::printf("step_rate.resting_boxes_%d %.1f steps/s\n", n, resting[n]);
+  }
+  std::printf("scale.resting_boxes_20000_over_5000 %.3f x (linear: 0.25)\n",
+              resting[20000] / resting[5000]);
 
   // 3. Trials: snapshot, restore, reset.
   macsim::World world(spec);

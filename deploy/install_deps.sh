@@ -23,6 +23,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
   # several hosts in tests: network namespaces joined by a veth pair; DDS Security certificates
   iproute2 openssl
+  # packet loss on those links (nftables' random drop; kernels without netem have it too)
+  nftables
   # checking the service units (systemd-analyze verify)
   systemd
 )

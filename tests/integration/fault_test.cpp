@@ -67,10 +67,11 @@ TEST(Faults, MacsimKilledAndRestartedWhileHelloKurtDrivesAndHelloKurtCarriesOn) 
 
   macsim = std::make_unique<ChildProcess>(macsim_argv(domain));
   ASSERT_TRUE(macsim->wait_for_output("stepping", 30s)) << macsim->output();
-  EXPECT_NE(macsim->output().find("stale Fast DDS shared-memory files"), std::string::npos)
-      << macsim->output();
-  // What no live process uses is gone; helloKurt may still map the odometry writer's segment.
-  EXPECT_LT(still_there(left_behind), int(left_behind.size()));
+  // What no live process uses is gone (removed by this macsim at its start, or by another
+  // starting meanwhile: ctest runs tests side by side); helloKurt may still map the odometry
+  // writer's segment. The clean-up's rules are tested on a folder of their own in
+  // tests/idl/shared_memory_test.cpp.
+  EXPECT_LT(still_there(left_behind), int(left_behind.size())) << macsim->output();
 
   ASSERT_EQ(hello.wait_for_exit(60s), 0) << hello.output();
   EXPECT_NE(hello.output().find("is back"), std::string::npos) << hello.output();

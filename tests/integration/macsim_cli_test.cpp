@@ -160,6 +160,27 @@ TEST(MacsimCli, SigtermAndSigintStopCleanly) {
   }
 }
 
+TEST(MacsimCli, SignalsEndTheProcessWithinASecondWhateverItRuns) {
+  // The slowest pacing allowed (a step every second of wall time), a huge step request from a
+  // controller being served as fast as possible, and a paused run.
+  for (const char* mode : {"--rtf 0.001", "--as-fast-as-possible", "--lockstep"}) {
+    SCOPED_TRACE(mode);
+    std::vector<std::string> argv{bin("macsim"), "--world", source("worlds/small_room.xml"),
+                                  "--domain", std::to_string(unique_test_domain()), "--cameras",
+                                  "off"};
+    std::istringstream words(mode);
+    for (std::string w; words >> w;) argv.push_back(w);
+    ChildProcess p(argv);
+    ASSERT_TRUE(p.wait_for_output("stepping", 20s)) << p.output();
+    std::this_thread::sleep_for(300ms);
+    const auto start = std::chrono::steady_clock::now();
+    p.signal(SIGTERM);
+    EXPECT_EQ(p.wait_for_exit(5s), 0) << p.output();
+    const auto took = std::chrono::steady_clock::now() - start;
+    EXPECT_LT(took, 1s) << std::chrono::duration<double>(took).count() << " s";
+  }
+}
+
 // Local IPv4 addresses (as /proc/net/udp's hex) of the UDP sockets a process holds.
 std::vector<std::string> udp_local_addresses(pid_t pid) {
   std::set<std::string> inodes;

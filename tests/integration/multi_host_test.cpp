@@ -3,15 +3,25 @@
 // Once with SIMPLE discovery (multicast over the link, deploy/dds/network.xml), once through a
 // Fast DDS discovery server (deploy/run_discovery_server.sh, ROS_DISCOVERY_SERVER), with the
 // negative control that without the server nothing is found. Needs CAP_SYS_ADMIN/CAP_NET_ADMIN
-// (root); elsewhere the tests skip and say why.
+// (root); elsewhere the tests skip and say why. Packet loss on the link comes from nftables'
+// random drop (netem, the usual tool, is missing from some kernels: delay is not tested here).
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sched.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "macsim/client/robot_client.h"
+#include "macsim/client/supervisor_client.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 
@@ -95,6 +105,68 @@ class TwoHosts : public ::testing::Test {
     return bytes;
   }
 
+  /// Drops `percent` % of the UDP packets host `ns` receives over the link, at random
+  /// (nftables; 0 removes the rule). False if nft is missing or refused.
+  bool lose(const std::string& ns, int percent) const {
+    const std::string nft = ip_ + " netns exec " + ns + " nft ";
+    run(nft + "delete table inet macsim_loss");
+    if (percent == 0) return true;
+    return run(nft + "add table inet macsim_loss") &&
+           run(nft + "'add chain inet macsim_loss in { type filter hook input priority 0; }'") &&
+           run(nft + "add rule inet macsim_loss in iifname != lo meta l4proto udp numgen random "
+                     "mod 100 '<' " +
+               std::to_string(percent) + " drop");
+  }
+
+  /// What a controller on host b sees in `seconds`: odometry samples (best effort), and how
+  /// many of `calls` supervisor calls (reliable request and reply) were answered.
+  struct Seen {
+    long odometry = -1;
+    int answered = -1;
+  };
+  Seen probe_from_b(int seconds, int calls) const {
+    int out[2];
+    if (pipe(out) != 0) return {};
+    const pid_t child = fork();
+    if (child == 0) {  // in host b's network, a participant of its own
+      close(out[0]);
+      const int ns = open(("/var/run/netns/" + host_b_).c_str(), O_RDONLY);
+      if (ns < 0 || setns(ns, CLONE_NEWNET) != 0) _exit(3);
+      Seen seen;
+      {
+        dds::Participant participant({domain_, "", "loss_probe"});
+        std::atomic<long> odometry{0};
+        dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
+            participant, dds::topics::odom("kurt"), dds::QosFamily::Sensor,
+            [&](const auto&) { ++odometry; });
+        client::SupervisorClient supervisor(participant);
+        if (!supervisor.wait_for_server(std::chrono::seconds(30))) _exit(4);
+        // Discovery over a lossy link takes a while: count once the odometry writer matched.
+        for (int i = 0; i < 600 && odom.matched() == 0; ++i) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        odometry = 0;
+        std::this_thread::sleep_for(std::chrono::seconds(seconds));
+        seen.odometry = odometry.load();
+        seen.answered = 0;
+        for (int i = 0; i < calls; ++i) {
+          auto reply = supervisor.call(client::supervisor::state_hash());
+          if (reply && reply->code() == macsim_msgs::msg::dds_::ERR_OK) ++seen.answered;
+        }
+      }
+      const bool written = write(out[1], &seen, sizeof seen) == sizeof seen;
+      _exit(written ? 0 : 5);
+    }
+    close(out[1]);
+    Seen seen;
+    if (read(out[0], &seen, sizeof seen) != sizeof seen) seen = {};
+    close(out[0]);
+    int status = 0;
+    waitpid(child, &status, 0);
+    return seen;
+  }
+
   int domain_ = 0;
   std::string ip_, host_a_, host_b_, address_a_, address_b_;
   bool created_ = false;
@@ -110,6 +182,31 @@ TEST_F(TwoHosts, AControllerOnAnotherHostDrivesTheRobot) {
   EXPECT_NE(controller.output().find("arrived"), std::string::npos) << controller.output();
   // The odometry came over the link: host b received far more than discovery alone sends.
   EXPECT_GT(received_on_b() - before, 100000) << "bytes received on host b's link";
+}
+
+TEST_F(TwoHosts, UnderPacketLossReliableTopicsLoseNothingAndSensorsDegradeByTheLossRate) {
+  ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
+  ChildProcess sim(macsim());
+  ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+  const Seen clean = probe_from_b(6, 20);
+  ASSERT_GT(clean.odometry, 100) << "no odometry over the clean link";
+  ASSERT_EQ(clean.answered, 20);
+  for (int percent : {10, 30}) {
+    SCOPED_TRACE(std::to_string(percent) + " % loss");
+    ASSERT_TRUE(lose(host_a_, percent) && lose(host_b_, percent)) << "nft refused the rules";
+    const Seen lossy = probe_from_b(6, 20);
+    lose(host_a_, 0);
+    lose(host_b_, 0);
+    EXPECT_EQ(lossy.answered, 20) << "a reliable request or reply was lost";
+    const double kept = double(lossy.odometry) / double(clean.odometry);
+    std::printf("loss %d %%: odometry kept %.3f of the clean link's (%ld of %ld), %d of 20 "
+                "supervisor calls answered\n",
+                percent, kept, lossy.odometry, clean.odometry, lossy.answered);
+    // Best effort: about the loss rate (a datagram may carry more than one sample), no more.
+    EXPECT_GT(kept, 1.0 - percent / 100.0 - 0.15);
+    EXPECT_LT(kept, 1.0 - percent / 100.0 + 0.08);
+  }
+  EXPECT_TRUE(sim.running()) << sim.output();
 }
 
 TEST_F(TwoHosts, ThroughADiscoveryServerAndNotWithoutIt) {

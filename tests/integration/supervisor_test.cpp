@@ -181,7 +181,7 @@ TEST_F(Supervisor, BrokenPacketsOnTheRequestTopicsAreDroppedAndMacsimServesOn) {
   const std::vector<std::string> broken{
       std::string("\x07\x01\x00\x00", 4) + std::string(40, '\xff'),  // bad encapsulation
       std::string("\x00\x01\x00\x00", 4) + std::string(60, '\xff'),  // huge lengths
-      std::string("\x00\x01\x00\x00\x08\x00\x00\x00abc", 11),        // truncated string
+      std::string("\x00\x01\x00\x00\x08\x00\x00\x00" "abc", 11),      // truncated string
       std::string("\x00\x01\x00\x00", 4),                            // nothing after the header
       std::string(3, '\x00')};
   for (const auto& bytes : broken) {
