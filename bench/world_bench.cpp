@@ -46,7 +46,7 @@ class RawOdeWorld {
     dWorldSetAutoDisableAngularThreshold(world_, 0.01);
     dWorldSetAutoDisableSteps(world_, 50);
     dWorldSetAutoDisableTime(world_, 0);
-    space_ = dHashSpaceCreate(nullptr);
+    space_ = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ);  // as sim_core
     contacts_ = dJointGroupCreate(0);
     dCreatePlane(space_, 0, 0, 1, 0);
     for (const auto& o : spec.objects) add_object(o);
