@@ -45,7 +45,8 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
           runner.request_steps(q.steps(), [&runner, q, stepped = std::move(stepped)](bool done) {
             stepped(done ? simulation_reply(q, runner, mm::ERR_OK, "")
                          : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
-                                            "cancelled by SIM_PAUSE"));
+                                            "cancelled: paused by SIM_PAUSE, or by a body "
+                                            "that went unstable (see the events)"));
           });
       if (!taken) {
         return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT,

@@ -145,6 +145,13 @@ void Runner::step() {
   if (!world_->step() && settings_.pause_on_instability) pause();
 }
 
+void Runner::step(const StepHooks& hooks) {
+  if (hooks.before_step) hooks.before_step();
+  step();
+  if (hooks.after_step) hooks.after_step(*world_);
+  finish_requested_step();  // a requested step is done once its data is out
+}
+
 bool Runner::set_real_time_factor(double factor) {
   if (!std::isfinite(factor) || (factor != 0 && factor < kMinRealTimeFactor)) return false;
   settings_.real_time_factor = factor;
@@ -187,10 +194,7 @@ void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHo
       next = Clock::now();
       continue;
     }
-    if (hooks.before_step) hooks.before_step();
-    step();
-    if (hooks.after_step) hooks.after_step(*world_);
-    finish_requested_step();  // a requested step is done once its data is out
+    step(hooks);
     const double pace = settings_.real_time_factor;
     // Steps on request are paced by the requests, not by the clock.
     if (pace > 0 && !settings_.paused && requested_steps_ == 0) {

@@ -23,6 +23,15 @@ std::optional<std::string> texture_bytes_problem(const std::string& path,
   if (bytes.size() < 2 || bytes[0] != 'B' || bytes[1] != 'M') {
     return "texture '" + path + "' is not a BMP file";
   }
+  // A header that promises more than the file holds is refused here, before OpenCV's decoder
+  // (which would log its own complaint on stderr).
+  const auto u32 = [&](std::size_t at) {
+    return std::size_t(uint8_t(bytes[at])) | std::size_t(uint8_t(bytes[at + 1])) << 8 |
+           std::size_t(uint8_t(bytes[at + 2])) << 16 | std::size_t(uint8_t(bytes[at + 3])) << 24;
+  };
+  if (bytes.size() < 54 || u32(2) > bytes.size() || u32(10) >= bytes.size()) {
+    return "texture '" + path + "' is a truncated BMP file";
+  }
   cv::Mat image;
   try {
     image = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),

@@ -2,6 +2,7 @@
 // materials, and the seed's naming conventions (warned about, never a reason to hide objects).
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "support/world_helpers.h"
@@ -11,11 +12,13 @@ namespace {
 
 class WorldImport : public ::testing::Test {
  protected:
-  std::filesystem::path dir = temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::filesystem::path dir =
+      temp_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
   std::vector<std::string> warnings;
 
   WorldSpec load(const std::string& file = "world.xml") {
-    return load_world_file((dir / file).string(), [this](const std::string& w) { warnings.push_back(w); });
+    return load_world_file((dir / file).string(),
+                           [this](const std::string& w) { warnings.push_back(w); });
   }
 
   // Expects loading to fail in `file` at `line` with `fragment` in the message.
@@ -45,25 +48,31 @@ TEST_F(WorldImport, NestedImportsComposeTransformsAndResolvePathsRelativeToTheIm
   // env frame: (1,0,0) turned 90 deg; inner at env's +x, i.e. world +y: (1,1,0); box 0.5 up.
   EXPECT_TRUE(spec.objects[0].pose.position.isApprox(Eigen::Vector3d(1, 1, 0.5), 1e-12));
   ASSERT_EQ(spec.robots.size(), 1u);
-  EXPECT_TRUE(spec.robots[0].pose.position.isApprox(Eigen::Vector3d(0, 1, 0), 1e-12));  // inner +y = world -x
+  EXPECT_TRUE(spec.robots[0].pose.position.isApprox(Eigen::Vector3d(0, 1, 0),
+                                                    1e-12));  // inner +y = world -x
   EXPECT_TRUE(warnings.empty());
 }
 
 TEST_F(WorldImport, AMissingImportedFileNamesTheImportingFileAndLine) {
-  write_file(dir / "world.xml", "<WORLD>\n\n<IMPORT><ID>x</ID><NAME>nowhere.xml</NAME></IMPORT></WORLD>");
+  write_file(dir / "world.xml",
+             "<WORLD>\n\n<IMPORT><ID>x</ID><NAME>nowhere.xml</NAME></IMPORT></WORLD>");
   expect_error("world.xml", 3, "nowhere.xml");
 }
 
 TEST_F(WorldImport, ImportCyclesAreRefused) {
   write_file(dir / "world.xml", "<WORLD><IMPORT><ID>a</ID><NAME>a.xml</NAME></IMPORT></WORLD>");
-  write_file(dir / "a.xml", "<ENVIRONMENT>\n<IMPORT><ID>b</ID><NAME>b.xml</NAME></IMPORT></ENVIRONMENT>");
-  write_file(dir / "b.xml", "<ENVIRONMENT>\n\n<IMPORT><ID>a</ID><NAME>a.xml</NAME></IMPORT></ENVIRONMENT>");
+  write_file(dir / "a.xml",
+             "<ENVIRONMENT>\n<IMPORT><ID>b</ID><NAME>b.xml</NAME></IMPORT></ENVIRONMENT>");
+  write_file(dir / "b.xml",
+             "<ENVIRONMENT>\n\n<IMPORT><ID>a</ID><NAME>a.xml</NAME></IMPORT></ENVIRONMENT>");
   expect_error("b.xml", 3, "import cycle");
 }
 
 TEST_F(WorldImport, ErrorsInsideAnImportedFileNameThatFile) {
   write_file(dir / "world.xml", "<WORLD><IMPORT><ID>a</ID><NAME>a.xml</NAME></IMPORT></WORLD>");
-  write_file(dir / "a.xml", "<ENVIRONMENT>\n<OBJECT><ID>s</ID><SHAPE>SPHERE</SHAPE>\n<RADIUS>-1</RADIUS></OBJECT></ENVIRONMENT>");
+  write_file(dir / "a.xml",
+             "<ENVIRONMENT>\n<OBJECT><ID>s</ID><SHAPE>SPHERE</SHAPE>\n<RADIUS>-1</RADIUS></"
+             "OBJECT></ENVIRONMENT>");
   expect_error("a.xml", 3, "<RADIUS> must be positive");
 }
 
@@ -84,6 +93,14 @@ TEST_F(WorldImport, TexturesAreCheckedWhenLoading) {
   write_file(dir / "world.xml", R"(<WORLD>
 <OBJECT><ID>a</ID><SHAPE>BOX</SHAPE><DIMS>1,1,1</DIMS><TEXTURE>ok.bmp</TEXTURE></OBJECT></WORLD>)");
   EXPECT_EQ(load().objects[0].components[0].texture, (dir / "ok.bmp").string());
+  // A BMP cut short: refused by its header, before the decoder sees it.
+  std::ifstream whole(dir / "ok.bmp", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(whole)), {});
+  write_file(dir / "cut.bmp", bytes.substr(0, bytes.size() / 2));
+  write_file(dir / "world.xml", R"(<WORLD>
+<OBJECT><ID>a</ID><SHAPE>BOX</SHAPE><DIMS>1,1,1</DIMS>
+<TEXTURE>cut.bmp</TEXTURE></OBJECT></WORLD>)");
+  expect_error("world.xml", 3, "truncated BMP");
 }
 
 TEST_F(WorldImport, MaterialsGiveFrictionBounceAndDefaultDensity) {
@@ -112,7 +129,9 @@ TEST_F(WorldImport, MaterialsGiveFrictionBounceAndDefaultDensity) {
 }
 
 TEST_F(WorldImport, UnknownOrConflictingMaterialsAreErrors) {
-  write_file(dir / "world.xml", "<WORLD>\n<OBJECT><ID>a</ID><SHAPE>BOX</SHAPE><DIMS>1,1,1</DIMS>\n<MATERIAL>unobtainium</MATERIAL></OBJECT></WORLD>");
+  write_file(dir / "world.xml",
+             "<WORLD>\n<OBJECT><ID>a</ID><SHAPE>BOX</SHAPE><DIMS>1,1,1</"
+             "DIMS>\n<MATERIAL>unobtainium</MATERIAL></OBJECT></WORLD>");
   expect_error("world.xml", 3, "unknown material 'unobtainium'");
   write_file(dir / "world.xml", R"(<WORLD>
 <MATERIAL><NAME>m</NAME><FRICTION>1</FRICTION></MATERIAL>
@@ -141,7 +160,9 @@ TEST_F(WorldImport, CompositesWallsAndRampsAreRead) {
 }
 
 TEST_F(WorldImport, RampsNeedExactlyOneOfHeightAndDepth) {
-  write_file(dir / "world.xml", "<WORLD>\n<RAMP><ID>r</ID><WIDTH>1</WIDTH><HEIGHT>0.1</HEIGHT><DEPTH>1</DEPTH><ANGLE>10</ANGLE></RAMP></WORLD>");
+  write_file(dir / "world.xml",
+             "<WORLD>\n<RAMP><ID>r</ID><WIDTH>1</WIDTH><HEIGHT>0.1</HEIGHT><DEPTH>1</"
+             "DEPTH><ANGLE>10</ANGLE></RAMP></WORLD>");
   expect_error("world.xml", 2, "one of <HEIGHT> or <DEPTH>");
 }
 
@@ -151,7 +172,9 @@ TEST_F(WorldImport, BrokenDoorConventionsAreWarnedAboutAndEverythingStaysReachab
     <OBJECT><ID>leaf</ID><SHAPE>BOX</SHAPE><DIMS>0.05,0.8,0.6</DIMS><POS>0,0,0.31</POS></OBJECT>
     <JOINT><ID>j</ID><TYPE>SLIDER</TYPE><BODY1>leaf</BODY1><BODY2>frame</BODY2><AXIS>0,1,0</AXIS><HI>0.8</HI>
       <VELOCITY>0.3</VELOCITY><MAX_FORCE>20</MAX_FORCE></JOINT></ENVIRONMENT>)");
-  write_file(dir / "door_switch.xml", "<ENVIRONMENT><IMPORT><ID>door_component</ID><NAME>door.xml</NAME></IMPORT></ENVIRONMENT>");
+  write_file(
+      dir / "door_switch.xml",
+      "<ENVIRONMENT><IMPORT><ID>door_component</ID><NAME>door.xml</NAME></IMPORT></ENVIRONMENT>");
   write_file(dir / "doors.xml", R"(<ENVIRONMENT>
     <IMPORT><ID>front_door</ID><NAME>door_switch.xml</NAME></IMPORT></ENVIRONMENT>)");
   write_file(dir / "world.xml", R"(<WORLD>
@@ -161,7 +184,8 @@ TEST_F(WorldImport, BrokenDoorConventionsAreWarnedAboutAndEverythingStaysReachab
   EXPECT_EQ(spec.doors.size(), 2u);  // both work as doors
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("door_%02d"), std::string::npos) << warnings[0];
-  EXPECT_NE(warnings[1].find("not inside a <ID>doors</ID> container"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[1].find("not inside a <ID>doors</ID> container"), std::string::npos)
+      << warnings[1];
   World world(spec);
   EXPECT_TRUE(world.find_object("doors/front_door/door_component/leaf").has_value());
   EXPECT_TRUE(world.find_object("my_environment/door_component/leaf").has_value());

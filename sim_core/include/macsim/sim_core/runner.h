@@ -76,6 +76,9 @@ class Runner {
   std::size_t apply_commands();
   /// apply_commands(), then one fixed step of the world.
   void step();
+  /// One step as run() makes it, paused or not and without pacing: the hooks around step(),
+  /// then a step a controller requested counted down (and answered after the last one).
+  void step(const StepHooks& hooks);
   /// The simulator's loop: steps as the settings say, calling the hooks, until `stop` is set or
   /// the world reaches `last_step` steps.
   void run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks);
