@@ -209,16 +209,18 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world,
 
 mm::SupervisorReply_ dispatch(const mm::SupervisorRequest_& request, World& world,
                               SnapshotStore& snapshots) {
-  mm::SupervisorReply_ reply;
-  reply.client_id(request.client_id());
-  reply.sequence_number(request.sequence_number());
+  const auto addressed = [&request] {  // a reply to this request, nothing in it yet
+    mm::SupervisorReply_ r;
+    r.client_id(request.client_id());
+    r.sequence_number(request.sequence_number());
+    return r;
+  };
+  mm::SupervisorReply_ reply = addressed();
   std::optional<Status> ran;
   try {
     ran = run(request.operation(), world, snapshots, reply);
   } catch (const std::exception& e) {  // e.g. out of memory, or a check inside ODE
-    reply = mm::SupervisorReply_{};
-    reply.client_id(request.client_id());
-    reply.sequence_number(request.sequence_number());
+    reply = addressed();               // nothing half-filled goes out
     ran = Status::error(ErrorCode::InvalidArgument,
                         std::string("the request could not be carried out: ") + e.what());
   }

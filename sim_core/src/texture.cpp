@@ -1,21 +1,15 @@
 #include "macsim/sim_core/texture.h"
 
-#include <filesystem>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
+
+#include "macsim/sim_core/world_loader.h"
 
 namespace macsim {
 
 std::optional<std::string> texture_problem(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    return "texture file '" + path + "' does not exist";
-  }
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return texture_bytes_problem(path, bytes.str());
+  const auto bytes = disk_files().read(path);
+  if (!bytes) return "texture file '" + path + "' does not exist";
+  return texture_bytes_problem(path, *bytes);
 }
 
 std::optional<std::string> texture_bytes_problem(const std::string& path,

@@ -183,13 +183,13 @@ void World::clear_ode() {
   world_ = nullptr;
 }
 
-dxSpace* World::create_space() const {
-  // ODE's hash space marks the pairs it tested in an n x n bit matrix it clears every step
-  // (50 MB for 20,000 objects: 5 steps/s); a sweep and prune sorts the boxes along x once a
-  // step and tests the pairs that overlap there (measured in bench/README.md; a quadtree over
-  // the objects' footprint was slower on every size tried).
-  return dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ);
-}
+namespace {
+/// The collision space. ODE's hash space marks the pairs it tested in an n x n bit matrix it
+/// clears every step (50 MB for 20,000 objects: 5 steps/s); a sweep and prune sorts the boxes
+/// along x once a step and tests the pairs that overlap there (measured in bench/README.md; a
+/// quadtree over the objects' footprint was slower on every size tried).
+dSpaceID create_space() { return dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ); }
+}  // namespace
 
 void World::build() {
   clear_ode();

@@ -61,7 +61,7 @@ TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
   }
 }
 
-TEST(MacsimCli, TestBinariesRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
+TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
   for (const char* program :
        {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
         "asan_tests", "integration_tests"}) {
@@ -69,6 +69,10 @@ TEST(MacsimCli, TestBinariesRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
     EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();
     EXPECT_NE(p.output().find("unknown argument '--bogus'"), std::string::npos) << p.output();
     EXPECT_EQ(p.output().find("[ RUN      ]"), std::string::npos) << program;
+    ChildProcess help({bin(program), "--help"});
+    EXPECT_EQ(help.wait_for_exit(3s), 0) << program << ": " << help.output();
+    EXPECT_NE(help.output().find("--gtest_filter"), std::string::npos) << help.output();
+    EXPECT_EQ(help.output().find("[ RUN      ]"), std::string::npos) << program;
   }
 }
 
@@ -165,8 +169,12 @@ TEST(MacsimCli, SignalsEndTheProcessWithinASecondWhateverItRuns) {
   // controller being served as fast as possible, and a paused run.
   for (const char* mode : {"--rtf 0.001", "--as-fast-as-possible", "--lockstep"}) {
     SCOPED_TRACE(mode);
-    std::vector<std::string> argv{bin("macsim"), "--world", source("worlds/small_room.xml"),
-                                  "--domain", std::to_string(unique_test_domain()), "--cameras",
+    std::vector<std::string> argv{bin("macsim"),
+                                  "--world",
+                                  source("worlds/small_room.xml"),
+                                  "--domain",
+                                  std::to_string(unique_test_domain()),
+                                  "--cameras",
                                   "off"};
     std::istringstream words(mode);
     for (std::string w; words >> w;) argv.push_back(w);

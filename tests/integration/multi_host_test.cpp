@@ -13,12 +13,12 @@
 
 #include <algorithm>
 #include <atomic>
-#include <thread>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "macsim/client/robot_client.h"
 #include "macsim/client/supervisor_client.h"
@@ -113,16 +113,21 @@ class TwoHosts : public ::testing::Test {
     if (percent == 0) return true;
     return run(nft + "add table inet macsim_loss") &&
            run(nft + "'add chain inet macsim_loss in { type filter hook input priority 0; }'") &&
-           run(nft + "add rule inet macsim_loss in iifname != lo meta l4proto udp numgen random "
-                     "mod 100 '<' " +
+           run(nft +
+               "add rule inet macsim_loss in iifname != lo meta l4proto udp numgen random "
+               "mod 100 '<' " +
                std::to_string(percent) + " drop");
   }
 
-  /// What a controller on host b sees in `seconds`: odometry samples (best effort), and how
-  /// many of `calls` supervisor calls (reliable request and reply) were answered.
+  /// What a controller on host b sees in `seconds`: odometry samples (best effort) and the
+  /// sim time they span (so that a simulator slowed by a loaded machine, which publishes fewer
+  /// per wall second, is not taken for loss), and how many of `calls` supervisor calls
+  /// (reliable request and reply) were answered.
   struct Seen {
     long odometry = -1;
+    double sim_seconds = 0;
     int answered = -1;
+    double per_sim_second() const { return sim_seconds > 0 ? (odometry - 1) / sim_seconds : 0; }
   };
   Seen probe_from_b(int seconds, int calls) const {
     int out[2];
@@ -135,10 +140,19 @@ class TwoHosts : public ::testing::Test {
       Seen seen;
       {
         dds::Participant participant({domain_, "", "loss_probe"});
-        std::atomic<long> odometry{0};
+        std::mutex mutex;
+        bool counting = false;
+        long odometry = 0;
+        double first = 0, last = 0;
         dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
             participant, dds::topics::odom("kurt"), dds::QosFamily::Sensor,
-            [&](const auto&) { ++odometry; });
+            [&](const nav_msgs::msg::dds_::Odometry_& o) {
+              const double t = o.header().stamp().sec() + o.header().stamp().nanosec() * 1e-9;
+              std::lock_guard<std::mutex> lock(mutex);
+              if (!counting) return;
+              if (odometry++ == 0) first = t;
+              last = std::max(last, t);
+            });
         client::SupervisorClient supervisor(participant);
         if (!supervisor.wait_for_server(std::chrono::seconds(30))) _exit(4);
         // Discovery over a lossy link takes a while: count once the odometry writer matched.
@@ -146,9 +160,17 @@ class TwoHosts : public ::testing::Test {
           std::this_thread::sleep_for(std::chrono::milliseconds(50));
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        odometry = 0;
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          counting = true;
+        }
         std::this_thread::sleep_for(std::chrono::seconds(seconds));
-        seen.odometry = odometry.load();
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          counting = false;
+          seen.odometry = odometry;
+          seen.sim_seconds = last - first;
+        }
         seen.answered = 0;
         for (int i = 0; i < calls; ++i) {
           auto reply = supervisor.call(client::supervisor::state_hash());
@@ -198,10 +220,11 @@ TEST_F(TwoHosts, UnderPacketLossReliableTopicsLoseNothingAndSensorsDegradeByTheL
     lose(host_a_, 0);
     lose(host_b_, 0);
     EXPECT_EQ(lossy.answered, 20) << "a reliable request or reply was lost";
-    const double kept = double(lossy.odometry) / double(clean.odometry);
-    std::printf("loss %d %%: odometry kept %.3f of the clean link's (%ld of %ld), %d of 20 "
-                "supervisor calls answered\n",
-                percent, kept, lossy.odometry, clean.odometry, lossy.answered);
+    const double kept = lossy.per_sim_second() / clean.per_sim_second();
+    std::printf(
+        "loss %d %%: odometry kept %.3f of the clean link's (%.1f against %.1f samples "
+        "per sim second), %d of 20 supervisor calls answered\n",
+        percent, kept, lossy.per_sim_second(), clean.per_sim_second(), lossy.answered);
     // Best effort: about the loss rate (a datagram may carry more than one sample), no more.
     EXPECT_GT(kept, 1.0 - percent / 100.0 - 0.15);
     EXPECT_LT(kept, 1.0 - percent / 100.0 + 0.08);

@@ -273,7 +273,6 @@ class World {
   /// After a supervisor change: refresh the body list and wake every sleeping body.
   void structure_changed();
   void clear_ode();
-  dxSpace* create_space() const;  // the collision space (sweep and prune)
   void build_object(Object& object);
   void destroy_ode_object(Object& object);
   void build_joint(Joint& joint);
