@@ -57,8 +57,7 @@ TEST(Faults, MacsimKilledAndRestartedWhileHelloKurtDrivesAndHelloKurtCarriesOn) 
 
   macsim->signal(SIGKILL);
   ASSERT_EQ(macsim->wait_for_exit(5s), 128 + SIGKILL);
-  macsim.reset();
-  EXPECT_EQ(still_there(left_behind), int(left_behind.size()));  // a killed process leaks them
+  macsim.reset();  // its files stay behind (another test's macsim starting may remove them)
   ASSERT_TRUE(hello.wait_for_output("went silent", 10s)) << hello.output();
   EXPECT_TRUE(hello.running()) << hello.output();  // it waits instead of giving up
   // helloKurt's reader lets go of the killed writer's segment once the lease (5 s in the
@@ -96,11 +95,10 @@ TEST(Faults, TheCleanUpProgramRemovesWhatAKilledParticipantLeftAndNothingInUse) 
   ASSERT_TRUE(killed.wait_for_exit(5s).has_value());
   std::this_thread::sleep_for(3s);
 
-  ChildProcess dry({bin("macsim_shm_clean"), "--dry-run", "--verbose"});
-  ASSERT_EQ(dry.wait_for_exit(20s), 0) << dry.output();
-  EXPECT_EQ(still_there(leaked), int(leaked.size()));  // a dry run removes nothing
-  for (const auto& f : leaked) EXPECT_NE(dry.output().find(f), std::string::npos) << f;
-
+  // ctest runs tests side by side and every macsim cleans at its start, so whether these files
+  // are still there now depends on the others; the dry run and the leak itself are tested on a
+  // folder of their own (tests/idl/shared_memory_test.cpp). Here: gone after the clean-up, and
+  // a live participant's files untouched.
   ChildProcess clean({bin("macsim_shm_clean")});
   ASSERT_EQ(clean.wait_for_exit(20s), 0) << clean.output();
   EXPECT_NE(clean.output().find("macsim_shm_clean: removed"), std::string::npos) << clean.output();
