@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -18,6 +19,7 @@
 #include "macsim/render/viewer.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
+#include "picture_server.h"
 #include "sim_bridge.h"
 #include "simulation_server.h"
 #include "supervisor_server.h"
@@ -128,6 +130,7 @@ struct Options {
   std::vector<std::string> snapshots;
   double settle = 1.0;
   std::string snapshot_size = "640x480";
+  std::string pictures;
   std::string cameras = "320x240";
   double camera_rate = 15.0;
   bool viewer = false;
@@ -167,8 +170,12 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
                       &o.snapshots);
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
              &o.settle);
-  cli.option("snapshot-size", "WxH", "image size of --snapshot (default 640x480)",
+  cli.option("snapshot-size", "WxH", "image size of --snapshot and --pictures (default 640x480)",
              &o.snapshot_size);
+  cli.option("pictures", "DIR",
+             "serve overview pictures: a PictureRequest renders a camera mode offscreen to "
+             "DIR/<name>.png (default: off)",
+             &o.pictures);
   cli.option("cameras", "WxH|off",
              "render and publish each robot's stereo cameras at this size (default 320x240)",
              &o.cameras);
@@ -249,13 +256,29 @@ int serve(macsim::Runner& runner, const Options& o) {
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
     macsim::SimulationServer control(dds, runner, o.limits());
+    macsim::render::CameraIntrinsics picture_size;
+    if (!o.pictures.empty()) {
+      std::error_code error;
+      std::filesystem::create_directories(o.pictures, error);
+      if (error || std::sscanf(o.snapshot_size.c_str(), "%dx%d", &picture_size.width,
+                               &picture_size.height) != 2 ||
+          picture_size.width <= 0 || picture_size.height <= 0) {
+        std::cerr << "macsim: --pictures needs a folder it can create ('" << o.pictures
+                  << "') and --snapshot-size WxH ('" << o.snapshot_size << "')\n";
+        return 2;
+      }
+    }
+    macsim::PictureServer pictures(dds, runner, o.pictures, picture_size);
     std::cout << "macsim: serving on DDS domain " << o.participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
     for (const auto& topic : macsim::SupervisorServer::topic_names())
       std::cout << "  " << topic << "\n";
     std::cout << "  " << macsim::dds::topics::kSimulationRequest
               << " (macsim_msgs/SimulationRequest, in)\n  " << macsim::dds::topics::kSimulationReply
-              << " (macsim_msgs/SimulationReply, out)\n";
+              << " (macsim_msgs/SimulationReply, out)\n  " << macsim::dds::topics::kPictureRequest
+              << " (macsim_msgs/PictureRequest, in)\n  " << macsim::dds::topics::kPictureReply
+              << " (macsim_msgs/PictureReply, out)" << (o.pictures.empty() ? ": pictures off" : "")
+              << "\n";
     if (o.lockstep) {
       std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
     } else if (o.paused) {

@@ -22,6 +22,10 @@ inline const std::string kWorldEvents = "rt/macsim/world/events";
 inline const std::string kSimulationRequest = "rt/macsim/simulation/request";
 inline const std::string kSimulationReply = "rt/macsim/simulation/reply";
 
+/// Overview pictures of the simulation (macsim_msgs/PictureRequest, PictureReply).
+inline const std::string kPictureRequest = "rt/macsim/picture/request";
+inline const std::string kPictureReply = "rt/macsim/picture/reply";
+
 /// rt/<robot>/<name>: a topic of one robot.
 inline std::string robot(const std::string& robot_name, const std::string& name) {
   return "rt/" + robot_name + "/" + name;

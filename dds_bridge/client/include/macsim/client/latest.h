@@ -1,0 +1,59 @@
+// The latest sample of a topic, with a count to wait on: what a controller reads its sensors by.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "macsim/dds/participant.h"
+
+namespace macsim::client {
+
+/// Subscribes to one topic and keeps its latest sample (thread-safe).
+template <class PubSubType>
+class Latest {
+ public:
+  using Data = typename PubSubType::type;
+
+  Latest(dds::Participant& participant, const std::string& topic,
+         dds::QosFamily family = dds::QosFamily::Sensor)
+      : reader_(participant, topic, family, [this](const Data& sample) {
+          {
+            std::lock_guard<std::mutex> lock(mutex_);
+            latest_ = sample;
+            ++count_;
+          }
+          arrived_.notify_all();
+        }) {}
+
+  /// The latest sample, if any came.
+  std::optional<Data> get() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return latest_;
+  }
+  /// How many samples came so far.
+  uint64_t count() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return count_;
+  }
+  /// Waits until more than `seen` samples came; the latest one, or nothing after `timeout`.
+  std::optional<Data> wait_after(uint64_t seen, std::chrono::milliseconds timeout) const {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!arrived_.wait_for(lock, timeout, [&] { return count_ > seen; })) return std::nullopt;
+    return latest_;
+  }
+  /// Number of writers matched.
+  int matched() const { return reader_.matched(); }
+
+ private:
+  mutable std::mutex mutex_;
+  mutable std::condition_variable arrived_;
+  std::optional<Data> latest_;
+  uint64_t count_ = 0;
+  dds::Reader<PubSubType> reader_;
+};
+
+}  // namespace macsim::client

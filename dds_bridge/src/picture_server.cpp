@@ -1,0 +1,133 @@
+#include "picture_server.h"
+
+#include <algorithm>
+#include <cctype>
+#include <opencv2/imgcodecs.hpp>
+
+#include "macsim/dds/topics.h"
+#include "macsim/render/camera_modes.h"
+
+namespace macsim {
+
+namespace mm = macsim_msgs::msg::dds_;
+
+namespace {
+
+/// A file name of letters, digits, '_', '-' and '.', not starting with '.', at most 100 long.
+bool safe_name(const std::string& name) {
+  return !name.empty() && name.size() <= 100 && name[0] != '.' &&
+         std::all_of(name.begin(), name.end(), [](unsigned char c) {
+           return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+         });
+}
+
+}  // namespace
+
+PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std::string folder,
+                             render::CameraIntrinsics size)
+    : runner_(runner),
+      folder_(std::move(folder)),
+      size_(size),
+      replies_(participant, dds::topics::kPictureReply, dds::QosFamily::Command) {
+  if (!folder_.empty()) renderer_ = std::thread([this] { render_loop(); });
+  requests_ = std::make_unique<dds::Reader<mm::PictureRequest_PubSubType>>(
+      participant, dds::topics::kPictureRequest, dds::QosFamily::Command,
+      [this](const Request& r) { accept(r); });
+}
+
+PictureServer::~PictureServer() {
+  requests_.reset();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  queued_.notify_all();
+  if (renderer_.joinable()) renderer_.join();
+}
+
+void PictureServer::send(const Request& request, int code, const std::string& message,
+                         double time, const std::string& file) {
+  Reply reply;
+  reply.client_id(request.client_id());
+  reply.sequence_number(request.sequence_number());
+  reply.code(code);
+  reply.message(message);
+  reply.sim_time(time);
+  reply.file(file);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    replied_.remember(reply);
+  }
+  replies_.write(reply);
+}
+
+void PictureServer::accept(const Request& r) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (const Reply* again = replied_.find(r)) {
+      replies_.write(*again);
+      return;
+    }
+    const bool pending = std::any_of(jobs_.begin(), jobs_.end(), [&](const Job& j) {
+      return j.request.client_id() == r.client_id() &&
+             j.request.sequence_number() == r.sequence_number();
+    });
+    if (pending) return;  // sent again while it is being rendered
+  }
+  if (folder_.empty()) {
+    send(r, mm::ERR_NOT_APPLICABLE, "pictures are off: start macsim with --pictures DIR", 0, "");
+    return;
+  }
+  if (!safe_name(r.name())) {
+    send(r, mm::ERR_INVALID_ARGUMENT,
+         "name: '" + r.name() + "' is not a file name (letters, digits, '_', '-', '.')", 0, "");
+    return;
+  }
+  if (!r.camera_mode().empty() && !render::camera_mode_from_name(r.camera_mode())) {
+    send(r, mm::ERR_INVALID_ARGUMENT, "camera_mode: unknown mode '" + r.camera_mode() + "'", 0,
+         "");
+    return;
+  }
+  // The scene is taken between two steps, on the simulation thread.
+  runner_.push([this, r](World& world) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      jobs_.push_back({r, capture_scene(world), world.time()});
+    }
+    queued_.notify_one();
+  });
+}
+
+void PictureServer::render_loop() {
+  std::unique_ptr<render::OffscreenRenderer> renderer;
+  std::string broken;
+  while (true) {
+    Job job;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      queued_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+      if (stopping_) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    const auto mode = render::camera_mode_from_name(
+                          job.request.camera_mode().empty() ? "Follow" : job.request.camera_mode())
+                          .value_or(render::CameraMode::Follow);
+    const std::string file = folder_ + "/" + job.request.name() + ".png";
+    try {
+      if (!renderer) renderer = std::make_unique<render::OffscreenRenderer>(size_.width, size_.height);
+      const cv::Mat image = renderer->render(job.scene, render::camera_pose(mode, job.scene), size_);
+      if (!cv::imwrite(file, image)) {
+        send(job.request, mm::ERR_BAD_FILE, "cannot write '" + file + "'", job.time, "");
+        continue;
+      }
+    } catch (const render::RenderError& e) {
+      send(job.request, mm::ERR_NOT_APPLICABLE, std::string("cannot render: ") + e.what(), job.time,
+           "");
+      continue;
+    }
+    send(job.request, mm::ERR_OK, "", job.time, file);
+  }
+}
+
+}  // namespace macsim

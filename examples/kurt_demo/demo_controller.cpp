@@ -1,0 +1,585 @@
+#include "demo_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <thread>
+
+#include "macsim/client/picture_client.h"
+#include "macsim/dds/convert.h"
+
+namespace kurt_demo {
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace mm = macsim_msgs::msg::dds_;
+
+constexpr double kTick = 0.05;              // s of robot time per control step
+constexpr double kCruise = 0.3;             // m/s
+constexpr double kTurnRate = 0.6;           // rad/s
+constexpr double kStandoff = 0.9;           // m from an object to look at it closely
+constexpr double kPickupRadius = 0.485;     // m from the crane's pivot to the object
+constexpr double kRotunitSpeed = M_PI;      // rad/s: a cloud every 2 s
+constexpr double kParkSlew = M_PI / 2, kParkLift = 0.6;
+
+double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+
+std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char* format, ...) {
+  char text[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(text, sizeof text, format, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace
+
+struct DemoController::Pictures {
+  explicit Pictures(macsim::dds::Participant& p) : client(p) {}
+  macsim::client::PictureClient client;
+  bool available = true;
+};
+
+DemoController::DemoController(macsim::dds::Participant& participant, const DemoOptions& options)
+    : options_(options),
+      participant_(participant),
+      drive_(participant, options.robot),
+      crane_(participant, options.robot),
+      cameras_(participant, options.robot),
+      laser_(participant, options.robot),
+      imu_(participant, options.robot) {
+  if (options_.lockstep) simulation_ = std::make_unique<macsim::client::SimulationClient>(participant);
+  if (options_.pictures) pictures_ = std::make_unique<Pictures>(participant);
+}
+
+DemoController::~DemoController() = default;
+
+// ---- the loop -----------------------------------------------------------------------------
+
+void DemoController::say(const std::string& scene, const std::string& text) {
+  std::printf("kurt_demo: [t=%6.1f s] %s: %s\n", elapsed(), scene.c_str(), text.c_str());
+  std::fflush(stdout);
+}
+
+void DemoController::picture(const std::string& name) {
+  if (!pictures_ || !pictures_->available) return;
+  auto reply = pictures_->client.take(name, "Follow", 3s);
+  if (!reply) {
+    pictures_->available = false;
+    say(name, "no picture: nothing serves pictures here (a real robot has no overview camera)");
+  } else if (reply->code() != mm::ERR_OK) {
+    pictures_->available = false;
+    say(name, "no picture: " + reply->message());
+  } else {
+    say(name, "picture " + reply->file());
+  }
+}
+
+void DemoController::connect() {
+  const auto patience = std::chrono::milliseconds(static_cast<int>(options_.discovery_timeout * 1000));
+  const auto deadline = std::chrono::steady_clock::now() + patience;
+  if (simulation_) {
+    // Lock-step: the robot's data comes only when this controller steps the simulation.
+    if (!simulation_->wait_for_server(patience)) {
+      throw Failure{kNoRobot, "no simulator answers simulation requests (lock-step needs macsim "
+                              "--lockstep on the same --domain)"};
+    }
+    while (!drive_.commander_matched() || !crane_.matched()) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        throw Failure{kNoRobot, "robot '" + options_.robot + "' serves no cmd_vel or crane"};
+      }
+      std::this_thread::sleep_for(20ms);
+    }
+    auto reply = simulation_->step(1);
+    if (!reply || reply->code() != mm::ERR_OK || reply->steps() == 0) {
+      throw Failure{kNoRobot, "the simulator did not step"};
+    }
+    step_size_ = reply->sim_time() / static_cast<double>(reply->steps());
+  }
+  std::optional<macsim::client::RobotClient::Odometry> odometry;
+  while (!(odometry = drive_.wait_for_odometry(100ms)) || !imu_.yaw()) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw Failure{kNoRobot, "no odometry and IMU from robot '" + options_.robot +
+                                  "' within the discovery timeout: is macsim (or kurt_adapter) "
+                                  "running with the same --domain and DDS profile?"};
+    }
+    if (simulation_) simulation_->step(10);
+  }
+  now_ = start_ = macsim::client::stamp_seconds(odometry->header());
+  while (!crane_.matched() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(20ms);
+  }
+  if (!crane_.matched()) throw Failure{kNoRobot, "robot '" + options_.robot + "' has no crane"};
+}
+
+void DemoController::tick(double seconds) {
+  drive_.drive(linear_, angular_);
+  crane_.command(slew_, lift_, hoist_);
+  crane_.magnet(magnet_);
+  laser_.rotate(rotunit_);
+  const double target = now_ + seconds - 1e-6;
+  if (simulation_) {
+    // Every command must be in before the step: the simulator takes what it received.
+    drive_.wait_delivered();
+    crane_.wait_delivered();
+    laser_.wait_delivered();
+    const auto steps = static_cast<uint64_t>(std::max(1L, std::lround(seconds / step_size_)));
+    auto reply = simulation_->step(steps);
+    if (!reply) throw Failure{kNoRobot, "the simulator stopped answering step requests"};
+  }
+  std::optional<macsim::client::RobotClient::Odometry> odometry;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (true) {
+    odometry = drive_.wait_for_odometry(200ms);
+    if (odometry && macsim::client::stamp_seconds(odometry->header()) >= target - 0.0105) break;
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw Failure{kNoRobot, "robot '" + options_.robot + "' went silent (no odometry for 10 s)"};
+    }
+    if (!odometry && !simulation_) drive_.drive(linear_, angular_);
+  }
+  now_ = macsim::client::stamp_seconds(odometry->header());
+  // Position: the odometry's distance travelled, along the IMU's heading.
+  const auto& p = odometry->pose().pose().position();
+  const double yaw = imu_.yaw().value_or(pose_.yaw);
+  if (last_position_) {
+    const double step = std::hypot(p.x() - last_position_->first, p.y() - last_position_->second);
+    const double sign = odometry->twist().twist().linear().x() < 0 ? -1.0 : 1.0;
+    const double heading = pose_.yaw + 0.5 * wrap(yaw - pose_.yaw);
+    pose_.x += sign * step * std::cos(heading);
+    pose_.y += sign * step * std::sin(heading);
+  }
+  last_position_ = {p.x(), p.y()};
+  pose_.yaw = yaw;
+  if (elapsed() > options_.timeout) {
+    linear_ = angular_ = 0;
+    drive_.stop();
+    throw Failure{kTimeout, fmt("the scenario took longer than %.0f s", options_.timeout)};
+  }
+}
+
+void DemoController::wait(double seconds) {
+  const double until = now_ + seconds;
+  while (now_ < until - 1e-6) tick(std::min(kTick, until - now_));
+}
+
+// ---- motion -------------------------------------------------------------------------------
+
+void DemoController::turn_to(double yaw) {
+  const double give_up = now_ + 20.0;
+  while (true) {
+    const double error = wrap(yaw - pose_.yaw);
+    if (std::fabs(error) < 0.015 || now_ > give_up) break;
+    const double rate = std::clamp(2.0 * error, -kTurnRate, kTurnRate);
+    linear_ = 0;
+    angular_ = std::copysign(std::max(std::fabs(rate), 0.12), error);
+    tick();
+  }
+  linear_ = angular_ = 0;
+  tick();
+}
+
+void DemoController::drive_to(double x, double y, double tolerance, double speed) {
+  const double give_up = now_ + 60.0;
+  bool turned = false;
+  while (now_ < give_up) {
+    const double dx = x - pose_.x, dy = y - pose_.y, distance = std::hypot(dx, dy);
+    if (distance < tolerance) break;
+    const double bearing = std::atan2(dy, dx), error = wrap(bearing - pose_.yaw);
+    if (!turned || std::fabs(error) > 0.35) {
+      turn_to(bearing);
+      turned = true;
+      continue;
+    }
+    // Past the goal (it is behind): stop rather than circle.
+    if (std::fabs(error) > M_PI / 2) break;
+    linear_ = std::clamp(1.2 * distance, 0.06, speed);
+    angular_ = std::clamp(2.5 * error, -kTurnRate, kTurnRate);
+    tick();
+  }
+  linear_ = angular_ = 0;
+  tick();
+}
+
+void DemoController::drive_straight(double distance, double speed) {
+  const double heading = pose_.yaw;
+  const Pose2 from = pose_;
+  const double give_up = now_ + 30.0;
+  while (now_ < give_up) {
+    const double done = std::hypot(pose_.x - from.x, pose_.y - from.y);
+    const double left = std::fabs(distance) - done;
+    if (left < 0.004) break;
+    linear_ = std::copysign(std::clamp(1.5 * left, 0.04, speed), distance);
+    angular_ = std::clamp(3.0 * wrap(heading - pose_.yaw), -0.3, 0.3);
+    tick();
+  }
+  linear_ = angular_ = 0;
+  tick();
+}
+
+bool DemoController::crane_to(double slew, double lift, double hoist, double timeout) {
+  slew_ = slew;
+  lift_ = std::clamp(lift, geometry_.lift_min, geometry_.lift_max);
+  hoist_ = std::clamp(hoist, 0.0, geometry_.max_hoist);
+  const double give_up = now_ + timeout;
+  while (now_ < give_up) {
+    tick();
+    const auto s = crane_.state();
+    if (s && std::fabs(wrap(s->slew() - slew_)) < 0.03 && std::fabs(s->lift() - lift_) < 0.03 &&
+        std::fabs(s->hoist() - hoist_) < 0.01) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void DemoController::park_crane() {
+  crane_to(crane_.state() ? crane_.state()->slew() : 0.0, kParkLift, 0.0, 3.0);
+  crane_to(kParkSlew, kParkLift, 0.0);
+}
+
+// ---- sensing ------------------------------------------------------------------------------
+
+Pose2 DemoController::to_odom(double bx, double by) const {
+  const double c = std::cos(pose_.yaw), s = std::sin(pose_.yaw);
+  return {pose_.x + c * bx - s * by, pose_.y + s * bx + c * by, 0};
+}
+
+Pose2 DemoController::to_base(double x, double y) const {
+  const double c = std::cos(pose_.yaw), s = std::sin(pose_.yaw);
+  const double dx = x - pose_.x, dy = y - pose_.y;
+  return {c * dx + s * dy, -s * dx + c * dy, 0};
+}
+
+std::vector<std::pair<Sighting, Pose2>> DemoController::look(int frames) {
+  linear_ = angular_ = 0;
+  wait(0.3);  // let the chassis come to rest
+  std::vector<std::pair<Sighting, Pose2>> seen;
+  double after = now_ - 1e-6;
+  for (int taken = 0, tries = 0; taken < frames && tries < 40; ++tries) {
+    if (auto frame = cameras_.latest(after)) {
+      after = frame->stamp;
+      ++taken;
+      const auto sightings = find_objects(*frame, geometry_);
+      for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
+      if (!options_.debug_images.empty()) {
+        cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
+                    draw_sightings(frame->left, sightings));
+      }
+      continue;
+    }
+    tick();
+  }
+  return seen;
+}
+
+macsim::client::Cloud DemoController::take_cloud() {
+  linear_ = angular_ = 0;
+  wait(0.2);
+  // A cloud is one turn of the rotating unit: take the first begun after the robot stood still.
+  const double stood = now_;
+  const double give_up = now_ + 3 * (2 * M_PI / kRotunitSpeed) + 1.0;
+  while (now_ < give_up) {
+    tick();
+    if (auto cloud = laser_.cloud(stood + 2 * M_PI / kRotunitSpeed + 0.02)) return *cloud;
+  }
+  throw Failure{kNoPassage, "the laser gave no 3D cloud (is the rotating unit turning?)"};
+}
+
+void DemoController::record(const std::vector<std::pair<Sighting, Pose2>>& sightings) {
+  for (const auto& [s, at] : sightings) {
+    if (s.range > 3.5) continue;  // too far to place well
+    if (s.kind == Kind::Switch) {
+      if (!switch_) switch_ = Candidate{at.x, at.y, "yellow", 0, false, ""};
+      auto& w = *switch_;
+      w.x = (w.x * w.seen + at.x) / (w.seen + 1);
+      w.y = (w.y * w.seen + at.y) / (w.seen + 1);
+      ++w.seen;
+      continue;
+    }
+    auto same = std::find_if(candidates_.begin(), candidates_.end(), [&](const Candidate& c) {
+      return c.colour == s.colour && std::hypot(c.x - at.x, c.y - at.y) < 0.2;
+    });
+    if (same == candidates_.end()) {
+      candidates_.push_back({at.x, at.y, s.colour, 1, false, ""});
+      continue;
+    }
+    if (same->tried) continue;
+    same->x = (same->x * same->seen + at.x) / (same->seen + 1);
+    same->y = (same->y * same->seen + at.y) / (same->seen + 1);
+    ++same->seen;
+  }
+}
+
+// ---- scenes -------------------------------------------------------------------------------
+
+void DemoController::search(const std::string& scene, bool want_switch) {
+  const double start_yaw = pose_.yaw;
+  for (int k = 0; k < 9; ++k) {
+    if (k > 0) turn_to(start_yaw + k * 2 * M_PI / 9);
+    record(look(1));
+    if (want_switch && switch_) break;
+  }
+  std::ostringstream what;
+  what << candidates_.size() << " can candidate(s)";
+  for (const auto& c : candidates_) {
+    what << fmt(" [%s at %.2f,%.2f%s]", c.colour.c_str(), c.x, c.y, c.tried ? ", tried" : "");
+  }
+  if (switch_) what << fmt("; the switch at %.2f,%.2f", switch_->x, switch_->y);
+  say(scene, "looked around: " + what.str());
+}
+
+bool DemoController::try_lift(Candidate& can) {
+  can.tried = true;
+  say("scene 2", fmt("going for the %s can at %.2f,%.2f (odometry frame)", can.colour.c_str(),
+                     can.x, can.y));
+  // Stand off, face it, look again from close by.
+  const double ux = can.x - pose_.x, uy = can.y - pose_.y, d = std::hypot(ux, uy);
+  if (d > kStandoff + 0.05) {
+    drive_to(can.x - kStandoff * ux / d, can.y - kStandoff * uy / d, 0.05);
+  }
+  turn_to(std::atan2(can.y - pose_.y, can.x - pose_.x));
+  int found = 0;
+  double sx = 0, sy = 0;
+  for (const auto& [s, at] : look(3)) {
+    if (s.kind == Kind::Can && s.colour == can.colour && std::hypot(at.x - can.x, at.y - can.y) < 0.3) {
+      sx += at.x;
+      sy += at.y;
+      ++found;
+    }
+  }
+  if (found == 0) {
+    can.outcome = "not seen again";
+    say("scene 2", "the " + can.colour + " can is not where it was seen; next candidate");
+    return false;
+  }
+  can.x = sx / found;
+  can.y = sy / found;
+  turn_to(std::atan2(can.y - pose_.y, can.x - pose_.x));
+  // Drive until the can is at the crane's reach ahead.
+  const double reach = geometry_.pivot_x + kPickupRadius;
+  drive_straight(std::hypot(can.x - pose_.x, can.y - pose_.y) - reach, 0.15);
+
+  // Over it with the magnet, then down until the magnet holds it or rests on it.
+  const Pose2 b = to_base(can.x, can.y);
+  const double dx = b.x - geometry_.pivot_x, dy = b.y;
+  const double slew = std::atan2(dy, dx);
+  const double radius = std::clamp(std::hypot(dx, dy) / geometry_.boom_length, 0.0, 1.0);
+  const double lift = std::clamp(-std::acos(radius), -0.24, 0.36);
+  say("scene 2", fmt("can at %.3f m ahead, %.3f m left: slew %.2f rad, lift %.2f rad, magnet on, "
+                     "lowering",
+                     b.x, b.y, slew, lift));
+  crane_to(slew, kParkLift, 0.0);
+  crane_to(slew, lift, 0.0);
+  magnet_ = true;
+  hoist_ = geometry_.max_hoist;
+  double last_hoist = -1, still_since = now_;
+  const double give_up = now_ + 6.0;
+  std::string held;
+  while (now_ < give_up) {
+    tick();
+    const auto s = crane_.state();
+    if (!s) continue;
+    if (!s->held_object().empty()) {
+      held = s->held_object();
+      break;
+    }
+    if (std::fabs(s->hoist() - last_hoist) > 0.002) {
+      last_hoist = s->hoist();
+      still_since = now_;
+    } else if (now_ - still_since > 0.5) {
+      break;  // resting on something it does not hold, or at the end of the hoist
+    }
+  }
+  if (held.empty()) {
+    magnet_ = false;
+    crane_to(slew, lift, 0.0);
+    park_crane();
+    can.outcome = "the magnet does not hold it (not magnetizable)";
+    failed_colours_.push_back(can.colour);
+    say("scene 2", "the magnet does not hold the " + can.colour + " can: not magnetizable? "
+                   "Remembered; next candidate");
+    return false;
+  }
+  // Up: the load came up if the hoist could pull it in.
+  const auto at_grip = crane_.state();
+  crane_to(slew, lift, 0.0, 3.0);
+  crane_to(slew, kParkLift, 0.0, 3.0);
+  const auto s = crane_.state();
+  if (!s || s->held_object().empty() || s->hoist() > 0.03) {
+    const double hoist = s ? s->hoist() : 0;
+    magnet_ = false;
+    crane_to(slew, lift_, 0.0, 2.0);
+    park_crane();
+    can.outcome = fmt("too heavy (the hoist stayed at %.2f m)", hoist);
+    failed_colours_.push_back(can.colour);
+    say("scene 2", fmt("the %s can did not come up (hoist at %.2f m, gripped at %.2f m): too "
+                       "heavy; let go, remembered; next candidate",
+                       can.colour.c_str(), hoist, at_grip ? at_grip->hoist() : 0.0));
+    return false;
+  }
+  say("scene 2", "lifted the " + can.colour + " can (" + s->held_object() + ") off the floor");
+  picture("scene2_can_on_magnet");
+  can.outcome = "lifted";
+  crane_to(kParkSlew, kParkLift, 0.0);
+  return true;
+}
+
+void DemoController::deliver() {
+  if (!switch_) {
+    say("scene 3", "the switch has not been seen yet; looking around");
+    search("scene 3", true);
+  }
+  if (!switch_) throw Failure{kNoSwitch, "no door switch (a yellow floor platform) in sight"};
+  say("scene 3", fmt("carrying the can to the switch at %.2f,%.2f", switch_->x, switch_->y));
+  const double ux = switch_->x - pose_.x, uy = switch_->y - pose_.y, d = std::hypot(ux, uy);
+  if (d > kStandoff + 0.05) {
+    drive_to(switch_->x - kStandoff * ux / d, switch_->y - kStandoff * uy / d, 0.05);
+  }
+  turn_to(std::atan2(switch_->y - pose_.y, switch_->x - pose_.x));
+  int found = 0;
+  double sx = 0, sy = 0;
+  for (const auto& [s, at] : look(3)) {
+    if (s.kind == Kind::Switch && std::hypot(at.x - switch_->x, at.y - switch_->y) < 0.4) {
+      sx += at.x;
+      sy += at.y;
+      ++found;
+    }
+  }
+  if (found > 0) {
+    switch_->x = sx / found;
+    switch_->y = sy / found;
+  }
+  turn_to(std::atan2(switch_->y - pose_.y, switch_->x - pose_.x));
+  drive_straight(std::hypot(switch_->x - pose_.x, switch_->y - pose_.y) -
+                     (geometry_.pivot_x + kPickupRadius),
+                 0.15);
+  const Pose2 b = to_base(switch_->x, switch_->y);
+  const double dx = b.x - geometry_.pivot_x, dy = b.y;
+  const double slew = std::atan2(dy, dx);
+  const double lift = std::clamp(
+      -std::acos(std::clamp(std::hypot(dx, dy) / geometry_.boom_length, 0.0, 1.0)), -0.1, 0.36);
+  say("scene 3", fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it", b.x, b.y));
+  crane_to(slew, kParkLift, 0.0);
+  crane_to(slew, lift, 0.0);
+  hoist_ = geometry_.max_hoist;
+  double last_hoist = -1, still_since = now_;
+  const double give_up = now_ + 5.0;
+  while (now_ < give_up) {
+    tick();
+    const auto s = crane_.state();
+    if (!s) continue;
+    if (std::fabs(s->hoist() - last_hoist) > 0.002) {
+      last_hoist = s->hoist();
+      still_since = now_;
+    } else if (now_ - still_since > 0.4) {
+      break;  // the can stands on the platform
+    }
+  }
+  magnet_ = false;
+  wait(0.5);
+  picture("scene3_can_on_switch");
+  say("scene 3", "magnet off: the can stands on the switch");
+  crane_to(slew, lift, 0.0, 2.5);
+  park_crane();
+}
+
+void DemoController::go_through() {
+  drive_straight(-0.4, 0.2);
+  // The door opens when the switch sinks under the can: watch the wall for the opening.
+  const double give_up = now_ + 25.0;
+  std::optional<Passage> passage;
+  int walls = 0;
+  while (now_ < give_up) {
+    const auto cloud = take_cloud();
+    const auto points = slice(cloud, geometry_, 0.505, 0.615, 0.6, 6.0);
+    passage = find_passage(points, 0.6);
+    if (passage) break;
+    walls += find_passage(points, 0.0) ? 1 : 0;
+  }
+  if (!passage) {
+    throw Failure{kDoorClosed,
+                  walls > 0 ? "the door stayed closed: the laser sees the wall without an opening "
+                              "(the switch did not trigger?)"
+                            : "the laser finds no wall with a door around the robot"};
+  }
+  const Pose2 centre = to_odom(passage->centre.x, passage->centre.y);
+  const Pose2 across = to_odom(passage->normal.x, passage->normal.y);
+  double nx = across.x - pose_.x, ny = across.y - pose_.y;
+  say("scene 4", fmt("the door is open: the laser sees a %.2f m gap in the wall at %.2f,%.2f",
+                     passage->width, centre.x, centre.y));
+  picture("scene4_door_open");
+  // In front of the opening, square to the wall; then a closer look to centre on it.
+  drive_to(centre.x - 0.9 * nx, centre.y - 0.9 * ny, 0.04);
+  turn_to(std::atan2(ny, nx));
+  const auto closer = find_passage(slice(take_cloud(), geometry_, 0.505, 0.615, 0.3, 4.0), 0.6);
+  Pose2 c = centre;
+  if (closer) {
+    c = to_odom(closer->centre.x, closer->centre.y);
+    const Pose2 n = to_odom(closer->normal.x, closer->normal.y);
+    nx = n.x - pose_.x;
+    ny = n.y - pose_.y;
+    say("scene 4", fmt("closer look: a %.2f m gap centred at %.2f,%.2f", closer->width, c.x, c.y));
+  }
+  drive_to(c.x - 0.6 * nx, c.y - 0.6 * ny, 0.03, 0.15);
+  turn_to(std::atan2(ny, nx));
+  say("scene 4", "driving through");
+  drive_to(c.x + 1.0 * nx, c.y + 1.0 * ny, 0.05, 0.25);
+  linear_ = angular_ = 0;
+  wait(0.3);
+  // Through: the wall is behind the robot now.
+  const Pose2 b = to_base(c.x, c.y);
+  if (b.x > -0.5) {
+    throw Failure{kNoPassage, fmt("did not get through the door (it is %.2f m ahead)", b.x)};
+  }
+  say("scene 4", fmt("through the door: %.2f m beyond it", -b.x));
+  picture("scene4_robot_beyond");
+}
+
+void DemoController::run() {
+  say("start", "looking for robot '" + options_.robot + "'" + (simulation_ ? " (lock-step)" : ""));
+  connect();
+  start_ = now_;
+  say("start", "found it; parking the crane, starting the laser's rotating unit");
+  rotunit_ = kRotunitSpeed;
+  park_crane();
+  search("scene 1", false);
+  if (candidates_.empty()) throw Failure{kNoCan, "no can in sight after a full turn"};
+  // Scene 2: the nearest candidates first, colours that failed last.
+  bool lifted = false;
+  while (!lifted) {
+    Candidate* next = nullptr;
+    double best = 1e9;
+    for (auto& c : candidates_) {
+      if (c.tried) continue;
+      const double failures =
+          std::count(failed_colours_.begin(), failed_colours_.end(), c.colour);
+      const double cost = std::hypot(c.x - pose_.x, c.y - pose_.y) + 10.0 * failures;
+      if (cost < best) {
+        best = cost;
+        next = &c;
+      }
+    }
+    if (!next) {
+      std::string tried;
+      for (const auto& c : candidates_) tried += " " + c.colour + ": " + c.outcome + ";";
+      throw Failure{kNoLiftableCan, "no can could be lifted (" +
+                                        std::to_string(candidates_.size()) + " tried:" + tried + ")"};
+    }
+    lifted = try_lift(*next);
+    if (!lifted) search("scene 2", false);
+  }
+  deliver();
+  go_through();
+  linear_ = angular_ = 0;
+  rotunit_ = 0;
+  tick();
+}
+
+}  // namespace kurt_demo

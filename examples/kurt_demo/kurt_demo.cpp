@@ -1,0 +1,63 @@
+// kurt_demo: the MACS final demonstrator, played by the robot's own sensing over DDS. Scene 1:
+// finds cans with its stereo cameras; scene 2: lifts one with the crane's magnet (trying the
+// next when one does not come up); scene 3: drops it on the door's floor switch; scene 4: sees
+// the door open with its 3D laser and drives through. Against macsim or the real KURT3D.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "demo_controller.h"
+#include "macsim/dds/command_line.h"
+
+int main(int argc, char** argv) {
+  macsim::dds::ParticipantOptions participant{0, "", "kurt_demo"};
+  kurt_demo::DemoOptions options;
+  macsim::dds::CommandLine cli(
+      "kurt_demo",
+      "Plays the MACS final demonstrator with a KURT3D from its own sensors: finds a can, lifts "
+      "it with the crane's magnet, drops it on the door's switch, drives through the opened "
+      "door.\nExit 0: through the door; 2: usage; 3: no robot; 4: no can found; 5: no can could "
+      "be lifted; 6: the door stayed closed; 7: timeout; 8: no switch found; 9: could not get "
+      "through.");
+  cli.participant_options(&participant);
+  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.robot);
+  cli.flag("lockstep", "step the simulation from here (macsim --lockstep): reproducible, as fast "
+                       "as the machine allows",
+           &options.lockstep);
+  cli.option("timeout", "SECONDS", "give up after this much robot time (default 400)",
+             &options.timeout);
+  cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
+             &options.discovery_timeout);
+  cli.flag("pictures", "ask the simulator (macsim --pictures DIR) for an overview picture per scene",
+           &options.pictures);
+  cli.option("debug-images", "DIR", "write each camera image looked at, with what was seen",
+             &options.debug_images);
+  if (auto code = cli.parse(argc, argv)) return *code;
+  if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || options.robot.empty()) {
+    std::cerr << "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not "
+                 "empty\n";
+    return kurt_demo::kUsage;
+  }
+  const auto wall_start = std::chrono::steady_clock::now();
+  auto wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
+  try {
+    macsim::dds::Participant dds(participant);
+    kurt_demo::DemoController demo(dds, options);
+    try {
+      demo.run();
+    } catch (const kurt_demo::Failure& failure) {
+      std::printf("kurt_demo: FAILED (exit %d): %s; robot time %.1f s, wall time %.1f s\n",
+                  failure.code, failure.reason.c_str(), demo.elapsed(), wall());
+      return failure.code;
+    }
+    std::printf("kurt_demo: SUCCESS: the robot is through the door; robot time %.1f s, wall time "
+                "%.1f s\n",
+                demo.elapsed(), wall());
+  } catch (const macsim::dds::DdsError& e) {
+    std::cerr << "kurt_demo: DDS error: " << e.what() << "\n";
+    return kurt_demo::kNoRobot;
+  }
+  return 0;
+}

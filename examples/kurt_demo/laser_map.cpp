@@ -1,0 +1,108 @@
+#include "laser_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace kurt_demo {
+
+std::vector<Point> slice(const macsim::client::Cloud& cloud, const KurtGeometry& g, double low,
+                         double high, double near, double far) {
+  std::vector<Point> out;
+  for (const auto& p : cloud.points) {
+    const double height = p[2] + g.base_height;
+    const double range = std::hypot(p[0], p[1]);
+    if (height >= low && height <= high && range >= near && range <= far) {
+      out.push_back({p[0], p[1]});
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// A line through `point` along the unit vector `dir`.
+struct Line {
+  Point point, dir;
+  double distance(const Point& p) const {
+    return std::fabs((p.x - point.x) * dir.y - (p.y - point.y) * dir.x);
+  }
+  double along(const Point& p) const { return (p.x - point.x) * dir.x + (p.y - point.y) * dir.y; }
+};
+
+/// The least-squares line through `points` (principal axis).
+Line fit(const std::vector<Point>& points) {
+  double mx = 0, my = 0;
+  for (const auto& p : points) {
+    mx += p.x;
+    my += p.y;
+  }
+  mx /= points.size();
+  my /= points.size();
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const auto& p : points) {
+    sxx += (p.x - mx) * (p.x - mx);
+    sxy += (p.x - mx) * (p.y - my);
+    syy += (p.y - my) * (p.y - my);
+  }
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  return {{mx, my}, {std::cos(angle), std::sin(angle)}};
+}
+
+}  // namespace
+
+std::optional<Passage> find_passage(const std::vector<Point>& points, double min_width,
+                                    int min_wall_points) {
+  if (static_cast<int>(points.size()) < min_wall_points) return std::nullopt;
+  constexpr double kOnLine = 0.04, kNearLine = 0.2;
+  std::mt19937 rng(7);  // the same cloud gives the same answer
+  std::uniform_int_distribution<std::size_t> pick(0, points.size() - 1);
+  std::vector<Point> best;
+  for (int i = 0; i < 400; ++i) {
+    const Point a = points[pick(rng)], b = points[pick(rng)];
+    const double length = std::hypot(b.x - a.x, b.y - a.y);
+    if (length < 0.3) continue;
+    const Line line{a, {(b.x - a.x) / length, (b.y - a.y) / length}};
+    std::vector<Point> inliers;
+    for (const auto& p : points) {
+      if (line.distance(p) < kOnLine) inliers.push_back(p);
+    }
+    if (inliers.size() > best.size()) best = std::move(inliers);
+  }
+  if (static_cast<int>(best.size()) < min_wall_points) return std::nullopt;
+  const Line wall = fit(best);
+  std::vector<double> along;
+  for (const auto& p : points) {
+    if (wall.distance(p) < kNearLine) along.push_back(wall.along(p));
+  }
+  std::sort(along.begin(), along.end());
+  std::optional<Passage> passage;
+  for (std::size_t i = 1; i < along.size(); ++i) {
+    const double gap = along[i] - along[i - 1];
+    if (gap < min_width || (passage && gap <= passage->width)) continue;
+    const double middle = 0.5 * (along[i] + along[i - 1]);
+    Passage p;
+    p.centre = {wall.point.x + middle * wall.dir.x, wall.point.y + middle * wall.dir.y};
+    p.normal = {-wall.dir.y, wall.dir.x};
+    if (p.normal.x * p.centre.x + p.normal.y * p.centre.y < 0) p.normal = {-p.normal.x, -p.normal.y};
+    p.width = gap;
+    p.wall_points = static_cast<int>(best.size());
+    passage = p;
+  }
+  return passage;
+}
+
+bool corridor_free(const std::vector<Point>& points, Point goal, double half_width, double spare) {
+  const double length = std::hypot(goal.x, goal.y);
+  if (length < 1e-6) return true;
+  const Point dir{goal.x / length, goal.y / length};
+  for (const auto& p : points) {
+    if (std::hypot(p.x - goal.x, p.y - goal.y) < spare) continue;
+    const double along = p.x * dir.x + p.y * dir.y;
+    const double across = std::fabs(p.x * dir.y - p.y * dir.x);
+    if (along > 0 && along < length && across < half_width) return false;
+  }
+  return true;
+}
+
+}  // namespace kurt_demo

@@ -1,0 +1,156 @@
+#include "vision.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+namespace kurt_demo {
+
+namespace {
+
+/// A hue band of OpenCV's HSV (hue 0..179); red wraps around 0.
+struct ColourClass {
+  const char* name;
+  int lo, hi;
+  int lo2 = -1, hi2 = -1;
+};
+constexpr std::array<ColourClass, 6> kColours{{{"red", 0, 7, 165, 179},
+                                               {"yellow", 18, 34},
+                                               {"green", 40, 80},
+                                               {"cyan", 85, 100},
+                                               {"blue", 101, 130},
+                                               {"magenta", 140, 164}}};
+constexpr int kMinSaturation = 110, kMinValue = 50, kMinArea = 12;
+constexpr double kCanRadius = 0.033;
+
+struct Blob {
+  int colour = 0;
+  cv::Rect box;
+  double cx = 0, cy = 0;
+  int area = 0;
+};
+
+std::vector<Blob> find_blobs(const cv::Mat& bgr) {
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  std::vector<cv::Mat> channel;
+  cv::split(hsv, channel);
+  const cv::Mat saturated = (channel[1] >= kMinSaturation) & (channel[2] >= kMinValue);
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
+  std::vector<Blob> blobs;
+  for (int c = 0; c < static_cast<int>(kColours.size()); ++c) {
+    const ColourClass& colour = kColours[c];
+    cv::Mat mask = (channel[0] >= colour.lo) & (channel[0] <= colour.hi);
+    if (colour.lo2 >= 0) mask |= (channel[0] >= colour.lo2) & (channel[0] <= colour.hi2);
+    mask &= saturated;
+    cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, kernel);  // textures' stripes, edges
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    for (int i = 1; i < n; ++i) {
+      const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+      if (area < kMinArea) continue;
+      blobs.push_back({c,
+                       {stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
+                        stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT)},
+                       centroids.at<double>(i, 0),
+                       centroids.at<double>(i, 1),
+                       area});
+    }
+  }
+  return blobs;
+}
+
+/// The right eye's blob that is the left one's: same colour, same rows, a similar size, in
+/// front of the cameras; the closest such by rows and size.
+std::optional<Blob> match(const Blob& left, const std::vector<Blob>& right) {
+  std::optional<Blob> best;
+  double best_cost = 1e9;
+  for (const Blob& r : right) {
+    if (r.colour != left.colour) continue;
+    const double rows = std::fabs(r.cy - left.cy);
+    const double size = static_cast<double>(r.area) / left.area;
+    if (rows > std::max(2.5, 0.2 * left.box.height) || size < 0.6 || size > 1.6) continue;
+    if (left.cx - r.cx < 0.5) continue;
+    const double cost = rows + 5.0 * std::fabs(1.0 - size);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = r;
+    }
+  }
+  return best;
+}
+
+bool touches_border(const cv::Rect& box, const cv::Size& size) {
+  return box.x <= 0 || box.y <= 0 || box.x + box.width >= size.width ||
+         box.y + box.height >= size.height;
+}
+
+}  // namespace
+
+std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
+                                   const KurtGeometry& g) {
+  const std::vector<Blob> left = find_blobs(frame.left);
+  const std::vector<Blob> right = find_blobs(frame.right);
+  const double f = frame.focal, cp = std::cos(g.camera_pitch), sp = std::sin(g.camera_pitch);
+  std::vector<Sighting> out;
+  for (const Blob& l : left) {
+    if (touches_border(l.box, frame.left.size())) continue;  // part of it is out of sight
+    const auto r = match(l, right);
+    if (!r) continue;
+    // Triangulate the centroid: optical frame (x right, y down, z ahead), then the camera's
+    // frame (x ahead, y left, z up), pitched down, then base_link.
+    const double z = f * frame.baseline / (l.cx - r->cx);
+    const double ox = (l.cx - frame.cx) * z / f, oy = (l.cy - frame.cy) * z / f;
+    const double ahead = z, left_of = -ox, up = -oy;
+    const double bx = g.camera_x + cp * ahead + sp * up;
+    const double by = g.camera_y + left_of;
+    const double height = g.camera_z + g.base_height - sp * ahead + cp * up;  // above the floor
+    Sighting s;
+    s.colour = kColours[l.colour].name;
+    s.range = std::sqrt(z * z + ox * ox + oy * oy);
+    s.width = l.box.width * z / f;
+    s.height = l.box.height * z / f;
+    s.box = l.box;
+    const double fill = static_cast<double>(l.area) / l.box.area();
+    if (s.colour == std::string("yellow")) {
+      // A switch platform: a flat, wide, solid yellow slab just above the floor.
+      if (s.width < 0.12 || s.width > 0.5 || s.height > 0.25 || l.box.width < 1.5 * l.box.height ||
+          fill < 0.45 || height < -0.02 || height > 0.15) {
+        continue;
+      }
+      s.kind = Kind::Switch;
+      s.x = bx;
+      s.y = by;
+    } else {
+      // A can: an upright cylinder's side, taller than wide, standing on the floor.
+      if (s.width < 0.035 || s.width > 0.11 || s.height < 0.06 || s.height > 0.22 ||
+          l.box.height < 1.1 * l.box.width || height < 0.02 || height > 0.14) {
+        continue;
+      }
+      s.kind = Kind::Can;
+      // The centroid lies on the near side: the axis is about a radius further on.
+      const double dx = bx - g.camera_x, dy = by - g.camera_y, d = std::hypot(dx, dy);
+      s.x = bx + kCanRadius * dx / d;
+      s.y = by + kCanRadius * dy / d;
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+cv::Mat draw_sightings(const cv::Mat& left, const std::vector<Sighting>& sightings) {
+  cv::Mat out = left.clone();
+  for (const Sighting& s : sightings) {
+    cv::rectangle(out, s.box, s.kind == Kind::Can ? cv::Scalar(255, 255, 255) : cv::Scalar(0, 0, 0));
+    char text[64];
+    std::snprintf(text, sizeof text, "%s %.2f,%.2f", s.kind == Kind::Can ? s.colour.c_str() : "switch",
+                  s.x, s.y);
+    cv::putText(out, text, {s.box.x, std::max(8, s.box.y - 2)}, cv::FONT_HERSHEY_PLAIN, 0.7,
+                cv::Scalar(255, 255, 255));
+  }
+  return out;
+}
+
+}  // namespace kurt_demo
