@@ -76,7 +76,7 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
                           : render::camera_mode_from_name(request.substr(0, colon));
     if (!mode || colon + 1 >= request.size()) {
       std::cerr << "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, "
-                   "MouseKeyboard, FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual; "
+                   "MouseKeyboard, FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual, Chase; "
                    "got '"
                 << request << "'\n";
       return 2;
@@ -165,7 +165,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.status_period);
   cli.repeated_option("snapshot", "MODE:FILE.png",
                       "render a camera mode (MouseOnly, MouseKeyboard, FixedFollow, Follow, "
-                      "Inside, LeftCamera, RightCamera, Manual) offscreen after the world settled, "
+                      "Inside, LeftCamera, RightCamera, Manual, Chase) offscreen after the world settled, "
                       "write the PNG, exit",
                       &o.snapshots);
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",

@@ -70,7 +70,7 @@ void DemoController::say(const std::string& scene, const std::string& text) {
 
 void DemoController::picture(const std::string& name) {
   if (!pictures_ || !pictures_->available) return;
-  auto reply = pictures_->client.take(name, "Follow", 3s);
+  auto reply = pictures_->client.take(name, "Chase", 3s);
   if (!reply) {
     pictures_->available = false;
     say(name, "no picture: nothing serves pictures here (a real robot has no overview camera)");
@@ -425,9 +425,9 @@ bool DemoController::try_lift(Candidate& can) {
     return false;
   }
   say("scene 2", "lifted the " + can.colour + " can (" + s->held_object() + ") off the floor");
-  picture("scene2_can_on_magnet");
   can.outcome = "lifted";
   crane_to(kParkSlew, kParkLift, 0.0);
+  picture("scene2_can_on_magnet");
   return true;
 }
 
@@ -484,7 +484,6 @@ void DemoController::deliver() {
   }
   magnet_ = false;
   wait(0.5);
-  picture("scene3_can_on_switch");
   say("scene 3", "magnet off: the can stands on the switch");
   crane_to(slew, lift, 0.0, 2.5);
   park_crane();
@@ -514,7 +513,7 @@ void DemoController::go_through() {
   double nx = across.x - pose_.x, ny = across.y - pose_.y;
   say("scene 4", fmt("the door is open: the laser sees a %.2f m gap in the wall at %.2f,%.2f",
                      passage->width, centre.x, centre.y));
-  picture("scene4_door_open");
+  picture("scene3_can_on_switch_door_open");
   // In front of the opening, square to the wall; then a closer look to centre on it.
   drive_to(centre.x - 0.9 * nx, centre.y - 0.9 * ny, 0.04);
   turn_to(std::atan2(ny, nx));
@@ -539,7 +538,7 @@ void DemoController::go_through() {
     throw Failure{kNoPassage, fmt("did not get through the door (it is %.2f m ahead)", b.x)};
   }
   say("scene 4", fmt("through the door: %.2f m beyond it", -b.x));
-  picture("scene4_robot_beyond");
+  picture("scene4_robot_through");
 }
 
 void DemoController::run() {
@@ -551,8 +550,9 @@ void DemoController::run() {
   park_crane();
   search("scene 1", false);
   if (candidates_.empty()) throw Failure{kNoCan, "no can in sight after a full turn"};
+  picture("scene1_cans_found");
   // Scene 2: the nearest candidates first, colours that failed last.
-  bool lifted = false;
+  bool lifted = false, looked_again = false;
   while (!lifted) {
     Candidate* next = nullptr;
     double best = 1e9;
@@ -566,6 +566,12 @@ void DemoController::run() {
         next = &c;
       }
     }
+    if (!next && !looked_again) {
+      // Every candidate failed: maybe a can was hidden behind another; one more look around.
+      looked_again = true;
+      search("scene 2", false);
+      continue;
+    }
     if (!next) {
       std::string tried;
       for (const auto& c : candidates_) tried += " " + c.colour + ": " + c.outcome + ";";
@@ -573,7 +579,6 @@ void DemoController::run() {
                                         std::to_string(candidates_.size()) + " tried:" + tried + ")"};
     }
     lifted = try_lift(*next);
-    if (!lifted) search("scene 2", false);
   }
   deliver();
   go_through();

@@ -8,7 +8,7 @@ namespace macsim::render {
 
 namespace {
 
-const std::array<std::pair<CameraMode, const char*>, 8> kNames{{
+const std::array<std::pair<CameraMode, const char*>, 9> kNames{{
     {CameraMode::MouseOnly, "MouseOnly"},
     {CameraMode::MouseKeyboard, "MouseKeyboard"},
     {CameraMode::FixedFollow, "FixedFollow"},
@@ -17,6 +17,7 @@ const std::array<std::pair<CameraMode, const char*>, 8> kNames{{
     {CameraMode::LeftCamera, "LeftCamera"},
     {CameraMode::RightCamera, "RightCamera"},
     {CameraMode::Manual, "Manual"},
+    {CameraMode::Chase, "Chase"},
 }};
 
 std::string lower(std::string s) {
@@ -76,6 +77,12 @@ Pose camera_pose(CameraMode mode, const Scene& scene, const std::optional<Pose>&
       // Behind and above, at a fixed distance and direction in the robot's frame.
       const Eigen::Vector3d eye = robot.base_link.position + robot.base_link.orientation * Eigen::Vector3d(-1.6, 0.0, 1.0);
       return look_at(eye, robot.base_link.position + robot.base_link.orientation * Eigen::Vector3d(0.6, 0, 0));
+    }
+    case CameraMode::Chase: {
+      // High behind the robot, looking at the floor ahead of it: what it works on.
+      const Pose& b = robot.base_link;
+      return look_at(b.position + b.orientation * Eigen::Vector3d(-2.0, 0.5, 2.3),
+                     b.position + b.orientation * Eigen::Vector3d(0.5, 0.1, -0.1));
     }
     case CameraMode::Inside:
       return robot.base_link * Pose{{0.0, 0.0, 0.2}, Eigen::Quaterniond::Identity()};

@@ -81,7 +81,7 @@ void keyboard(unsigned char key, int, int) {
   ViewerState& s = *g_state;
   if (key == 'q' || key == 27) {
     s.close = true;
-  } else if (key >= '1' && key <= '8') {
+  } else if (key >= '1' && key <= '9') {
     s.options.mode = static_cast<CameraMode>(key - '1');
     glutSetWindowTitle(("MACSim-DDS: " + camera_mode_name(s.options.mode)).c_str());
   } else if (s.options.mode == CameraMode::MouseKeyboard) {
@@ -119,7 +119,7 @@ int run_viewer(const ViewerOptions& options, const std::function<Scene()>& lates
   glutMouseFunc(mouse);
   glutMotionFunc(motion);
   glutKeyboardFunc(keyboard);
-  std::cout << "viewer: keys 1-8 camera modes (" << camera_mode_name(options.mode)
+  std::cout << "viewer: keys 1-9 camera modes (" << camera_mode_name(options.mode)
             << " now), w/a/s/d move, q quits; mouse: left pans, right moves, middle lifts"
             << std::endl;
   while (!state.close && !stop() && glutGetWindow() != 0) {

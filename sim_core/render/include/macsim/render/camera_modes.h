@@ -18,6 +18,7 @@ enum class CameraMode {
   LeftCamera,     ///< the robot's left camera
   RightCamera,    ///< the robot's right camera
   Manual,         ///< moved only by the program
+  Chase,          ///< high behind the robot, looking at the floor ahead of it
 };
 
 /// The mode of that name ("MouseOnly", ..., case-insensitive), if any.
