@@ -19,6 +19,7 @@
 #include "macsim/render/viewer.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
+#include "macsim/sim_core/world_variation.h"
 #include "picture_server.h"
 #include "sim_bridge.h"
 #include "simulation_server.h"
@@ -131,6 +132,7 @@ struct Options {
   double settle = 1.0;
   std::string snapshot_size = "640x480";
   std::string pictures;
+  int seed = -1;
   std::string cameras = "320x240";
   double camera_rate = 15.0;
   bool viewer = false;
@@ -187,6 +189,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
              &o.viewer_screenshot);
   cli.flag("validate", "load the world, print a summary and exit", &o.validate);
+  cli.option("seed", "N",
+             "vary the world's layout by this seed (0 or more) as its <VARIATION> says: the "
+             "same seed, the same layout (default: as written)",
+             &o.seed);
   cli.option("max-objects", "N",
              "refuse a world of more objects (default " + std::to_string(o.max_objects) + ")",
              &o.max_objects);
@@ -205,6 +211,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   }
   if (o.world_file.empty()) {
     std::cerr << "macsim: --world FILE is required (see --help)\n";
+    return 2;
+  }
+  if (o.seed < -1) {
+    std::cerr << "macsim: --seed must be 0 or more, got " << o.seed << "\n";
     return 2;
   }
   if (!(o.rtf >= macsim::kMinRealTimeFactor) || !std::isfinite(o.rtf) || !(o.duration >= 0.0) ||
@@ -368,6 +378,11 @@ int main(int argc, char** argv) {
     load.limits = o.limits();
     auto spec = macsim::load_world_file(o.world_file, load);
     print_summary(spec);
+    if (o.seed >= 0) {
+      const auto moved = macsim::vary_world(spec, static_cast<uint32_t>(o.seed));
+      std::cout << "macsim: layout of seed " << o.seed << ":\n";
+      for (const auto& line : moved) std::cout << "  " << line << "\n";
+    }
     runner = std::make_unique<macsim::Runner>(
         std::move(spec),
         macsim::RunSettings{o.paused || o.lockstep, o.as_fast_as_possible ? 0.0 : o.rtf});

@@ -138,7 +138,7 @@ KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int 
   if (config_.crane) build_crane(world, space, {base_link, q});
   for (std::size_t i = 0; i < state_.ranges.size(); ++i)
     state_.ranges[i] = {&kurt_range_sensors()[i], kInvalidRange};
-  state_.start_yaw = state_.last_yaw = yaw_of(q);
+  state_.start_yaw = state_.last_yaw = state_.yaw_unwrapped = yaw_of(q);
   command_rotunit(config_.rotunit_speed);
   state_.next_scan_time = 1.0 / config_.laser_rate;
 }

@@ -258,6 +258,8 @@ class Loader {
         world_.name = r.text(e);
       } else if (is_world && tag == "PHYSICS") {
         read_physics(r, e);
+      } else if (is_world && tag == "VARIATION") {
+        read_variation(r, e);
       } else if (is_world && tag == "GROUND") {
         for (auto* g = e->FirstChildElement(); g; g = g->NextSiblingElement()) {
           if (upper(g->Name()) == "FRICTION") {
@@ -330,6 +332,50 @@ class Loader {
         r.unknown(e, "PHYSICS");
       }
     }
+  }
+
+  /// x_min, y_min, x_max, y_max of a floor area, each within the coordinate bound.
+  Eigen::Vector4d area(const Reader& r, const XMLElement* e) {
+    const auto v = r.numbers(e, 4, 4);
+    for (double value : v) {
+      if (std::fabs(value) > bounds::kMaxCoordinate) {
+        r.fail(e, r.tag(e) + " coordinates must lie within +-" +
+                      std::to_string(int(bounds::kMaxCoordinate)) + " m");
+      }
+    }
+    if (!(v[0] < v[2] && v[1] < v[3])) {
+      r.fail(e, r.tag(e) + " expects x_min,y_min,x_max,y_max with min < max, got " + r.text(e));
+    }
+    return {v[0], v[1], v[2], v[3]};
+  }
+
+  void read_variation(const Reader& r, const XMLElement* element) {
+    VariationSpec v;
+    v.source = r.where(element);
+    bool has_area = false;
+    for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "OBJECTS") {
+        v.user_data = r.text(e);
+      } else if (tag == "AREA") {
+        v.area = area(r, e);
+        has_area = true;
+      } else if (tag == "ROBOT_AREA") {
+        v.robot_area = area(r, e);
+      } else if (tag == "CLEARANCE") {
+        v.clearance = r.non_negative(e);
+        if (v.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");
+      } else if (tag == "COLOR") {
+        v.colors.push_back(r.color(e));
+      } else {
+        r.unknown(e, "VARIATION");
+      }
+    }
+    if (v.user_data.empty() || !has_area) {
+      r.fail(element, "<VARIATION> needs <OBJECTS> (the user data of the objects to place) and "
+                      "<AREA>");
+    }
+    world_.variation = std::move(v);
   }
 
   void read_material(const Reader& r, const XMLElement* element) {

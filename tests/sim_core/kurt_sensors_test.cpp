@@ -138,5 +138,23 @@ TEST(KurtImu, GyroYawFollowsTheTurnAndDriftsWhenAsked) {
   EXPECT_NEAR(still.robot("kurt")->imu().yaw, 0.1, 0.005);  // 0.01 rad/s for 10 s
 }
 
+TEST(KurtImu, GyroYawIsRelativeToTheStartHeading) {
+  // A robot placed with a heading reads yaw 0 at the start and the turn since then after it.
+  World world(load_world_string(
+      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><ROT>0,0,120</ROT></ROBOT></WORLD>",
+      "turned.xml"));
+  KurtRobot& kurt = *world.robot("kurt");
+  run_for(world, 0.05);
+  EXPECT_NEAR(kurt.imu().yaw, 0.0, 1e-3);
+  for (int i = 0; i < 1500; ++i) {
+    if (i % 100 == 0) kurt.command_twist(0.0, 0.6, world.time());
+    world.step();
+  }
+  const Eigen::Vector3d x = kurt.base_link_pose().orientation * Eigen::Vector3d::UnitX();
+  const double turned = std::atan2(x.y(), x.x()) - 120.0 * M_PI / 180.0;
+  EXPECT_GT(kurt.imu().yaw, 0.3);
+  EXPECT_NEAR(kurt.imu().yaw, std::atan2(std::sin(turned), std::cos(turned)), 1e-6);
+}
+
 }  // namespace
 }  // namespace macsim::test

@@ -179,6 +179,17 @@ struct RobotSpec {
   SourceLocation source;
 };
 
+/// How a world varies with a seed (the <VARIATION> element; `macsim --seed N`): objects placed
+/// at random in an area, one colour per material drawn from a palette, the robots' start.
+struct VariationSpec {
+  std::string user_data;                ///< the objects placed are those with this user data
+  Eigen::Vector4d area{0, 0, 0, 0};     ///< x_min, y_min, x_max, y_max on the floor, m
+  std::optional<Eigen::Vector4d> robot_area;  ///< where the robots start (any heading)
+  double clearance = 0.45;              ///< m between footprints of placed objects and others
+  std::vector<Color> colors;            ///< palette for the first component of placed objects
+  SourceLocation source;
+};
+
 /// A whole world: physics settings, ground plane, materials, objects, joints, doors, robots.
 struct WorldSpec {
   std::string name;
@@ -190,6 +201,7 @@ struct WorldSpec {
   std::vector<JointSpec> joints;
   std::vector<DoorSpec> doors;
   std::vector<RobotSpec> robots;
+  std::optional<VariationSpec> variation;  ///< how --seed varies it, if it says
 
   /// The material of that name, or nullptr.
   const MaterialSpec* material(const std::string& material_name) const;

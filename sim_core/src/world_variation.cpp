@@ -1,0 +1,112 @@
+#include "macsim/sim_core/world_variation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+
+#include "macsim/sim_core/world_loader.h"
+
+namespace macsim {
+
+namespace {
+
+/// Radius of the object's footprint about its frame's vertical axis.
+double footprint(const ObjectSpec& object) {
+  double radius = 0.0;
+  for (const auto& c : object.components) {
+    const double offset = c.pose.position.head<2>().norm();
+    const double half = c.shape == Shape::Box ? 0.5 * c.size.head<2>().norm() : c.size.x();
+    radius = std::max(radius, offset + half);
+  }
+  return radius;
+}
+
+/// Whether anything of this kind stands in the way of a placed object (walls and ramps bound
+/// the area instead; door parts stand where the area should not reach).
+bool obstacle(const ObjectSpec& object) {
+  return object.kind == ObjectKind::Object || object.kind == ObjectKind::SwitchBase;
+}
+
+constexpr double kRobotRadius = 0.35;  // m: a KURT3D with its crane folded
+
+}  // namespace
+
+std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
+  if (!spec.variation) {
+    throw WorldFileError(spec.file, 0,
+                         "this world has no <VARIATION>: nothing to vary by a seed (see "
+                         "worlds/README.md)");
+  }
+  const VariationSpec& v = *spec.variation;
+  std::mt19937 rng(seed);
+  auto uniform = [&rng](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  struct Placed {
+    Eigen::Vector2d at;
+    double radius;
+  };
+  std::vector<Placed> taken;
+  std::vector<std::size_t> chosen;
+  for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+    const ObjectSpec& o = spec.objects[i];
+    if (o.portable && o.user_data == v.user_data) {
+      chosen.push_back(i);
+    } else if (obstacle(o)) {
+      taken.push_back({o.pose.position.head<2>(), footprint(o)});
+    }
+  }
+  std::vector<std::string> moved;
+  auto place = [&](const Eigen::Vector4d& area, double radius, const std::string& what) {
+    for (int attempt = 0; attempt < 2000; ++attempt) {
+      const Eigen::Vector2d at(uniform(area[0], area[2]), uniform(area[1], area[3]));
+      const bool free = std::all_of(taken.begin(), taken.end(), [&](const Placed& p) {
+        return (p.at - at).norm() >= p.radius + radius + v.clearance;
+      });
+      if (free) {
+        taken.push_back({at, radius});
+        return at;
+      }
+    }
+    throw WorldFileError(v.source.file, v.source.line,
+                         "<VARIATION>: no room for " + what + " with a clearance of " +
+                             std::to_string(v.clearance) + " m (seed " + std::to_string(seed) +
+                             ")");
+  };
+  auto log = [&moved](const std::string& name, const Eigen::Vector2d& at, double yaw) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%s at %.3f, %.3f, heading %.0f deg", name.c_str(), at.x(),
+                  at.y(), yaw * 180.0 / M_PI);
+    moved.emplace_back(line);
+  };
+  if (v.robot_area) {
+    for (auto& robot : spec.robots) {
+      const Eigen::Vector2d at = place(*v.robot_area, kRobotRadius, "robot '" + robot.name + "'");
+      const double yaw = uniform(-M_PI, M_PI);
+      robot.pose.position.head<2>() = at;
+      robot.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
+      log("robot " + robot.name, at, yaw);
+    }
+  }
+  // One colour per material: objects that look alike behave alike, as the seed's cans do.
+  std::vector<Color> palette = v.colors;
+  std::shuffle(palette.begin(), palette.end(), rng);
+  std::map<std::string, std::size_t> colour_of;
+  for (std::size_t i : chosen) {
+    ObjectSpec& o = spec.objects[i];
+    const Eigen::Vector2d at = place(v.area, footprint(o), "object '" + o.name + "'");
+    const double yaw = uniform(-M_PI, M_PI);
+    o.pose.position.head<2>() = at;
+    o.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * o.pose.orientation;
+    if (!palette.empty() && !o.components.empty()) {
+      const auto [entry, fresh] = colour_of.try_emplace(o.material, colour_of.size());
+      o.components.front().color = palette[entry->second % palette.size()];
+    }
+    log(o.name, at, yaw);
+  }
+  return moved;
+}
+
+}  // namespace macsim
