@@ -26,6 +26,8 @@ constexpr double kStandoff = 0.9;           // m from an object to look at it cl
 constexpr double kPickupRadius = 0.485;     // m from the crane's pivot to the object
 constexpr double kRotunitSpeed = M_PI;      // rad/s: a cloud every 2 s
 constexpr double kParkSlew = M_PI / 2, kParkLift = 0.6;
+constexpr double kRobotRadius = 0.33;       // m: the chassis and wheels, from base_link
+constexpr double kHalfWidth = 0.25;         // m: half the corridor the robot drives in
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
@@ -317,6 +319,48 @@ void DemoController::record(const std::vector<std::pair<Sighting, Pose2>>& sight
   }
 }
 
+void DemoController::map_here() {
+  const auto cloud = take_cloud();
+  obstacles_.add(cloud, geometry_, pose_.x, pose_.y, pose_.yaw);
+}
+
+Point DemoController::approach_point(Point target, double standoff, double reach) const {
+  const double direct = std::atan2(target.y - pose_.y, target.x - pose_.x);
+  for (int k = 0; k < 24; ++k) {
+    // 0, +15, -15, +30, -30, ... degrees off the direct way in
+    const double off = (k + 1) / 2 * (k % 2 ? 1 : -1) * M_PI / 12;
+    const double a = direct + off, ux = std::cos(a), uy = std::sin(a);
+    const Point stand{target.x - standoff * ux, target.y - standoff * uy};
+    const Point near{target.x - reach * ux, target.y - reach * uy};
+    if (obstacles_.clearance(stand, kRobotRadius) >= kRobotRadius &&
+        obstacles_.free(stand, near, kHalfWidth, target, 0.15)) {
+      return stand;
+    }
+  }
+  const double d = std::hypot(target.x - pose_.x, target.y - pose_.y);
+  return {target.x - standoff * (target.x - pose_.x) / d, target.y - standoff * (target.y - pose_.y) / d};
+}
+
+void DemoController::travel_to(Point goal, double tolerance) {
+  const Point here{pose_.x, pose_.y};
+  if (!obstacles_.free(here, goal, kHalfWidth)) {
+    // Around it: the first waypoint beside the straight way from which both legs are free.
+    const double dx = goal.x - here.x, dy = goal.y - here.y, d = std::hypot(dx, dy);
+    for (double side : {0.5, -0.5, 0.8, -0.8, 1.1, -1.1, 1.4, -1.4}) {
+      for (double along : {0.5, 0.25, 0.75}) {
+        const Point via{here.x + along * dx - side * dy / d, here.y + along * dy + side * dx / d};
+        if (obstacles_.clearance(via, kRobotRadius) >= kRobotRadius &&
+            obstacles_.free(here, via, kHalfWidth) && obstacles_.free(via, goal, kHalfWidth)) {
+          drive_to(via.x, via.y, 0.08);
+          drive_to(goal.x, goal.y, tolerance);
+          return;
+        }
+      }
+    }
+  }
+  drive_to(goal.x, goal.y, tolerance);
+}
+
 // ---- scenes -------------------------------------------------------------------------------
 
 void DemoController::search(const std::string& scene, bool want_switch) {
@@ -339,12 +383,11 @@ bool DemoController::try_lift(Candidate& can) {
   can.tried = true;
   say("scene 2", fmt("going for the %s can at %.2f,%.2f (odometry frame)", can.colour.c_str(),
                      can.x, can.y));
-  // Stand off, face it, look again from close by.
-  const double ux = can.x - pose_.x, uy = can.y - pose_.y, d = std::hypot(ux, uy);
-  if (d > kStandoff + 0.05) {
-    drive_to(can.x - kStandoff * ux / d, can.y - kStandoff * uy / d, 0.05);
-  }
+  // Stand off where the way in is free, face it, look again from close by.
+  const double reach = geometry_.pivot_x + kPickupRadius;
+  travel_to(approach_point({can.x, can.y}, kStandoff, reach), 0.05);
   turn_to(std::atan2(can.y - pose_.y, can.x - pose_.x));
+  map_here();
   int found = 0;
   double sx = 0, sy = 0;
   for (const auto& [s, at] : look(3)) {
@@ -363,7 +406,6 @@ bool DemoController::try_lift(Candidate& can) {
   can.y = sy / found;
   turn_to(std::atan2(can.y - pose_.y, can.x - pose_.x));
   // Drive until the can is at the crane's reach ahead.
-  const double reach = geometry_.pivot_x + kPickupRadius;
   drive_straight(std::hypot(can.x - pose_.x, can.y - pose_.y) - reach, 0.15);
 
   // Over it with the magnet, then down until the magnet holds it or rests on it.
@@ -426,6 +468,7 @@ bool DemoController::try_lift(Candidate& can) {
   }
   say("scene 2", "lifted the " + can.colour + " can (" + s->held_object() + ") off the floor");
   can.outcome = "lifted";
+  obstacles_.clear({can.x, can.y}, 0.12);
   crane_to(kParkSlew, kParkLift, 0.0);
   picture("scene2_can_on_magnet");
   return true;
@@ -438,10 +481,9 @@ void DemoController::deliver() {
   }
   if (!switch_) throw Failure{kNoSwitch, "no door switch (a yellow floor platform) in sight"};
   say("scene 3", fmt("carrying the can to the switch at %.2f,%.2f", switch_->x, switch_->y));
-  const double ux = switch_->x - pose_.x, uy = switch_->y - pose_.y, d = std::hypot(ux, uy);
-  if (d > kStandoff + 0.05) {
-    drive_to(switch_->x - kStandoff * ux / d, switch_->y - kStandoff * uy / d, 0.05);
-  }
+  map_here();
+  const double reach = geometry_.pivot_x + kPickupRadius;
+  travel_to(approach_point({switch_->x, switch_->y}, kStandoff, reach), 0.05);
   turn_to(std::atan2(switch_->y - pose_.y, switch_->x - pose_.x));
   int found = 0;
   double sx = 0, sy = 0;
@@ -457,9 +499,7 @@ void DemoController::deliver() {
     switch_->y = sy / found;
   }
   turn_to(std::atan2(switch_->y - pose_.y, switch_->x - pose_.x));
-  drive_straight(std::hypot(switch_->x - pose_.x, switch_->y - pose_.y) -
-                     (geometry_.pivot_x + kPickupRadius),
-                 0.15);
+  drive_straight(std::hypot(switch_->x - pose_.x, switch_->y - pose_.y) - reach, 0.15);
   const Pose2 b = to_base(switch_->x, switch_->y);
   const double dx = b.x - geometry_.pivot_x, dy = b.y;
   const double slew = std::atan2(dy, dx);
@@ -548,6 +588,7 @@ void DemoController::run() {
   say("start", "found it; parking the crane, starting the laser's rotating unit");
   rotunit_ = kRotunitSpeed;
   park_crane();
+  map_here();
   search("scene 1", false);
   if (candidates_.empty()) throw Failure{kNoCan, "no can in sight after a full turn"};
   picture("scene1_cans_found");

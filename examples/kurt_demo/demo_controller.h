@@ -94,6 +94,13 @@ class DemoController {
   /// Stops and returns a laser cloud taken wholly after stopping.
   macsim::client::Cloud take_cloud();
   void record(const std::vector<std::pair<Sighting, Pose2>>& sightings);
+  /// Stops, takes a laser cloud and adds it to the obstacle map.
+  void map_here();
+  /// Where to stand `standoff` from `target` so that the robot fits there and the straight
+  /// way in (to `reach` from it) is free; the direction from the robot first.
+  Point approach_point(Point target, double standoff, double reach) const;
+  /// Drives to `goal` in straight lines, around what the map shows in the way.
+  void travel_to(Point goal, double tolerance);
 
   // ---- scenes -----------------------------------------------------------------------------
   void search(const std::string& scene, bool want_switch);
@@ -130,6 +137,7 @@ class DemoController {
   std::vector<Candidate> candidates_;
   std::optional<Candidate> switch_;
   std::vector<std::string> failed_colours_;
+  ObstacleMap obstacles_;
   int debug_count_ = 0;
 };
 

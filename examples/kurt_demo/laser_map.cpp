@@ -105,4 +105,52 @@ bool corridor_free(const std::vector<Point>& points, Point goal, double half_wid
   return true;
 }
 
+namespace {
+constexpr double kCell = 0.05;
+int cell(double v) { return static_cast<int>(std::floor(v / kCell)); }
+}  // namespace
+
+void ObstacleMap::add(const macsim::client::Cloud& cloud, const KurtGeometry& g, double x,
+                      double y, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  for (const Point& p : slice(cloud, g, 0.04, 0.45, 0.45, 4.0)) {
+    cells_.insert(key(cell(x + c * p.x - s * p.y), cell(y + s * p.x + c * p.y)));
+  }
+}
+
+void ObstacleMap::clear(Point at, double radius) {
+  const int r = static_cast<int>(std::ceil(radius / kCell));
+  for (int ix = cell(at.x) - r; ix <= cell(at.x) + r; ++ix) {
+    for (int iy = cell(at.y) - r; iy <= cell(at.y) + r; ++iy) {
+      if (std::hypot((ix + 0.5) * kCell - at.x, (iy + 0.5) * kCell - at.y) <= radius)
+        cells_.erase(key(ix, iy));
+    }
+  }
+}
+
+double ObstacleMap::clearance(Point at, double limit, Point except, double spare) const {
+  const int r = static_cast<int>(std::ceil(limit / kCell));
+  double nearest = limit;
+  for (int ix = cell(at.x) - r; ix <= cell(at.x) + r; ++ix) {
+    for (int iy = cell(at.y) - r; iy <= cell(at.y) + r; ++iy) {
+      if (!cells_.count(key(ix, iy))) continue;
+      const double cx = (ix + 0.5) * kCell, cy = (iy + 0.5) * kCell;
+      if (std::hypot(cx - except.x, cy - except.y) < spare) continue;
+      nearest = std::min(nearest, std::hypot(cx - at.x, cy - at.y));
+    }
+  }
+  return nearest;
+}
+
+bool ObstacleMap::free(Point a, Point b, double half_width, Point except, double spare) const {
+  const double length = std::hypot(b.x - a.x, b.y - a.y);
+  const int steps = std::max(1, static_cast<int>(std::ceil(length / kCell)));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = static_cast<double>(i) / steps;
+    const Point p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    if (clearance(p, half_width, except, spare) < half_width) return false;
+  }
+  return true;
+}
+
 }  // namespace kurt_demo

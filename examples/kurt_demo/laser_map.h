@@ -2,7 +2,9 @@
 // the passage a door leaves open in it, and whether a straight way is free.
 #pragma once
 
+#include <cstdint>
 #include <optional>
+#include <unordered_set>
 #include <vector>
 
 #include "kurt_geometry.h"
@@ -37,5 +39,29 @@ std::optional<Passage> find_passage(const std::vector<Point>& points, double min
 /// True if no point lies in the straight corridor of half-width `half_width` from the origin to
 /// `goal`, apart from points within `spare` of the goal (the object that is the goal itself).
 bool corridor_free(const std::vector<Point>& points, Point goal, double half_width, double spare);
+
+/// Where the laser saw things to keep clear of (between 4 and 45 cm above the floor: cans,
+/// boxes, posts, walls, the switch), gathered from clouds taken at known poses, on a 5 cm grid
+/// in the odometry frame.
+class ObstacleMap {
+ public:
+  /// Adds a cloud taken with base_link at (x, y, yaw).
+  void add(const macsim::client::Cloud& cloud, const KurtGeometry& geometry, double x, double y,
+           double yaw);
+  /// Forgets what was within `radius` of (x, y) (a can that was carried away).
+  void clear(Point at, double radius);
+  /// Distance from `at` to the nearest obstacle (up to `limit`), ignoring those within `spare`
+  /// of `except`.
+  double clearance(Point at, double limit, Point except = {1e9, 1e9}, double spare = 0) const;
+  /// True if the whole segment a-b keeps `half_width` from every obstacle, apart from those
+  /// within `spare` of `except`.
+  bool free(Point a, Point b, double half_width, Point except = {1e9, 1e9},
+            double spare = 0) const;
+  std::size_t cells() const { return cells_.size(); }
+
+ private:
+  static int64_t key(int ix, int iy) { return (int64_t(ix) << 32) ^ uint32_t(iy); }
+  std::unordered_set<int64_t> cells_;
+};
 
 }  // namespace kurt_demo

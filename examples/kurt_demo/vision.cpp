@@ -30,7 +30,32 @@ struct Blob {
   cv::Rect box;
   double cx = 0, cy = 0;
   int area = 0;
+  bool dark_below = false;  // stands on something dark (a switch's base), not on the floor
 };
+
+/// Whether most columns of component `label` have dark, grey pixels right below their lowest
+/// pixel of it: a switch's dark base shows below its platform, the floor below anything else.
+bool dark_below(const cv::Mat& labels, int label, const cv::Rect& box, const cv::Mat& saturation,
+                const cv::Mat& value) {
+  int columns = 0, dark = 0;
+  for (int x = box.x + box.width / 4; x < box.x + box.width - box.width / 4; ++x) {
+    int lowest = -1;
+    for (int y = box.y + box.height - 1; y >= box.y; --y) {
+      if (labels.at<int>(y, x) == label) {
+        lowest = y;
+        break;
+      }
+    }
+    if (lowest < 0 || lowest + 3 >= labels.rows) continue;
+    ++columns;
+    int dark_pixels = 0;
+    for (int y = lowest + 1; y <= lowest + 3; ++y) {
+      if (value.at<uint8_t>(y, x) < 100 && saturation.at<uint8_t>(y, x) < 90) ++dark_pixels;
+    }
+    dark += dark_pixels >= 2 ? 1 : 0;
+  }
+  return columns > 0 && dark * 2 >= columns;
+}
 
 std::vector<Blob> find_blobs(const cv::Mat& bgr) {
   cv::Mat hsv;
@@ -51,12 +76,11 @@ std::vector<Blob> find_blobs(const cv::Mat& bgr) {
     for (int i = 1; i < n; ++i) {
       const int area = stats.at<int>(i, cv::CC_STAT_AREA);
       if (area < kMinArea) continue;
-      blobs.push_back({c,
-                       {stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
-                        stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT)},
-                       centroids.at<double>(i, 0),
-                       centroids.at<double>(i, 1),
-                       area});
+      const cv::Rect box(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
+                         stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
+      const bool switch_colour = std::string(colour.name) == "yellow";
+      blobs.push_back({c, box, centroids.at<double>(i, 0), centroids.at<double>(i, 1), area,
+                       switch_colour && dark_below(labels, i, box, channel[1], channel[2])});
     }
   }
   return blobs;
@@ -115,9 +139,9 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
     s.box = l.box;
     const double fill = static_cast<double>(l.area) / l.box.area();
     if (s.colour == std::string("yellow")) {
-      // A switch platform: a flat, wide, solid yellow slab just above the floor.
+      // A switch platform: a flat, wide, solid yellow slab on a dark base just above the floor.
       if (s.width < 0.12 || s.width > 0.5 || s.height > 0.25 || l.box.width < 1.5 * l.box.height ||
-          fill < 0.45 || height < -0.02 || height > 0.15) {
+          fill < 0.45 || height < -0.02 || height > 0.15 || !l.dark_below) {
         continue;
       }
       s.kind = Kind::Switch;
