@@ -87,6 +87,10 @@ class DemoController {
   /// Moves the crane to the targets and waits until it is there (or `timeout` passed).
   bool crane_to(double slew, double lift, double hoist, double timeout = 4.0);
   void park_crane();
+  /// Lowers the magnet at `lift` onto something whose top is `height` above the floor: fast
+  /// to just above it, then slowly until the magnet holds something (`until_held`) or rests.
+  /// What the magnet holds, if anything.
+  std::string lower_onto(double lift, double height, bool until_held);
 
   // ---- sensing ----------------------------------------------------------------------------
   /// Stops, lets the robot settle, and returns what `frames` stereo pairs show, in odometry.

@@ -17,6 +17,7 @@ struct KurtGeometry {
   double boom_length = 0.5;
   double lift_min = -0.6, lift_max = 0.8;  ///< rad
   double max_hoist = 0.32;                 ///< m
+  double magnet_below_tip = 0.05;          ///< m, the boom's tip to the magnet's face
   // the laser scanner's origin on the rotating unit
   double laser_z = 0.35;
   double half_width = 0.22;  ///< m, half the robot's width with its wheels
