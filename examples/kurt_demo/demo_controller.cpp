@@ -407,34 +407,58 @@ void DemoController::search(const std::string& scene, bool want_switch) {
   say(scene, "looked around: " + what.str());
 }
 
+std::optional<Point> DemoController::find_again(const Candidate& target, Kind kind) {
+  auto matches = [&](const std::vector<std::pair<Sighting, Pose2>>& seen) {
+    int found = 0;
+    double sx = 0, sy = 0;
+    for (const auto& [s, at] : seen) {
+      if (s.kind == kind && (kind == Kind::Switch || s.colour == target.colour) &&
+          std::hypot(at.x - target.x, at.y - target.y) < 0.45) {
+        sx += at.x;
+        sy += at.y;
+        ++found;
+      }
+    }
+    return found ? std::optional<Point>(Point{sx / found, sy / found}) : std::nullopt;
+  };
+  if (auto at = matches(look(3))) return at;
+  // Not where expected: the odometry drifted; look a little to each side.
+  const double ahead = pose_.yaw;
+  for (double off : {0.45, -0.45}) {
+    turn_to(ahead + off);
+    if (auto at = matches(look(2))) return at;
+  }
+  return std::nullopt;
+}
+
+bool DemoController::close_in(Candidate& target, Kind kind) {
+  const double reach = geometry_.pivot_x + kPickupRadius;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    travel_to(approach_point({target.x, target.y}, kStandoff, reach), 0.05);
+    turn_to(std::atan2(target.y - pose_.y, target.x - pose_.x));
+    if (attempt == 0) map_here();
+    const auto at = find_again(target, kind);
+    if (!at) return false;
+    target.x = at->x;
+    target.y = at->y;
+    const double distance = std::hypot(target.x - pose_.x, target.y - pose_.y);
+    if (std::fabs(distance - kStandoff) < 0.25) break;  // else walk up to it again
+  }
+  turn_to(std::atan2(target.y - pose_.y, target.x - pose_.x));
+  drive_straight(std::hypot(target.x - pose_.x, target.y - pose_.y) - reach, 0.15);
+  return true;
+}
+
 bool DemoController::try_lift(Candidate& can) {
   can.tried = true;
   say("scene 2", fmt("going for the %s can at %.2f,%.2f (odometry frame)", can.colour.c_str(),
                      can.x, can.y));
-  // Stand off where the way in is free, face it, look again from close by.
-  const double reach = geometry_.pivot_x + kPickupRadius;
-  travel_to(approach_point({can.x, can.y}, kStandoff, reach), 0.05);
-  turn_to(std::atan2(can.y - pose_.y, can.x - pose_.x));
-  map_here();
-  int found = 0;
-  double sx = 0, sy = 0;
-  for (const auto& [s, at] : look(3)) {
-    if (s.kind == Kind::Can && s.colour == can.colour && std::hypot(at.x - can.x, at.y - can.y) < 0.3) {
-      sx += at.x;
-      sy += at.y;
-      ++found;
-    }
-  }
-  if (found == 0) {
+  // Stand off where the way in is free, look again from close by, drive in to the crane's reach.
+  if (!close_in(can, Kind::Can)) {
     can.outcome = "not seen again";
     say("scene 2", "the " + can.colour + " can is not where it was seen; next candidate");
     return false;
   }
-  can.x = sx / found;
-  can.y = sy / found;
-  turn_to(std::atan2(can.y - pose_.y, can.x - pose_.x));
-  // Drive until the can is at the crane's reach ahead.
-  drive_straight(std::hypot(can.x - pose_.x, can.y - pose_.y) - reach, 0.15);
 
   // Over it with the magnet, then down until the magnet holds it or rests on it.
   const Pose2 b = to_base(can.x, can.y);
@@ -493,24 +517,9 @@ void DemoController::deliver() {
   if (!switch_) throw Failure{kNoSwitch, "no door switch (a yellow floor platform) in sight"};
   say("scene 3", fmt("carrying the can to the switch at %.2f,%.2f", switch_->x, switch_->y));
   map_here();
-  const double reach = geometry_.pivot_x + kPickupRadius;
-  travel_to(approach_point({switch_->x, switch_->y}, kStandoff, reach), 0.05);
-  turn_to(std::atan2(switch_->y - pose_.y, switch_->x - pose_.x));
-  int found = 0;
-  double sx = 0, sy = 0;
-  for (const auto& [s, at] : look(3)) {
-    if (s.kind == Kind::Switch && std::hypot(at.x - switch_->x, at.y - switch_->y) < 0.4) {
-      sx += at.x;
-      sy += at.y;
-      ++found;
-    }
+  if (!close_in(*switch_, Kind::Switch)) {
+    throw Failure{kNoSwitch, "the switch is not where it was seen"};
   }
-  if (found > 0) {
-    switch_->x = sx / found;
-    switch_->y = sy / found;
-  }
-  turn_to(std::atan2(switch_->y - pose_.y, switch_->x - pose_.x));
-  drive_straight(std::hypot(switch_->x - pose_.x, switch_->y - pose_.y) - reach, 0.15);
   const Pose2 b = to_base(switch_->x, switch_->y);
   const double dx = b.x - geometry_.pivot_x, dy = b.y;
   const double slew = std::atan2(dy, dx);

@@ -108,6 +108,11 @@ class DemoController {
 
   // ---- scenes -----------------------------------------------------------------------------
   void search(const std::string& scene, bool want_switch);
+  /// Looks for `target` again where it should be (and a little to each side): where it is.
+  std::optional<Point> find_again(const Candidate& target, Kind kind);
+  /// Walks up to `target` (standing off, looking again, updating it) and drives in until it is
+  /// at the crane's reach ahead; false if it is no longer to be seen.
+  bool close_in(Candidate& target, Kind kind);
   bool try_lift(Candidate& can);
   void deliver();
   void go_through();

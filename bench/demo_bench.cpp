@@ -1,0 +1,135 @@
+// The final demonstrator over many layouts: for each seed, macsim --lockstep --seed N on the
+// demo world and kurt_demo --lockstep stepping it, in two processes over DDS. Prints the success
+// rate, the median and 90th percentile of the robot (sim) time and the wall time per run, and
+// their ratio (how much faster than real time a run is). `name value unit` lines.
+//   bench_demo [SEEDS [FIRST]]   (default 50 seeds from 1; from the repository root)
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+/// Starts `argv` with its output to `log`.
+pid_t spawn(const std::vector<std::string>& argv, const std::string& log) {
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) _exit(126);
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Exit code of `pid` (128 + signal), waiting at most `seconds`; killed after that.
+int finish(pid_t pid, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return 137;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double rank = p * (v.size() - 1);
+  const auto lo = static_cast<std::size_t>(rank);
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (rank - lo) * (v[hi] - v[lo]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 50, first = 1;
+  if (argc > 1 && std::string(argv[1]) == "--help") {
+    std::printf("bench_demo [SEEDS [FIRST]]: kurt_demo against macsim in lock-step on SEEDS "
+                "layouts of worlds/DemoWorld_v1.xml (default 50 from seed 1); prints the success "
+                "rate and the median and p90 robot and wall time per run. Run from the "
+                "repository root.\n");
+    return 0;
+  }
+  if ((argc > 1 && (seeds = std::atoi(argv[1])) <= 0) ||
+      (argc > 2 && (first = std::atoi(argv[2])) < 0) || argc > 3) {
+    std::fprintf(stderr, "bench_demo: SEEDS must be positive and FIRST not negative (--help)\n");
+    return 2;
+  }
+  const std::string world = "worlds/DemoWorld_v1.xml";
+  if (!std::filesystem::exists(world)) {
+    std::fprintf(stderr, "bench_demo: run it from the repository root (%s not found)\n",
+                 world.c_str());
+    return 2;
+  }
+  const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
+  const std::string logs = std::filesystem::temp_directory_path() / ("bench_demo_" + std::to_string(getpid()));
+  std::filesystem::create_directories(logs);
+  std::vector<double> sim_times, wall_times;
+  std::vector<int> failed;
+  for (int seed = first; seed < first + seeds; ++seed) {
+    const std::string domain = std::to_string(150 + seed % 80);
+    const std::string sim_log = logs + "/macsim_" + std::to_string(seed) + ".log";
+    const std::string demo_log = logs + "/kurt_demo_" + std::to_string(seed) + ".log";
+    const pid_t sim = spawn({bin + "/macsim", "--world", world, "--domain", domain, "--lockstep",
+                             "--seed", std::to_string(seed)},
+                            sim_log);
+    const auto start = std::chrono::steady_clock::now();
+    const int code = finish(spawn({bin + "/kurt_demo", "--domain", domain, "--lockstep"}, demo_log), 600);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    kill(sim, SIGTERM);
+    finish(sim, 10);
+    // The robot time is in kurt_demo's last line: "... robot time 95.1 s, wall time ...".
+    std::ifstream in(demo_log);
+    std::string line, last;
+    while (std::getline(in, line)) last = line;
+    double sim_time = 0;
+    const auto at = last.find("robot time ");
+    if (at != std::string::npos) sim_time = std::atof(last.c_str() + at + 11);
+    std::fprintf(stderr, "seed %d: exit %d, robot time %.1f s, wall time %.1f s\n", seed, code,
+                 sim_time, wall);
+    if (code != 0) {
+      failed.push_back(seed);
+      continue;
+    }
+    sim_times.push_back(sim_time);
+    wall_times.push_back(wall);
+  }
+  std::vector<double> speed;
+  for (std::size_t i = 0; i < sim_times.size(); ++i) speed.push_back(sim_times[i] / wall_times[i]);
+  std::printf("demo_runs %d count\n", seeds);
+  std::printf("demo_successes %zu count\n", sim_times.size());
+  std::printf("demo_success_rate %.3f ratio\n", static_cast<double>(sim_times.size()) / seeds);
+  std::printf("demo_sim_time_median %.1f s\n", percentile(sim_times, 0.5));
+  std::printf("demo_sim_time_p90 %.1f s\n", percentile(sim_times, 0.9));
+  std::printf("demo_wall_time_median %.1f s\n", percentile(wall_times, 0.5));
+  std::printf("demo_wall_time_p90 %.1f s\n", percentile(wall_times, 0.9));
+  std::printf("demo_faster_than_real_time_median %.2f ratio\n", percentile(speed, 0.5));
+  if (!failed.empty()) {
+    std::string list;
+    for (int s : failed) list += " " + std::to_string(s);
+    std::fprintf(stderr, "bench_demo: failed seeds:%s (logs in %s)\n", list.c_str(), logs.c_str());
+  } else {
+    std::filesystem::remove_all(logs);
+  }
+  return 0;
+}

@@ -1,0 +1,168 @@
+// The final demonstrator end to end: kurt_demo (the robot's own sensing only) against macsim in
+// lock-step, judged from the simulator's world state by this test: the can on the switch's
+// platform, the switch triggered by weight (not virtually), the door open, the robot's ground
+// truth beyond the door. A stiff switch no can sinks leaves the door closed and kurt_demo says
+// so; ten random layouts all succeed; bad arguments move nothing.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include "macsim/dds/topics.h"
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "support/child_process.h"
+#include "support/latest_sample.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace mm = macsim_msgs::msg::dds_;
+
+/// The world as macsim last published it: objects by name, the door, the robot's ground truth.
+struct WorldView {
+  explicit WorldView(dds::Participant& p)
+      : objects_(p, dds::topics::kWorldObjects, dds::QosFamily::Latched,
+                 [this](const mm::ObjectState_& s) {
+                   std::lock_guard<std::mutex> lock(mutex_);
+                   objects[s.object().name()] = s.object();
+                 }),
+        doors(p, dds::topics::kWorldDoors),
+        truth(p, dds::topics::ground_truth("kurt")) {}
+
+  std::map<std::string, mm::Object_> snapshot() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return objects;
+  }
+
+  std::mutex mutex_;
+  std::map<std::string, mm::Object_> objects;
+  dds::Reader<mm::ObjectState_PubSubType> objects_;
+  Samples<mm::DoorState_PubSubType> doors;
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> truth;
+};
+
+struct Run {
+  int exit_code = -1;
+  std::string output;
+  std::map<std::string, mm::Object_> objects;
+  std::optional<mm::DoorState_> door;
+  std::optional<nav_msgs::msg::dds_::Odometry_> truth;
+};
+
+/// macsim --lockstep on `world` (with `seed` if not negative) and kurt_demo stepping it.
+Run play(const std::string& world, int seed) {
+  const std::string domain = std::to_string(unique_test_domain());
+  std::vector<std::string> args{bin("macsim"), "--world", world, "--domain", domain, "--lockstep"};
+  if (seed >= 0) {
+    args.push_back("--seed");
+    args.push_back(std::to_string(seed));
+  }
+  ChildProcess macsim(args);
+  EXPECT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({std::stoi(domain), "", "kurt_demo_test"});
+  WorldView view(p);
+  ChildProcess demo({bin("kurt_demo"), "--domain", domain, "--lockstep"});
+  Run run;
+  run.exit_code = demo.wait_for_exit(170s).value_or(-1);
+  run.output = demo.output();
+  // In lock-step nothing moves once the controller stopped stepping: the last state stands.
+  std::this_thread::sleep_for(500ms);
+  run.objects = view.snapshot();
+  run.door = view.doors.latest();
+  run.truth = view.truth.latest();
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
+  return run;
+}
+
+/// The can (user data "can") standing on the switch's platform, if any.
+const mm::Object_* can_on_platform(const Run& run) {
+  const auto platform = run.objects.find("doors/door_00/switch_component/platform");
+  if (platform == run.objects.end()) return nullptr;
+  const auto& at = platform->second.pose().position();
+  for (const auto& [name, object] : run.objects) {
+    const auto& p = object.pose().position();
+    if (object.user_data() == "can" && std::hypot(p.x() - at.x(), p.y() - at.y()) < 0.12 &&
+        p.z() > at.z() - 0.01) {
+      return &object;
+    }
+  }
+  return nullptr;
+}
+
+/// Everything the scenario must leave behind, asserted from the simulator's state.
+void expect_through(const Run& run, const std::string& what) {
+  ASSERT_EQ(run.exit_code, 0) << what << "\n" << run.output;
+  EXPECT_NE(run.output.find("SUCCESS"), std::string::npos) << run.output;
+  const mm::Object_* can = can_on_platform(run);
+  ASSERT_NE(can, nullptr) << what << ": no can on the switch's platform";
+  EXPECT_TRUE(can->magnetizable());
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_TRUE(run.door->door().triggered()) << what;
+  EXPECT_FALSE(run.door->door().virtually_triggered()) << what << ": opened by weight only";
+  EXPECT_GT(run.door->door().opening(), 0.9) << what;
+  ASSERT_TRUE(run.truth.has_value());
+  // The partition is at x = 1.5 m; the robot's footprint is beyond it.
+  EXPECT_GT(run.truth->pose().pose().position().x(), 1.5 + 0.3) << what;
+  EXPECT_LT(std::fabs(run.truth->pose().pose().position().y()), 1.9) << what;
+}
+
+TEST(KurtDemo, PlaysTheDemonstratorOnTheDemoWorld) {
+  const Run run = play(source("worlds/DemoWorld_v1.xml"), -1);
+  expect_through(run, "DemoWorld_v1");
+  // It said what it saw and decided, scene by scene.
+  for (const char* scene : {"scene 1:", "scene 2:", "scene 3:", "scene 4:"}) {
+    EXPECT_NE(run.output.find(scene), std::string::npos) << scene << "\n" << run.output;
+  }
+}
+
+TEST(KurtDemo, AStiffSwitchLeavesTheDoorClosedAndTheDemoSaysSo) {
+  // The switch needs 40 N; the cans weigh 0.8 N (tin) and 20 N (lead).
+  const Run run = play(source("tests/worlds/DemoWorld_stiff_switch.xml"), -1);
+  EXPECT_EQ(run.exit_code, 6) << run.output;
+  EXPECT_NE(run.output.find("the door stayed closed"), std::string::npos) << run.output;
+  EXPECT_NE(can_on_platform(run), nullptr) << "the can was delivered nevertheless";
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_FALSE(run.door->door().triggered());
+  EXPECT_LT(run.door->door().opening(), 0.05);
+  ASSERT_TRUE(run.truth.has_value());
+  EXPECT_LT(run.truth->pose().pose().position().x(), 1.3);
+}
+
+/// Ten layouts of the demo world (macsim --seed): cans, colours and the robot's start at random.
+class KurtDemoSeeds : public ::testing::TestWithParam<int> {};
+
+TEST_P(KurtDemoSeeds, GetsThroughTheDoor) {
+  const Run run = play(source("worlds/DemoWorld_v1.xml"), GetParam());
+  expect_through(run, "seed " + std::to_string(GetParam()));
+}
+
+INSTANTIATE_TEST_SUITE_P(TenLayouts, KurtDemoSeeds, ::testing::Range(1, 11));
+
+TEST(KurtDemo, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
+  ChildProcess help({bin("kurt_demo"), "--help"});
+  EXPECT_EQ(help.wait_for_exit(10s), 0);
+  EXPECT_NE(help.output().find("--lockstep"), std::string::npos) << help.output();
+  EXPECT_NE(help.output().find("--domain"), std::string::npos) << help.output();
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--bogus"}, {"--timeout", "-3"}, {"--timeout", "nan"},
+        {"--domain", "999"}, {"--robot", ""}}) {
+    std::vector<std::string> argv{bin("kurt_demo")};
+    argv.insert(argv.end(), bad.begin(), bad.end());
+    ChildProcess p(argv);
+    EXPECT_EQ(p.wait_for_exit(10s), 2) << bad[0] << "\n" << p.output();
+  }
+  // No robot: a clear message and its own exit code, after the discovery timeout.
+  ChildProcess alone({bin("kurt_demo"), "--domain", std::to_string(unique_test_domain()),
+                      "--discovery-timeout", "1"});
+  EXPECT_EQ(alone.wait_for_exit(30s), 3) << alone.output();
+  EXPECT_NE(alone.output().find("no odometry"), std::string::npos) << alone.output();
+}
+
+}  // namespace
+}  // namespace macsim::test
