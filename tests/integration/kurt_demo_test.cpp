@@ -46,7 +46,7 @@ struct WorldView {
   Samples<nav_msgs::msg::dds_::Odometry_PubSubType> truth;
 };
 
-struct Run {
+struct DemoRun {
   int exit_code = -1;
   std::string output;
   std::map<std::string, mm::Object_> objects;
@@ -55,7 +55,7 @@ struct Run {
 };
 
 /// macsim --lockstep on `world` (with `seed` if not negative) and kurt_demo stepping it.
-Run play(const std::string& world, int seed) {
+DemoRun play(const std::string& world, int seed) {
   const std::string domain = std::to_string(unique_test_domain());
   std::vector<std::string> args{bin("macsim"), "--world", world, "--domain", domain, "--lockstep"};
   if (seed >= 0) {
@@ -67,7 +67,7 @@ Run play(const std::string& world, int seed) {
   dds::Participant p({std::stoi(domain), "", "kurt_demo_test"});
   WorldView view(p);
   ChildProcess demo({bin("kurt_demo"), "--domain", domain, "--lockstep"});
-  Run run;
+  DemoRun run;
   run.exit_code = demo.wait_for_exit(170s).value_or(-1);
   run.output = demo.output();
   // In lock-step nothing moves once the controller stopped stepping: the last state stands.
@@ -81,7 +81,7 @@ Run play(const std::string& world, int seed) {
 }
 
 /// The can (user data "can") standing on the switch's platform, if any.
-const mm::Object_* can_on_platform(const Run& run) {
+const mm::Object_* can_on_platform(const DemoRun& run) {
   const auto platform = run.objects.find("doors/door_00/switch_component/platform");
   if (platform == run.objects.end()) return nullptr;
   const auto& at = platform->second.pose().position();
@@ -96,7 +96,7 @@ const mm::Object_* can_on_platform(const Run& run) {
 }
 
 /// Everything the scenario must leave behind, asserted from the simulator's state.
-void expect_through(const Run& run, const std::string& what) {
+void expect_through(const DemoRun& run, const std::string& what) {
   ASSERT_EQ(run.exit_code, 0) << what << "\n" << run.output;
   EXPECT_NE(run.output.find("SUCCESS"), std::string::npos) << run.output;
   const mm::Object_* can = can_on_platform(run);
@@ -113,7 +113,7 @@ void expect_through(const Run& run, const std::string& what) {
 }
 
 TEST(KurtDemo, PlaysTheDemonstratorOnTheDemoWorld) {
-  const Run run = play(source("worlds/DemoWorld_v1.xml"), -1);
+  const DemoRun run = play(source("worlds/DemoWorld_v1.xml"), -1);
   expect_through(run, "DemoWorld_v1");
   // It said what it saw and decided, scene by scene.
   for (const char* scene : {"scene 1:", "scene 2:", "scene 3:", "scene 4:"}) {
@@ -123,7 +123,7 @@ TEST(KurtDemo, PlaysTheDemonstratorOnTheDemoWorld) {
 
 TEST(KurtDemo, AStiffSwitchLeavesTheDoorClosedAndTheDemoSaysSo) {
   // The switch needs 40 N; the cans weigh 0.8 N (tin) and 20 N (lead).
-  const Run run = play(source("tests/worlds/DemoWorld_stiff_switch.xml"), -1);
+  const DemoRun run = play(source("tests/worlds/DemoWorld_stiff_switch.xml"), -1);
   EXPECT_EQ(run.exit_code, 6) << run.output;
   EXPECT_NE(run.output.find("the door stayed closed"), std::string::npos) << run.output;
   EXPECT_NE(can_on_platform(run), nullptr) << "the can was delivered nevertheless";
@@ -138,7 +138,7 @@ TEST(KurtDemo, AStiffSwitchLeavesTheDoorClosedAndTheDemoSaysSo) {
 class KurtDemoSeeds : public ::testing::TestWithParam<int> {};
 
 TEST_P(KurtDemoSeeds, GetsThroughTheDoor) {
-  const Run run = play(source("worlds/DemoWorld_v1.xml"), GetParam());
+  const DemoRun run = play(source("worlds/DemoWorld_v1.xml"), GetParam());
   expect_through(run, "seed " + std::to_string(GetParam()));
 }
 
