@@ -422,13 +422,16 @@ std::optional<Point> DemoController::find_again(const Candidate& target, Kind ki
     return found ? std::optional<Point>(Point{sx / found, sy / found}) : std::nullopt;
   };
   if (auto at = matches(look(3))) return at;
-  // Not where expected: the odometry drifted; look a little to each side.
+  // Not where expected: the odometry drifted. Look a little to each side, then from further
+  // back (closer than about 0.8 m the floor in front is out of the cameras' view).
   const double ahead = pose_.yaw;
   for (double off : {0.45, -0.45}) {
     turn_to(ahead + off);
     if (auto at = matches(look(2))) return at;
   }
-  return std::nullopt;
+  turn_to(ahead);
+  drive_straight(-0.4, 0.15);
+  return matches(look(3));
 }
 
 bool DemoController::close_in(Candidate& target, Kind kind) {
