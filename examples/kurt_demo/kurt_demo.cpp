@@ -10,7 +10,8 @@
 #include "macsim/dds/command_line.h"
 
 int main(int argc, char** argv) {
-  macsim::dds::ParticipantOptions participant{0, "", "kurt_demo"};
+  // No default domain: a program that moves a robot acts only where it is told to.
+  macsim::dds::ParticipantOptions participant{-1, "", "kurt_demo"};
   kurt_demo::DemoOptions options;
   macsim::dds::CommandLine cli(
       "kurt_demo",
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
       "it with the crane's magnet, drops it on the door's switch, drives through the opened "
       "door.\nExit 0: through the door; 2: usage; 3: no robot; 4: no can found; 5: no can could "
       "be lifted; 6: the door stayed closed; 7: timeout; 8: no switch found; 9: could not get "
-      "through.");
+      "through.\n--domain N is required (it moves a robot: never on a domain it was not given).");
   cli.participant_options(&participant);
   cli.option("robot", "NAME", "robot namespace (default kurt)", &options.robot);
   cli.flag("lockstep", "step the simulation from here (macsim --lockstep): reproducible, as fast "
@@ -33,6 +34,10 @@ int main(int argc, char** argv) {
   cli.option("debug-images", "DIR", "write each camera image looked at, with what was seen",
              &options.debug_images);
   if (auto code = cli.parse(argc, argv)) return *code;
+  if (participant.domain < 0) {
+    std::cerr << "kurt_demo: say on which DDS domain the robot is: --domain N (see --help)\n";
+    return kurt_demo::kUsage;
+  }
   if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || options.robot.empty()) {
     std::cerr << "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not "
                  "empty\n";

@@ -150,12 +150,12 @@ TEST(KurtDemo, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
   EXPECT_NE(help.output().find("--lockstep"), std::string::npos) << help.output();
   EXPECT_NE(help.output().find("--domain"), std::string::npos) << help.output();
   for (const std::vector<std::string>& bad :
-       {std::vector<std::string>{"--bogus"}, {"--timeout", "-3"}, {"--timeout", "nan"},
-        {"--domain", "999"}, {"--robot", ""}}) {
+       {std::vector<std::string>{"--bogus"}, {"--lockstep"}, {"--domain", "5", "--timeout", "-3"},
+        {"--domain", "5", "--timeout", "nan"}, {"--domain", "999"}, {"--domain", "5", "--robot", ""}}) {
     std::vector<std::string> argv{bin("kurt_demo")};
     argv.insert(argv.end(), bad.begin(), bad.end());
     ChildProcess p(argv);
-    EXPECT_EQ(p.wait_for_exit(10s), 2) << bad[0] << "\n" << p.output();
+    EXPECT_EQ(p.wait_for_exit(10s), 2) << bad.back() << "\n" << p.output();
   }
   // No robot: a clear message and its own exit code, after the discovery timeout.
   ChildProcess alone({bin("kurt_demo"), "--domain", std::to_string(unique_test_domain()),

@@ -21,7 +21,7 @@ using namespace std::chrono_literals;
 
 TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
   for (const char* program : {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest",
-                              "kurt_adapter", "kurt_emulator", "bench_dds"}) {
+                              "kurt_demo", "kurt_adapter", "kurt_emulator", "bench_dds"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
     EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();
@@ -42,11 +42,31 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_world"), "/nonexistent/world.xml"}, 1, "no such world file"},
            {{bin("bench_robot"), "-h"}, 0, "usage: bench_robot"},
            {{bin("bench_step_rate")}, 2, "usage: bench_step_rate"},
-           {{bin("bench_step_rate"), source("worlds/small_room.xml"), "abc"}, 2, "SIM_SECONDS"}}) {
+           {{bin("bench_step_rate"), source("worlds/small_room.xml"), "abc"}, 2, "SIM_SECONDS"},
+           {{bin("bench_demo"), "--help"}, 0, "bench_demo [SEEDS [FIRST]]"},
+           {{bin("bench_demo"), "0"}, 2, "SEEDS must be positive"}}) {
     ChildProcess p(c.argv);
     EXPECT_EQ(p.wait_for_exit(20s), c.code) << c.argv.back() << ": " << p.output();
     EXPECT_NE(p.output().find(c.says), std::string::npos) << p.output();
   }
+}
+
+TEST(MacsimCli, SeedVariesTheLayoutTheSameWayEachTime) {
+  auto layout = [](const std::string& world, const std::string& seed, int code) {
+    ChildProcess p({bin("macsim"), "--world", source(world), "--seed", seed, "--validate"});
+    EXPECT_EQ(p.wait_for_exit(20s), code) << seed << ": " << p.output();
+    return p.output();
+  };
+  const std::string seven = layout("worlds/DemoWorld_v1.xml", "7", 0);
+  EXPECT_NE(seven.find("layout of seed 7"), std::string::npos) << seven;
+  EXPECT_NE(seven.find("robot kurt at"), std::string::npos) << seven;
+  EXPECT_NE(seven.find("environment_00/can_heavy_01 at"), std::string::npos) << seven;
+  EXPECT_EQ(layout("worlds/DemoWorld_v1.xml", "7", 0), seven);
+  const std::string eight = layout("worlds/DemoWorld_v1.xml", "8", 0);
+  EXPECT_NE(eight.substr(eight.find("layout")), seven.substr(seven.find("layout")));
+  EXPECT_NE(layout("worlds/small_room.xml", "7", 1).find("has no <VARIATION>"), std::string::npos);
+  EXPECT_NE(layout("worlds/DemoWorld_v1.xml", "-2", 2).find("--seed must be 0 or more"),
+            std::string::npos);
 }
 
 TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
@@ -64,7 +84,7 @@ TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
 TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
   for (const char* program :
        {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
-        "asan_tests", "integration_tests"}) {
+        "examples_tests", "asan_tests", "integration_tests"}) {
     ChildProcess p({bin(program), "--bogus"});
     EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();
     EXPECT_NE(p.output().find("unknown argument '--bogus'"), std::string::npos) << p.output();

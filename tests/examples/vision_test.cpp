@@ -1,0 +1,120 @@
+// kurt_demo's eyes on real renderings: a KURT3D's stereo pair rendered offscreen from a world
+// with cans, a switch and look-alikes; the cans and the switch are found where they stand (in
+// base_link, within a few centimetres), the rest is not taken for them.
+#include "vision.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "macsim/render/camera_modes.h"
+#include "macsim/render/renderer.h"
+#include "macsim/sim_core/scene.h"
+#include "support/world_helpers.h"
+
+namespace macsim::test {
+namespace {
+
+/// A can as the demonstrator's: a cylinder of colour `rgb` and a grey bubble top.
+std::string can(const std::string& id, double x, double y, const std::string& rgb) {
+  return "<OBJECT><ID>" + id + "</ID><POS>" + std::to_string(x) + "," + std::to_string(y) +
+         ",0</POS><USER_DATA>can</USER_DATA>"
+         "<COMPONENT><SHAPE>CYLINDER</SHAPE><RADIUS>0.033</RADIUS><HEIGHT>0.115</HEIGHT>"
+         "<POS>0,0,0.0575</POS><COLOR>" + rgb + "</COLOR></COMPONENT>"
+         "<COMPONENT><SHAPE>SPHERE</SHAPE><RADIUS>0.02</RADIUS><POS>0,0,0.115</POS>"
+         "<COLOR>0.8,0.8,0.8</COLOR></COMPONENT></OBJECT>";
+}
+
+/// The robot's stereo pair of `world` as its cameras publish it (320x240, 45 degrees).
+client::StereoFrame stereo(const World& world) {
+  const Scene scene = capture_scene(world);
+  render::CameraIntrinsics in;
+  in.width = 320;
+  in.height = 240;
+  render::OffscreenRenderer renderer(in.width, in.height);
+  client::StereoFrame frame;
+  frame.left = renderer.render(scene, render::camera_pose(render::CameraMode::LeftCamera, scene), in);
+  frame.right = renderer.render(scene, render::camera_pose(render::CameraMode::RightCamera, scene), in);
+  frame.focal = in.focal();
+  frame.cx = in.width / 2.0;
+  frame.cy = in.height / 2.0;
+  frame.baseline = world.robots().front()->config().cameras->baseline();
+  return frame;
+}
+
+const kurt_demo::Sighting* nearest(const std::vector<kurt_demo::Sighting>& seen,
+                                   kurt_demo::Kind kind, double x, double y) {
+  const kurt_demo::Sighting* best = nullptr;
+  for (const auto& s : seen) {
+    if (s.kind == kind && (!best || std::hypot(s.x - x, s.y - y) < std::hypot(best->x - x, best->y - y)))
+      best = &s;
+  }
+  return best;
+}
+
+TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
+  // The robot at the origin facing +x (base_link = the world shifted up); the crane folded
+  // aside as kurt_demo carries it.
+  World world(load_world_string(
+      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>" +
+          can("red", 1.3, 0.35, "0.85,0.1,0.1") + can("blue", 2.1, -0.5, "0.1,0.2,0.85") +
+          can("green", 1.0, -0.2, "0.1,0.75,0.2") +
+          // a switch: a dark base and a flat yellow platform
+          "<OBJECT><ID>base</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.3,0.3,0.04</DIMS>"
+          "<POS>1.8,0.5,0.02</POS><COLOR>0.25,0.25,0.25</COLOR></OBJECT>"
+          "<OBJECT><ID>platform</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.24,0.24,0.008</DIMS>"
+          "<POS>1.8,0.5,0.066</POS><COLOR>0.95,0.8,0.1</COLOR></OBJECT>"
+          // look-alikes: a red cube (a can's colour, not its shape), a yellow box on the floor
+          "<OBJECT><ID>cube</ID><SHAPE>BOX</SHAPE><DIMS>0.1,0.1,0.1</DIMS><POS>1.5,-0.6,0.05</POS>"
+          "<COLOR>0.9,0.15,0.1</COLOR></OBJECT>"
+          "<OBJECT><ID>yellow_box</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.12</DIMS>"
+          "<POS>2.4,0.9,0.06</POS><COLOR>0.95,0.85,0.1</COLOR></OBJECT></WORLD>",
+      "vision.xml"));
+  KurtRobot& kurt = *world.robot("kurt");
+  kurt.command_crane({M_PI / 2, 0.6, 0.0});
+  run_for(world, 2.5);
+  const Pose base = kurt.base_link_pose();
+  auto in_base = [&](double x, double y) -> Eigen::Vector3d {
+    return base.orientation.inverse() * (Eigen::Vector3d(x, y, 0) - base.position);
+  };
+
+  const auto seen = kurt_demo::find_objects(stereo(world), kurt_demo::KurtGeometry{});
+  int cans = 0, switches = 0;
+  for (const auto& s : seen) (s.kind == kurt_demo::Kind::Can ? cans : switches)++;
+  EXPECT_EQ(cans, 3);      // not the cube
+  EXPECT_EQ(switches, 1);  // not the yellow box, which stands on the light floor
+  const struct {
+    const char* colour;
+    double x, y;
+  } expected[] = {{"red", 1.3, 0.35}, {"blue", 2.1, -0.5}, {"green", 1.0, -0.2}};
+  for (const auto& e : expected) {
+    const Eigen::Vector3d truth = in_base(e.x, e.y);
+    const auto* s = nearest(seen, kurt_demo::Kind::Can, truth.x(), truth.y());
+    ASSERT_NE(s, nullptr) << e.colour;
+    EXPECT_EQ(s->colour, e.colour);
+    // Stereo at 320x240 with a 0.12 m baseline: a few centimetres, growing with the range.
+    EXPECT_NEAR(s->x, truth.x(), 0.03 * truth.x()) << e.colour;
+    EXPECT_NEAR(s->y, truth.y(), 0.03) << e.colour;
+    EXPECT_NEAR(s->width, 0.066, 0.03) << e.colour;
+  }
+  const Eigen::Vector3d platform = in_base(1.8, 0.5);
+  const auto* sw = nearest(seen, kurt_demo::Kind::Switch, platform.x(), platform.y());
+  ASSERT_NE(sw, nullptr);
+  EXPECT_NEAR(sw->x, platform.x(), 0.08);
+  EXPECT_NEAR(sw->y, platform.y(), 0.05);
+}
+
+TEST(KurtDemoVision, SeesNothingInAnEmptyRoomAndNothingWithoutAStereoMatch) {
+  World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
+                                "empty.xml"));
+  world.robot("kurt")->command_crane({M_PI / 2, 0.6, 0.0});
+  run_for(world, 2.0);
+  auto frame = stereo(world);
+  EXPECT_TRUE(kurt_demo::find_objects(frame, kurt_demo::KurtGeometry{}).empty());
+  // A red can drawn into the left image only: no partner in the right one, no sighting.
+  cv::rectangle(frame.left, cv::Rect(150, 150, 12, 24), cv::Scalar(25, 25, 215), cv::FILLED);
+  EXPECT_TRUE(kurt_demo::find_objects(frame, kurt_demo::KurtGeometry{}).empty());
+}
+
+}  // namespace
+}  // namespace macsim::test

@@ -1,0 +1,110 @@
+// Layouts by seed: the same seed gives the same layout, another seed another; everything stays
+// in its area and keeps its clearance; look-alikes share a colour from the palette; a world
+// that cannot vary (no <VARIATION>, too crowded, a bad element) says why and where.
+#include "macsim/sim_core/world_variation.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "macsim/sim_core/world_loader.h"
+#include "support/world_helpers.h"
+
+namespace macsim::test {
+namespace {
+
+std::vector<const ObjectSpec*> cans(const WorldSpec& spec) {
+  std::vector<const ObjectSpec*> out;
+  for (const auto& o : spec.objects) {
+    if (o.user_data == "can") out.push_back(&o);
+  }
+  return out;
+}
+
+TEST(WorldVariation, TheSameSeedGivesTheSameLayoutAndAnotherSeedAnother) {
+  WorldSpec a = shipped_world("DemoWorld_v1.xml");
+  WorldSpec b = shipped_world("DemoWorld_v1.xml");
+  WorldSpec c = shipped_world("DemoWorld_v1.xml");
+  const auto moved = vary_world(a, 5);
+  EXPECT_EQ(moved.size(), 6u);  // the robot and five cans
+  EXPECT_EQ(vary_world(b, 5), moved);
+  EXPECT_NE(vary_world(c, 6), moved);
+  for (std::size_t i = 0; i < a.objects.size(); ++i) {
+    EXPECT_TRUE(a.objects[i].pose.position.isApprox(b.objects[i].pose.position));
+  }
+}
+
+TEST(WorldVariation, EverythingStaysInItsAreaClearOfTheRestAndLookAlikesShareAColour) {
+  for (uint32_t seed = 0; seed < 30; ++seed) {
+    WorldSpec spec = shipped_world("DemoWorld_v1.xml");
+    const WorldSpec original = spec;
+    vary_world(spec, seed);
+    const VariationSpec& v = *spec.variation;
+    const auto placed = cans(spec);
+    ASSERT_EQ(placed.size(), 5u);
+    std::map<std::string, Color> colour_of_material;
+    for (const ObjectSpec* can : placed) {
+      const Eigen::Vector3d& p = can->pose.position;
+      EXPECT_GE(p.x(), v.area[0]);
+      EXPECT_LE(p.x(), v.area[2]);
+      EXPECT_GE(p.y(), v.area[1]);
+      EXPECT_LE(p.y(), v.area[3]);
+      EXPECT_DOUBLE_EQ(p.z(), original.object(can->name)->pose.position.z());  // on the floor
+      for (const ObjectSpec* other : placed) {
+        if (other != can) EXPECT_GE((other->pose.position - p).head<2>().norm(), v.clearance);
+      }
+      for (const auto& o : spec.objects) {
+        if (o.user_data == "can" || o.kind != ObjectKind::Object) continue;
+        EXPECT_GE((o.pose.position - p).head<2>().norm(), v.clearance) << seed << " " << o.name;
+      }
+      EXPECT_GE((spec.robots[0].pose.position - p).head<2>().norm(), v.clearance + 0.35);
+      // One colour per material, from the palette.
+      const Color colour = can->components.front().color;
+      EXPECT_NE(std::find(v.colors.begin(), v.colors.end(), colour), v.colors.end());
+      const auto [it, fresh] = colour_of_material.try_emplace(can->material, colour);
+      EXPECT_EQ(it->second, colour) << can->name;
+    }
+    EXPECT_EQ(colour_of_material.size(), 3u);  // tin, lead, plastic
+    const auto& robot = spec.robots[0].pose.position;
+    EXPECT_GE(robot.x(), (*v.robot_area)[0]);
+    EXPECT_LE(robot.x(), (*v.robot_area)[2]);
+    // The variation built a world ODE accepts.
+    EXPECT_NO_THROW(World world(spec));
+  }
+}
+
+TEST(WorldVariation, AWorldThatCannotVarySaysWhyAndWhere) {
+  WorldSpec plain = load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
+                                      "plain.xml");
+  EXPECT_THROW(vary_world(plain, 1), WorldFileError);
+
+  const std::string crowded =
+      "<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,0.5,0.5</AREA><CLEARANCE>0.4</CLEARANCE>"
+      "</VARIATION>\n"
+      "<OBJECT><ID>a</ID><SHAPE>SPHERE</SHAPE><RADIUS>0.05</RADIUS><USER_DATA>can</USER_DATA></OBJECT>"
+      "<OBJECT><ID>b</ID><SHAPE>SPHERE</SHAPE><RADIUS>0.05</RADIUS><USER_DATA>can</USER_DATA></OBJECT>"
+      "</WORLD>";
+  WorldSpec spec = load_world_string(crowded, "crowded.xml");
+  try {
+    vary_world(spec, 1);
+    ADD_FAILURE() << "two objects 0.5 m apart in a 0.5 m square";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("no room for object 'b'"), std::string::npos) << e.what();
+  }
+
+  for (const char* bad : {"<VARIATION><AREA>0,0,1,1</AREA></VARIATION>",
+                          "<VARIATION><OBJECTS>can</OBJECTS><AREA>1,0,0,1</AREA></VARIATION>",
+                          "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1</AREA></VARIATION>",
+                          "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,nan</AREA></VARIATION>",
+                          "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,1e300</AREA></VARIATION>",
+                          "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,1</AREA>"
+                          "<COLOR>2,0,0</COLOR></VARIATION>"}) {
+    EXPECT_THROW(load_world_string(std::string("<WORLD>") + bad + "</WORLD>", "bad.xml"),
+                 WorldFileError)
+        << bad;
+  }
+}
+
+}  // namespace
+}  // namespace macsim::test
