@@ -30,6 +30,7 @@ bool obstacle(const ObjectSpec& object) {
 }
 
 constexpr double kRobotRadius = 0.35;  // m: a KURT3D with its crane folded
+constexpr std::size_t kMaxPlaced = 1000;  // each placement checks all placed before it
 
 }  // namespace
 
@@ -57,6 +58,12 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
     } else if (obstacle(o)) {
       taken.push_back({o.pose.position.head<2>(), footprint(o)});
     }
+  }
+  if (chosen.size() > kMaxPlaced) {
+    throw WorldFileError(v.source.file, v.source.line,
+                         "<VARIATION> places at most " + std::to_string(kMaxPlaced) +
+                             " objects; '" + v.user_data + "' names " +
+                             std::to_string(chosen.size()));
   }
   std::vector<std::string> moved;
   auto place = [&](const Eigen::Vector4d& area, double radius, const std::string& what) {

@@ -94,6 +94,19 @@ TEST(WorldVariation, AWorldThatCannotVarySaysWhyAndWhere) {
     EXPECT_NE(std::string(e.what()).find("no room for object 'b'"), std::string::npos) << e.what();
   }
 
+  std::string many = "<WORLD><VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,100,100</AREA></VARIATION>";
+  for (int i = 0; i < 1001; ++i) {
+    many += "<OBJECT><ID>c" + std::to_string(i) +
+            "</ID><SHAPE>SPHERE</SHAPE><RADIUS>0.05</RADIUS><USER_DATA>can</USER_DATA></OBJECT>";
+  }
+  WorldSpec crowd = load_world_string(many + "</WORLD>", "many.xml");
+  try {
+    vary_world(crowd, 1);
+    ADD_FAILURE() << "1001 objects placed";
+  } catch (const WorldFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("at most 1000"), std::string::npos) << e.what();
+  }
+
   for (const char* bad : {"<VARIATION><AREA>0,0,1,1</AREA></VARIATION>",
                           "<VARIATION><OBJECTS>can</OBJECTS><AREA>1,0,0,1</AREA></VARIATION>",
                           "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1</AREA></VARIATION>",

@@ -11,7 +11,8 @@
 namespace macsim {
 
 /// Places the objects and robots `spec.variation` names; throws WorldFileError (naming the
-/// <VARIATION> element) if the world has none or the objects do not fit with their clearance.
+/// <VARIATION> element) if the world has none, names more than 1000 objects, or the objects do
+/// not fit with their clearance.
 /// Returns one line per thing moved ("name at x, y"), for the log.
 std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed);
 
