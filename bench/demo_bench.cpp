@@ -63,8 +63,8 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   int seeds = 50, first = 1;
-  if (argc > 1 && std::string(argv[1]) == "--help") {
-    std::printf("bench_demo [SEEDS [FIRST]]: kurt_demo against macsim in lock-step on SEEDS "
+  if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    std::printf("usage: bench_demo [SEEDS [FIRST]]\n  kurt_demo against macsim in lock-step on SEEDS "
                 "layouts of worlds/DemoWorld_v1.xml (default 50 from seed 1); prints the success "
                 "rate and the median and p90 robot and wall time per run. Run from the "
                 "repository root.\n");
