@@ -1,0 +1,81 @@
+// affordance_learn: learns each affordance in a trial CSV (affordance_trials --out) from the
+// perceived features with a random forest (OpenCV ml); prints held-out accuracy and the
+// confusion matrix, and writes a learning curve and a feature scatter per affordance as PNGs.
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "learning.h"
+#include "macsim/dds/command_line.h"
+
+int main(int argc, char** argv) {
+  using namespace affordances;
+  std::string in, out, feature_list;
+  double min_accuracy = 0;
+  macsim::dds::CommandLine cli(
+      "affordance_learn",
+      "Learns each affordance in a trial CSV from what the robot perceived (a random forest, "
+      "OpenCV ml): 30 % of the trials (by seed) are held out for testing. Prints accuracy and "
+      "the confusion matrix; writes DIR/<affordance>_learning_curve.png and "
+      "DIR/<affordance>_scatter.png.\nExit 0: learned; 1: an accuracy below --min-accuracy; "
+      "2: usage or unreadable rows.");
+  cli.option("in", "FILE.csv", "trial rows (affordance_trials --out)", &in);
+  cli.option("out", "DIR", "where the plots go (created)", &out);
+  cli.option("features", "A,B,...",
+             "learn from these perceived features only (default all: r,g,b,hue,area_px,...)",
+             &feature_list);
+  cli.option("min-accuracy", "FRACTION", "exit 1 when an affordance is learned less well",
+             &min_accuracy);
+  if (auto code = cli.parse(argc, argv)) return *code;
+  if (in.empty() || out.empty()) {
+    std::cerr << "affordance_learn: say which rows and where the plots go: --in FILE.csv --out "
+                 "DIR (see --help)\n";
+    return 2;
+  }
+  std::vector<std::string> features;
+  std::stringstream list(feature_list);
+  for (std::string f; std::getline(list, f, ',');) features.push_back(f);
+
+  std::map<std::string, Dataset> sets;
+  try {
+    sets = datasets(read_csv(in), features);
+  } catch (const std::exception& e) {
+    std::cerr << "affordance_learn: " << e.what() << "\n";
+    return 2;
+  }
+  if (sets.empty()) {
+    std::cerr << "affordance_learn: " << in << " has no trial rows\n";
+    return 2;
+  }
+  std::filesystem::create_directories(out);
+  bool good = true;
+  for (const auto& [affordance, data] : sets) {
+    const Evaluation e = evaluate(data);
+    std::printf("%s: %d trials (%d to train, %d held out), held-out accuracy %.1f %%\n",
+                affordance.c_str(), data.features.rows, e.trained, e.tested, 100 * e.accuracy);
+    std::printf("%s", confusion_text(data, e).c_str());
+    const auto curve = learning_curve(data);
+    std::printf("  learning curve:");
+    for (const auto& [n, accuracy] : curve) std::printf(" %d:%.1f%%", n, 100 * accuracy);
+    std::printf("\n");
+    // The scatter's axes: what matters most to each affordance, as the robot saw it.
+    const bool all = features.empty();
+    std::string x = all ? "hue" : data.feature_names[0];
+    std::string y = all ? "width_m" : data.feature_names.size() > 1 ? data.feature_names[1]
+                                                                   : data.feature_names[0];
+    if (all && affordance == "push") x = "fill";
+    if (all && affordance == "climb") x = "laser_slope", y = "laser_height";
+    try {
+      plot_learning_curve(curve, affordance + ": held-out accuracy against training trials",
+                          out + "/" + affordance + "_learning_curve.png");
+      plot_scatter(data, x, y, out + "/" + affordance + "_scatter.png");
+    } catch (const std::exception& err) {
+      std::cerr << "affordance_learn: " << err.what() << "\n";
+      return 2;
+    }
+    std::printf("  plots: %s/%s_learning_curve.png, %s/%s_scatter.png\n", out.c_str(),
+                affordance.c_str(), out.c_str(), affordance.c_str());
+    if (e.accuracy < min_accuracy) good = false;
+  }
+  return good ? 0 : 1;
+}

@@ -1,0 +1,129 @@
+#include "trial_pool.h"
+
+#include <condition_variable>
+#include <deque>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "macsim/client/child_program.h"
+
+namespace affordances {
+
+namespace {
+
+/// The trials left, shared by the workers.
+class TrialQueue {
+ public:
+  explicit TrialQueue(const std::vector<TrialSpec>& trials) : left_(trials.begin(), trials.end()) {}
+  /// The next trial; false once none is left and none is under way (one under way may yet
+  /// come back from a lost instance).
+  bool take(TrialSpec& out) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return !left_.empty() || running_ == 0; });
+    if (left_.empty()) return false;
+    out = left_.front();
+    left_.pop_front();
+    ++running_;
+    return true;
+  }
+  void finished() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    --running_;
+    changed_.notify_all();
+  }
+  /// A trial whose instance was lost goes back first.
+  void give_back(const TrialSpec& trial) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    left_.push_front(trial);
+    --running_;
+    changed_.notify_all();
+  }
+  std::vector<TrialSpec> rest() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return {left_.begin(), left_.end()};
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<TrialSpec> left_;
+  int running_ = 0;
+};
+
+}  // namespace
+
+PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
+                           const std::function<void(const TrialRecord&)>& done) {
+  TrialQueue queue(trials);
+  PoolSummary summary;
+  std::mutex report;  // one `done` call and one message at a time
+  std::vector<int> domains = options_.attach;
+  if (domains.empty()) {
+    for (int i = 0; i < options_.instances; ++i) domains.push_back(options_.first_domain + i);
+  }
+
+  auto worker = [&](int index, int domain) {
+    std::unique_ptr<macsim::client::ChildProgram> simulator;
+    auto say = [&](const std::string& text) {
+      std::lock_guard<std::mutex> lock(report);
+      std::cerr << "\naffordance_trials: instance " << index << " (domain " << domain << "): "
+                << text << "\n";
+    };
+    try {
+      if (options_.attach.empty()) {
+        std::vector<std::string> argv{macsim::client::sibling_program("macsim"),
+                                      "--world", options_.world,
+                                      "--domain", std::to_string(domain),
+                                      "--lockstep",
+                                      "--cameras", options_.cameras,
+                                      "--camera-rate", std::to_string(options_.instance.camera_rate)};
+        if (!options_.instance.profile.empty()) {
+          argv.insert(argv.end(), {"--profile", options_.instance.profile});
+        }
+        simulator = std::make_unique<macsim::client::ChildProgram>(
+            argv, options_.log_dir + "/macsim_domain_" + std::to_string(domain) + ".log");
+      }
+      InstanceOptions o = options_.instance;
+      o.domain = domain;
+      TrialRobot robot(o);
+      robot.connect(std::chrono::seconds(30));
+      TrialSpec trial;
+      while (queue.take(trial)) {
+        try {
+          TrialRecord record = robot.run(trial);
+          record.instance = index;
+          {
+            std::lock_guard<std::mutex> lock(report);
+            ++summary.done;
+            done(record);
+          }
+          queue.finished();
+        } catch (const InstanceLost&) {
+          queue.give_back(trial);
+          throw;
+        } catch (const std::exception& e) {
+          say("trial " + std::to_string(trial.seed) + " refused: " + e.what());
+          queue.finished();
+          std::lock_guard<std::mutex> lock(report);
+          ++summary.failed;
+        }
+      }
+    } catch (const std::exception& e) {
+      say(std::string("lost: ") + e.what() +
+          (simulator && !simulator->running() ? " (the simulator ended)" : "") +
+          "; its trials go to the other instances");
+      std::lock_guard<std::mutex> lock(report);
+      ++summary.lost_instances;
+    }
+  };
+
+  std::vector<std::thread> workers;
+  for (std::size_t i = 0; i < domains.size(); ++i) workers.emplace_back(worker, static_cast<int>(i), domains[i]);
+  for (auto& w : workers) w.join();
+  summary.not_run = queue.rest();
+  return summary;
+}
+
+}  // namespace affordances

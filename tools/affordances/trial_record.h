@@ -1,0 +1,60 @@
+// One trial's result as a CSV row: what it was (the spec), what the robot perceived, what
+// happened (the label from the world state) and what it cost. Rows are read back to resume a
+// run and to learn.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "perception.h"
+#include "trial_spec.h"
+
+namespace affordances {
+
+/// What happened, measured on the world state (ground truth), and the label it gives.
+struct Outcome {
+  std::string label;     ///< lift: liftable | not_liftable; push: pushed | rolled | stalled;
+                         ///< climb: climbed | slid_back | stalled
+  double raised = 0;     ///< lift: m the object came up (the lower of after raising and 1 s on)
+  double moved = 0;      ///< push: m the object moved on the floor
+  double rolled = 0;     ///< push: rad it turned about horizontal axes
+  double rise = 0;       ///< climb: m the robot rose at most
+  double progress = 0;   ///< climb: m the robot got ahead at most
+};
+
+struct TrialRecord {
+  TrialSpec spec;
+  Percept percept;
+  Outcome outcome;
+  double sim_time = 0;      ///< s of sim time the trial took
+  uint64_t steps = 0;       ///< physics steps
+  uint64_t final_hash = 0;  ///< the simulator's state hash at the end
+  uint64_t trace = 0;       ///< a hash of the state hashes after every step request
+  int instance = 0;         ///< which simulator ran it (not part of the result)
+  double wall_time = 0;     ///< s it took (not part of the result)
+};
+
+/// The CSV header line (no newline).
+std::string csv_header();
+/// A row (no newline). Columns instance and wall_time come last; every other column is the
+/// same for the same trial wherever and whenever it runs.
+std::string csv_row(const TrialRecord& record);
+
+/// A CSV file read back: the header's names and the rows' fields by column.
+struct CsvTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+  /// Index of a column, or nullopt.
+  std::optional<std::size_t> column(const std::string& name) const;
+};
+/// Reads a CSV of trial rows; throws std::runtime_error naming the file and line of a row whose
+/// field count does not match the header. A last line cut short (a killed run) is dropped.
+CsvTable read_csv(const std::string& path);
+
+/// The key of a trial in a file: affordance, generator and seed.
+std::string trial_key(const std::string& affordance, const std::string& generator, uint64_t seed);
+
+}  // namespace affordances

@@ -1,0 +1,430 @@
+#include "trial_robot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "macsim/client/latest.h"
+#include "macsim/client/robot_client.h"
+#include "macsim/client/robot_devices.h"
+#include "macsim/client/supervisor_client.h"
+#include "macsim/dds/convert.h"
+#include "macsim/dds/topics.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+
+namespace affordances {
+
+namespace mm = macsim_msgs::msg::dds_;
+namespace sv = macsim::client::supervisor;
+using namespace std::chrono_literals;
+using macsim::client::stamp_seconds;
+
+namespace {
+
+// Time in a trial. The robot's encoder frames (odometry, ground truth, crane state) come every
+// 10 ms of sim time, the laser's sweeps every 1/75 s, from the reset on. The controller stops
+// stepping only at 6 ms past a multiple of 10 ms (the first request steps 6 steps, every later
+// one 20), so the newest frame due is always the one stamped within the last 8 ms, and the one
+// before it is older: which sample a decision reads never depends on how fast DDS delivered it.
+constexpr int kFirstSteps = 6;
+constexpr int kTickSteps = 20;
+constexpr double kStep = 0.001;
+constexpr double kFrameWindow = 0.008;
+// The perception instant, once the crane swung out of the cameras' view (it turns at 1 rad/s):
+// the sweep of 0.8 s is 6 ms old, the one before 19 ms; the cameras (1.25 Hz from the reset on)
+// took their pair at 0.801 s.
+constexpr double kPerceiveAt = 0.806;
+constexpr double kScanWindow = 0.012;
+
+// The KURT3D's crane (what its robot description says).
+constexpr double kBaseHeight = 0.167;
+constexpr double kPivotX = 0.05, kPivotZ = 0.16, kBoom = 0.5;
+constexpr double kLiftMin = -0.6, kLiftMax = 0.8;
+constexpr double kMagnetBelowTip = 0.05;
+// Out of the laser's plane while it looks (the boom ahead would shadow the sweep).
+constexpr double kAsideSlew = -0.75;
+
+uint64_t mix(uint64_t trace, uint64_t value) {
+  uint64_t z = trace ^ (value + 0x9E3779B97F4A7C15ull + (trace << 6) + (trace >> 2));
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+
+}  // namespace
+
+struct TrialRobot::Impl {
+  explicit Impl(const InstanceOptions& options)
+      : o(options),
+        participant({options.domain, options.profile, "affordance_trials"}),
+        drive(participant, options.robot),
+        crane(participant, options.robot),
+        cameras(participant, options.robot),
+        laser(participant, options.robot, true),
+        supervisor(participant),
+        simulation(participant),
+        truth(participant, macsim::dds::topics::ground_truth(options.robot)) {}
+
+  InstanceOptions o;
+  macsim::dds::Participant participant;
+  macsim::client::RobotClient drive;
+  macsim::client::Crane crane;
+  macsim::client::StereoCamera cameras;
+  macsim::client::Laser laser;
+  macsim::client::SupervisorClient supervisor;
+  macsim::client::SimulationClient simulation;
+  macsim::client::Latest<nav_msgs::msg::dds_::Odometry_PubSubType> truth;
+
+  // the trial under way
+  double now = 0;
+  uint64_t steps = 0, hash = 0, trace = 0;
+  bool drive_sent = false, crane_sent = false;
+  double speed = 0, speed_sent_at = -1;
+
+  mm::SupervisorReply_ call(const sv::Request& request, const char* what) {
+    auto reply = supervisor.call(request, o.timeout);
+    if (!reply) throw InstanceLost(std::string("no supervisor reply to ") + what);
+    if (reply->code() != 0)
+      throw std::runtime_error(std::string(what) + " refused: " + reply->message());
+    return *reply;
+  }
+
+  /// One lock-step request of `n` steps, robot commands delivered first.
+  void step(int n) {
+    if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
+    if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
+    drive_sent = crane_sent = false;
+    for (int done = 0; done < n;) {
+      const int batch = o.hash_every_step ? 1 : n;
+      auto reply = simulation.step(static_cast<uint64_t>(batch), o.timeout);
+      if (!reply || reply->code() != 0)
+        throw InstanceLost(reply ? "step refused: " + reply->message() : "no step reply");
+      done += batch;
+      now = reply->sim_time();
+      steps = reply->steps();
+      hash = reply->state_hash();
+      trace = mix(trace, hash);
+    }
+  }
+
+  /// One tick of the controller: keeps the drive command alive, steps 20 ms.
+  void tick() {
+    if (speed != 0 && now - speed_sent_at > 0.25) set_speed(speed);
+    step(kTickSteps);
+  }
+  void advance(double seconds) {
+    const double until = now + seconds - 1e-9;
+    while (now < until) tick();
+  }
+
+  void set_speed(double v) {
+    speed = v;
+    speed_sent_at = now;
+    drive.drive(v, 0.0);
+    drive_sent = true;
+  }
+  void crane_to(double slew, double lift, double hoist) {
+    crane.command(slew, lift, hoist);
+    crane_sent = true;
+  }
+  void magnet(bool on) {
+    crane.magnet(on);
+    crane_sent = true;
+  }
+
+  /// The newest sample of a topic due by now: stamped after `now - window`. Waits for it.
+  template <class Get>
+  auto newest(Get get, double window, const char* what) -> typename decltype(get())::value_type {
+    const auto deadline = std::chrono::steady_clock::now() + o.timeout;
+    while (true) {
+      auto sample = get();
+      // Not older than the window, and not from a trial before the last reset.
+      if (sample) {
+        const double stamp = stamp_seconds(sample->header());
+        if (stamp > now - window + 1e-9 && stamp <= now + 1e-9) return *sample;
+      }
+      if (std::chrono::steady_clock::now() > deadline)
+        throw InstanceLost(std::string("no ") + what + " for sim time " + std::to_string(now));
+      std::this_thread::sleep_for(100us);
+    }
+  }
+  kurt_msgs::msg::dds_::CraneState_ crane_state() {
+    return newest([&] { return crane.state(); }, kFrameWindow, "crane state");
+  }
+  double odometry_x() {
+    return newest([&] { return drive.latest_odometry(); }, kFrameWindow, "odometry")
+        .pose()
+        .pose()
+        .position()
+        .x();
+  }
+  nav_msgs::msg::dds_::Odometry_ ground_truth() {
+    return newest([&] { return truth.get(); }, kFrameWindow, "ground truth");
+  }
+  mm::Object_ object(uint32_t id) { return call(sv::get_object(id), "get_object").object(); }
+
+  /// Waits (in ticks) until the crane's joints are within tolerance of the targets, or `limit`
+  /// seconds passed; the crane state last read.
+  kurt_msgs::msg::dds_::CraneState_ wait_crane(double slew, double lift, double hoist,
+                                               double limit, bool until_held = false) {
+    const double until = now + limit;
+    while (true) {
+      auto s = crane_state();
+      const bool there = std::fabs(s.slew() - slew) < 0.02 && std::fabs(s.lift() - lift) < 0.02 &&
+                         std::fabs(s.hoist() - hoist) < 0.006;
+      if (there || (until_held && !s.held_object().empty()) || now >= until - 1e-9) return s;
+      tick();
+    }
+  }
+
+  void begin() {
+    // Nothing of the last trial may arrive after the reset.
+    if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
+    if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
+    call(sv::reset(mm::RESET_EVERYTHING), "reset");
+    now = 0;
+    trace = 0;
+    speed = 0;
+    speed_sent_at = -1;
+    drive_sent = crane_sent = false;
+  }
+
+  uint32_t spawn(const TrialSpec& s) {
+    mm::Object_ object;
+    mm::Component_ c;
+    c.pose().orientation().w(1.0);
+    c.color({s.colour[0], s.colour[1], s.colour[2], 1.0f});
+    object.pose().orientation().w(1.0);
+    object.name("trial_object");
+    object.material(s.material);
+    object.magnetizable(s.magnetizable);
+    object.density(s.density);
+    object.user_data("trial");
+    double z = s.height() / 2;
+    switch (s.shape) {
+      case Shape::Box:
+        c.shape(mm::SHAPE_BOX);
+        c.size({s.size[0], s.size[1], s.size[2]});
+        break;
+      case Shape::Cylinder:
+        c.shape(mm::SHAPE_CYLINDER);
+        c.size({s.size[0] / 2, 0, s.size[2]});
+        break;
+      case Shape::LyingCylinder:  // its axis across the robot's way: it can roll ahead
+        c.shape(mm::SHAPE_CYLINDER);
+        c.size({s.size[0] / 2, 0, s.size[2]});
+        object.pose().orientation(macsim::dds::quaternion(std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)));
+        break;
+      case Shape::Sphere:
+        c.shape(mm::SHAPE_SPHERE);
+        c.size({s.size[0] / 2, 0, 0});
+        break;
+      case Shape::Ramp:
+        c.shape(mm::SHAPE_BOX);
+        object.kind(mm::KIND_RAMP);
+        object.portable(false);
+        object.ramp({s.ramp_width, s.ramp_height, s.ramp_angle});
+        z = 0;
+        break;
+    }
+    if (s.shape != Shape::Ramp) object.portable(true);
+    object.components().push_back(c);
+    object.pose().position(macsim::dds::point(s.x, s.y, z));
+    return call(sv::create_object(object, false), "create_object").object_id();
+  }
+
+  /// Looks: the crane swung out of the laser's plane, then one stereo pair and one sweep.
+  Percept perceive() {
+    crane_to(kAsideSlew, 0.0, 0.0);
+    step(kFirstSteps);
+    advance(kPerceiveAt - now);
+    Percept p;
+    const double window = 1.0 / o.camera_rate;
+    const auto deadline = std::chrono::steady_clock::now() + o.timeout;
+    std::optional<macsim::client::StereoFrame> frame;
+    while (!(frame = cameras.latest(now - window + 1e-9)) || frame->stamp > now + 1e-9) {
+      if (std::chrono::steady_clock::now() > deadline)
+        throw InstanceLost("no stereo pair for sim time " + std::to_string(now));
+      std::this_thread::sleep_for(200us);
+    }
+    perceive_image(*frame, p);
+    auto scan = newest([&] { return laser.scan(); }, kScanWindow, "laser scan");
+    perceive_scan(scan, SensorMount{}, p);
+    return p;
+  }
+
+  Outcome lift(const TrialSpec& s, const Percept& p, uint32_t id) {
+    const double z0 = object(id).pose().position().z();
+    Outcome out;
+    if (p.seen && p.laser_hit) {
+      // Where the object is, from the percept: its near face by the laser, its middle half its
+      // apparent width further, to the side by the camera's bearing.
+      const double depth = p.width_m > 0 ? std::clamp(p.width_m, 0.03, 0.15) : 0.08;
+      const double x = p.laser_range + depth / 2;
+      const double y = std::tan(p.bearing) * (x - 0.05) + 0.06;
+      // The boom low enough that the magnet hangs 2 cm over the top with the hoist in.
+      const double top = p.laser_height;
+      const double lift = std::clamp(
+          std::asin(std::clamp((top + kMagnetBelowTip + 0.02 - kBaseHeight - kPivotZ) / kBoom,
+                               -1.0, 1.0)),
+          kLiftMin, kLiftMax - 0.3);
+      const double radius = kBoom * std::cos(lift);
+      const double ahead = std::sqrt(std::max(0.0, radius * radius - y * y));
+      const double travel = x - kPivotX - ahead;
+      const double slew = std::atan2(y, ahead);
+      // Drive in (by odometry) while the crane swings over.
+      crane_to(slew, lift, 0.0);
+      const double x_start = odometry_x();
+      if (travel > 0.01) {
+        const double limit = now + 4.0;
+        while (now < limit) {
+          const double left = travel - (odometry_x() - x_start);
+          if (left < 0.004) break;
+          set_speed(std::clamp(left * 3, 0.05, 0.5));
+          tick();
+        }
+        set_speed(0);
+      }
+      wait_crane(slew, lift, 0.0, 2.0);
+      // Down onto it with the magnet on, 1.5 cm further than the top: the magnet rests on it.
+      magnet(true);
+      const double tip_z = kBaseHeight + kPivotZ + kBoom * std::sin(lift);
+      const double down = std::clamp(tip_z - kMagnetBelowTip - top + 0.015, 0.0, 0.3);
+      crane_to(slew, lift, down);
+      wait_crane(slew, lift, down, 1.0, true);
+      advance(0.1);
+      // Up: the hoist in and the boom 0.3 rad higher.
+      crane_to(slew, lift + 0.3, 0.0);
+      wait_crane(slew, lift + 0.3, 0.0, 1.2);
+    }
+    const double z1 = object(id).pose().position().z();
+    advance(1.0);
+    const double z2 = object(id).pose().position().z();
+    out.raised = std::min(z1, z2) - z0;
+    out.label = out.raised >= 0.05 ? "liftable" : "not_liftable";
+    (void)s;
+    return out;
+  }
+
+  Outcome push(const Percept& p, uint32_t id) {
+    (void)p;
+    const mm::Object_ start = object(id);
+    crane_to(kAsideSlew, 0.6, 0.0);  // the boom up and aside: only the bumper touches
+    Outcome out;
+    set_speed(0.4);
+    const double until = now + 3.0;
+    while (now < until - 1e-9) {
+      tick();
+      const mm::Object_ now_state = object(id);
+      const auto& w = now_state.velocity().angular();
+      out.rolled += std::hypot(w.x(), w.y()) * kTickSteps * kStep;
+    }
+    set_speed(0);
+    advance(0.4);
+    const mm::Object_ end = object(id);
+    out.moved = std::hypot(end.pose().position().x() - start.pose().position().x(),
+                           end.pose().position().y() - start.pose().position().y());
+    if (out.moved < 0.10)
+      out.label = "stalled";
+    else
+      out.label = out.rolled >= M_PI ? "rolled" : "pushed";
+    return out;
+  }
+
+  Outcome climb(const TrialSpec& s, const Percept& p) {
+    (void)p;
+    crane_to(kAsideSlew, 0.6, 0.0);
+    const auto start = ground_truth();
+    const double x0 = start.pose().pose().position().x(), z0 = start.pose().pose().position().z();
+    const double top_x = s.x + s.ramp_height / std::tan(s.ramp_angle);
+    Outcome out;
+    set_speed(0.4);
+    double best_x = x0, best_at = now, last_x = x0, last_z = z0;
+    bool reached = false;
+    const double until = now + 8.0;
+    while (now < until - 1e-9) {
+      tick();
+      const auto g = ground_truth();
+      last_x = g.pose().pose().position().x();
+      last_z = g.pose().pose().position().z();
+      out.rise = std::max(out.rise, last_z - z0);
+      if (last_x > best_x + 0.02) best_x = last_x, best_at = now;
+      if (last_x >= top_x) {
+        reached = true;
+        break;
+      }
+      if (now - best_at > 1.0) break;  // no headway for a second
+    }
+    out.progress = best_x - x0;
+    if (reached)
+      out.label = "climbed";
+    else if (out.rise >= 0.02 && (last_z < z0 + out.rise - 0.01 || last_x < best_x - 0.03))
+      out.label = "slid_back";
+    else
+      out.label = "stalled";
+    return out;
+  }
+};
+
+TrialRobot::TrialRobot(const InstanceOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+TrialRobot::~TrialRobot() = default;
+
+void TrialRobot::connect(std::chrono::milliseconds timeout) {
+  Impl& m = *impl_;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto left = [&] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(deadline -
+                                                                 std::chrono::steady_clock::now());
+  };
+  const std::string where = " on domain " + std::to_string(m.o.domain);
+  if (!m.simulation.wait_for_server(left())) throw InstanceLost("no simulation control" + where);
+  auto features = m.simulation.call(macsim::client::SimulationClient::request(mm::SIM_FEATURES),
+                                    std::max(left(), std::chrono::milliseconds(1000)));
+  if (!features) throw InstanceLost("no answer to SIM_FEATURES" + where);
+  if (features->features().find("lockstep") == std::string::npos ||
+      features->features().find("supervisor") == std::string::npos)
+    throw InstanceLost("the participant" + where + " is not a lock-step simulator (features: " +
+                       features->features() + ")");
+  if (!m.supervisor.wait_for_server(left())) throw InstanceLost("no supervisor" + where);
+  while (!m.drive.commander_matched() || !m.crane.matched() || m.truth.matched() == 0) {
+    if (left().count() <= 0) throw InstanceLost("no robot '" + m.o.robot + "'" + where);
+    std::this_thread::sleep_for(20ms);
+  }
+}
+
+TrialRecord TrialRobot::run(const TrialSpec& spec) {
+  Impl& m = *impl_;
+  const auto wall_start = std::chrono::steady_clock::now();
+  TrialRecord record;
+  record.spec = spec;
+  m.begin();
+  const uint32_t id = m.spawn(spec);
+  record.percept = m.perceive();
+  switch (spec.affordance) {
+    case Affordance::Lift:
+      record.outcome = m.lift(spec, record.percept, id);
+      break;
+    case Affordance::Push:
+      record.outcome = m.push(record.percept, id);
+      break;
+    case Affordance::Climb:
+      record.outcome = m.climb(spec, record.percept);
+      break;
+  }
+  record.sim_time = m.now;
+  record.steps = m.steps;
+  record.final_hash = m.hash;
+  record.trace = m.trace;
+  record.wall_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return record;
+}
+
+double TrialRobot::time_reset() {
+  const auto start = std::chrono::steady_clock::now();
+  impl_->call(sv::reset(mm::RESET_EVERYTHING), "reset");
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace affordances
