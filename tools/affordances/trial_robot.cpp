@@ -23,12 +23,12 @@ namespace {
 
 // Time in a trial. The robot's encoder frames (odometry, ground truth, crane state) come every
 // 10 ms of sim time, the laser's sweeps every 1/75 s, from the reset on. The controller stops
-// stepping only at 6 ms past a multiple of 10 ms (the first request steps 6 steps, every later
-// one 20), so the newest frame due is always the one stamped within the last 8 ms, and the one
-// before it is older: which sample a decision reads never depends on how fast DDS delivered it.
-constexpr int kFirstSteps = 6;
-constexpr int kTickSteps = 20;
-constexpr double kStep = 0.001;
+// stepping only at 6 ms past a multiple of 10 ms (the first requests step 6 ms, every later one
+// 20 ms: the world's step must divide 2 ms), so the newest frame due is always the one stamped
+// within the last 8 ms, and the one before it is older: which sample a decision reads never
+// depends on how fast DDS delivered it.
+constexpr double kFirst = 0.006;
+constexpr double kTick = 0.02;
 constexpr double kFrameWindow = 0.008;
 // The perception instant, once the crane swung out of the cameras' view (it turns at 1 rad/s):
 // the sweep of 0.8 s is 6 ms old, the one before 19 ms; the cameras (1.25 Hz from the reset on)
@@ -78,6 +78,7 @@ struct TrialRobot::Impl {
 
   // the trial under way
   double now = 0;
+  double dt = 0;  // the world's step, s (from the first step's reply)
   uint64_t steps = 0, hash = 0, trace = 0;
   bool drive_sent = false, crane_sent = false;
   double speed = 0, speed_sent_at = -1;
@@ -111,9 +112,14 @@ struct TrialRobot::Impl {
   /// One tick of the controller: keeps the drive command alive, steps 20 ms.
   void tick() {
     if (speed != 0 && now - speed_sent_at > 0.25) set_speed(speed);
-    step(kTickSteps);
+    step(static_cast<int>(std::lround(kTick / dt)));
   }
+  /// Steps `seconds` (a multiple of a tick): in one request when nothing needs a tick.
   void advance(double seconds) {
+    if (speed == 0 && seconds > kTick) {
+      step(static_cast<int>(std::lround(seconds / dt)));
+      return;
+    }
     const double until = now + seconds - 1e-9;
     while (now < until) tick();
   }
@@ -237,7 +243,12 @@ struct TrialRobot::Impl {
   /// Looks: the crane swung out of the laser's plane, then one stereo pair and one sweep.
   Percept perceive() {
     crane_to(kAsideSlew, 0.0, 0.0);
-    step(kFirstSteps);
+    step(1);
+    dt = now;
+    if (!(dt > 0) || std::fabs(std::remainder(0.002, dt)) > 1e-9)
+      throw std::runtime_error("the world's step (" + std::to_string(dt) +
+                               " s) does not divide 2 ms");
+    step(static_cast<int>(std::lround(kFirst / dt)) - 1);
     advance(kPerceiveAt - now);
     Percept p;
     const double window = 1.0 / o.camera_rate;
@@ -318,7 +329,7 @@ struct TrialRobot::Impl {
       tick();
       const mm::Object_ now_state = object(id);
       const auto& w = now_state.velocity().angular();
-      out.rolled += std::hypot(w.x(), w.y()) * kTickSteps * kStep;
+      out.rolled += std::hypot(w.x(), w.y()) * kTick;
     }
     set_speed(0);
     advance(0.4);
