@@ -21,7 +21,8 @@ using namespace std::chrono_literals;
 
 TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
   for (const char* program : {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest",
-                              "kurt_demo", "kurt_adapter", "kurt_emulator", "bench_dds"}) {
+                              "kurt_demo", "kurt_adapter", "kurt_emulator", "bench_dds",
+                              "affordance_trials"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
     EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();
@@ -44,7 +45,9 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_step_rate")}, 2, "usage: bench_step_rate"},
            {{bin("bench_step_rate"), source("worlds/small_room.xml"), "abc"}, 2, "SIM_SECONDS"},
            {{bin("bench_demo"), "--help"}, 0, "bench_demo [SEEDS [FIRST]]"},
-           {{bin("bench_demo"), "0"}, 2, "SEEDS must be positive"}}) {
+           {{bin("bench_demo"), "0"}, 2, "SEEDS must be positive"},
+           {{bin("bench_affordances"), "--help"}, 0, "usage: bench_affordances [TRIALS]"},
+           {{bin("bench_affordances"), "0"}, 2, "TRIALS must be positive"}}) {
     ChildProcess p(c.argv);
     EXPECT_EQ(p.wait_for_exit(20s), c.code) << c.argv.back() << ": " << p.output();
     EXPECT_NE(p.output().find(c.says), std::string::npos) << p.output();
@@ -84,7 +87,7 @@ TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
 TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
   for (const char* program :
        {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
-        "examples_tests", "asan_tests", "integration_tests"}) {
+        "examples_tests", "asan_tests", "affordance_tests", "integration_tests"}) {
     ChildProcess p({bin(program), "--bogus"});
     EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();
     EXPECT_NE(p.output().find("unknown argument '--bogus'"), std::string::npos) << p.output();

@@ -206,6 +206,26 @@ TEST_F(TwoHosts, AControllerOnAnotherHostDrivesTheRobot) {
   EXPECT_GT(received_on_b() - before, 100000) << "bytes received on host b's link";
 }
 
+TEST_F(TwoHosts, AffordanceTrialsRunOnASimulatorOnAnotherHost) {
+  // Lock-step trials over a real link: the simulator on host a, the trial runner on host b.
+  ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
+  ChildProcess sim(on(host_a_, {bin("macsim"), "--world", source("worlds/affordance_trials.xml"),
+                                "--domain", std::to_string(domain_), "--lockstep",
+                                "--camera-rate", "1.25"}));
+  ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+  TempDir dir("affordance_hosts_");
+  const long before = received_on_b();
+  ChildProcess trials(on(host_b_, {bin("affordance_trials"), "--attach", std::to_string(domain_),
+                                   "--trials", "3", "--seed", "4", "--out",
+                                   dir.path() + "/rows.csv"}));
+  ASSERT_EQ(trials.wait_for_exit(120s), 0) << trials.output() << sim.output();
+  std::ifstream rows(dir.path() + "/rows.csv");
+  int lines = 0;
+  for (std::string line; std::getline(rows, line);) ++lines;
+  EXPECT_EQ(lines, 4) << trials.output();  // the header and three rows
+  EXPECT_GT(received_on_b() - before, 100000) << "bytes received on host b's link";
+}
+
 TEST_F(TwoHosts, UnderPacketLossReliableTopicsLoseNothingAndSensorsDegradeByTheLossRate) {
   ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
   ChildProcess sim(macsim());

@@ -130,7 +130,8 @@ struct Canvas {
   cv::Rect area{70, 40, 540, 370};
   void frame(const std::string& title, const std::string& x_label, const std::string& y_label) {
     cv::rectangle(image, area, cv::Scalar(0, 0, 0), 1);
-    cv::putText(image, title, {area.x, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(image, title, {area.x + 90, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1,
+                cv::LINE_AA);
     cv::putText(image, x_label, {area.x + area.width / 2 - 60, 465}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 {0, 0, 0}, 1, cv::LINE_AA);
     cv::putText(image, y_label, {5, area.y - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1,

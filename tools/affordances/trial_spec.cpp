@@ -10,13 +10,9 @@ namespace {
 /// distributions are not).
 class Draw {
  public:
-  explicit Draw(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  // The seed is mixed first: seed s + 1's stream is not seed s's shifted by one draw.
+  explicit Draw(uint64_t seed) : state_(mix(seed ^ 0x632BE59BD9B4E019ull)) {}
+  uint64_t next() { return mix(state_ += 0x9E3779B97F4A7C15ull); }
   /// Uniform in [lo, hi).
   double uniform(double lo, double hi) {
     return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53;
@@ -28,6 +24,11 @@ class Draw {
   std::size_t index(std::size_t n) { return static_cast<std::size_t>(next() % n); }
 
  private:
+  static uint64_t mix(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
   uint64_t state_;
 };
 

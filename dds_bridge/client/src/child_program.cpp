@@ -1,6 +1,7 @@
 #include "macsim/client/child_program.h"
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,6 +23,8 @@ ChildProgram::ChildProgram(const std::vector<std::string>& argv, const std::stri
   std::fflush(stderr);
   pid_ = fork();
   if (pid_ == 0) {
+    // A parent that dies without stopping it (killed) takes it along.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (!std::freopen(log.c_str(), "a", stdout) || !std::freopen(log.c_str(), "a", stderr))
       _exit(126);
     std::vector<char*> args;

@@ -1,0 +1,109 @@
+#include "perception.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+namespace affordances {
+namespace {
+
+/// A sweep of the scanner standing still (plane x-z), cast against the floor and a profile of
+/// segments given in base_link (x, z): what the simulator's ray caster would return, noise-free.
+macsim::client::Laser::Scan sweep(const std::vector<std::array<double, 4>>& segments) {
+  const SensorMount m;
+  macsim::client::Laser::Scan scan;
+  scan.angle_min(-M_PI / 2);
+  scan.angle_increment(M_PI / 180);
+  scan.range_min(0.08);
+  scan.range_max(10);
+  for (int i = 0; i < 181; ++i) {
+    const double a = -M_PI / 2 + i * M_PI / 180, dx = std::cos(a), dz = std::sin(a);
+    double best = std::numeric_limits<double>::infinity();
+    if (dz < 0) best = (m.laser_z + m.base_height) / -dz;  // the floor
+    for (const auto& s : segments) {  // x0, z0, x1, z1
+      const double ex = s[2] - s[0], ez = s[3] - s[1];
+      const double den = dx * ez - dz * ex;
+      if (std::fabs(den) < 1e-12) continue;
+      const double t = ((s[0] - m.laser_x) * ez - (s[1] - m.laser_z) * ex) / den;
+      const double u = ((s[0] - m.laser_x) * dz - (s[1] - m.laser_z) * dx) / den;
+      if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
+    }
+    scan.ranges().push_back(std::isfinite(best) && best < 10 ? static_cast<float>(best)
+                                                             : std::numeric_limits<float>::infinity());
+  }
+  return scan;
+}
+
+constexpr double kFloor = -0.167;
+
+TEST(Perception, TheLaserFindsABoxItsRangeHeightAndSteepFace) {
+  // A box 8 cm high from x = 1.0 to 1.1.
+  Percept p;
+  perceive_scan(sweep({{1.0, kFloor, 1.0, kFloor + 0.08}, {1.0, kFloor + 0.08, 1.1, kFloor + 0.08}}),
+                SensorMount{}, p);
+  ASSERT_TRUE(p.laser_hit);
+  EXPECT_NEAR(p.laser_range, 1.0, 0.01);
+  EXPECT_NEAR(p.laser_height, 0.08, 0.025);  // beams are a degree apart
+  EXPECT_GT(p.laser_slope, 60 * M_PI / 180);
+}
+
+TEST(Perception, TheLaserMeasuresARampsSlope) {
+  // A 20 degree ramp from its foot at x = 0.8 up to 0.15 m.
+  const double angle = 20 * M_PI / 180, depth = 0.15 / std::tan(angle);
+  Percept p;
+  perceive_scan(sweep({{0.8, kFloor, 0.8 + depth, kFloor + 0.15}}), SensorMount{}, p);
+  ASSERT_TRUE(p.laser_hit);
+  EXPECT_NEAR(p.laser_slope, angle, 4 * M_PI / 180);
+  EXPECT_NEAR(p.laser_height, 0.15, 0.03);
+  EXPECT_NEAR(p.laser_range, 0.8, 0.05);
+}
+
+TEST(Perception, TheFloorAloneIsNoHit) {
+  Percept p;
+  perceive_scan(sweep({}), SensorMount{}, p);
+  EXPECT_FALSE(p.laser_hit);
+}
+
+TEST(Perception, TheCamerasFindTheObjectNotTheCraneAtTheEdgeAndRangeItByStereo) {
+  macsim::client::StereoFrame f;
+  f.focal = 300;
+  f.cx = 160;
+  f.cy = 120;
+  f.baseline = 0.1;
+  f.left = cv::Mat(240, 320, CV_8UC3, cv::Scalar(150, 150, 150));
+  f.right = f.left.clone();
+  // The crane's yellow boom cut by the bottom right corner, larger than the object.
+  for (cv::Mat* image : {&f.left, &f.right})
+    cv::rectangle(*image, {280, 180}, {320, 240}, cv::Scalar(20, 200, 230), cv::FILLED);
+  // A red ball, 10 px further left in the right image: 300 * 0.1 / 10 = 3 m.
+  cv::circle(f.left, {170, 150}, 15, cv::Scalar(20, 20, 220), cv::FILLED);
+  cv::circle(f.right, {160, 150}, 15, cv::Scalar(20, 20, 220), cv::FILLED);
+  Percept p;
+  perceive_image(f, p);
+  ASSERT_TRUE(p.seen);
+  EXPECT_GT(p.r, 0.8);
+  EXPECT_LT(p.g, 0.15);
+  EXPECT_TRUE(p.hue < 10 || p.hue > 350) << p.hue;
+  EXPECT_NEAR(p.width_px, 31, 1);
+  EXPECT_NEAR(p.fill, M_PI / 4, 0.05);
+  EXPECT_NEAR(p.stereo_range, 3.0, 0.05);
+  EXPECT_NEAR(p.width_m, 31 * 3.0 / 300, 0.01);
+  EXPECT_NEAR(p.bearing, std::atan2(160 - 170, 300), 0.01);
+  EXPECT_EQ(features(p).size(), feature_names().size());
+}
+
+TEST(Perception, NothingColouredIsNothingSeen) {
+  macsim::client::StereoFrame f;
+  f.focal = 300;
+  f.baseline = 0.1;
+  f.left = cv::Mat(240, 320, CV_8UC3, cv::Scalar(150, 150, 150));
+  f.right = f.left.clone();
+  Percept p;
+  perceive_image(f, p);
+  EXPECT_FALSE(p.seen);
+}
+
+}  // namespace
+}  // namespace affordances

@@ -1,0 +1,60 @@
+#include "trial_record.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+
+#include "support/child_process.h"
+
+namespace affordances {
+namespace {
+
+std::size_t fields(const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; }
+
+TEST(TrialRecord, ARowHasAFieldForEveryColumnAndReadsBack) {
+  TrialRecord r;
+  r.spec = make_trial(Affordance::Push, Generator::Material, 7);
+  r.outcome.label = "rolled";
+  r.outcome.moved = 0.25;
+  r.percept.seen = true;
+  r.percept.hue = 12.5;
+  r.final_hash = 0xabcdef;
+  r.instance = 2;
+  EXPECT_EQ(fields(csv_header()), fields(csv_row(r)));
+  macsim::test::TempDir dir("trial_record_");
+  const std::string path = dir.path() + "/rows.csv";
+  std::ofstream(path) << csv_header() << "\n" << csv_row(r) << "\n";
+  const CsvTable t = read_csv(path);
+  ASSERT_EQ(t.rows.size(), 1u);
+  EXPECT_EQ(t.rows[0][*t.column("affordance")], "push");
+  EXPECT_EQ(t.rows[0][*t.column("seed")], "7");
+  EXPECT_EQ(t.rows[0][*t.column("label")], "rolled");
+  EXPECT_EQ(t.rows[0][*t.column("hue")], "12.5");
+  EXPECT_EQ(t.rows[0][*t.column("final_hash")], "0000000000abcdef");
+  EXPECT_EQ(t.rows[0][*t.column("instance")], "2");
+  EXPECT_EQ(t.columns.back(), "wall_time");
+  EXPECT_FALSE(t.column("no such column"));
+}
+
+TEST(TrialRecord, ARowCutShortAtTheEndIsDroppedOneInTheMiddleIsAnError) {
+  TrialRecord r;
+  r.spec = make_trial(Affordance::Lift, Generator::Material, 1);
+  r.outcome.label = "liftable";
+  macsim::test::TempDir dir("trial_record_");
+  const std::string path = dir.path() + "/rows.csv";
+  const std::string row = csv_row(r);
+  std::ofstream(path) << csv_header() << "\n" << row << "\n" << row.substr(0, 30);
+  EXPECT_EQ(read_csv(path).rows.size(), 1u);
+  std::ofstream(path) << csv_header() << "\n" << row.substr(0, 30) << "\n" << row << "\n";
+  try {
+    read_csv(path);
+    FAIL() << "a short row in the middle was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_csv(dir.path() + "/missing.csv"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace affordances
