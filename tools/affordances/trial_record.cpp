@@ -103,7 +103,7 @@ CsvTable read_csv(const std::string& path) {
 }
 
 std::string trial_key(const std::string& affordance, const std::string& generator, uint64_t seed) {
-  return affordance + "/" + generator + "/" + std::to_string(seed);
+  return affordance + "," + generator + "," + std::to_string(seed);
 }
 
 }  // namespace affordances

@@ -54,7 +54,7 @@ struct CsvTable {
 /// field count does not match the header. A last line cut short (a killed run) is dropped.
 CsvTable read_csv(const std::string& path);
 
-/// The key of a trial in a file: affordance, generator and seed.
+/// The key of a trial in a file: its first three columns (affordance, generator, seed).
 std::string trial_key(const std::string& affordance, const std::string& generator, uint64_t seed);
 
 }  // namespace affordances

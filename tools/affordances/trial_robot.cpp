@@ -402,6 +402,11 @@ void TrialRobot::connect(std::chrono::milliseconds timeout) {
     if (left().count() <= 0) throw InstanceLost("no robot '" + m.o.robot + "'" + where);
     std::this_thread::sleep_for(20ms);
   }
+  // A first look, thrown away: the first camera pair a simulator renders after it started
+  // differs from every later rendering of the same scene in a few pixels (one level of shading),
+  // so no trial may be an instance's first.
+  m.begin();
+  m.perceive();
 }
 
 TrialRecord TrialRobot::run(const TrialSpec& spec) {
