@@ -67,9 +67,11 @@ double reset_in_process(const std::string& world_file) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 2 || (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h"))) {
-    std::printf("usage: bench_affordances [TRIALS]   (default 200 trials per run, from the "
-                "repository root)\n");
+  if (argc > 2 ||
+      (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h"))) {
+    std::printf(
+        "usage: bench_affordances [TRIALS]   (default 200 trials per run, from the "
+        "repository root)\n");
     return argc == 2 ? 0 : 2;
   }
   const int trials = argc == 2 ? std::atoi(argv[1]) : 200;
@@ -88,23 +90,24 @@ int main(int argc, char** argv) {
   std::printf("reset_in_process.affordance_trials %.1f us\n",
               reset_in_process("worlds/affordance_trials.xml"));
   {
-    macsim::client::ChildProgram sim({macsim::client::sibling_program("macsim"), "--world",
-                                      "worlds/liftability.xml", "--domain", std::to_string(domain),
-                                      "--lockstep", "--cameras", "off"},
-                                     dir + "/macsim_reset.log");
+    macsim::client::ChildProgram sim(
+        {macsim::client::sibling_program("macsim"), "--world", "worlds/liftability.xml", "--domain",
+         std::to_string(domain), "--lockstep", "--cameras", "off"},
+        dir + "/macsim_reset.log");
     macsim::dds::Participant participant({domain, "", "bench_affordances"});
     macsim::client::SupervisorClient supervisor(participant);
     if (!supervisor.wait_for_server(std::chrono::seconds(30))) {
-      std::fprintf(stderr, "bench_affordances: no simulator, see %s/macsim_reset.log\n", dir.c_str());
+      std::fprintf(stderr, "bench_affordances: no simulator, see %s/macsim_reset.log\n",
+                   dir.c_str());
       return 1;
     }
     std::vector<double> reset, hash;
     for (int i = 0; i < 400; ++i) {
       const bool resetting = i % 2 == 0;  // alternating: both see the same machine noise
       const auto t = Clock::now();
-      auto reply = supervisor.call(resetting ? macsim::client::supervisor::reset(
-                                                   macsim_msgs::msg::dds_::RESET_EVERYTHING)
-                                             : macsim::client::supervisor::state_hash());
+      auto reply = supervisor.call(
+          resetting ? macsim::client::supervisor::reset(macsim_msgs::msg::dds_::RESET_EVERYTHING)
+                    : macsim::client::supervisor::state_hash());
       const double us = std::chrono::duration<double, std::micro>(Clock::now() - t).count();
       if (!reply || reply->code() != 0) {
         std::fprintf(stderr, "bench_affordances: a supervisor request failed\n");

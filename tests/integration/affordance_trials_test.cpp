@@ -146,9 +146,17 @@ TEST(AffordanceTrials, AKilledRunResumesWithoutLosingOrRepeatingARow) {
   TempDir dir("affordance_resume_");
   const std::string csv = dir.path() + "/rows.csv";
   const std::string domain = std::to_string(unique_test_domain());
-  const std::vector<std::string> command{bin("affordance_trials"), "--domain", domain,
-                                         "--trials", "24", "--seed", "11", "--out", csv,
-                                         "--logs", dir.path()};
+  const std::vector<std::string> command{bin("affordance_trials"),
+                                         "--domain",
+                                         domain,
+                                         "--trials",
+                                         "24",
+                                         "--seed",
+                                         "11",
+                                         "--out",
+                                         csv,
+                                         "--logs",
+                                         dir.path()};
   {
     ChildProcess first(command);
     // Killed (no chance to tidy up) once a few rows are in.
@@ -162,7 +170,8 @@ TEST(AffordanceTrials, AKilledRunResumesWithoutLosingOrRepeatingARow) {
   // The simulator it started is gone with it? Not necessarily: the runner was SIGKILLed.
   std::string output;
   ASSERT_EQ(run(command, &output), 0) << output;
-  EXPECT_NE(output.find(std::to_string(before) + " trials already in"), std::string::npos) << output;
+  EXPECT_NE(output.find(std::to_string(before) + " trials already in"), std::string::npos)
+      << output;
   const auto rows = lines_of(csv);
   ASSERT_EQ(rows.size(), 25u);
   std::set<std::string> seeds;
@@ -217,14 +226,14 @@ TEST(AffordanceLearn, LearnsFromTrialRowsAndDrawsItsPlots) {
   for (const char* png : {"/plots/lift_learning_curve.png", "/plots/lift_scatter.png"})
     EXPECT_GT(std::filesystem::file_size(dir.path() + png), 2000u) << png;
   // An accuracy it cannot reach is an exit 1; rows it cannot read an exit 2 naming the file.
-  EXPECT_EQ(run({bin("affordance_learn"), "--in", source("tests/tools/affordances/lift_trials.csv"),
-                 "--out", dir.path() + "/plots", "--features", "laser_range", "--min-accuracy",
-                 "1.01"}),
-            1);
+  EXPECT_EQ(
+      run({bin("affordance_learn"), "--in", source("tests/tools/affordances/lift_trials.csv"),
+           "--out", dir.path() + "/plots", "--features", "laser_range", "--min-accuracy", "1.01"}),
+      1);
   std::ofstream(dir.path() + "/bad.csv") << "affordance,seed,label\nlift,1\n";
-  EXPECT_EQ(run({bin("affordance_learn"), "--in", dir.path() + "/bad.csv", "--out", dir.path()},
-                &output),
-            2);
+  EXPECT_EQ(
+      run({bin("affordance_learn"), "--in", dir.path() + "/bad.csv", "--out", dir.path()}, &output),
+      2);
   EXPECT_NE(output.find("bad.csv:2"), std::string::npos) << output;
 }
 

@@ -61,8 +61,9 @@ int main(int argc, char** argv) {
     // The scatter's axes: what matters most to each affordance, as the robot saw it.
     const bool all = features.empty();
     std::string x = all ? "hue" : data.feature_names[0];
-    std::string y = all ? "width_m" : data.feature_names.size() > 1 ? data.feature_names[1]
-                                                                   : data.feature_names[0];
+    std::string y = all                             ? "width_m"
+                    : data.feature_names.size() > 1 ? data.feature_names[1]
+                                                    : data.feature_names[0];
     if (all && affordance == "push") x = "fill";
     if (all && affordance == "climb") x = "laser_slope", y = "laser_height";
     try {

@@ -36,9 +36,8 @@ class Progress {
     const double rate = minutes > 0 ? done / minutes : 0.0;
     const int left = total_ - already_ - done;
     char line[200];
-    std::snprintf(line, sizeof line, "trials %d/%d, %.0f trials/min, ETA %s",
-                  already_ + done, total_, rate,
-                  rate > 0 ? eta(left / rate * 60).c_str() : "-");
+    std::snprintf(line, sizeof line, "trials %d/%d, %.0f trials/min, ETA %s", already_ + done,
+                  total_, rate, rate > 0 ? eta(left / rate * 60).c_str() : "-");
     std::fprintf(stderr, tty_ ? "\r%s\033[K%s" : "%s%s", line, tty_ && !last ? "" : "\n");
     std::fflush(stderr);
   }
@@ -105,8 +104,8 @@ int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{-1, "", "affordance_trials"};
   int trials = 100, instances = 1, repeat = 1;
   double first_seed = 1, timeout = 10;
-  std::string affordance_name = "lift", generator_name = "material", out, world, attach,
-              log_dir, cameras = "320x240";
+  std::string affordance_name = "lift", generator_name = "material", out, world, attach, log_dir,
+              cameras = "320x240";
   double camera_rate = 1.25;
   bool hash_every_step = false, bench = false;
   macsim::dds::CommandLine cli(
@@ -129,13 +128,14 @@ int main(int argc, char** argv) {
   cli.option("trials", "N", "number of trials (default 100)", &trials);
   cli.option("seed", "S", "seed of the first trial; trial i has seed S+i (default 1)", &first_seed);
   cli.option("instances", "K", "simulators to start (default 1)", &instances);
-  cli.option("attach", "D1,D2,...", "use running lock-step simulators on these domains",
-             &attach);
+  cli.option("attach", "D1,D2,...", "use running lock-step simulators on these domains", &attach);
   cli.option("out", "FILE.csv", "the trial rows (appended to when it exists: resume)", &out);
-  cli.option("world", "FILE", "world of the started simulators (default worlds/affordance_trials.xml)",
-             &world);
+  cli.option("world", "FILE",
+             "world of the started simulators (default worlds/affordance_trials.xml)", &world);
   cli.option("cameras", "WxH", "camera size of the started simulators (default 320x240)", &cameras);
-  cli.option("camera-rate", "HZ", "camera rate of the simulators (default 1.25: a pair at the perception instant)", &camera_rate);
+  cli.option("camera-rate", "HZ",
+             "camera rate of the simulators (default 1.25: a pair at the perception instant)",
+             &camera_rate);
   cli.option("timeout", "SECONDS", "an instance silent this long (wall time) is lost (default 10)",
              &timeout);
   cli.option("logs", "DIR", "logs of the started simulators (default a fresh /tmp directory)",
@@ -144,7 +144,8 @@ int main(int argc, char** argv) {
              &repeat);
   cli.flag("hash-every-step", "step one step per request, so the trace hash covers every step",
            &hash_every_step);
-  cli.flag("bench", "print trials per minute and the scoped reset's round trip as `name value unit`",
+  cli.flag("bench",
+           "print trials per minute and the scoped reset's round trip as `name value unit`",
            &bench);
   if (auto code = cli.parse(argc, argv)) return *code;
 
@@ -155,21 +156,28 @@ int main(int argc, char** argv) {
     std::cerr << "affordance_trials: " << message << " (see --help)\n";
     return 2;
   };
-  if (!affordance) return usage("unknown --affordance '" + affordance_name + "' (lift, push, climb)");
+  if (!affordance)
+    return usage("unknown --affordance '" + affordance_name + "' (lift, push, climb)");
   if (!generator) return usage("unknown --generator '" + generator_name + "' (material, figure11)");
   if (out.empty()) return usage("say where the rows go: --out FILE.csv");
   if (trials < 1 || instances < 1 || instances > 32 || repeat < 1 || first_seed < 0 ||
       !(timeout > 0) || !(camera_rate > 0))
-    return usage("--trials, --repeat, --timeout and --camera-rate must be positive, --instances 1..32, --seed >= 0");
-  if (!attach.empty() && attached.empty()) return usage("--attach takes domains 0..232: '" + attach + "'");
+    return usage(
+        "--trials, --repeat, --timeout and --camera-rate must be positive, --instances 1..32, "
+        "--seed >= 0");
+  if (!attach.empty() && attached.empty())
+    return usage("--attach takes domains 0..232: '" + attach + "'");
   if (attached.empty() && participant.domain < 0)
-    return usage("say on which DDS domains to run: --domain N (simulators on N..N+K-1) or --attach");
+    return usage(
+        "say on which DDS domains to run: --domain N (simulators on N..N+K-1) or --attach");
   if (attached.empty() && participant.domain + instances - 1 > macsim::dds::kMaxDomainId)
     return usage("domains " + std::to_string(participant.domain) + ".." +
                  std::to_string(participant.domain + instances - 1) + " go past 232");
   if (world.empty()) {
     world = (std::filesystem::path(macsim::client::sibling_program("macsim")).parent_path() /
-             "../../worlds/affordance_trials.xml").lexically_normal().string();
+             "../../worlds/affordance_trials.xml")
+                .lexically_normal()
+                .string();
   }
   if (attached.empty() && !std::filesystem::exists(world))
     return usage("no world file '" + world + "' (give --world)");
@@ -181,9 +189,11 @@ int main(int argc, char** argv) {
     try {
       const CsvTable table = read_csv(out);
       std::string joined;
-      for (std::size_t i = 0; i < table.columns.size(); ++i) joined += (i ? "," : "") + table.columns[i];
+      for (std::size_t i = 0; i < table.columns.size(); ++i)
+        joined += (i ? "," : "") + table.columns[i];
       if (joined != csv_header()) {
-        std::cerr << "affordance_trials: " << out << " has other columns than this version writes\n";
+        std::cerr << "affordance_trials: " << out
+                  << " has other columns than this version writes\n";
         return 2;
       }
       for (const auto& fields : table.rows) {
@@ -207,7 +217,8 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeat; ++r) todo.push_back(spec);
   }
   const int already = wanted - static_cast<int>(todo.size()) / repeat;
-  if (already > 0) std::fprintf(stderr, "affordance_trials: %d trials already in %s\n", already, out.c_str());
+  if (already > 0)
+    std::fprintf(stderr, "affordance_trials: %d trials already in %s\n", already, out.c_str());
 
   // The file as it stands (a row cut short by a kill is dropped), then a row per trial done.
   {
@@ -232,9 +243,9 @@ int main(int argc, char** argv) {
   pool.instance.hash_every_step = hash_every_step;
   pool.instance.timeout = std::chrono::milliseconds(static_cast<int64_t>(timeout * 1000));
   if (log_dir.empty()) {
-    log_dir = (std::filesystem::temp_directory_path() /
-               ("affordance_trials_" + std::to_string(getpid())))
-                  .string();
+    log_dir =
+        (std::filesystem::temp_directory_path() / ("affordance_trials_" + std::to_string(getpid())))
+            .string();
   }
   std::filesystem::create_directories(log_dir);
   pool.log_dir = log_dir;
@@ -277,11 +288,12 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 4; ++i) std::getline(in, field, ',');
     ++labels[field];
   }
-  std::printf("affordance_trials: %d trials run in %.1f s on %zu instance(s), %.0f trials/min, "
-              "%.1f s of sim time (%.1fx real time); %zu rows in %s:",
-              done, wall, attached.empty() ? static_cast<size_t>(instances) : attached.size(),
-              wall > 0 ? done / wall * 60 : 0.0, sim_seconds, wall > 0 ? sim_seconds / wall : 0.0,
-              rows.size(), out.c_str());
+  std::printf(
+      "affordance_trials: %d trials run in %.1f s on %zu instance(s), %.0f trials/min, "
+      "%.1f s of sim time (%.1fx real time); %zu rows in %s:",
+      done, wall, attached.empty() ? static_cast<size_t>(instances) : attached.size(),
+      wall > 0 ? done / wall * 60 : 0.0, sim_seconds, wall > 0 ? sim_seconds / wall : 0.0,
+      rows.size(), out.c_str());
   for (const auto& [label, count] : labels) std::printf(" %s %d", label.c_str(), count);
   std::printf("\n");
   if (repeat > 1) {
@@ -291,15 +303,17 @@ int main(int argc, char** argv) {
     std::printf("trials_per_minute.%s.k%zu %.1f trials/min\n", name(*affordance),
                 attached.empty() ? static_cast<size_t>(instances) : attached.size(),
                 wall > 0 ? done / wall * 60 : 0.0);
-    std::printf("sim_time_per_trial.%s %.3f s\n", name(*affordance), done ? sim_seconds / done : 0.0);
+    std::printf("sim_time_per_trial.%s %.3f s\n", name(*affordance),
+                done ? sim_seconds / done : 0.0);
   }
   if (summary.lost_instances > 0)
     std::printf("affordance_trials: %d instance(s) lost; their trials ran elsewhere\n",
                 summary.lost_instances);
   if (!summary.not_run.empty() || summary.failed > 0) {
-    std::printf("affordance_trials: %zu trials not run (every instance lost), %d refused; run the "
-                "same command again to resume\n",
-                summary.not_run.size(), summary.failed);
+    std::printf(
+        "affordance_trials: %zu trials not run (every instance lost), %d refused; run the "
+        "same command again to resume\n",
+        summary.not_run.size(), summary.failed);
     return 1;
   }
   if (mismatches > 0) return 3;

@@ -59,8 +59,8 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
     for (std::size_t i = 0; i < columns.size(); ++i)
       sample.at<float>(0, static_cast<int>(i)) = std::stof(row[columns[i]]);
     d.features.push_back(sample);
-    d.labels.push_back(static_cast<int>(
-        std::find(d.classes.begin(), d.classes.end(), row[*label]) - d.classes.begin()));
+    d.labels.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), row[*label]) -
+                                        d.classes.begin()));
     d.seeds.push_back(std::stoull(row[*seed]));
   }
   return out;
@@ -98,7 +98,8 @@ Evaluation evaluate(const Dataset& data, int max_train) {
     trees->train(cv::ml::TrainData::create(train_x, cv::ml::ROW_SAMPLE, cv::Mat(train_y, true)));
     cv::Mat out;
     trees->predict(test_x, out);
-    for (int i = 0; i < out.rows; ++i) predicted[i] = static_cast<int>(std::lround(out.at<float>(i, 0)));
+    for (int i = 0; i < out.rows; ++i)
+      predicted[i] = static_cast<int>(std::lround(out.at<float>(i, 0)));
   }
   int right = 0;
   for (std::size_t i = 0; i < test_y.size(); ++i) {
@@ -113,7 +114,8 @@ std::vector<std::pair<int, double>> learning_curve(const Dataset& data) {
   int training = 0;
   for (uint64_t s : data.seeds) training += !held_out(s);
   std::vector<std::pair<int, double>> curve;
-  for (int n : {5, 10, 20, 35, 50, 75, 100, 150, 200, 300, 500, 700, 1000, 1500, 2000, 3000, 5000}) {
+  for (int n :
+       {5, 10, 20, 35, 50, 75, 100, 150, 200, 300, 500, 700, 1000, 1500, 2000, 3000, 5000}) {
     if (n > training) break;
     curve.emplace_back(n, evaluate(data, n).accuracy);
   }
@@ -166,18 +168,20 @@ std::string format(double v, const char* how) {
 
 }  // namespace
 
-void plot_learning_curve(const std::vector<std::pair<int, double>>& curve,
-                         const std::string& title, const std::string& file) {
+void plot_learning_curve(const std::vector<std::pair<int, double>>& curve, const std::string& title,
+                         const std::string& file) {
   Canvas c;
   c.frame(title, "training trials (log scale)", "held-out accuracy");
   const double lo = std::log10(std::max(1, curve.empty() ? 1 : curve.front().first));
-  const double hi = std::max(lo + 1, std::log10(std::max(1, curve.empty() ? 10 : curve.back().first)));
+  const double hi =
+      std::max(lo + 1, std::log10(std::max(1, curve.empty() ? 10 : curve.back().first)));
   auto fx = [&](int n) { return (std::log10(std::max(n, 1)) - lo) / (hi - lo); };
   for (int i = 0; i <= 5; ++i) c.tick_y(i / 5.0, format(0.5 + i * 0.1, "%.1f"));
   for (const auto& [n, accuracy] : curve) c.tick_x(fx(n), std::to_string(n));
   cv::Point last;
   for (std::size_t i = 0; i < curve.size(); ++i) {
-    const cv::Point p = c.at(fx(curve[i].first), std::clamp((curve[i].second - 0.5) / 0.5, 0.0, 1.0));
+    const cv::Point p =
+        c.at(fx(curve[i].first), std::clamp((curve[i].second - 0.5) / 0.5, 0.0, 1.0));
     if (i) cv::line(c.image, last, p, {200, 90, 20}, 2, cv::LINE_AA);
     cv::circle(c.image, p, 4, {200, 90, 20}, cv::FILLED, cv::LINE_AA);
     last = p;
@@ -211,7 +215,8 @@ void plot_scatter(const Dataset& data, const std::string& x_feature, const std::
   for (int i = 0; i < data.features.rows; ++i) {
     const double fx = (data.features.at<float>(i, xi) - x0) / (x1 - x0);
     const double fy = (data.features.at<float>(i, yi) - y0) / (y1 - y0);
-    cv::circle(c.image, c.at(fx, fy), 3, kClassColours[data.labels[i] % 4], cv::FILLED, cv::LINE_AA);
+    cv::circle(c.image, c.at(fx, fy), 3, kClassColours[data.labels[i] % 4], cv::FILLED,
+               cv::LINE_AA);
   }
   for (std::size_t k = 0; k < data.classes.size(); ++k) {
     const cv::Point p(c.area.br().x - 130, c.area.y + 18 + 18 * static_cast<int>(k));
@@ -228,7 +233,8 @@ std::string confusion_text(const Dataset& data, const Evaluation& e) {
   text += "\n";
   for (int r = 0; r < e.confusion.rows; ++r) {
     text += "  " + data.classes[r];
-    for (int c = 0; c < e.confusion.cols; ++c) text += "  " + std::to_string(e.confusion.at<int>(r, c));
+    for (int c = 0; c < e.confusion.cols; ++c)
+      text += "  " + std::to_string(e.confusion.at<int>(r, c));
     text += "\n";
   }
   return text;

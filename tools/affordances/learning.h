@@ -44,8 +44,8 @@ Evaluation evaluate(const Dataset& data, int max_train = -1);
 std::vector<std::pair<int, double>> learning_curve(const Dataset& data);
 
 /// The learning curve as a PNG.
-void plot_learning_curve(const std::vector<std::pair<int, double>>& curve,
-                         const std::string& title, const std::string& file);
+void plot_learning_curve(const std::vector<std::pair<int, double>>& curve, const std::string& title,
+                         const std::string& file);
 /// Two features against each other, each trial a dot coloured by its label, as a PNG.
 void plot_scatter(const Dataset& data, const std::string& x_feature, const std::string& y_feature,
                   const std::string& file);

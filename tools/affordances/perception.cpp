@@ -33,8 +33,8 @@ std::vector<Blob> blobs(const cv::Mat& bgr) {
     b.box = cv::Rect(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
                      stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
     b.mean_bgr = cv::mean(bgr, labels == i);
-    const bool border = b.box.x == 0 || b.box.y == 0 || b.box.br().x == bgr.cols ||
-                        b.box.br().y == bgr.rows;
+    const bool border =
+        b.box.x == 0 || b.box.y == 0 || b.box.br().x == bgr.cols || b.box.br().y == bgr.rows;
     found.emplace_back(border, b);
   }
   std::stable_sort(found.begin(), found.end(), [](const auto& x, const auto& y) {
@@ -70,7 +70,8 @@ void perceive_image(const macsim::client::StereoFrame& frame, Percept& p) {
   const Blob* right = nullptr;
   double best = 1e9;
   for (const Blob& b : in_right) {
-    const double cost = std::fabs(b.cy - left->cy) + std::fabs(b.area - left->area) / left->area * 20;
+    const double cost =
+        std::fabs(b.cy - left->cy) + std::fabs(b.area - left->area) / left->area * 20;
     if (b.cx < left->cx + 1 && cost < best) best = cost, right = &b;
   }
   if (best > 15) right = nullptr;
@@ -81,8 +82,7 @@ void perceive_image(const macsim::client::StereoFrame& frame, Percept& p) {
   }
 }
 
-void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& mount,
-                   Percept& p) {
+void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& mount, Percept& p) {
   // The plane of a scanner standing still at angle 0 holds x (ahead) and z; a beam at angle a
   // from straight ahead, range r, hits at x = laser_x + r cos a, z = laser_z + r sin a.
   const double floor_z = -mount.base_height;
@@ -113,16 +113,19 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
 }
 
 std::vector<double> features(const Percept& p) {
-  return {p.r,        p.g,         p.b,           p.hue,        p.area_px,
-          p.width_px, p.height_px, p.fill,        p.stereo_range, p.width_m,
-          p.laser_range, p.laser_height, p.laser_depth, p.laser_slope};
+  return {p.r,           p.g,           p.b,
+          p.hue,         p.area_px,     p.width_px,
+          p.height_px,   p.fill,        p.stereo_range,
+          p.width_m,     p.laser_range, p.laser_height,
+          p.laser_depth, p.laser_slope};
 }
 
 const std::vector<const char*>& feature_names() {
-  static const std::vector<const char*> names{
-      "r",       "g",         "b",        "hue",          "area_px",
-      "width_px", "height_px", "fill",     "stereo_range", "width_m",
-      "laser_range", "laser_height", "laser_depth", "laser_slope"};
+  static const std::vector<const char*> names{"r",           "g",           "b",
+                                              "hue",         "area_px",     "width_px",
+                                              "height_px",   "fill",        "stereo_range",
+                                              "width_m",     "laser_range", "laser_height",
+                                              "laser_depth", "laser_slope"};
   return names;
 }
 

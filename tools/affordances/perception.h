@@ -12,25 +12,25 @@ namespace affordances {
 
 /// The perceived features a learner gets (SI units; pixels where it says so).
 struct Percept {
-  bool seen = false;             ///< the cameras found a coloured blob
-  double r = 0, g = 0, b = 0;    ///< mean colour of the blob, [0, 1]
-  double hue = 0;                ///< degrees, [0, 360)
-  double area_px = 0;            ///< pixels of the blob in the left image
+  bool seen = false;           ///< the cameras found a coloured blob
+  double r = 0, g = 0, b = 0;  ///< mean colour of the blob, [0, 1]
+  double hue = 0;              ///< degrees, [0, 360)
+  double area_px = 0;          ///< pixels of the blob in the left image
   double width_px = 0, height_px = 0;
-  double fill = 0;               ///< area over its bounding box: 1 for a box face, 0.79 a disc
-  double bearing = 0;            ///< rad, counter-clockwise from ahead (left camera)
-  double stereo_range = 0;       ///< m along the optical axis, from the blob's disparity
-  double width_m = 0;            ///< apparent width at that range, m
-  bool laser_hit = false;        ///< the sweep hit something above the floor ahead
-  double laser_range = 0;        ///< m ahead of base_link to the nearest hit above the floor
-  double laser_height = 0;       ///< m above the floor of the highest hit
-  double laser_depth = 0;        ///< m from the lowest to the highest hit, along x
-  double laser_slope = 0;        ///< rad, from the lowest to the highest hit (ramps: the slope)
+  double fill = 0;          ///< area over its bounding box: 1 for a box face, 0.79 a disc
+  double bearing = 0;       ///< rad, counter-clockwise from ahead (left camera)
+  double stereo_range = 0;  ///< m along the optical axis, from the blob's disparity
+  double width_m = 0;       ///< apparent width at that range, m
+  bool laser_hit = false;   ///< the sweep hit something above the floor ahead
+  double laser_range = 0;   ///< m ahead of base_link to the nearest hit above the floor
+  double laser_height = 0;  ///< m above the floor of the highest hit
+  double laser_depth = 0;   ///< m from the lowest to the highest hit, along x
+  double laser_slope = 0;   ///< rad, from the lowest to the highest hit (ramps: the slope)
 };
 
 /// Where the sensors sit on the KURT3D (base_link: x ahead, y left, z up).
 struct SensorMount {
-  double base_height = 0.167;            ///< base_link above the floor, m
+  double base_height = 0.167;              ///< base_link above the floor, m
   double laser_x = -0.10, laser_z = 0.35;  ///< the scanner's origin on the rotating unit
 };
 

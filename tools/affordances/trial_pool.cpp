@@ -68,17 +68,21 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
     std::unique_ptr<macsim::client::ChildProgram> simulator;
     auto say = [&](const std::string& text) {
       std::lock_guard<std::mutex> lock(report);
-      std::cerr << "\naffordance_trials: instance " << index << " (domain " << domain << "): "
-                << text << "\n";
+      std::cerr << "\naffordance_trials: instance " << index << " (domain " << domain
+                << "): " << text << "\n";
     };
     try {
       if (options_.attach.empty()) {
         std::vector<std::string> argv{macsim::client::sibling_program("macsim"),
-                                      "--world", options_.world,
-                                      "--domain", std::to_string(domain),
+                                      "--world",
+                                      options_.world,
+                                      "--domain",
+                                      std::to_string(domain),
                                       "--lockstep",
-                                      "--cameras", options_.cameras,
-                                      "--camera-rate", std::to_string(options_.instance.camera_rate)};
+                                      "--cameras",
+                                      options_.cameras,
+                                      "--camera-rate",
+                                      std::to_string(options_.instance.camera_rate)};
         if (!options_.instance.profile.empty()) {
           argv.insert(argv.end(), {"--profile", options_.instance.profile});
         }
@@ -120,7 +124,8 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
   };
 
   std::vector<std::thread> workers;
-  for (std::size_t i = 0; i < domains.size(); ++i) workers.emplace_back(worker, static_cast<int>(i), domains[i]);
+  for (std::size_t i = 0; i < domains.size(); ++i)
+    workers.emplace_back(worker, static_cast<int>(i), domains[i]);
   for (auto& w : workers) w.join();
   summary.not_run = queue.rest();
   return summary;

@@ -13,21 +13,21 @@
 namespace affordances {
 
 struct PoolOptions {
-  int instances = 1;             ///< simulators to start
-  int first_domain = -1;         ///< the first one's domain; the others follow
-  std::vector<int> attach;       ///< domains of running simulators to use instead
-  std::string world;             ///< world file for the simulators started here
+  int instances = 1;        ///< simulators to start
+  int first_domain = -1;    ///< the first one's domain; the others follow
+  std::vector<int> attach;  ///< domains of running simulators to use instead
+  std::string world;        ///< world file for the simulators started here
   std::string cameras = "320x240";
-  std::string log_dir;           ///< where the started simulators' logs go
-  InstanceOptions instance;      ///< profile, robot, camera rate, timeouts (domain set per instance)
+  std::string log_dir;       ///< where the started simulators' logs go
+  InstanceOptions instance;  ///< profile, robot, camera rate, timeouts (domain set per instance)
 };
 
 /// What a run came to.
 struct PoolSummary {
   int done = 0;
   int lost_instances = 0;
-  int failed = 0;                      ///< trials refused by the simulator (not retried)
-  std::vector<TrialSpec> not_run;      ///< every instance was lost before these ran
+  int failed = 0;                  ///< trials refused by the simulator (not retried)
+  std::vector<TrialSpec> not_run;  ///< every instance was lost before these ran
 };
 
 class TrialPool {

@@ -53,9 +53,9 @@ std::string csv_row(const TrialRecord& t) {
   row += "," + s.material + "," + number(s.density) + "," + number(s.mass) + "," +
          number(s.friction) + "," + (s.magnetizable ? "1" : "0");
   for (float c : s.colour) row += "," + number(c);
-  for (double v : {s.x, s.y, s.ramp_width, s.ramp_height, s.ramp_angle, t.outcome.raised,
-                   t.outcome.moved, t.outcome.rolled, t.outcome.rise, t.outcome.progress,
-                   t.sim_time})
+  for (double v :
+       {s.x, s.y, s.ramp_width, s.ramp_height, s.ramp_angle, t.outcome.raised, t.outcome.moved,
+        t.outcome.rolled, t.outcome.rise, t.outcome.progress, t.sim_time})
     row += "," + number(v);
   row += "," + std::to_string(t.steps) + "," + hex(t.final_hash) + "," + hex(t.trace) + "," +
          std::to_string(t.instance) + "," + number(t.wall_time);

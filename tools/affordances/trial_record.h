@@ -16,13 +16,13 @@ namespace affordances {
 
 /// What happened, measured on the world state (ground truth), and the label it gives.
 struct Outcome {
-  std::string label;     ///< lift: liftable | not_liftable; push: pushed | rolled | stalled;
-                         ///< climb: climbed | slid_back | stalled
-  double raised = 0;     ///< lift: m the object came up (the lower of after raising and 1 s on)
-  double moved = 0;      ///< push: m the object moved on the floor
-  double rolled = 0;     ///< push: rad it turned about horizontal axes
-  double rise = 0;       ///< climb: m the robot rose at most
-  double progress = 0;   ///< climb: m the robot got ahead at most
+  std::string label;    ///< lift: liftable | not_liftable; push: pushed | rolled | stalled;
+                        ///< climb: climbed | slid_back | stalled
+  double raised = 0;    ///< lift: m the object came up (the lower of after raising and 1 s on)
+  double moved = 0;     ///< push: m the object moved on the floor
+  double rolled = 0;    ///< push: rad it turned about horizontal axes
+  double rise = 0;      ///< climb: m the robot rose at most
+  double progress = 0;  ///< climb: m the robot got ahead at most
 };
 
 struct TrialRecord {

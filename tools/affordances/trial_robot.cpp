@@ -51,7 +51,6 @@ uint64_t mix(uint64_t trace, uint64_t value) {
   return z ^ (z >> 31);
 }
 
-
 }  // namespace
 
 struct TrialRobot::Impl {
@@ -172,8 +171,8 @@ struct TrialRobot::Impl {
 
   /// Waits (in ticks) until the crane's joints are within tolerance of the targets, or `limit`
   /// seconds passed; the crane state last read.
-  kurt_msgs::msg::dds_::CraneState_ wait_crane(double slew, double lift, double hoist,
-                                               double limit, bool until_held = false) {
+  kurt_msgs::msg::dds_::CraneState_ wait_crane(double slew, double lift, double hoist, double limit,
+                                               bool until_held = false) {
     const double until = now + limit;
     while (true) {
       auto s = crane_state();
@@ -220,7 +219,8 @@ struct TrialRobot::Impl {
       case Shape::LyingCylinder:  // its axis across the robot's way: it can roll ahead
         c.shape(mm::SHAPE_CYLINDER);
         c.size({s.size[0] / 2, 0, s.size[2]});
-        object.pose().orientation(macsim::dds::quaternion(std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)));
+        object.pose().orientation(
+            macsim::dds::quaternion(std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)));
         break;
       case Shape::Sphere:
         c.shape(mm::SHAPE_SPHERE);
@@ -277,8 +277,8 @@ struct TrialRobot::Impl {
       // The boom low enough that the magnet hangs 2 cm over the top with the hoist in.
       const double top = p.laser_height;
       const double lift = std::clamp(
-          std::asin(std::clamp((top + kMagnetBelowTip + 0.02 - kBaseHeight - kPivotZ) / kBoom,
-                               -1.0, 1.0)),
+          std::asin(std::clamp((top + kMagnetBelowTip + 0.02 - kBaseHeight - kPivotZ) / kBoom, -1.0,
+                               1.0)),
           kLiftMin, kLiftMax - 0.3);
       const double radius = kBoom * std::cos(lift);
       const double ahead = std::sqrt(std::max(0.0, radius * radius - y * y));
@@ -395,8 +395,8 @@ void TrialRobot::connect(std::chrono::milliseconds timeout) {
   if (!features) throw InstanceLost("no answer to SIM_FEATURES" + where);
   if (features->features().find("lockstep") == std::string::npos ||
       features->features().find("supervisor") == std::string::npos)
-    throw InstanceLost("the participant" + where + " is not a lock-step simulator (features: " +
-                       features->features() + ")");
+    throw InstanceLost("the participant" + where +
+                       " is not a lock-step simulator (features: " + features->features() + ")");
   if (!m.supervisor.wait_for_server(left())) throw InstanceLost("no supervisor" + where);
   while (!m.drive.commander_matched() || !m.crane.matched() || m.truth.matched() == 0) {
     if (left().count() <= 0) throw InstanceLost("no robot '" + m.o.robot + "'" + where);

@@ -17,10 +17,10 @@ namespace affordances {
 /// How to reach an instance and how it was started.
 struct InstanceOptions {
   int domain = -1;
-  std::string profile;               ///< DDS profile XML; empty: FASTRTPS_DEFAULT_PROFILES_FILE
+  std::string profile;  ///< DDS profile XML; empty: FASTRTPS_DEFAULT_PROFILES_FILE
   std::string robot = "kurt";
-  double camera_rate = 1.25;         ///< Hz: the instance's --camera-rate
-  bool hash_every_step = false;      ///< step one step per request (the trace holds every step)
+  double camera_rate = 1.25;     ///< Hz: the instance's --camera-rate
+  bool hash_every_step = false;  ///< step one step per request (the trace holds every step)
   std::chrono::milliseconds timeout{10000};  ///< wall time an answer or a sample may take
 };
 

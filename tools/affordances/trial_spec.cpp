@@ -18,9 +18,7 @@ class Draw {
     return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53;
   }
   /// Uniform in log space: as many objects of 0.1-1 kg as of 1-10 kg.
-  double log_uniform(double lo, double hi) {
-    return std::exp(uniform(std::log(lo), std::log(hi)));
-  }
+  double log_uniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
   std::size_t index(std::size_t n) { return static_cast<std::size_t>(next() % n); }
 
  private:
@@ -85,19 +83,27 @@ const std::array<Material, 7>& materials() { return kMaterials; }
 
 const char* name(Affordance a) {
   switch (a) {
-    case Affordance::Lift: return "lift";
-    case Affordance::Push: return "push";
-    default: return "climb";
+    case Affordance::Lift:
+      return "lift";
+    case Affordance::Push:
+      return "push";
+    default:
+      return "climb";
   }
 }
 const char* name(Generator g) { return g == Generator::Material ? "material" : "figure11"; }
 const char* name(Shape s) {
   switch (s) {
-    case Shape::Box: return "box";
-    case Shape::Cylinder: return "cylinder";
-    case Shape::LyingCylinder: return "lying_cylinder";
-    case Shape::Sphere: return "sphere";
-    default: return "ramp";
+    case Shape::Box:
+      return "box";
+    case Shape::Cylinder:
+      return "cylinder";
+    case Shape::LyingCylinder:
+      return "lying_cylinder";
+    case Shape::Sphere:
+      return "sphere";
+    default:
+      return "ramp";
   }
 }
 
@@ -116,19 +122,26 @@ std::optional<Generator> generator_from_name(const std::string& n) {
 
 double TrialSpec::height() const {
   switch (shape) {
-    case Shape::LyingCylinder: return size[0];
-    case Shape::Ramp: return ramp_height;
-    default: return size[2];
+    case Shape::LyingCylinder:
+      return size[0];
+    case Shape::Ramp:
+      return ramp_height;
+    default:
+      return size[2];
   }
 }
 
 double TrialSpec::volume() const {
   switch (shape) {
-    case Shape::Box: return size[0] * size[1] * size[2];
+    case Shape::Box:
+      return size[0] * size[1] * size[2];
     case Shape::Cylinder:
-    case Shape::LyingCylinder: return M_PI * size[0] * size[0] / 4 * size[2];
-    case Shape::Sphere: return M_PI / 6 * size[0] * size[0] * size[0];
-    default: return 0;
+    case Shape::LyingCylinder:
+      return M_PI * size[0] * size[0] / 4 * size[2];
+    case Shape::Sphere:
+      return M_PI / 6 * size[0] * size[0] * size[0];
+    default:
+      return 0;
   }
 }
 

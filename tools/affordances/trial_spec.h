@@ -45,7 +45,8 @@ struct TrialSpec {
   double mass = 0;      ///< kg
   double friction = 0;  ///< of its material
   bool magnetizable = false;
-  double x = 0, y = 0;  ///< where it stands (m, world frame: the robot starts at the origin facing +x)
+  double x = 0,
+         y = 0;  ///< where it stands (m, world frame: the robot starts at the origin facing +x)
   // ramps (Climb): width across, height of the top edge, slope
   double ramp_width = 0, ramp_height = 0, ramp_angle = 0;  ///< m, m, rad
 

@@ -22,7 +22,7 @@ macsim::client::Laser::Scan sweep(const std::vector<std::array<double, 4>>& segm
     const double a = -M_PI / 2 + i * M_PI / 180, dx = std::cos(a), dz = std::sin(a);
     double best = std::numeric_limits<double>::infinity();
     if (dz < 0) best = (m.laser_z + m.base_height) / -dz;  // the floor
-    for (const auto& s : segments) {  // x0, z0, x1, z1
+    for (const auto& s : segments) {                       // x0, z0, x1, z1
       const double ex = s[2] - s[0], ez = s[3] - s[1];
       const double den = dx * ez - dz * ex;
       if (std::fabs(den) < 1e-12) continue;
@@ -30,8 +30,9 @@ macsim::client::Laser::Scan sweep(const std::vector<std::array<double, 4>>& segm
       const double u = ((s[0] - m.laser_x) * dz - (s[1] - m.laser_z) * dx) / den;
       if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
     }
-    scan.ranges().push_back(std::isfinite(best) && best < 10 ? static_cast<float>(best)
-                                                             : std::numeric_limits<float>::infinity());
+    scan.ranges().push_back(std::isfinite(best) && best < 10
+                                ? static_cast<float>(best)
+                                : std::numeric_limits<float>::infinity());
   }
   return scan;
 }
@@ -41,8 +42,9 @@ constexpr double kFloor = -0.167;
 TEST(Perception, TheLaserFindsABoxItsRangeHeightAndSteepFace) {
   // A box 8 cm high from x = 1.0 to 1.1.
   Percept p;
-  perceive_scan(sweep({{1.0, kFloor, 1.0, kFloor + 0.08}, {1.0, kFloor + 0.08, 1.1, kFloor + 0.08}}),
-                SensorMount{}, p);
+  perceive_scan(
+      sweep({{1.0, kFloor, 1.0, kFloor + 0.08}, {1.0, kFloor + 0.08, 1.1, kFloor + 0.08}}),
+      SensorMount{}, p);
   ASSERT_TRUE(p.laser_hit);
   EXPECT_NEAR(p.laser_range, 1.0, 0.01);
   EXPECT_NEAR(p.laser_height, 0.08, 0.025);  // beams are a degree apart

@@ -10,7 +10,9 @@
 namespace affordances {
 namespace {
 
-std::size_t fields(const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; }
+std::size_t fields(const std::string& line) {
+  return std::count(line.begin(), line.end(), ',') + 1;
+}
 
 TEST(TrialRecord, ARowHasAFieldForEveryColumnAndReadsBack) {
   TrialRecord r;

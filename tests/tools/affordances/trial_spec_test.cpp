@@ -10,7 +10,8 @@ namespace {
 
 TEST(TrialSpec, TheSameSeedDrawsTheSameTrialAndOtherSeedsOthers) {
   for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb}) {
-    const TrialSpec x = make_trial(a, Generator::Material, 42), y = make_trial(a, Generator::Material, 42);
+    const TrialSpec x = make_trial(a, Generator::Material, 42),
+                    y = make_trial(a, Generator::Material, 42);
     EXPECT_EQ(x.size, y.size);
     EXPECT_EQ(x.material, y.material);
     EXPECT_EQ(x.x, y.x);
@@ -70,7 +71,8 @@ TEST(TrialSpec, RampsAreNoLongerThanTheirLimitAndRiseWithTheirAngle) {
 TEST(TrialSpec, NamesGoBothWays) {
   for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb})
     EXPECT_EQ(affordance_from_name(name(a)), a);
-  for (auto g : {Generator::Material, Generator::Figure11}) EXPECT_EQ(generator_from_name(name(g)), g);
+  for (auto g : {Generator::Material, Generator::Figure11})
+    EXPECT_EQ(generator_from_name(name(g)), g);
   EXPECT_FALSE(affordance_from_name("fly"));
   EXPECT_FALSE(generator_from_name(""));
 }
