@@ -217,7 +217,7 @@ TEST(AffordanceLearn, LearnsFromTrialRowsAndDrawsItsPlots) {
   TempDir dir("affordance_learn_");
   std::string output;
   ASSERT_EQ(run({bin("affordance_learn"), "--in", source("tests/tools/affordances/lift_trials.csv"),
-                 "--out", dir.path() + "/plots", "--min-accuracy", "0.9"},
+                 "--out", dir.path() + "/plots", "--min-accuracy", "0.95"},
                 &output),
             0)
       << output;
