@@ -3,8 +3,6 @@
 // rate, the median and 90th percentile of the robot (sim) time and the wall time per run, and
 // their ratio (how much faster than real time a run is). `name value unit` lines.
 //   bench_demo [SEEDS [FIRST]]   (default 50 seeds from 1; from the repository root)
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,40 +13,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "macsim/client/child_program.h"
+
 namespace {
-
-/// Starts `argv` with its output to `log`.
-pid_t spawn(const std::vector<std::string>& argv, const std::string& log) {
-  std::fflush(stdout);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) _exit(126);
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execv(args[0], args.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-/// Exit code of `pid` (128 + signal), waiting at most `seconds`; killed after that.
-int finish(pid_t pid, double seconds) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  int status = 0;
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      return 137;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
@@ -64,10 +33,11 @@ double percentile(std::vector<double> v, double p) {
 int main(int argc, char** argv) {
   int seeds = 50, first = 1;
   if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-    std::printf("usage: bench_demo [SEEDS [FIRST]]\n  kurt_demo against macsim in lock-step on SEEDS "
-                "layouts of worlds/DemoWorld_v1.xml (default 50 from seed 1); prints the success "
-                "rate and the median and p90 robot and wall time per run. Run from the "
-                "repository root.\n");
+    std::printf(
+        "usage: bench_demo [SEEDS [FIRST]]\n  kurt_demo against macsim in lock-step on SEEDS "
+        "layouts of worlds/DemoWorld_v1.xml (default 50 from seed 1); prints the success "
+        "rate and the median and p90 robot and wall time per run. Run from the "
+        "repository root.\n");
     return 0;
   }
   if ((argc > 1 && (seeds = std::atoi(argv[1])) <= 0) ||
@@ -82,7 +52,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
-  const std::string logs = std::filesystem::temp_directory_path() / ("bench_demo_" + std::to_string(getpid()));
+  const std::string logs =
+      std::filesystem::temp_directory_path() / ("bench_demo_" + std::to_string(getpid()));
   std::filesystem::create_directories(logs);
   std::vector<double> sim_times, wall_times;
   std::vector<int> failed;
@@ -90,14 +61,17 @@ int main(int argc, char** argv) {
     const std::string domain = std::to_string(150 + seed % 80);
     const std::string sim_log = logs + "/macsim_" + std::to_string(seed) + ".log";
     const std::string demo_log = logs + "/kurt_demo_" + std::to_string(seed) + ".log";
-    const pid_t sim = spawn({bin + "/macsim", "--world", world, "--domain", domain, "--lockstep",
-                             "--seed", std::to_string(seed)},
-                            sim_log);
+    macsim::client::ChildProgram sim({bin + "/macsim", "--world", world, "--domain", domain,
+                                      "--lockstep", "--seed", std::to_string(seed)},
+                                     sim_log);
     const auto start = std::chrono::steady_clock::now();
-    const int code = finish(spawn({bin + "/kurt_demo", "--domain", domain, "--lockstep"}, demo_log), 600);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    kill(sim, SIGTERM);
-    finish(sim, 10);
+    macsim::client::ChildProgram demo({bin + "/kurt_demo", "--domain", domain, "--lockstep"},
+                                      demo_log);
+    const auto ended = demo.wait(std::chrono::seconds(600));
+    const int code = ended ? *ended : demo.stop();  // stopped after 600 s
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    sim.stop(std::chrono::seconds(10));
     // The robot time is in kurt_demo's last line: "... robot time 95.1 s, wall time ...".
     std::ifstream in(demo_log);
     std::string line, last;
