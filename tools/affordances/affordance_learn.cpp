@@ -38,7 +38,13 @@ int main(int argc, char** argv) {
 
   std::map<std::string, Dataset> sets;
   try {
-    sets = datasets(read_csv(in), features);
+    const CsvTable table = read_csv(in);  // its errors name the file and line
+    try {
+      sets = datasets(table, features);
+    } catch (const std::exception& e) {
+      std::cerr << "affordance_learn: " << in << ": " << e.what() << "\n";
+      return 2;
+    }
   } catch (const std::exception& e) {
     std::cerr << "affordance_learn: " << e.what() << "\n";
     return 2;

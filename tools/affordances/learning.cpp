@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ml.hpp>
@@ -53,15 +54,26 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
     d.feature_names = names;
     d.classes.assign(labels.begin(), labels.end());
   }
-  for (const auto& row : table.rows) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const auto& row = table.rows[r];
+    // A field that is not a number is named by its row (2 = the first after the header).
+    auto number = [&](std::size_t column) {
+      const std::string& field = row[column];
+      char* end = nullptr;
+      const double v = std::strtod(field.c_str(), &end);
+      if (field.empty() || *end)
+        throw std::runtime_error("row " + std::to_string(r + 2) + ", column " +
+                                 table.columns[column] + ": '" + field + "' is not a number");
+      return v;
+    };
     Dataset& d = out[row[*affordance]];
     cv::Mat sample(1, static_cast<int>(columns.size()), CV_32F);
     for (std::size_t i = 0; i < columns.size(); ++i)
-      sample.at<float>(0, static_cast<int>(i)) = std::stof(row[columns[i]]);
+      sample.at<float>(0, static_cast<int>(i)) = static_cast<float>(number(columns[i]));
     d.features.push_back(sample);
     d.labels.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), row[*label]) -
                                         d.classes.begin()));
-    d.seeds.push_back(std::stoull(row[*seed]));
+    d.seeds.push_back(static_cast<uint64_t>(number(*seed)));
   }
   return out;
 }

@@ -265,7 +265,7 @@ struct TrialRobot::Impl {
     return p;
   }
 
-  Outcome lift(const TrialSpec& s, const Percept& p, uint32_t id) {
+  Outcome lift(const Percept& p, uint32_t id) {
     const double z0 = object(id).pose().position().z();
     Outcome out;
     if (p.seen && p.laser_hit) {
@@ -314,12 +314,10 @@ struct TrialRobot::Impl {
     const double z2 = object(id).pose().position().z();
     out.raised = std::min(z1, z2) - z0;
     out.label = out.raised >= 0.05 ? "liftable" : "not_liftable";
-    (void)s;
     return out;
   }
 
-  Outcome push(const Percept& p, uint32_t id) {
-    (void)p;
+  Outcome push(uint32_t id) {
     const mm::Object_ start = object(id);
     crane_to(kAsideSlew, 0.6, 0.0);  // the boom up and aside: only the bumper touches
     Outcome out;
@@ -343,8 +341,7 @@ struct TrialRobot::Impl {
     return out;
   }
 
-  Outcome climb(const TrialSpec& s, const Percept& p) {
-    (void)p;
+  Outcome climb(const TrialSpec& s) {
     crane_to(kAsideSlew, 0.6, 0.0);
     const auto start = ground_truth();
     const double x0 = start.pose().pose().position().x(), z0 = start.pose().pose().position().z();
@@ -419,13 +416,13 @@ TrialRecord TrialRobot::run(const TrialSpec& spec) {
   record.percept = m.perceive();
   switch (spec.affordance) {
     case Affordance::Lift:
-      record.outcome = m.lift(spec, record.percept, id);
+      record.outcome = m.lift(record.percept, id);
       break;
     case Affordance::Push:
-      record.outcome = m.push(record.percept, id);
+      record.outcome = m.push(id);
       break;
     case Affordance::Climb:
-      record.outcome = m.climb(spec, record.percept);
+      record.outcome = m.climb(spec);
       break;
   }
   record.sim_time = m.now;
@@ -435,12 +432,6 @@ TrialRecord TrialRobot::run(const TrialSpec& spec) {
   record.wall_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return record;
-}
-
-double TrialRobot::time_reset() {
-  const auto start = std::chrono::steady_clock::now();
-  impl_->call(sv::reset(mm::RESET_EVERYTHING), "reset");
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace affordances

@@ -42,8 +42,6 @@ class TrialRobot {
   void connect(std::chrono::milliseconds timeout);
   /// Plays one trial from a scoped reset; throws InstanceLost when the instance does not answer.
   TrialRecord run(const TrialSpec& spec);
-  /// Cost of one scoped reset, as a round trip (s of wall time).
-  double time_reset();
 
  private:
   struct Impl;

@@ -157,10 +157,13 @@ TrialSpec make_trial(Affordance affordance, Generator generator, uint64_t seed) 
         // Figure 11: blue objects are lead; red, green, yellow, magenta and cyan ones are light
         // tin, all magnetizable, 5-8 cm: the colour alone says what comes up.
         draw_solid(t, d, 0.05, 0.08, false);
+        // The colours of the first six materials, blue (the heavy one) drawn as 0.
+        static constexpr std::size_t kColourOf[6] = {1, 0, 2, 3, 4, 5};
         const std::size_t colour = d.index(6);
-        set_material(t, material_named(colour == 0 ? "lead" : "tin"));
-        t.colour = kMaterials[colour == 0 ? 1 : colour == 1 ? 0 : colour].colour;
-        t.density = colour == 0 ? 11300 : d.uniform(100, 400);
+        const bool heavy = colour == 0;
+        set_material(t, material_named(heavy ? "lead" : "tin"));
+        t.colour = kMaterials[kColourOf[colour]].colour;
+        t.density = heavy ? 11300 : d.uniform(100, 400);
         t.magnetizable = true;
       } else {
         // Each material its colour, density and magnet; sizes 4-11 cm, so the hoist's limit
