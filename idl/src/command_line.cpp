@@ -1,5 +1,6 @@
 #include "macsim/dds/command_line.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <iostream>
@@ -36,12 +37,21 @@ CommandLine::CommandLine(std::string program, std::string summary)
 void CommandLine::add(Option option) { options_.push_back(std::move(option)); }
 
 void CommandLine::flag(const std::string& name, const std::string& help, bool* target) {
-  add({name, "", help, [target](const std::string&) { *target = true; return true; }, false});
+  add({name, "", help,
+       [target](const std::string&) {
+         *target = true;
+         return true;
+       },
+       false});
 }
 
 void CommandLine::option(const std::string& name, const std::string& value_name,
                          const std::string& help, std::string* target) {
-  add({name, value_name, help, [target](const std::string& v) { *target = v; return true; },
+  add({name, value_name, help,
+       [target](const std::string& v) {
+         *target = v;
+         return true;
+       },
        true});
 }
 
@@ -60,10 +70,20 @@ void CommandLine::option(const std::string& name, const std::string& value_name,
 void CommandLine::repeated_option(const std::string& name, const std::string& value_name,
                                   const std::string& help, std::vector<std::string>* target) {
   add({name, value_name, help + " (repeatable)",
-       [target](const std::string& v) { target->push_back(v); return true; }, true});
+       [target](const std::string& v) {
+         target->push_back(v);
+         return true;
+       },
+       true});
+}
+
+void CommandLine::arguments(const std::string& synopsis, std::vector<std::string>* target) {
+  synopsis_ = synopsis;
+  arguments_ = target;
 }
 
 void CommandLine::participant_options(ParticipantOptions* options) {
+  options->name = program_;  // discovery shows who is who
   add({"domain", "N", "DDS domain id, 0.." + std::to_string(kMaxDomainId) + " (default 0)",
        [options](const std::string& v) {
          int domain = -1;
@@ -75,12 +95,17 @@ void CommandLine::participant_options(ParticipantOptions* options) {
   add({"profile", "FILE",
        "Fast DDS XML profile file (default: $FASTRTPS_DEFAULT_PROFILES_FILE, else Fast DDS "
        "defaults)",
-       [options](const std::string& v) { options->profile_file = v; return true; }, true});
+       [options](const std::string& v) {
+         options->profile_file = v;
+         return true;
+       },
+       true});
 }
 
 std::string CommandLine::usage() const {
   std::ostringstream out;
-  out << "usage: " << program_ << " [options]\n" << summary_ << "\n\noptions:\n";
+  out << "usage: " << program_ << " [options]" << (synopsis_.empty() ? "" : " " + synopsis_) << "\n"
+      << summary_ << "\n\noptions:\n";
   for (const auto& o : options_) {
     std::string head = "--" + o.name + (o.takes_value ? " " + o.value_name : "");
     out << "  " << head;
@@ -91,11 +116,22 @@ std::string CommandLine::usage() const {
 }
 
 std::optional<int> CommandLine::parse(int argc, char** argv) {
+  bool options_ended = false;
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h" || arg == "-help") {
+    if (!options_ended && (arg == "--help" || arg == "-h" || arg == "-help")) {
       std::cout << usage();
       return 0;
+    }
+    if (arguments_ && !options_ended && arg == "--") {
+      options_ended = true;
+      continue;
+    }
+    const bool is_option =
+        arg.size() > 1 && arg[0] == '-' && !std::isdigit(arg[1]) && arg[1] != '.';
+    if (arguments_ && (options_ended || !is_option)) {
+      arguments_->push_back(arg);
+      continue;
     }
     // Accept --name, -name (the seed's style, e.g. -load) and --name=value.
     std::string name = arg;

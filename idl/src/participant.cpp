@@ -19,9 +19,11 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   fdds::DomainParticipantQos qos;
   factory->get_default_participant_qos(qos);
   qos.name(options.name);
-  participant_ = factory->create_participant(options.domain, qos);
-  if (!participant_) throw DdsError("cannot create a participant on domain " +
-                                    std::to_string(options.domain));
+  // StatusMask::none(): discovery callbacks still come, data callbacks stay with the readers.
+  participant_ =
+      factory->create_participant(options.domain, qos, options.listener, fdds::StatusMask::none());
+  if (!participant_)
+    throw DdsError("cannot create a participant on domain " + std::to_string(options.domain));
   publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (!publisher_ || !subscriber_) throw DdsError("cannot create a publisher or subscriber");

@@ -27,6 +27,9 @@ class CommandLine {
   /// An option that may be given several times; each value is appended.
   void repeated_option(const std::string& name, const std::string& value_name,
                        const std::string& help, std::vector<std::string>* target);
+  /// Arguments that are not options (after the options or among them; "--" ends options),
+  /// shown in the usage line as `synopsis`. Without this, such an argument is an error.
+  void arguments(const std::string& synopsis, std::vector<std::string>* target);
   /// --domain N (0..232) and --profile FILE, bound to the participant options.
   void participant_options(ParticipantOptions* options);
 
@@ -45,6 +48,8 @@ class CommandLine {
 
   std::string program_, summary_;
   std::vector<Option> options_;
+  std::string synopsis_;
+  std::vector<std::string>* arguments_ = nullptr;
 };
 
 }  // namespace macsim::dds

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -35,6 +36,8 @@ struct ParticipantOptions {
   int domain = 0;
   std::string profile_file;  ///< empty: FASTRTPS_DEFAULT_PROFILES_FILE or Fast DDS defaults
   std::string name = "macsim";
+  /// Hears discovery from the start (participants, writers, readers); not owned.
+  fdds::DomainParticipantListener* listener = nullptr;
 };
 
 /// Highest domain id Fast DDS's default port mapping allows.
@@ -70,6 +73,13 @@ class Participant {
     auto found = topics_.find(name);
     if (found != topics_.end()) return found->second;
     fdds::TypeSupport type(new CheckedType<PubSubType>());
+    return make_topic(name, type);
+  }
+
+  /// The topic of that name with a type support the caller built (tools handling any type).
+  fdds::Topic* topic(const std::string& name, fdds::TypeSupport type) {
+    auto found = topics_.find(name);
+    if (found != topics_.end()) return found->second;
     return make_topic(name, type);
   }
 

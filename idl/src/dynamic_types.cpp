@@ -1,0 +1,168 @@
+#include "macsim/dds/dynamic_types.h"
+
+#include <fastrtps/types/DynamicData.h>
+#include <fastrtps/types/DynamicDataFactory.h>
+#include <fastrtps/types/TypeObjectFactory.h>
+
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+
+#include "builtin_interfacesTypeObject.h"
+#include "geometry_msgsTypeObject.h"
+#include "kurt_msgsTypeObject.h"
+#include "macsim_msgsTypeObject.h"
+#include "nav_msgsTypeObject.h"
+#include "rosgraph_msgsTypeObject.h"
+#include "sensor_msgsTypeObject.h"
+#include "std_msgsTypeObject.h"
+
+namespace macsim::dds {
+
+namespace types = eprosima::fastrtps::types;
+using eprosima::fastrtps::rtps::SerializedPayload_t;
+
+namespace {
+
+void register_idl_types() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    registerbuiltin_interfacesTypes();
+    registerstd_msgsTypes();
+    registergeometry_msgsTypes();
+    registernav_msgsTypes();
+    registerrosgraph_msgsTypes();
+    registersensor_msgsTypes();
+    registerkurt_msgsTypes();
+    registermacsim_msgsTypes();
+  });
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+  return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+}  // namespace
+
+const std::vector<std::string>& idl_type_names() {
+  static const std::vector<std::string> names = {
+#include "dynamic_type_list.inc"
+  };
+  return names;
+}
+
+types::DynamicType_ptr idl_dynamic_type(const std::string& dds_name) {
+  if (!std::binary_search(idl_type_names().begin(), idl_type_names().end(), dds_name)) {
+    return {};
+  }
+  register_idl_types();
+  static std::mutex mutex;  // the factory builds types one at a time
+  std::lock_guard<std::mutex> lock(mutex);
+  auto* factory = types::TypeObjectFactory::get_instance();
+  const types::TypeIdentifier* id = factory->get_type_identifier(dds_name, true);
+  const types::TypeObject* object = factory->get_type_object(dds_name, true);
+  if (id == nullptr || object == nullptr) return {};
+  return factory->build_dynamic_type(dds_name, id, object);
+}
+
+std::string ros_type_name(const std::string& dds_name) {
+  // pkg::msg::dds_::Name_ -> pkg/msg/Name
+  const auto dds = dds_name.find("::dds_::");
+  if (dds == std::string::npos || dds_name.back() != '_') return dds_name;
+  std::string prefix = dds_name.substr(0, dds);  // pkg::msg
+  const auto sep = prefix.find("::");
+  if (sep == std::string::npos) return dds_name;
+  prefix.replace(sep, 2, "/");
+  const std::string name = dds_name.substr(dds + 8, dds_name.size() - dds - 9);
+  return prefix + "/" + name;
+}
+
+std::string dds_type_name(const std::string& name) {
+  if (name.find("::") != std::string::npos) return name;
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const auto slash = name.find('/', start);
+    parts.push_back(name.substr(start, slash - start));
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+  if (parts.size() == 2) parts.insert(parts.begin() + 1, "msg");
+  if (parts.size() != 3) return name;
+  return parts[0] + "::" + parts[1] + "::dds_::" + parts[2] + "_";
+}
+
+std::string ros_topic_name(const std::string& dds_topic) {
+  if (!starts_with(dds_topic, "rt/")) return {};
+  return dds_topic.substr(2);
+}
+
+std::string dds_topic_name(const std::string& topic) {
+  if (starts_with(topic, "rt/") || starts_with(topic, "rq/") || starts_with(topic, "rr/")) {
+    return topic;
+  }
+  return "rt/" + (starts_with(topic, "/") ? topic.substr(1) : topic);
+}
+
+RawType::RawType(const std::string& type_name, types::DynamicType_ptr dynamic) {
+  setName(type_name.c_str());
+  if (dynamic) {
+    dynamic_ = std::make_unique<types::DynamicPubSubType>(dynamic);
+    m_isGetKeyDefined = dynamic_->m_isGetKeyDefined;
+    m_typeSize = std::max<uint32_t>(dynamic_->m_typeSize, 4096);
+  } else {
+    m_isGetKeyDefined = false;
+    m_typeSize = 65536;
+  }
+  auto_fill_type_object(false);
+  auto_fill_type_information(false);
+}
+
+RawType::~RawType() = default;
+
+bool RawType::serialize(void* data, SerializedPayload_t* payload) {
+  const auto& bytes = static_cast<RawSample*>(data)->bytes;
+  if (bytes.size() < 4) return false;
+  payload->reserve(static_cast<uint32_t>(bytes.size()));
+  std::memcpy(payload->data, bytes.data(), bytes.size());
+  payload->length = static_cast<uint32_t>(bytes.size());
+  payload->encapsulation = bytes[1] == 0 ? CDR_BE : CDR_LE;
+  return true;
+}
+
+bool RawType::deserialize(SerializedPayload_t* payload, void* data) {
+  if (payload->length < 4) return false;
+  auto& bytes = static_cast<RawSample*>(data)->bytes;
+  bytes.assign(payload->data, payload->data + payload->length);
+  return true;
+}
+
+std::function<uint32_t()> RawType::getSerializedSizeProvider(void* data) {
+  const auto size = static_cast<uint32_t>(static_cast<RawSample*>(data)->bytes.size());
+  return [size] { return size; };
+}
+
+void* RawType::createData() { return new RawSample(); }
+
+void RawType::deleteData(void* data) { delete static_cast<RawSample*>(data); }
+
+bool RawType::getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle,
+                     bool force_md5) {
+  if (!dynamic_ || !m_isGetKeyDefined) return false;
+  auto& bytes = static_cast<RawSample*>(data)->bytes;
+  SerializedPayload_t payload(static_cast<uint32_t>(bytes.size()));
+  std::memcpy(payload.data, bytes.data(), bytes.size());
+  payload.length = static_cast<uint32_t>(bytes.size());
+  types::DynamicData* sample =
+      types::DynamicDataFactory::get_instance()->create_data(dynamic_->GetDynamicType());
+  bool ok = false;
+  try {
+    ok = dynamic_->deserialize(&payload, sample) && dynamic_->getKey(sample, handle, force_md5);
+  } catch (...) {  // a malformed sample has no key
+    ok = false;
+  }
+  types::DynamicDataFactory::get_instance()->delete_data(sample);
+  return ok;
+}
+
+}  // namespace macsim::dds

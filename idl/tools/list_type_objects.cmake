@@ -1,0 +1,20 @@
+# Writes OUT: one C++ string literal per type that the generated type-object sources in DIR
+# register (factory->add_type_object("name", ...)), each once, as an initializer list body.
+file(GLOB SOURCES ${DIR}/*TypeObject.cxx)
+set(names)
+foreach(src ${SOURCES})
+  # the registrations by full name ("pkg::msg::dds_::Name_"), not the inner ones by short name
+  file(STRINGS ${src} lines REGEX "factory->add_type_object\\(\"[^\"]+\"")
+  foreach(line ${lines})
+    string(REGEX MATCH "factory->add_type_object\\(\"([^\"]+)\"" _ "${line}")
+    list(APPEND names ${CMAKE_MATCH_1})
+  endforeach()
+endforeach()
+list(REMOVE_DUPLICATES names)
+list(SORT names)
+set(body "// Generated from the IDL's type objects; do not edit.\n")
+foreach(n ${names})
+  string(APPEND body "\"${n}\",\n")
+endforeach()
+file(WRITE ${OUT}.tmp "${body}")
+file(COPY_FILE ${OUT}.tmp ${OUT} ONLY_IF_DIFFERENT)
