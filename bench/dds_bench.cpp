@@ -208,9 +208,22 @@ int main(int argc, char** argv) {
     argv += 2;
     argc -= 2;
   }
-  std::printf("profile %s\n", std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"));
-  const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
+  int n = 1000;
+  if (argc > 1) {
+    char* end = nullptr;
+    n = static_cast<int>(std::strtol(argv[1], &end, 10));
+    if (*end != '\0' || n <= 0) {
+      std::fprintf(stderr, "bench_dds: ROUND_TRIPS must be a positive number, not '%s' (--help)\n",
+                   argv[1]);
+      return 2;
+    }
+  }
   const std::string only = argc > 2 ? argv[2] : "";
+  if (argc > 3 || (!only.empty() && only != "round_trips" && only != "images")) {
+    std::fprintf(stderr, "bench_dds: the part is round_trips or images (--help)\n");
+    return 2;
+  }
+  std::printf("profile %s\n", std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"));
   const bool round_trips_wanted = only.empty() || only == "round_trips";
   const bool images_wanted = only.empty() || only == "images";
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();

@@ -15,6 +15,8 @@ PACKAGES=(
   libxxhash-dev
   # topic tools: YAML for echo/pub and bag metadata, sqlite3 for rosbag2 bags (+ its CLI)
   libyaml-cpp-dev libsqlite3-dev sqlite3
+  # Python (its sqlite3 module) reads the bags in a test
+  python3
   # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # the interactive window (freeglut on X) and a virtual X server for its tests

@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -76,10 +76,11 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
                           ? std::nullopt
                           : render::camera_mode_from_name(request.substr(0, colon));
     if (!mode || colon + 1 >= request.size()) {
-      std::cerr << "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, "
-                   "MouseKeyboard, FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual, Chase; "
-                   "got '"
-                << request << "'\n";
+      std::cerr
+          << "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, "
+             "MouseKeyboard, FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual, Chase; "
+             "got '"
+          << request << "'\n";
       return 2;
     }
     jobs.emplace_back(*mode, request.substr(colon + 1));
@@ -135,6 +136,7 @@ struct Options {
   int seed = -1;
   std::string cameras = "320x240";
   double camera_rate = 15.0;
+  bool robot_frames = false;
   bool viewer = false;
   std::string camera_mode = "MouseKeyboard";
   std::string viewer_screenshot;
@@ -165,11 +167,12 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.duration);
   cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
              &o.status_period);
-  cli.repeated_option("snapshot", "MODE:FILE.png",
-                      "render a camera mode (MouseOnly, MouseKeyboard, FixedFollow, Follow, "
-                      "Inside, LeftCamera, RightCamera, Manual, Chase) offscreen after the world settled, "
-                      "write the PNG, exit",
-                      &o.snapshots);
+  cli.repeated_option(
+      "snapshot", "MODE:FILE.png",
+      "render a camera mode (MouseOnly, MouseKeyboard, FixedFollow, Follow, "
+      "Inside, LeftCamera, RightCamera, Manual, Chase) offscreen after the world settled, "
+      "write the PNG, exit",
+      &o.snapshots);
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
              &o.settle);
   cli.option("snapshot-size", "WxH", "image size of --snapshot and --pictures (default 640x480)",
@@ -183,6 +186,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.cameras);
   cli.option("camera-rate", "HZ", "camera frames per second of sim time (default 15)",
              &o.camera_rate);
+  cli.flag("robot-frames",
+           "prefix every frame id with the robot's name (kurt/odom, kurt/base_link): several "
+           "robots in one TF tree",
+           &o.robot_frames);
   cli.flag("viewer", "open a window on the world (needs an X display)", &o.viewer);
   cli.option("camera-mode", "MODE", "the window's first camera mode (default MouseKeyboard)",
              &o.camera_mode);
@@ -253,6 +260,7 @@ int serve(macsim::Runner& runner, const Options& o) {
     macsim::BridgeOptions bridge_options;
     bridge_options.cameras = o.cameras != "off";
     bridge_options.camera_rate = o.camera_rate;
+    bridge_options.robot_frames = o.robot_frames;
     if (bridge_options.cameras &&
         (std::sscanf(o.cameras.c_str(), "%dx%d", &bridge_options.camera.width,
                      &bridge_options.camera.height) != 2 ||
@@ -270,8 +278,9 @@ int serve(macsim::Runner& runner, const Options& o) {
     if (!o.pictures.empty()) {
       std::error_code error;
       std::filesystem::create_directories(o.pictures, error);
-      if (error || std::sscanf(o.snapshot_size.c_str(), "%dx%d", &picture_size.width,
-                               &picture_size.height) != 2 ||
+      if (error ||
+          std::sscanf(o.snapshot_size.c_str(), "%dx%d", &picture_size.width,
+                      &picture_size.height) != 2 ||
           picture_size.width <= 0 || picture_size.height <= 0) {
         std::cerr << "macsim: --pictures needs a folder it can create ('" << o.pictures
                   << "') and --snapshot-size WxH ('" << o.snapshot_size << "')\n";

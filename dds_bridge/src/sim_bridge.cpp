@@ -27,13 +27,17 @@ struct SimBridge::Clock {
 };
 
 struct SimBridge::RobotTopics {
-  RobotTopics(dds::Participant& p, Runner& runner, const std::string& robot_name)
+  RobotTopics(dds::Participant& p, Runner& runner, const std::string& robot_name,
+              const std::string& frame_prefix)
       : name(robot_name),
         kurt(runner, robot_name),
         // Commands run on the simulation thread, between steps, on the current world's robot.
-        node(p, kurt, [&runner, this](robot::RobotCommand command) {
-          runner.push([this, command = std::move(command)](World&) { command(kurt); });
-        }) {}
+        node(
+            p, kurt,
+            [&runner, this](robot::RobotCommand command) {
+              runner.push([this, command = std::move(command)](World&) { command(kurt); });
+            },
+            frame_prefix) {}
 
   std::string name;
   SimulatedKurt kurt;
@@ -79,10 +83,11 @@ sm::CameraInfo_ camera_info(const render::CameraIntrinsics& in, double stamp,
 SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const BridgeOptions& options)
     : runner_(runner),
       options_(options),
-      clock_(new Clock{{participant, dds::topics::kClock, QosFamily::Sensor}}) {
+      clock_(new Clock{{participant, dds::topics::kClock, QosFamily::State}}) {
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
-    auto topics = std::make_unique<RobotTopics>(participant, runner, name);
+    const std::string frames = options_.robot_frames ? name + "/" : "";
+    auto topics = std::make_unique<RobotTopics>(participant, runner, name, frames);
     const auto& stereo = robot->config().cameras;  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
@@ -97,14 +102,16 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
       const render::CameraIntrinsics in = options_.camera;
       const double baseline = stereo->baseline();
       // Runs on the render thread: writers are thread-safe, the world is never touched.
-      auto publish = [t, in, baseline](const render::CameraImage& f) {
+      auto publish = [t, in, baseline, frames](const render::CameraImage& f) {
         // Each image goes out as soon as it is rendered, with its camera info.
         if (f.eye == render::Eye::Left) {
-          t->left_image->write(image_message(f.image, f.stamp, "left_camera_optical_frame"));
-          t->left_info->write(camera_info(in, f.stamp, "left_camera_optical_frame", 0.0));
+          const std::string frame = frames + "left_camera_optical_frame";
+          t->left_image->write(image_message(f.image, f.stamp, frame));
+          t->left_info->write(camera_info(in, f.stamp, frame, 0.0));
         } else {
-          t->right_image->write(image_message(f.image, f.stamp, "right_camera_optical_frame"));
-          t->right_info->write(camera_info(in, f.stamp, "right_camera_optical_frame", baseline));
+          const std::string frame = frames + "right_camera_optical_frame";
+          t->right_image->write(image_message(f.image, f.stamp, frame));
+          t->right_info->write(camera_info(in, f.stamp, frame, baseline));
         }
       };
       for (const render::Eye eye : {render::Eye::Left, render::Eye::Right}) {

@@ -16,6 +16,7 @@ struct BridgeOptions {
   bool cameras = true;              ///< render and publish the stereo cameras
   render::CameraIntrinsics camera;  ///< their image size and field of view
   double camera_rate = 15.0;        ///< Hz of sim time
+  bool robot_frames = false;        ///< frame ids start with "<robot>/" (several robots, one tree)
 };
 
 /// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's

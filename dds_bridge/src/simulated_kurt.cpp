@@ -19,6 +19,49 @@ robot::Capabilities capabilities_of(const KurtConfig& config) {
   c.magnet = config.crane;
   return c;
 }
+robot::Mount mount(const std::string& parent, const std::string& child, const Eigen::Vector3d& p,
+                   const Eigen::Quaterniond& q = Eigen::Quaterniond::Identity()) {
+  return {parent, child, {p.x(), p.y(), p.z()}, {q.x(), q.y(), q.z(), q.w()}};
+}
+
+robot::Frames frames_of(const KurtConfig& config) {
+  robot::Frames f;
+  const double link_height = config.body.wheel_axle_below_base_link + config.drive.wheel_radius();
+  f.mounts.push_back(mount("base_footprint", "base_link", {0, 0, link_height}));
+  if (config.range_sensors) {
+    for (const RangeSensorSpec& s : kurt_range_sensors()) {
+      f.mounts.push_back(
+          mount("base_link", s.frame, {s.x, s.y, 0},
+                Eigen::Quaterniond(Eigen::AngleAxisd(s.yaw, Eigen::Vector3d::UnitZ()))));
+    }
+  }
+  if (config.cameras) {
+    // An optical frame looks along z with x right and y down (REP-103).
+    const Eigen::Quaterniond optical(0.5, -0.5, 0.5, -0.5);  // w, x, y, z
+    for (const auto& [side, pose] :
+         {std::pair{"left", config.cameras->left}, std::pair{"right", config.cameras->right}}) {
+      const std::string camera = std::string(side) + "_camera";
+      f.mounts.push_back(mount("base_link", camera, pose.position, pose.orientation));
+      f.mounts.push_back(
+          mount(camera, camera + "_optical_frame", Eigen::Vector3d::Zero(), optical));
+    }
+  }
+  if (config.laser == LaserMount::Fixed) {
+    f.mounts.push_back(mount("base_link", "laser", laser_origin(config.laser)));
+  } else if (config.laser == LaserMount::Rotating) {
+    // The scan plane is vertical (the frame's xy plane turned up about x); the rotunit turns
+    // it about base_link's z axis.
+    f.laser = mount("base_link", "laser360", laser_origin(config.laser),
+                    Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())));
+  }
+  if (config.crane) {
+    const CraneParams& c = config.crane_params;
+    f.crane_pivot = mount("base_link", "crane_turret", {c.pivot_x, 0, c.pivot_height});
+    f.boom_length = c.boom_length;
+  }
+  return f;
+}
+
 }  // namespace
 
 SimulatedKurt::SimulatedKurt(Runner& runner, std::string name)
@@ -26,6 +69,7 @@ SimulatedKurt::SimulatedKurt(Runner& runner, std::string name)
   KurtRobot* r = robot();
   if (!r) throw std::invalid_argument("no robot named '" + name_ + "' in the world");
   capabilities_ = capabilities_of(r->config());
+  frame_tree_ = frames_of(r->config());
   generation_ = runner.generation();
 }
 

@@ -27,6 +27,9 @@ class SimulatedKurt : public robot::RobotInterface {
   /// What the last steps produced: odometry, ground truth, IMU, ranges and crane with every
   /// encoder frame, a scan (and the rotunit) with every sweep, a cloud with every revolution.
   robot::Readings read() override;
+  /// From the robot's model: base_link above base_footprint, the IR/sonar sensors, the stereo
+  /// cameras (and their optical frames), the laser, the crane.
+  robot::Frames frames() const override { return frame_tree_; }
 
  private:
   /// The robot in the current world, or nullptr.
@@ -35,6 +38,7 @@ class SimulatedKurt : public robot::RobotInterface {
   Runner& runner_;
   std::string name_;
   robot::Capabilities capabilities_;
+  robot::Frames frame_tree_;
   uint64_t generation_ = 0;  // of the world the counters below belong to
   double last_time_ = 0.0;
   uint64_t frames_ = 0, scans_ = 0, clouds_ = 0;  // what was read last

@@ -220,7 +220,7 @@ int main(int argc, char** argv) {
       "usage: dynamicObjectTest N (1 create and destroy, 2 change object properties, 3 composite "
       "objects, 4 ramp functions), against a running macsim (e.g. on worlds/DemoWorld_v1.xml).\n"
       "Exit 0: every effect seen; 1: some effect not seen; 2: usage, or no simulator.");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("textures", "DIR",
              "folder of BMP textures (default worlds/DemoEnvironment_v1/textures)", &textures);
   // The seed's form: the test number as the first argument.

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
                                "Drives a KURT3D forward by a distance measured by its odometry, "
                                "then stops.\nExit 0: arrived; 1: timeout; 2: usage or no robot "
                                "found; 3: the robot went silent and did not come back.");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("robot", "NAME", "robot namespace (default kurt)", &robot);
   cli.option("distance", "METERS", "distance to drive (default 1.0)", &distance);
   cli.option("speed", "M_PER_S", "cruise speed (default 0.3)", &speed);

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       "Asks the running simulator to load a world (as MACSim's "
       "interfaceTest -load did), then lists its objects and doors.\n"
       "Exit 0: loaded; 1: the simulator refused; 2: usage, or no simulator.");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("load", "WORLD", "world file to load (a path the simulator can read)", &world);
   if (auto code = cli.parse(argc, argv)) return *code;
   try {

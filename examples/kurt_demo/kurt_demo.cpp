@@ -20,24 +20,22 @@ int main(int argc, char** argv) {
       "door.\nExit 0: through the door; 2: usage; 3: no robot; 4: no can found; 5: no can could "
       "be lifted; 6: the door stayed closed; 7: timeout; 8: no switch found; 9: could not get "
       "through.\n--domain N is required (it moves a robot: never on a domain it was not given).");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("robot", "NAME", "robot namespace (default kurt)", &options.robot);
-  cli.flag("lockstep", "step the simulation from here (macsim --lockstep): reproducible, as fast "
-                       "as the machine allows",
+  cli.flag("lockstep",
+           "step the simulation from here (macsim --lockstep): reproducible, as fast "
+           "as the machine allows",
            &options.lockstep);
   cli.option("timeout", "SECONDS", "give up after this much robot time (default 400)",
              &options.timeout);
   cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
              &options.discovery_timeout);
-  cli.flag("pictures", "ask the simulator (macsim --pictures DIR) for an overview picture per scene",
+  cli.flag("pictures",
+           "ask the simulator (macsim --pictures DIR) for an overview picture per scene",
            &options.pictures);
   cli.option("debug-images", "DIR", "write each camera image looked at, with what was seen",
              &options.debug_images);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (participant.domain < 0) {
-    std::cerr << "kurt_demo: say on which DDS domain the robot is: --domain N (see --help)\n";
-    return kurt_demo::kUsage;
-  }
   if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || options.robot.empty()) {
     std::cerr << "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not "
                  "empty\n";
@@ -57,9 +55,10 @@ int main(int argc, char** argv) {
                   failure.code, failure.reason.c_str(), demo.elapsed(), wall());
       return failure.code;
     }
-    std::printf("kurt_demo: SUCCESS: the robot is through the door; robot time %.1f s, wall time "
-                "%.1f s\n",
-                demo.elapsed(), wall());
+    std::printf(
+        "kurt_demo: SUCCESS: the robot is through the door; robot time %.1f s, wall time "
+        "%.1f s\n",
+        demo.elapsed(), wall());
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "kurt_demo: DDS error: " << e.what() << "\n";
     return kurt_demo::kNoRobot;

@@ -82,13 +82,17 @@ void CommandLine::arguments(const std::string& synopsis, std::vector<std::string
   arguments_ = target;
 }
 
-void CommandLine::participant_options(ParticipantOptions* options) {
+void CommandLine::participant_options(ParticipantOptions* options, bool domain_required) {
   options->name = program_;  // discovery shows who is who
-  add({"domain", "N", "DDS domain id, 0.." + std::to_string(kMaxDomainId) + " (default 0)",
-       [options](const std::string& v) {
+  domain_required_ = domain_required;
+  add({"domain", "N",
+       "DDS domain id, 0.." + std::to_string(kMaxDomainId) +
+           (domain_required ? " (required)" : " (default 0)"),
+       [this, options](const std::string& v) {
          int domain = -1;
          if (!parse_number(v, &domain) || domain < 0 || domain > kMaxDomainId) return false;
          options->domain = domain;
+         domain_given_ = true;
          return true;
        },
        true});
@@ -173,6 +177,12 @@ std::optional<int> CommandLine::parse(int argc, char** argv) {
                 << match->value_name << "\n";
       return 2;
     }
+  }
+  if (domain_required_ && !domain_given_) {
+    std::cerr << program_
+              << ": say on which DDS domain: --domain N (required: it acts on a robot "
+                 "or a simulation, never on a domain it was not given; see --help)\n";
+    return 2;
   }
   return std::nullopt;
 }

@@ -1,11 +1,8 @@
 #include "macsim/dds/dynamic_types.h"
 
-#include <fastrtps/types/DynamicData.h>
-#include <fastrtps/types/DynamicDataFactory.h>
 #include <fastrtps/types/TypeObjectFactory.h>
 
 #include <algorithm>
-#include <cstring>
 #include <mutex>
 
 #include "builtin_interfacesTypeObject.h"
@@ -16,11 +13,11 @@
 #include "rosgraph_msgsTypeObject.h"
 #include "sensor_msgsTypeObject.h"
 #include "std_msgsTypeObject.h"
+#include "tf2_msgsTypeObject.h"
 
 namespace macsim::dds {
 
 namespace types = eprosima::fastrtps::types;
-using eprosima::fastrtps::rtps::SerializedPayload_t;
 
 namespace {
 
@@ -33,6 +30,7 @@ void register_idl_types() {
     registernav_msgsTypes();
     registerrosgraph_msgsTypes();
     registersensor_msgsTypes();
+    registertf2_msgsTypes();
     registerkurt_msgsTypes();
     registermacsim_msgsTypes();
   });
@@ -102,67 +100,6 @@ std::string dds_topic_name(const std::string& topic) {
     return topic;
   }
   return "rt/" + (starts_with(topic, "/") ? topic.substr(1) : topic);
-}
-
-RawType::RawType(const std::string& type_name, types::DynamicType_ptr dynamic) {
-  setName(type_name.c_str());
-  if (dynamic) {
-    dynamic_ = std::make_unique<types::DynamicPubSubType>(dynamic);
-    m_isGetKeyDefined = dynamic_->m_isGetKeyDefined;
-    m_typeSize = std::max<uint32_t>(dynamic_->m_typeSize, 4096);
-  } else {
-    m_isGetKeyDefined = false;
-    m_typeSize = 65536;
-  }
-  auto_fill_type_object(false);
-  auto_fill_type_information(false);
-}
-
-RawType::~RawType() = default;
-
-bool RawType::serialize(void* data, SerializedPayload_t* payload) {
-  const auto& bytes = static_cast<RawSample*>(data)->bytes;
-  if (bytes.size() < 4) return false;
-  payload->reserve(static_cast<uint32_t>(bytes.size()));
-  std::memcpy(payload->data, bytes.data(), bytes.size());
-  payload->length = static_cast<uint32_t>(bytes.size());
-  payload->encapsulation = bytes[1] == 0 ? CDR_BE : CDR_LE;
-  return true;
-}
-
-bool RawType::deserialize(SerializedPayload_t* payload, void* data) {
-  if (payload->length < 4) return false;
-  auto& bytes = static_cast<RawSample*>(data)->bytes;
-  bytes.assign(payload->data, payload->data + payload->length);
-  return true;
-}
-
-std::function<uint32_t()> RawType::getSerializedSizeProvider(void* data) {
-  const auto size = static_cast<uint32_t>(static_cast<RawSample*>(data)->bytes.size());
-  return [size] { return size; };
-}
-
-void* RawType::createData() { return new RawSample(); }
-
-void RawType::deleteData(void* data) { delete static_cast<RawSample*>(data); }
-
-bool RawType::getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle,
-                     bool force_md5) {
-  if (!dynamic_ || !m_isGetKeyDefined) return false;
-  auto& bytes = static_cast<RawSample*>(data)->bytes;
-  SerializedPayload_t payload(static_cast<uint32_t>(bytes.size()));
-  std::memcpy(payload.data, bytes.data(), bytes.size());
-  payload.length = static_cast<uint32_t>(bytes.size());
-  types::DynamicData* sample =
-      types::DynamicDataFactory::get_instance()->create_data(dynamic_->GetDynamicType());
-  bool ok = false;
-  try {
-    ok = dynamic_->deserialize(&payload, sample) && dynamic_->getKey(sample, handle, force_md5);
-  } catch (...) {  // a malformed sample has no key
-    ok = false;
-  }
-  types::DynamicDataFactory::get_instance()->delete_data(sample);
-  return ok;
 }
 
 }  // namespace macsim::dds

@@ -10,7 +10,7 @@ namespace macsim::dds {
 nav_msgs::msg::dds_::Odometry_ kurt_odometry(double x, double y, double yaw, double linear,
                                              double angular, double stamp) {
   nav_msgs::msg::dds_::Odometry_ msg;
-  msg.header(header(stamp, "odom_combined"));
+  msg.header(header(stamp, "odom"));  // REP-105 (the uos driver said odom_combined)
   msg.child_frame_id("base_footprint");
   msg.pose().pose().position().x(x);
   msg.pose().pose().position().y(y);

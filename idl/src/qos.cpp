@@ -18,6 +18,8 @@ Policies policies(QosFamily family) {
       return {fdds::RELIABLE_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 10};
     case QosFamily::Sensor:
       return {fdds::BEST_EFFORT_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 5};
+    case QosFamily::State:
+      return {fdds::RELIABLE_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 10};
     case QosFamily::Latched:
       return {fdds::RELIABLE_RELIABILITY_QOS, fdds::TRANSIENT_LOCAL_DURABILITY_QOS, 1};
   }
@@ -41,16 +43,22 @@ void apply(const Policies& p, Qos& qos) {
 
 const char* profile_name(QosFamily family) {
   switch (family) {
-    case QosFamily::Command: return "macsim_command";
-    case QosFamily::Sensor: return "macsim_sensor";
-    case QosFamily::Latched: return "macsim_latched";
+    case QosFamily::Command:
+      return "macsim_command";
+    case QosFamily::Sensor:
+      return "macsim_sensor";
+    case QosFamily::State:
+      return "macsim_state";
+    case QosFamily::Latched:
+      return "macsim_latched";
   }
   return "";
 }
 
 fdds::DataWriterQos writer_qos(QosFamily family, fdds::Publisher* publisher) {
   fdds::DataWriterQos qos;
-  if (publisher->get_datawriter_qos_from_profile(profile_name(family), qos) == ReturnCode_t::RETCODE_OK) {
+  if (publisher->get_datawriter_qos_from_profile(profile_name(family), qos) ==
+      ReturnCode_t::RETCODE_OK) {
     return qos;  // the loaded XML profiles decide
   }
   qos = publisher->get_default_datawriter_qos();
@@ -60,7 +68,8 @@ fdds::DataWriterQos writer_qos(QosFamily family, fdds::Publisher* publisher) {
 
 fdds::DataReaderQos reader_qos(QosFamily family, fdds::Subscriber* subscriber) {
   fdds::DataReaderQos qos;
-  if (subscriber->get_datareader_qos_from_profile(profile_name(family), qos) == ReturnCode_t::RETCODE_OK) {
+  if (subscriber->get_datareader_qos_from_profile(profile_name(family), qos) ==
+      ReturnCode_t::RETCODE_OK) {
     return qos;
   }
   qos = subscriber->get_default_datareader_qos();

@@ -1,5 +1,6 @@
 #include "macsim/robot/robot_node.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
@@ -11,6 +12,7 @@
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/msg/tf2_msgsPubSubTypes.h"
 
 namespace macsim::robot {
 
@@ -18,9 +20,39 @@ namespace gm = geometry_msgs::msg::dds_;
 namespace km = kurt_msgs::msg::dds_;
 namespace nm = nav_msgs::msg::dds_;
 namespace sm = sensor_msgs::msg::dds_;
+namespace tf = tf2_msgs::msg::dds_;
 using dds::QosFamily;
 
 namespace {
+
+/// One transform of a TF message, frames already prefixed.
+gm::TransformStamped_ transform(double stamp, const std::string& parent, const std::string& child,
+                                const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  gm::TransformStamped_ t;
+  t.header(dds::header(stamp, parent));
+  t.child_frame_id(child);
+  t.transform().translation(dds::vector3(p.x(), p.y(), p.z()));
+  t.transform().rotation(dds::quaternion(q.x(), q.y(), q.z(), q.w()));
+  return t;
+}
+
+Eigen::Vector3d position_of(const Mount& m) {
+  return {m.position[0], m.position[1], m.position[2]};
+}
+Eigen::Quaterniond orientation_of(const Mount& m) {
+  return Eigen::Quaterniond(m.orientation[3], m.orientation[0], m.orientation[1], m.orientation[2])
+      .normalized();
+}
+
+/// The prefix put before a frame id (an empty id stays empty).
+std::string framed(const std::string& prefix, const std::string& frame) {
+  return frame.empty() ? frame : prefix + frame;
+}
+template <class Message>
+Message& in_frames(Message& msg, const std::string& prefix) {
+  msg.header().frame_id(framed(prefix, msg.header().frame_id()));
+  return msg;
+}
 
 bool finite(std::initializer_list<double> values) {
   for (double v : values) {
@@ -30,8 +62,9 @@ bool finite(std::initializer_list<double> values) {
 }
 
 template <class T>
-std::unique_ptr<dds::Writer<T>> writer_if(bool has, dds::Participant& p, const std::string& topic) {
-  return has ? std::make_unique<dds::Writer<T>>(p, topic, QosFamily::Sensor) : nullptr;
+std::unique_ptr<dds::Writer<T>> writer_if(bool has, dds::Participant& p, const std::string& topic,
+                                          QosFamily family = QosFamily::Sensor) {
+  return has ? std::make_unique<dds::Writer<T>>(p, topic, family) : nullptr;
 }
 
 /// Ground truth of base_footprint in the world frame; twist in the robot frame (as ROS does).
@@ -105,6 +138,7 @@ struct RobotNode::Topics {
   std::string name;
   Capabilities has;
   // Writers (what the robot has).
+  dds::Writer<tf::TFMessage_PubSubType> tf, tf_static;
   dds::Writer<nm::Odometry_PubSubType> odom;
   dds::Writer<sm::JointState_PubSubType> joint_states;
   std::unique_ptr<dds::Writer<nm::Odometry_PubSubType>> ground_truth;
@@ -122,21 +156,27 @@ struct RobotNode::Topics {
   Topics(dds::Participant& p, const std::string& robot, const Capabilities& c)
       : name(robot),
         has(c),
-        odom(p, dds::topics::odom(robot), QosFamily::Sensor),
-        joint_states(p, dds::topics::joint_states(robot), QosFamily::Sensor),
-        ground_truth(writer_if<nm::Odometry_PubSubType>(c.ground_truth, p,
-                                                        dds::topics::ground_truth(robot))),
+        tf(p, dds::topics::kTf, QosFamily::State),
+        tf_static(p, dds::topics::kTfStatic, QosFamily::Latched),
+        odom(p, dds::topics::odom(robot), QosFamily::State),
+        joint_states(p, dds::topics::joint_states(robot), QosFamily::State),
+        ground_truth(writer_if<nm::Odometry_PubSubType>(
+            c.ground_truth, p, dds::topics::ground_truth(robot), QosFamily::State)),
         range(writer_if<sm::Range_PubSubType>(c.ranges, p, dds::topics::range(robot))),
-        imu(writer_if<sm::Imu_PubSubType>(c.imu, p, dds::topics::imu(robot))),
+        imu(writer_if<sm::Imu_PubSubType>(c.imu, p, dds::topics::imu(robot), QosFamily::State)),
         scan(writer_if<sm::LaserScan_PubSubType>(c.laser, p,
                                                  dds::topics::scan(robot, c.laser_rotating))),
         points(writer_if<sm::PointCloud2_PubSubType>(c.points, p, dds::topics::points(robot))),
-        crane_state(
-            writer_if<km::CraneState_PubSubType>(c.crane, p, dds::topics::crane_state(robot))) {}
+        crane_state(writer_if<km::CraneState_PubSubType>(
+            c.crane, p, dds::topics::crane_state(robot), QosFamily::State)) {}
 };
 
-RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand post)
-    : robot_(robot), topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())) {
+RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand post,
+                     std::string frame_prefix)
+    : robot_(robot),
+      frame_prefix_(std::move(frame_prefix)),
+      frames_(robot.frames()),
+      topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())) {
   Topics& t = *topics_;
   const std::string& name = t.name;
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
@@ -192,30 +232,83 @@ void RobotNode::publish() {
   Topics& t = *topics_;
   const Readings r = robot_.read();
   const double now = r.stamp;
+  const std::string& fp = frame_prefix_;
+  tf::TFMessage_ moving;
   if (r.odometry) {
     const Odometry& o = *r.odometry;
-    t.odom.write(dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now));
+    auto odom = dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now);
+    odom.child_frame_id(framed(fp, odom.child_frame_id()));
+    t.odom.write(in_frames(odom, fp));
+    moving.transforms().push_back(
+        transform(now, framed(fp, "odom"), framed(fp, "base_footprint"), {o.x, o.y, 0.0},
+                  Eigen::Quaterniond(Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ()))));
   }
-  if (r.ground_truth && t.ground_truth)
-    t.ground_truth->write(ground_truth_message(*r.ground_truth, now));
+  if (r.ground_truth && t.ground_truth) {
+    auto truth = ground_truth_message(*r.ground_truth, now);  // in "world": no robot's frame
+    truth.child_frame_id(framed(fp, truth.child_frame_id()));
+    t.ground_truth->write(truth);
+  }
   if (r.odometry) {
     t.joint_states.write(
         dds::kurt_wheel_joints(r.odometry->left_wheel, r.odometry->right_wheel, now));
   }
   if (r.imu && t.imu) {
     const Imu& i = *r.imu;
-    t.imu->write(dds::kurt_imu(i.roll, i.pitch, i.yaw, i.yaw_variance, i.yaw_rate, now));
+    auto imu = dds::kurt_imu(i.roll, i.pitch, i.yaw, i.yaw_variance, i.yaw_rate, now);
+    t.imu->write(in_frames(imu, fp));
   }
   if (t.range) {
-    for (const Range& each : r.ranges)
-      t.range->write(dds::kurt_range(each.frame, each.sonar, each.range, now));
+    for (const Range& each : r.ranges) {
+      auto range = dds::kurt_range(each.frame, each.sonar, each.range, now);
+      t.range->write(in_frames(range, fp));
+    }
   }
-  if (r.crane && t.crane_state) t.crane_state->write(crane_message(*r.crane, now));
-  if (r.scan && t.scan) t.scan->write(scan_message(*r.scan, now));
+  if (r.crane && t.crane_state) {
+    auto crane = crane_message(*r.crane, now);
+    t.crane_state->write(in_frames(crane, fp));
+    if (!frames_.crane_pivot.child.empty()) {
+      const Crane& c = *r.crane;
+      const Mount& pivot = frames_.crane_pivot;
+      moving.transforms().push_back(
+          transform(now, framed(fp, pivot.parent), framed(fp, "crane_turret"), position_of(pivot),
+                    orientation_of(pivot) * Eigen::AngleAxisd(c.slew, Eigen::Vector3d::UnitZ())));
+      moving.transforms().push_back(transform(
+          now, framed(fp, "crane_turret"), framed(fp, "crane_boom"), Eigen::Vector3d::Zero(),
+          Eigen::Quaterniond(Eigen::AngleAxisd(c.lift, -Eigen::Vector3d::UnitY()))));
+      moving.transforms().push_back(
+          transform(now, framed(fp, "crane_boom"), framed(fp, "crane_magnet"),
+                    {frames_.boom_length, 0.0, -c.hoist}, Eigen::Quaterniond::Identity()));
+    }
+  }
+  if (r.scan && t.scan) {
+    auto scan = scan_message(*r.scan, now);
+    t.scan->write(in_frames(scan, fp));
+  }
   // The driver publishes the rotunit in joint_states messages of its own.
-  if (r.rotunit)
+  if (r.rotunit) {
     t.joint_states.write(dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now));
-  if (r.cloud && t.points) t.points->write(cloud_message(*r.cloud, now));
+    const Mount& laser = frames_.laser;
+    if (!laser.child.empty()) {
+      moving.transforms().push_back(transform(
+          now, framed(fp, laser.parent), framed(fp, laser.child), position_of(laser),
+          Eigen::AngleAxisd(r.rotunit->angle, Eigen::Vector3d::UnitZ()) * orientation_of(laser)));
+    }
+  }
+  if (r.cloud && t.points) {
+    auto cloud = cloud_message(*r.cloud, now);
+    t.points->write(in_frames(cloud, fp));
+  }
+  if (!moving.transforms().empty()) t.tf.write(moving);
+  if (!static_sent_ && r.odometry) {
+    // Once, in one message (tf_static keeps the last sample per writer): every fixed mount.
+    tf::TFMessage_ fixed;
+    for (const Mount& m : frames_.mounts) {
+      fixed.transforms().push_back(transform(now, framed(fp, m.parent), framed(fp, m.child),
+                                             position_of(m), orientation_of(m)));
+    }
+    if (!fixed.transforms().empty()) t.tf_static.write(fixed);
+    static_sent_ = true;
+  }
 }
 
 namespace {
@@ -226,7 +319,9 @@ struct TopicLine {
 };
 
 std::vector<TopicLine> topic_table(const std::string& n, const Capabilities& c) {
-  return {{true, dds::topics::cmd_vel(n), "geometry_msgs/Twist, in"},
+  return {{true, dds::topics::kTf, "tf2_msgs/TFMessage, out"},
+          {true, dds::topics::kTfStatic, "tf2_msgs/TFMessage, transient local, out"},
+          {true, dds::topics::cmd_vel(n), "geometry_msgs/Twist, in"},
           {true, dds::topics::wheel_speeds(n), "kurt_msgs/WheelSpeeds, in"},
           {c.rotunit, dds::topics::rot_vel(n), "geometry_msgs/Twist, in"},
           {c.crane, dds::topics::crane_command(n), "kurt_msgs/CraneCommand, in"},

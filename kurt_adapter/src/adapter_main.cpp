@@ -70,12 +70,16 @@ int main(int argc, char** argv) {
       "the other (cmd_vel, wheel_speeds, rot_vel, crane/magnet in; odom, joint_states, imu,\n"
       "range out). SPEED_CM every 10 ms; zero speed 0.6 s after the last command; a hard stop\n"
       "on exit (SIGINT, SIGTERM).");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("can", "BUS",
              "socketcan:IFACE (the robot, default socketcan:can0) or udp:LOCAL_PORT:PEER_PORT "
              "(the userspace bus, e.g. with kurt_emulator)",
              &can_spec);
   cli.option("robot", "NAME", "the robot's topic namespace (default kurt)", &robot);
+  std::string frame_prefix;
+  cli.option("frame-prefix", "PREFIX",
+             "put PREFIX before every frame id (e.g. kurt/: kurt/odom, kurt/base_link)",
+             &frame_prefix);
   // The real driver's parameters; the defaults are the indoor KURT's (kurt_base), the outdoor
   // one has --wheel-perimeter 0.518 --axis-length 0.39 --turning-adaptation 0.64.
   macsim::KurtDriveParams params;
@@ -113,9 +117,10 @@ int main(int argc, char** argv) {
         robot, driver, *can, [] { return seconds(Clock::now()); }, wall_stamp);
     // The one robot node: the topics of what the robot has; callbacks only queue, and the CAN
     // loop runs the commands at its next 10 ms tick.
-    macsim::robot::RobotNode node(dds, kurt, [&queue](macsim::robot::RobotCommand command) {
-      queue.push(std::move(command));
-    });
+    macsim::robot::RobotNode node(
+        dds, kurt,
+        [&queue](macsim::robot::RobotCommand command) { queue.push(std::move(command)); },
+        frame_prefix);
 
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
     // a simulator on the same domain stays the only one answering the rest.

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "macsim/kurt/kurt_can.h"
+#include "macsim/sim_core/kurt_sensors.h"
 
 namespace macsim::kurt {
 
@@ -18,6 +19,19 @@ robot::Capabilities RealKurt::capabilities() const {
   robot::Capabilities c;
   c.ranges = c.imu = c.rotunit = c.magnet = true;
   return c;
+}
+
+robot::Frames RealKurt::frames() const {
+  robot::Frames f;
+  f.mounts.push_back({"base_footprint",
+                      "base_link",
+                      {0, 0, kBaseLinkAboveWheelAxle + driver_.params().wheel_radius()},
+                      {0, 0, 0, 1}});
+  for (const RangeSensorSpec& s : kurt_range_sensors()) {
+    f.mounts.push_back(
+        {"base_link", s.frame, {s.x, s.y, 0}, {0, 0, std::sin(s.yaw / 2), std::cos(s.yaw / 2)}});
+  }
+  return f;
 }
 
 void RealKurt::command_twist(double linear, double angular) {

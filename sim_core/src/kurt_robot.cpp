@@ -60,20 +60,9 @@ KurtRobot::State initial_state(const KurtConfig& config) {
 
 }  // namespace
 
-const std::array<RangeSensorSpec, 8>& kurt_range_sensors() {
-  // kurt_driver's infrared_sonar.urdf.xacro poses; ranges and cones from kurt.h.
-  constexpr double kIrFov = 0.07486, kSonarFov = 0.17809;
-  static const std::array<RangeSensorSpec, 8> sensors{{
-      {"ultrasound_front", 0.217, 0.0, 0.0, true, 0.10, 1.00, kSonarFov},
-      {"ir_left_front", 0.203, 0.153, M_PI / 4, false, 0.10, 0.80, kIrFov},
-      {"ir_left", 0.0, 0.165, M_PI / 2, false, 0.10, 0.80, kIrFov},
-      {"ir_left_back", -0.203, 0.153, 3 * M_PI / 4, false, 0.10, 0.80, kIrFov},
-      {"ir_back", -0.217, 0.0, M_PI, false, 0.10, 0.80, kIrFov},
-      {"ir_right_back", -0.203, -0.153, 5 * M_PI / 4, false, 0.10, 0.80, kIrFov},
-      {"ir_right", 0.0, -0.165, 3 * M_PI / 2, false, 0.10, 0.80, kIrFov},
-      {"ir_right_front", 0.203, -0.153, 7 * M_PI / 4, false, 0.10, 0.80, kIrFov},
-  }};
-  return sensors;
+Eigen::Vector3d laser_origin(LaserMount mount) {
+  return mount == LaserMount::Rotating ? Eigen::Vector3d(-0.10, 0, 0.35)
+                                       : Eigen::Vector3d(0.145, 0, 0.11);
 }
 
 KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int collision_group,
@@ -341,7 +330,7 @@ void KurtRobot::sweep_laser(double now) {
   const bool turning = rotating && state_.rotunit_speed != 0.0;
   // KURT360: the LMS200 on the rotating unit behind the crane, 0.35 m above base_link;
   // KURT2: fixed at the front, 0.11 m above base_link (kurt_driver's URDFs).
-  state_.scan.origin = rotating ? Eigen::Vector3d(-0.10, 0, 0.35) : Eigen::Vector3d(0.145, 0, 0.11);
+  state_.scan.origin = laser_origin(config_.laser);
   state_.scan.stamp = now;
   state_.scan.angle_min = -M_PI / 2;
   state_.scan.angle_increment = M_PI / 180;

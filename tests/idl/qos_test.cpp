@@ -26,6 +26,11 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
   const auto sensor = dds::reader_qos(dds::QosFamily::Sensor, p.subscriber());
   EXPECT_EQ(sensor.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
   EXPECT_EQ(sensor.history().depth, 5);
+  // what a default ROS 2 subscription (reliable, volatile) matches: odometry, IMU, clock
+  const auto state = dds::writer_qos(dds::QosFamily::State, p.publisher());
+  EXPECT_EQ(state.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(state.durability().kind, fdds::VOLATILE_DURABILITY_QOS);
+  EXPECT_EQ(state.history().depth, 10);
   const auto latched = dds::writer_qos(dds::QosFamily::Latched, p.publisher());
   EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(latched.history().depth, 1);
@@ -49,6 +54,8 @@ TEST(QosFamilies, AUsersProfileChangesAFamily) {
   // A family the profile does not name keeps the built-in policies.
   const auto latched = dds::writer_qos(dds::QosFamily::Latched, p.publisher());
   EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  const auto state = dds::writer_qos(dds::QosFamily::State, p.publisher());
+  EXPECT_EQ(state.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   std::remove(path.c_str());
 }
 

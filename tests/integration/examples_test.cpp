@@ -14,8 +14,9 @@ class Examples : public ::testing::TestWithParam<int> {
  protected:
   void SetUp() override {
     domain_ = std::to_string(unique_test_domain());
-    macsim_ = std::make_unique<ChildProcess>(std::vector<std::string>{
-        bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain", domain_, "--cameras", "off"});
+    macsim_ = std::make_unique<ChildProcess>(
+        std::vector<std::string>{bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"),
+                                 "--domain", domain_, "--cameras", "off"});
     ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
   }
   void TearDown() override {
@@ -38,10 +39,11 @@ INSTANTIATE_TEST_SUITE_P(SeedTable2, Examples, ::testing::Values(1, 2, 3, 4));
 
 TEST(InterfaceTest, LoadsAWorldIntoTheRunningSimulator) {
   const std::string domain = std::to_string(unique_test_domain());
-  ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain", domain,
-                       "--cameras", "off"});
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                       domain, "--cameras", "off"});
   ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
-  ChildProcess load({bin("interfaceTest"), "-load", source("worlds/DemoWorld_v1.xml"), "--domain", domain});
+  ChildProcess load(
+      {bin("interfaceTest"), "-load", source("worlds/DemoWorld_v1.xml"), "--domain", domain});
   ASSERT_EQ(load.wait_for_exit(60s), 0) << load.output();
   EXPECT_NE(load.output().find("24 objects, 1 doors"), std::string::npos) << load.output();
   ChildProcess bad({bin("interfaceTest"), "-load", "no/such/world.xml", "--domain", domain});
@@ -53,7 +55,7 @@ TEST(InterfaceTest, LoadsAWorldIntoTheRunningSimulator) {
 }
 
 TEST(DynamicObjectTestCli, WithoutATestNumberItSaysHowToCallIt) {
-  ChildProcess p({bin("dynamicObjectTest")});
+  ChildProcess p({bin("dynamicObjectTest"), "--domain", std::to_string(unique_test_domain())});
   EXPECT_EQ(p.wait_for_exit(10s), 2);
   EXPECT_NE(p.output().find("test number 1 to 4"), std::string::npos) << p.output();
 }

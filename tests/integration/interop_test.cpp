@@ -41,7 +41,7 @@ TEST(Interop, ACycloneDdsProgramReadsOdometryAndDrivesTheRobot) {
 
   ChildProcess cyclone = cyclone_program({bin("cyclone_drive"), std::to_string(domain), "kurt"});
   ASSERT_EQ(cyclone.wait_for_exit(60s), 0) << cyclone.output() << macsim.output();
-  EXPECT_NE(cyclone.output().find("first odometry from rt/kurt/odom (frame odom_combined)"),
+  EXPECT_NE(cyclone.output().find("first odometry from rt/kurt/odom (frame odom)"),
             std::string::npos)
       << cyclone.output();
   // The simulator's ground truth agrees: the robot drove forwards.

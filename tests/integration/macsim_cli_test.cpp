@@ -11,8 +11,10 @@
 #include <sstream>
 #include <thread>
 
+#include "macsim/dds/participant.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
+#include "topic_graph.h"
 
 namespace macsim::test {
 namespace {
@@ -20,9 +22,9 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
-  for (const char* program : {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest",
-                              "kurt_demo", "kurt_adapter", "kurt_emulator", "bench_dds",
-                              "affordance_trials"}) {
+  for (const char* program :
+       {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest", "kurt_demo", "kurt_adapter",
+        "kurt_emulator", "bench_dds", "affordance_trials", "macsim_topic"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
     EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();
@@ -84,10 +86,77 @@ TEST(MacsimCli, InteropProgramsNeverActOnHelpABadArgumentOrDomainZero) {
   }
 }
 
+/// The programs in build/bin.
+std::vector<std::string> built_programs() {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(bin(""))) {
+    if (entry.is_regular_file() && access(entry.path().c_str(), X_OK) == 0) {
+      names.push_back(entry.path().filename().string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(MacsimCli, NoProgramActsOnHelpABadArgumentOrWithoutADomain) {
+  // Discovery on the default domain 0 (no test uses it) and on this test's own: a program that
+  // acted would show a writer there.
+  const int domain = unique_test_domain();
+  topic::TopicGraph on_zero, on_domain;
+  dds::Participant zero({0, "", "watch_domain_zero", &on_zero});
+  dds::Participant mine({domain, "", "watch_test_domain", &on_domain});
+  const auto programs = built_programs();
+  ASSERT_GE(programs.size(), 25u);
+  const std::string d = std::to_string(domain);
+  for (const std::string& program : programs) {
+    for (const auto& [args, code] : std::vector<std::pair<std::vector<std::string>, int>>{
+             {{"--help"}, 0},
+             {{"--bogus-argument"}, 2},
+             {{"--bogus-argument", "--domain", d}, 2},
+             {{"--domain", d, "--bogus-argument"}, 2}}) {
+      std::vector<std::string> argv{bin(program)};
+      argv.insert(argv.end(), args.begin(), args.end());
+      ChildProcess p(argv);
+      EXPECT_EQ(p.wait_for_exit(10s), code) << program << " " << args.front() << ": " << p.output();
+      if (code == 0) {
+        EXPECT_TRUE(p.output().find("usage") != std::string::npos ||
+                    p.output().find("--gtest_filter") != std::string::npos)
+            << program << ": " << p.output();
+      }
+    }
+  }
+  // Those that move a robot or change a simulation do nothing without --domain.
+  for (const std::vector<std::string>& bare :
+       {std::vector<std::string>{"helloKurt"},
+        {"interfaceTest", "-load", "worlds/ramps.xml"},
+        {"dynamicObjectTest", "1"},
+        {"kurt_demo"},
+        {"kurt_adapter", "--can", "udp:47801:47802"},
+        {"cyclone_drive"},
+        {"cyclone_listen"},
+        {"affordance_trials", "--trials", "1"},
+        {"macsim_topic", "pub", "/kurt/cmd_vel", "geometry_msgs/msg/Twist", "{linear: {x: 1}}"},
+        {"macsim_topic", "play", "/tmp"}}) {
+    std::vector<std::string> argv = bare;
+    argv[0] = bin(argv[0]);
+    ChildProcess p(argv);
+    EXPECT_EQ(p.wait_for_exit(10s), 2) << bare[0] << ": " << p.output();
+    std::string said = p.output();
+    std::transform(said.begin(), said.end(), said.begin(), ::tolower);
+    EXPECT_NE(said.find("domain"), std::string::npos) << bare[0] << ": " << p.output();
+  }
+  std::this_thread::sleep_for(1s);
+  for (const auto* graph : {&on_zero, &on_domain}) {
+    for (const auto& [name, t] : graph->topics()) {
+      EXPECT_TRUE(t.writers.empty()) << name << " got a writer from " << t.writers[0].participant;
+    }
+  }
+}
+
 TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
   for (const char* program :
        {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
-        "examples_tests", "asan_tests", "affordance_tests", "integration_tests"}) {
+        "examples_tests", "asan_tests", "affordance_tests", "topic_tests", "integration_tests"}) {
     ChildProcess p({bin(program), "--bogus"});
     EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();
     EXPECT_NE(p.output().find("unknown argument '--bogus'"), std::string::npos) << p.output();

@@ -18,8 +18,9 @@ class Samples {
  public:
   using Data = typename PubSubType::type;
 
-  Samples(dds::Participant& p, const std::string& topic, std::size_t keep = 1000)
-      : keep_(keep), reader_(p, topic, dds::QosFamily::Sensor, [this](const Data& d) {
+  Samples(dds::Participant& p, const std::string& topic, std::size_t keep = 1000,
+          dds::QosFamily family = dds::QosFamily::Sensor)
+      : keep_(keep), reader_(p, topic, family, [this](const Data& d) {
           std::lock_guard<std::mutex> lock(mutex_);
           if (all_.size() >= keep_) all_.erase(all_.begin());
           all_.push_back(d);

@@ -1,5 +1,7 @@
 #include "cdr_yaml.h"
 
+#include <fastrtps/utils/md5.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -642,6 +644,76 @@ std::string sample_to_yaml(const std::vector<std::uint8_t>& sample, const WireTy
     }
   }
   return print_selected(*at, in, style);
+}
+
+std::array<std::uint8_t, 16> sample_key(const std::vector<std::uint8_t>& sample,
+                                        const WireType& type) {
+  CdrIn in(sample);
+  std::vector<std::uint8_t> key;  // big-endian CDR of the key members, aligned from 0
+  bool bounded = true;            // fits 16 bytes whatever the values (no string)
+  auto put = [&key](const std::uint8_t* raw, std::size_t size) {
+    key.resize(key.size() + (size - key.size() % size) % size, 0);
+    for (std::size_t i = size; i-- > 0;) key.push_back(raw[i]);  // little -> big endian
+  };
+  for (const auto& m : type.members) {
+    if (!m.key) {
+      print_value(*m.type, in, nullptr, 0, {});
+      continue;
+    }
+    switch (m.type->kind) {
+      case Kind::String: {
+        const std::string text = in.string();
+        const auto size = static_cast<std::uint32_t>(text.size() + 1);
+        put(reinterpret_cast<const std::uint8_t*>(&size), 4);
+        key.insert(key.end(), text.begin(), text.end());
+        key.push_back(0);
+        bounded = false;
+        break;
+      }
+      case Kind::Bool:
+      case Kind::Octet:
+      case Kind::Char: {
+        const auto v = in.get<std::uint8_t>();
+        put(&v, 1);
+        break;
+      }
+      case Kind::Int16:
+      case Kind::UInt16: {
+        const auto v = in.get<std::uint16_t>();
+        put(reinterpret_cast<const std::uint8_t*>(&v), 2);
+        break;
+      }
+      case Kind::Int32:
+      case Kind::UInt32:
+      case Kind::Float32:
+      case Kind::Enum: {
+        const auto v = in.get<std::uint32_t>();
+        put(reinterpret_cast<const std::uint8_t*>(&v), 4);
+        break;
+      }
+      case Kind::Int64:
+      case Kind::UInt64:
+      case Kind::Float64: {
+        const auto v = in.get<std::uint64_t>();
+        put(reinterpret_cast<const std::uint8_t*>(&v), 8);
+        break;
+      }
+      default:
+        throw SampleError(display_name(type) + ": a key member of type " + display_name(*m.type) +
+                          " is not supported");
+    }
+  }
+  std::array<std::uint8_t, 16> out{};
+  if (bounded && key.size() <= 16) {
+    std::copy(key.begin(), key.end(), out.begin());
+  } else {
+    MD5 md5;
+    md5.init();
+    md5.update(key.data(), static_cast<unsigned int>(key.size()));
+    md5.finalize();
+    std::copy(md5.digest, md5.digest + 16, out.begin());
+  }
+  return out;
 }
 
 std::vector<std::uint8_t> sample_from_yaml(const YAML::Node& value, const WireType& type) {

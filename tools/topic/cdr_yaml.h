@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -33,5 +34,11 @@ std::string sample_to_yaml(const std::vector<std::uint8_t>& sample, const WireTy
 /// A sample of `type` (little-endian XCDR1 with its header) holding what the YAML mapping
 /// gives; members it does not name are zero or empty. Throws SampleError naming the field.
 std::vector<std::uint8_t> sample_from_yaml(const YAML::Node& value, const WireType& type);
+
+/// The instance key of a sample of a keyed struct, as Fast DDS computes it: the key members in
+/// big-endian CDR, zero-padded to 16 bytes, or their MD5 when they may need more than 16.
+/// Throws SampleError for a sample that does not decode or a key kind not supported.
+std::array<std::uint8_t, 16> sample_key(const std::vector<std::uint8_t>& sample,
+                                        const WireType& type);
 
 }  // namespace macsim::topic

@@ -389,7 +389,6 @@ int run_timing(int argc, char** argv, bool bandwidth) {
 
 int run_pub(int argc, char** argv) {
   dds::ParticipantOptions participant;
-  participant.domain = -1;
   double rate = 0, wait = 3.0;
   int times = 0;
   std::vector<std::string> args;
@@ -398,16 +397,12 @@ int run_pub(int argc, char** argv) {
                        "pub /kurt/cmd_vel geometry_msgs/msg/Twist '{linear: {x: 0.2}}' --rate 10 "
                        "--domain 7\nMembers not named are zero (a quaternion's w is 1).\n--domain "
                        "N is required (it may move a robot: never on a domain it was not given).");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.arguments("TOPIC TYPE [YAML]", &args);
   cli.option("rate", "HZ", "publish at this rate until stopped (default: once)", &rate);
   cli.option("times", "N", "publish N times (at --rate, default 10 Hz)", &times);
   cli.option("wait", "SECONDS", "wait this long for a reader before publishing (default 3)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (participant.domain < 0) {
-    return std::cerr << "macsim_topic pub: say on which DDS domain: --domain N (see --help)\n",
-           kUsage;
-  }
   if (args.size() < 2 || args.size() > 3) {
     return std::cerr << "macsim_topic pub: give TOPIC TYPE [YAML] (see --help)\n", kUsage;
   }
@@ -611,7 +606,6 @@ int run_record(int argc, char** argv) {
 
 int run_play(int argc, char** argv) {
   dds::ParticipantOptions participant;
-  participant.domain = -1;
   double rate = 1.0, clock_hz = 0, wait = 1.0;
   bool loop = false, clock = false;
   std::vector<std::string> args;
@@ -619,7 +613,7 @@ int run_play(int argc, char** argv) {
                        "Replays a rosbag2 bag (sqlite3) with its original timing.\n--domain N is "
                        "required (a replayed command moves a robot: never on a domain it was not "
                        "given).");
-  cli.participant_options(&participant);
+  cli.participant_options(&participant, /*domain_required=*/true);
   cli.arguments("BAG_DIR", &args);
   cli.option("rate", "FACTOR", "play this many times faster (default 1)", &rate);
   cli.flag("loop", "start again at the end, until stopped", &loop);
@@ -628,10 +622,6 @@ int run_play(int argc, char** argv) {
   cli.option("clock-rate", "HZ", "rate of --clock (default 100)", &clock_hz);
   cli.option("wait", "SECONDS", "wait this long for readers before starting (default 1)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (participant.domain < 0) {
-    return std::cerr << "macsim_topic play: say on which DDS domain: --domain N (see --help)\n",
-           kUsage;
-  }
   if (args.size() != 1) return std::cerr << "macsim_topic play: give one BAG_DIR\n", kUsage;
   if (!(rate > 0) || !std::isfinite(rate) || clock_hz < 0 || wait < 0) {
     return std::cerr << "macsim_topic play: --rate and --clock-rate must be positive\n", kUsage;

@@ -1,15 +1,16 @@
 #include "raw_endpoints.h"
 
 #include <chrono>
+#include <cstring>
 
-#include "macsim/dds/dynamic_types.h"
+#include "cdr_yaml.h"
 
 namespace macsim::topic {
 
 namespace {
 
 fdds::TypeSupport raw_type(const std::string& type_name) {
-  return fdds::TypeSupport(new dds::RawType(type_name, dds::idl_dynamic_type(type_name)));
+  return fdds::TypeSupport(new RawType(type_name, wire_type(type_name)));
 }
 
 template <class Qos>
@@ -38,6 +39,52 @@ std::int64_t nanoseconds(const eprosima::fastrtps::rtps::Time_t& t) {
 
 }  // namespace
 
+using eprosima::fastrtps::rtps::SerializedPayload_t;
+
+RawType::RawType(const std::string& type_name, WireTypePtr type) : type_(std::move(type)) {
+  setName(type_name.c_str());
+  m_isGetKeyDefined = type_ && is_keyed(*type_);
+  m_typeSize = 65536;            // a first allocation; samples of any size pass (dynamic memory)
+  auto_fill_type_object(false);  // matched by name, as rmw_fastrtps and Cyclone endpoints are
+  auto_fill_type_information(false);
+}
+
+bool RawType::serialize(void* data, SerializedPayload_t* payload) {
+  const auto& bytes = static_cast<RawSample*>(data)->bytes;
+  if (bytes.size() < 4) return false;
+  payload->reserve(static_cast<uint32_t>(bytes.size()));
+  std::memcpy(payload->data, bytes.data(), bytes.size());
+  payload->length = static_cast<uint32_t>(bytes.size());
+  payload->encapsulation = bytes[1] == 0 ? CDR_BE : CDR_LE;
+  return true;
+}
+
+bool RawType::deserialize(SerializedPayload_t* payload, void* data) {
+  if (payload->length < 4) return false;
+  static_cast<RawSample*>(data)->bytes.assign(payload->data, payload->data + payload->length);
+  return true;
+}
+
+std::function<uint32_t()> RawType::getSerializedSizeProvider(void* data) {
+  const auto size = static_cast<uint32_t>(static_cast<RawSample*>(data)->bytes.size());
+  return [size] { return size; };
+}
+
+void* RawType::createData() { return new RawSample(); }
+
+void RawType::deleteData(void* data) { delete static_cast<RawSample*>(data); }
+
+bool RawType::getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle, bool) {
+  if (!m_isGetKeyDefined) return false;
+  try {
+    const auto key = sample_key(static_cast<RawSample*>(data)->bytes, *type_);
+    for (std::size_t i = 0; i < key.size(); ++i) handle->value[i] = key[i];
+    return true;
+  } catch (const SampleError&) {  // a malformed sample has no key
+    return false;
+  }
+}
+
 RawReader::RawReader(dds::Participant& participant, const std::string& topic,
                      const std::string& type_name, const RawQos& qos, Callback on_sample)
     : participant_(participant), on_sample_(std::move(on_sample)) {
@@ -55,7 +102,7 @@ RawReader::~RawReader() {
 }
 
 void RawReader::on_data_available(fdds::DataReader* reader) {
-  dds::RawSample sample;
+  RawSample sample;
   fdds::SampleInfo info;
   while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;
@@ -92,7 +139,7 @@ RawWriter::RawWriter(dds::Participant& participant, const std::string& topic,
 RawWriter::~RawWriter() { participant_.publisher()->delete_datawriter(writer_); }
 
 bool RawWriter::write(const std::vector<std::uint8_t>& bytes) {
-  dds::RawSample sample{bytes};
+  RawSample sample{bytes};
   return writer_->write(&sample);
 }
 

@@ -7,15 +7,41 @@
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/topic/TopicDataType.hpp>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "macsim/dds/participant.h"
+#include "wire_type.h"
 
 namespace macsim::topic {
 
 namespace fdds = eprosima::fastdds::dds;
+
+/// One sample as it travels: the 4-byte encapsulation header, then the CDR body.
+struct RawSample {
+  std::vector<std::uint8_t> bytes;
+};
+
+/// Type support for RawSample under any type name: samples pass through unchanged. With the
+/// IDL's description of that type, keyed topics work too (the key is read from the sample).
+class RawType : public fdds::TopicDataType {
+ public:
+  /// `type` may be null (a type the IDL does not have): the topic is taken as unkeyed.
+  RawType(const std::string& type_name, WireTypePtr type);
+
+  bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override;
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override;
+  std::function<uint32_t()> getSerializedSizeProvider(void* data) override;
+  void* createData() override;
+  void deleteData(void* data) override;
+  bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle,
+              bool force_md5) override;
+
+ private:
+  WireTypePtr type_;
+};
 
 /// QoS of a tool's reader or writer.
 struct RawQos {

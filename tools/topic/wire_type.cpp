@@ -42,6 +42,7 @@ std::vector<WireMember> describe_members(const types::DynamicType_ptr& type,
       out.labels.push_back(static_cast<std::int64_t>(label));
     }
     out.is_default = descriptor->is_default_union_value();
+    out.key = member->key_annotation();
     members.emplace_back(descriptor->get_index(), std::move(out));
   }
   std::stable_sort(members.begin(), members.end(),
@@ -167,6 +168,13 @@ WireTypePtr wire_type(const std::string& dds_type_name) {
   types::DynamicType_ptr dynamic = dds::idl_dynamic_type(dds_type_name);
   if (!dynamic) return {};
   return describe(dynamic, done);
+}
+
+bool is_keyed(const WireType& type) {
+  for (const auto& m : type.members) {
+    if (m.key) return true;
+  }
+  return false;
 }
 
 std::size_t primitive_size(Kind kind) {

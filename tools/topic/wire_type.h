@@ -18,6 +18,7 @@ struct WireMember {
   WireTypePtr type;
   std::vector<std::int64_t> labels;  ///< union cases that select this member
   bool is_default = false;           ///< union: the default case
+  bool key = false;                  ///< struct: a key member (@key)
 };
 
 /// One type: a primitive, a string, a struct, a union, a sequence or an array.
@@ -49,6 +50,8 @@ struct WireType {
   std::uint32_t length = 0;              ///< array: element count (all dimensions); sequence: bound
 };
 
+/// Whether a struct has key members (its topics have one instance per key).
+bool is_keyed(const WireType& type);
 /// The wire description of a DDS type name from the IDL, or null if the IDL has no such type.
 WireTypePtr wire_type(const std::string& dds_type_name);
 /// Size in bytes (and alignment) of a primitive kind; 0 for the others.

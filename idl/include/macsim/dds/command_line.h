@@ -30,8 +30,10 @@ class CommandLine {
   /// Arguments that are not options (after the options or among them; "--" ends options),
   /// shown in the usage line as `synopsis`. Without this, such an argument is an error.
   void arguments(const std::string& synopsis, std::vector<std::string>* target);
-  /// --domain N (0..232) and --profile FILE, bound to the participant options.
-  void participant_options(ParticipantOptions* options);
+  /// --domain N (0..232) and --profile FILE, bound to the participant options. A program that
+  /// moves a robot or changes a simulation passes `domain_required`: without --domain it does
+  /// nothing and exits 2 (never acting on a domain it was not given).
+  void participant_options(ParticipantOptions* options, bool domain_required = false);
 
   /// Parses argv. Returns an exit code when the program should stop now: 0 after --help,
   /// 2 after a usage error (already printed to stderr); std::nullopt to go on.
@@ -49,6 +51,7 @@ class CommandLine {
   std::string program_, summary_;
   std::vector<Option> options_;
   std::string synopsis_;
+  bool domain_required_ = false, domain_given_ = false;
   std::vector<std::string>* arguments_ = nullptr;
 };
 

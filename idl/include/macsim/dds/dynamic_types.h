@@ -1,13 +1,11 @@
-// The project's wire types as Fast DDS dynamic types, built from the IDL's type objects, and a
-// type support that carries serialized samples unchanged (for tools handling any topic).
+// The project's wire types as Fast DDS dynamic types, built from the IDL's type objects (for
+// tools handling any topic), and the names of types and topics between DDS and ROS.
 #pragma once
 
 #include <fastrtps/types/DynamicPubSubType.h>
 #include <fastrtps/types/DynamicTypePtr.h>
 
-#include <cstdint>
 #include <fastdds/dds/topic/TopicDataType.hpp>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,30 +25,5 @@ std::string dds_type_name(const std::string& ros_or_dds_name);
 std::string ros_topic_name(const std::string& dds_topic);
 /// "rt/kurt/odom" for "/kurt/odom" or "kurt/odom"; a name starting "rt/", "rq/" or "rr/" stays.
 std::string dds_topic_name(const std::string& ros_or_dds_topic);
-
-/// One sample as it travels: the 4-byte encapsulation header, then the CDR body.
-struct RawSample {
-  std::vector<std::uint8_t> bytes;
-};
-
-/// Type support for RawSample under any type name: samples pass through unchanged. With the
-/// IDL's dynamic type of that name, keyed topics work too (the key is read from the sample).
-class RawType : public eprosima::fastdds::dds::TopicDataType {
- public:
-  /// `dynamic` may be null: then the topic is taken as unkeyed.
-  RawType(const std::string& type_name, eprosima::fastrtps::types::DynamicType_ptr dynamic);
-  ~RawType() override;
-
-  bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override;
-  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override;
-  std::function<uint32_t()> getSerializedSizeProvider(void* data) override;
-  void* createData() override;
-  void deleteData(void* data) override;
-  bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle,
-              bool force_md5) override;
-
- private:
-  std::unique_ptr<eprosima::fastrtps::types::DynamicPubSubType> dynamic_;
-};
 
 }  // namespace macsim::dds

@@ -9,7 +9,7 @@
 
 namespace macsim::dds {
 
-/// Odometry in odom_combined -> base_footprint with the driver's covariance.
+/// Odometry in odom -> base_footprint (REP-105) with the driver's covariance.
 nav_msgs::msg::dds_::Odometry_ kurt_odometry(double x, double y, double yaw, double linear,
                                              double angular, double stamp);
 /// The six wheel joints; each side's three wheels share the side's angle (rad).

@@ -11,7 +11,9 @@ namespace macsim::dds {
 /// What kind of data a topic carries, which decides its QoS.
 enum class QosFamily {
   Command,  ///< controller -> robot: reliable, volatile, keep last 10
-  Sensor,   ///< high-rate robot data and the clock: best effort, volatile, keep last 5
+  Sensor,   ///< images, scans, clouds, ranges: best effort, volatile, keep last 5 (SensorDataQoS)
+  State,    ///< odometry, IMU, joint and crane states, clock: reliable, volatile, keep last 10
+            ///< (a default ROS 2 subscription matches it; best-effort readers too)
   Latched,  ///< state a late joiner must see: reliable, transient local, keep last 1
 };
 

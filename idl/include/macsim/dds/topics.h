@@ -8,6 +8,11 @@ namespace macsim::dds::topics {
 /// The simulation clock (rosgraph_msgs/Clock).
 inline const std::string kClock = "rt/clock";
 
+/// The frames of every robot (tf2_msgs/TFMessage): moving ones on tf, fixed ones on tf_static
+/// (transient local: a late tf2 listener still gets them).
+inline const std::string kTf = "rt/tf";
+inline const std::string kTfStatic = "rt/tf_static";
+
 /// The supervisor's requests and replies (macsim_msgs/SupervisorRequest, SupervisorReply).
 inline const std::string kSupervisorRequest = "rt/macsim/supervisor/request";
 inline const std::string kSupervisorReply = "rt/macsim/supervisor/reply";
@@ -15,7 +20,8 @@ inline const std::string kSupervisorReply = "rt/macsim/supervisor/reply";
 inline const std::string kWorldObjects = "rt/macsim/world/objects";
 /// Door and switch states, one instance per door (macsim_msgs/DoorState).
 inline const std::string kWorldDoors = "rt/macsim/world/doors";
-/// Events: switch triggered, door opened, object attached, penetration, ... (macsim_msgs/WorldEvent).
+/// Events: switch triggered, door opened, object attached, penetration, ...
+/// (macsim_msgs/WorldEvent).
 inline const std::string kWorldEvents = "rt/macsim/world/events";
 
 /// Simulation control: pause, run, real-time factor, lock-step, load world, features.

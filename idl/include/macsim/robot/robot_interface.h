@@ -82,6 +82,26 @@ struct Crane {
   std::string held_object;  ///< empty when it holds nothing (or cannot tell)
 };
 
+/// A fixed transform from one of the robot's frames to another (published on tf_static).
+struct Mount {
+  std::string parent, child;
+  std::array<double, 3> position{};               ///< m, in the parent frame
+  std::array<double, 4> orientation{0, 0, 0, 1};  ///< x, y, z, w
+};
+
+/// The robot's frames (REP-105: base_footprint on the floor, base_link in the body): the fixed
+/// mounts, and where the moving parts turn, for the transforms the node publishes live.
+struct Frames {
+  std::vector<Mount> mounts;  ///< base_footprint -> base_link, sensors, cameras
+  /// The laser's frame at rotunit angle 0 (its scan plane is the frame's xy plane); the rotunit
+  /// turns it about base_link's z axis. Empty child: no rotating laser.
+  Mount laser;
+  /// base_link -> crane_turret at the slew axis (turns about z by slew), -> crane_boom (turns
+  /// about -y by lift), -> crane_magnet at the boom tip, lowered by hoist. Empty: no crane.
+  Mount crane_pivot;
+  double boom_length = 0;  ///< m, pivot to tip
+};
+
 /// What is new since the last read(); absent (or empty) what is not.
 struct Readings {
   double stamp = 0;  ///< s: sim time in a simulator, wall time on the robot
@@ -113,6 +133,8 @@ class RobotInterface {
   virtual void command_magnet(bool on) = 0;
   /// The readings new since the last call.
   virtual Readings read() = 0;
+  /// The robot's frames; none by default.
+  virtual Frames frames() const { return {}; }
 };
 
 }  // namespace macsim::robot

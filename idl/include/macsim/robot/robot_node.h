@@ -22,15 +22,19 @@ using PostCommand = std::function<void(RobotCommand)>;
 class RobotNode {
  public:
   /// Creates the writers and readers of what `robot` has. Commands with a number that is not
-  /// finite are dropped; the rest go to `post`.
-  RobotNode(dds::Participant& participant, RobotInterface& robot, PostCommand post);
+  /// finite are dropped; the rest go to `post`. Every frame id it publishes starts with
+  /// `frame_prefix` ("kurt/": kurt/odom, kurt/base_link), so several robots share one TF tree.
+  RobotNode(dds::Participant& participant, RobotInterface& robot, PostCommand post,
+            std::string frame_prefix = "");
   ~RobotNode();
   RobotNode(const RobotNode&) = delete;
   RobotNode& operator=(const RobotNode&) = delete;
 
   /// Hands over every command the readers hold (call right before the robot acts on them).
   void poll_commands();
-  /// Reads the robot and writes what is new (the owner's thread).
+  /// Reads the robot and writes what is new (the owner's thread): its topics, the moving frames
+  /// on rt/tf (odom -> base_footprint, the rotating laser, the crane) and, the first time, the
+  /// fixed ones on rt/tf_static.
   void publish();
   /// "topic (type, in|out)" of each topic served.
   std::vector<std::string> topic_lines() const;
@@ -40,6 +44,9 @@ class RobotNode {
  private:
   struct Topics;
   RobotInterface& robot_;
+  std::string frame_prefix_;
+  Frames frames_;
+  bool static_sent_ = false;
   std::unique_ptr<Topics> topics_;
 };
 

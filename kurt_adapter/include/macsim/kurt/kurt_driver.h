@@ -17,6 +17,8 @@ enum class Update { None, Odometry, Ranges, Imu, Tilt, Rotunit };
 class KurtDriver {
  public:
   explicit KurtDriver(const KurtDriveParams& params = {}) : params_(params), odometry_(params) {}
+  /// The drive's parameters (wheel size, axis length, encoder ticks).
+  const KurtDriveParams& params() const { return params_; }
 
   /// A cmd_vel: wheel speeds v -+ axis_length * omega, held until the command timeout. A
   /// command with a number that is not finite is ignored (as RobotNode drops it).

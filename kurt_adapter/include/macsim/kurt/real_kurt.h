@@ -35,6 +35,8 @@ class RealKurt : public robot::RobotInterface {
   /// Switches the actuator output at once (CONTROL ACTUATOR_ON / ACTUATOR_OFF).
   void command_magnet(bool on) override;
   robot::Readings read() override;
+  /// base_link above base_footprint and the eight IR/sonar sensors (kurt_driver's URDF).
+  robot::Frames frames() const override;
 
  private:
   std::string name_;

@@ -25,17 +25,17 @@ class RayCaster;
 
 /// Physical parameters of the simulated KURT3D (see sim_core/README.md for the sources).
 struct KurtBodyParams {
-  double base_mass = 15.6;                               ///< kg, URDF base_link
-  Eigen::Vector3d base_inertia{0.1185, 0.1928, 0.2402};  ///< kg m^2 about the CoM, URDF
-  Eigen::Vector3d base_size{0.43, 0.325, 0.215};         ///< m, URDF collision box
-  double com_below_base_link = 0.0404;                   ///< m, URDF CoM z = -0.0404
-  double wheel_axle_below_base_link = 0.107;             ///< m, URDF wheel joint z
-  double wheel_x = 0.14;                                 ///< m, front/rear axle from centre
-  double wheel_y = 0.14;                                 ///< m, half track
-  double wheel_width = 0.035;                            ///< m, indoor URDF
-  double wheel_mass = 0.3;                               ///< kg (URDF: 0.075; see README)
-  double wheel_friction = 1.0;                           ///< Coulomb mu of the tyres
-  double wheel_torque = 4.0;                             ///< N m per wheel motor (Gazebo plugin)
+  double base_mass = 15.6;                                      ///< kg, URDF base_link
+  Eigen::Vector3d base_inertia{0.1185, 0.1928, 0.2402};         ///< kg m^2 about the CoM, URDF
+  Eigen::Vector3d base_size{0.43, 0.325, 0.215};                ///< m, URDF collision box
+  double com_below_base_link = 0.0404;                          ///< m, URDF CoM z = -0.0404
+  double wheel_axle_below_base_link = kBaseLinkAboveWheelAxle;  ///< m, URDF wheel joint z
+  double wheel_x = 0.14;                                        ///< m, front/rear axle from centre
+  double wheel_y = 0.14;                                        ///< m, half track
+  double wheel_width = 0.035;                                   ///< m, indoor URDF
+  double wheel_mass = 0.3;                                      ///< kg (URDF: 0.075; see README)
+  double wheel_friction = 1.0;                                  ///< Coulomb mu of the tyres
+  double wheel_torque = 4.0;  ///< N m per wheel motor (Gazebo plugin)
 };
 
 /// Where the laser scanner sits.
@@ -44,6 +44,9 @@ enum class LaserMount {
   Fixed,     ///< KURT2: an LMS200 scanning the horizontal plane at the front
   Rotating,  ///< KURT3D/KURT360: a vertical scan plane turning about the vertical axis
 };
+
+/// Where the laser's scan origin sits in base_link (m): on the rotunit, or fixed at the front.
+Eigen::Vector3d laser_origin(LaserMount mount);
 
 /// The crane (our model: the MACS KURT3D's crane is not documented; see sim_core/README.md).
 struct CraneParams {

@@ -9,14 +9,17 @@
 
 namespace macsim {
 
+/// Height of base_link above the wheel axles, m (kurt_driver's URDF wheel joints).
+inline constexpr double kBaseLinkAboveWheelAxle = 0.107;
+
 /// One of the KURT's eight distance sensors, in base_link (kurt_driver's infrared_sonar.urdf).
 struct RangeSensorSpec {
-  const char* frame;       ///< e.g. "ir_left_front", "ultrasound_front"
-  double x, y, yaw;        ///< m, m, rad in base_link (z = 0)
-  bool sonar;              ///< ultrasound (Baumer) or infrared (Sharp GP2D12)
-  double min_range;        ///< m
-  double max_range;        ///< m
-  double field_of_view;    ///< rad, full cone angle
+  const char* frame;     ///< e.g. "ir_left_front", "ultrasound_front"
+  double x, y, yaw;      ///< m, m, rad in base_link (z = 0)
+  bool sonar;            ///< ultrasound (Baumer) or infrared (Sharp GP2D12)
+  double min_range;      ///< m
+  double max_range;      ///< m
+  double field_of_view;  ///< rad, full cone angle
 };
 
 /// The eight sensors of the real robot, in its driver's order of frames.
@@ -30,21 +33,21 @@ struct RangeReading {
 
 /// Gyro and tilt: what the KURT's IMU topic and tilt sensor give.
 struct ImuReading {
-  double yaw = 0.0;            ///< rad, counter-clockwise, relative to the start, in (-pi, pi]
-  double yaw_rate = 0.0;       ///< rad/s
-  double roll = 0.0;           ///< rad, from the tilt sensor
-  double pitch = 0.0;          ///< rad
-  double yaw_variance = 0.0;   ///< rad^2
+  double yaw = 0.0;           ///< rad, counter-clockwise, relative to the start, in (-pi, pi]
+  double yaw_rate = 0.0;      ///< rad/s
+  double roll = 0.0;          ///< rad, from the tilt sensor
+  double pitch = 0.0;         ///< rad
+  double yaw_variance = 0.0;  ///< rad^2
 };
 
 /// One sweep of the SICK LMS200: 181 beams over 180 degrees.
 struct LaserScan {
-  double stamp = 0.0;                 ///< sim time of the sweep, s
-  double angle_min = 0.0;             ///< rad, first beam
-  double angle_increment = 0.0;       ///< rad between beams
+  double stamp = 0.0;            ///< sim time of the sweep, s
+  double angle_min = 0.0;        ///< rad, first beam
+  double angle_increment = 0.0;  ///< rad between beams
   double range_min = 0.08, range_max = 10.0;
-  std::vector<float> ranges;          ///< m; +inf where nothing was hit within range_max
-  double rotunit_angle = 0.0;         ///< rad, the rotating unit's angle during the sweep
+  std::vector<float> ranges;   ///< m; +inf where nothing was hit within range_max
+  double rotunit_angle = 0.0;  ///< rad, the rotating unit's angle during the sweep
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< scanner origin in base_link
 };
 
@@ -66,7 +69,7 @@ struct CraneCommand {
 struct CraneState {
   double slew = 0.0, lift = 0.0, hoist = 0.0;  ///< measured joint positions
   bool magnet_on = false;
-  std::string held_object;                     ///< name of the object on the magnet, or empty
+  std::string held_object;  ///< name of the object on the magnet, or empty
 };
 
 }  // namespace macsim

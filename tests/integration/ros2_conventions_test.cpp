@@ -1,0 +1,155 @@
+// What a ROS 2 Jazzy node expects of macsim, seen on the wire: TF (tf and a latched tf_static,
+// REP-105 frames, a robot prefix), and state topics a default reliable subscription receives.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <map>
+#include <set>
+
+#include "macsim/dds/topics.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/rosgraph_msgsPubSubTypes.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/msg/tf2_msgsPubSubTypes.h"
+#include "support/child_process.h"
+#include "support/latest_sample.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace tf = tf2_msgs::msg::dds_;
+
+class Ros2Conventions : public ::testing::Test {
+ protected:
+  void start(std::vector<std::string> extra = {}) {
+    domain_ = unique_test_domain();
+    std::vector<std::string> argv{bin("macsim"),
+                                  "--world",
+                                  source("worlds/small_room.xml"),
+                                  "--domain",
+                                  std::to_string(domain_),
+                                  "--cameras",
+                                  "off"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    macsim_ = std::make_unique<ChildProcess>(argv);
+    ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
+    participant_ =
+        std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "ros2_test"});
+  }
+  void TearDown() override {
+    participant_.reset();
+    if (!macsim_) return;
+    macsim_->signal(SIGTERM);
+    EXPECT_EQ(macsim_->wait_for_exit(10s), 0) << macsim_->output();
+  }
+  /// parent -> child of every transform seen.
+  static std::map<std::string, std::string> edges(const std::vector<tf::TFMessage_>& messages) {
+    std::map<std::string, std::string> out;
+    for (const auto& m : messages) {
+      for (const auto& t : m.transforms()) out[t.child_frame_id()] = t.header().frame_id();
+    }
+    return out;
+  }
+  int domain_ = 0;
+  std::unique_ptr<ChildProcess> macsim_;
+  std::unique_ptr<dds::Participant> participant_;
+};
+
+TEST_F(Ros2Conventions, TfCarriesTheRobotsTreeAndTfStaticReachesALateListener) {
+  start();
+  // a rotating laser and a moving crane show on tf
+  Samples<tf::TFMessage_PubSubType> moving(*participant_, dds::topics::kTf, 2000,
+                                           dds::QosFamily::State);
+  ASSERT_TRUE(moving.wait_for(
+      [](const tf::TFMessage_& m) {
+        for (const auto& t : m.transforms()) {
+          if (t.child_frame_id() == "laser360") return true;
+        }
+        return false;
+      },
+      20s));
+  const auto dynamic = edges(moving.all());
+  EXPECT_EQ(dynamic.at("base_footprint"), "odom");  // REP-105
+  EXPECT_EQ(dynamic.at("laser360"), "base_link");
+  EXPECT_EQ(dynamic.at("crane_turret"), "base_link");
+  EXPECT_EQ(dynamic.at("crane_boom"), "crane_turret");
+  EXPECT_EQ(dynamic.at("crane_magnet"), "crane_boom");
+
+  // tf_static, transient local: a listener that comes late still gets every mount
+  std::this_thread::sleep_for(1s);
+  Samples<tf::TFMessage_PubSubType> fixed(*participant_, dds::topics::kTfStatic, 10,
+                                          dds::QosFamily::Latched);
+  const auto got =
+      fixed.wait_for([](const tf::TFMessage_& m) { return !m.transforms().empty(); }, 10s);
+  ASSERT_TRUE(got);
+  const auto mounts = edges({*got});
+  EXPECT_EQ(mounts.at("base_link"), "base_footprint");
+  for (const char* sensor :
+       {"ultrasound_front", "ir_left_front", "ir_left", "ir_left_back", "ir_back", "ir_right_back",
+        "ir_right", "ir_right_front", "left_camera", "right_camera"}) {
+    EXPECT_EQ(mounts.at(sensor), "base_link") << sensor;
+  }
+  EXPECT_EQ(mounts.at("left_camera_optical_frame"), "left_camera");
+  EXPECT_EQ(mounts.at("right_camera_optical_frame"), "right_camera");
+  for (const auto& t : got->transforms()) {
+    if (t.child_frame_id() != "base_link") continue;
+    EXPECT_NEAR(t.transform().translation().z(), 0.107 + 0.379 / (2 * M_PI), 1e-3);
+  }
+  // the odometry says the same frames
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"));
+  const auto o = odom.wait_for([](const auto&) { return true; }, 10s);
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->header().frame_id(), "odom");
+  EXPECT_EQ(o->child_frame_id(), "base_footprint");
+}
+
+TEST_F(Ros2Conventions, RobotFramesPutTheRobotsNameBeforeEveryFrame) {
+  start({"--robot-frames"});
+  Samples<tf::TFMessage_PubSubType> fixed(*participant_, dds::topics::kTfStatic, 10,
+                                          dds::QosFamily::Latched);
+  const auto got =
+      fixed.wait_for([](const tf::TFMessage_& m) { return !m.transforms().empty(); }, 20s);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(edges({*got}).at("kurt/base_link"), "kurt/base_footprint");
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"));
+  Samples<sensor_msgs::msg::dds_::Range_PubSubType> ranges(*participant_,
+                                                           dds::topics::range("kurt"));
+  const auto o = odom.wait_for([](const auto&) { return true; }, 10s);
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->header().frame_id(), "kurt/odom");
+  EXPECT_EQ(o->child_frame_id(), "kurt/base_footprint");
+  const auto r = ranges.wait_for([](const auto&) { return true; }, 10s);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->header().frame_id().rfind("kurt/", 0), 0u) << r->header().frame_id();
+}
+
+TEST_F(Ros2Conventions, DefaultReliableReadersGetOdometryImuJointStatesAndClock) {
+  start();
+  // A plain rclcpp subscription: reliable, volatile, keep last 10 (the state family's reader).
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"),
+                                                         1000, dds::QosFamily::State);
+  Samples<sensor_msgs::msg::dds_::Imu_PubSubType> imu(*participant_, dds::topics::imu("kurt"), 1000,
+                                                      dds::QosFamily::State);
+  Samples<sensor_msgs::msg::dds_::JointState_PubSubType> joints(
+      *participant_, dds::topics::joint_states("kurt"), 1000, dds::QosFamily::State);
+  Samples<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock(*participant_, dds::topics::kClock,
+                                                            1000, dds::QosFamily::State);
+  std::this_thread::sleep_for(3s);
+  EXPECT_GT(odom.all().size(), 50u);
+  EXPECT_GT(imu.all().size(), 50u);
+  EXPECT_GT(joints.all().size(), 50u);
+  const auto ticks = clock.all();
+  ASSERT_GT(ticks.size(), 50u);
+  // reliable: no 10 ms tick of the clock missing between the first and the last seen
+  for (std::size_t i = 1; i < ticks.size(); ++i) {
+    const auto ns = [](const auto& c) {
+      return c.clock().sec() * 1000000000LL + c.clock().nanosec();
+    };
+    EXPECT_EQ(ns(ticks[i]) - ns(ticks[i - 1]), 10000000LL) << i;
+  }
+}
+
+}  // namespace
+}  // namespace macsim::test
