@@ -223,11 +223,14 @@ int main(int argc, char** argv) {
   cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("textures", "DIR",
              "folder of BMP textures (default worlds/DemoEnvironment_v1/textures)", &textures);
-  // The seed's form: the test number as the first argument.
+  // The seed's form: the test number as an argument of its own (not an option's value: every
+  // option here but --help takes one).
   int test = 0;
   std::vector<char*> rest{argv[0]};
   for (int i = 1; i < argc; ++i) {
-    if (test == 0 && std::string(argv[i]).find_first_not_of("0123456789") == std::string::npos) {
+    const bool option_value = i > 1 && argv[i - 1][0] == '-' && std::string(argv[i - 1]) != "--help";
+    if (test == 0 && !option_value &&
+        std::string(argv[i]).find_first_not_of("0123456789") == std::string::npos) {
       test = std::atoi(argv[i]);
     } else {
       rest.push_back(argv[i]);

@@ -134,7 +134,7 @@ TEST(MacsimCli, NoProgramActsOnHelpABadArgumentOrWithoutADomain) {
         {"kurt_adapter", "--can", "udp:47801:47802"},
         {"cyclone_drive"},
         {"cyclone_listen"},
-        {"affordance_trials", "--trials", "1"},
+        {"affordance_trials", "--trials", "1", "--out", ::testing::TempDir() + "never.csv"},
         {"macsim_topic", "pub", "/kurt/cmd_vel", "geometry_msgs/msg/Twist", "{linear: {x: 1}}"},
         {"macsim_topic", "play", "/tmp"}}) {
     std::vector<std::string> argv = bare;
