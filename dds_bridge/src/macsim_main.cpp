@@ -137,6 +137,7 @@ struct Options {
   std::string cameras = "320x240";
   double camera_rate = 15.0;
   bool robot_frames = false;
+  bool cmd_vel_stamped = false;
   bool viewer = false;
   std::string camera_mode = "MouseKeyboard";
   std::string viewer_screenshot;
@@ -190,6 +191,9 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
            "prefix every frame id with the robot's name (kurt/odom, kurt/base_link): several "
            "robots in one TF tree",
            &o.robot_frames);
+  cli.flag("cmd-vel-stamped",
+           "take cmd_vel as geometry_msgs/TwistStamped (Nav2 from ROS 2 Kilted on), not Twist",
+           &o.cmd_vel_stamped);
   cli.flag("viewer", "open a window on the world (needs an X display)", &o.viewer);
   cli.option("camera-mode", "MODE", "the window's first camera mode (default MouseKeyboard)",
              &o.camera_mode);
@@ -261,6 +265,7 @@ int serve(macsim::Runner& runner, const Options& o) {
     bridge_options.cameras = o.cameras != "off";
     bridge_options.camera_rate = o.camera_rate;
     bridge_options.robot_frames = o.robot_frames;
+    bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
     if (bridge_options.cameras &&
         (std::sscanf(o.cameras.c_str(), "%dx%d", &bridge_options.camera.width,
                      &bridge_options.camera.height) != 2 ||

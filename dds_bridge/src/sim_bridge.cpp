@@ -28,7 +28,7 @@ struct SimBridge::Clock {
 
 struct SimBridge::RobotTopics {
   RobotTopics(dds::Participant& p, Runner& runner, const std::string& robot_name,
-              const std::string& frame_prefix)
+              const robot::NodeOptions& node_options)
       : name(robot_name),
         kurt(runner, robot_name),
         // Commands run on the simulation thread, between steps, on the current world's robot.
@@ -37,7 +37,7 @@ struct SimBridge::RobotTopics {
             [&runner, this](robot::RobotCommand command) {
               runner.push([this, command = std::move(command)](World&) { command(kurt); });
             },
-            frame_prefix) {}
+            node_options) {}
 
   std::string name;
   SimulatedKurt kurt;
@@ -87,7 +87,8 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     const std::string frames = options_.robot_frames ? name + "/" : "";
-    auto topics = std::make_unique<RobotTopics>(participant, runner, name, frames);
+    auto topics = std::make_unique<RobotTopics>(
+        participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped});
     const auto& stereo = robot->config().cameras;  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();

@@ -17,6 +17,7 @@ struct BridgeOptions {
   render::CameraIntrinsics camera;  ///< their image size and field of view
   double camera_rate = 15.0;        ///< Hz of sim time
   bool robot_frames = false;        ///< frame ids start with "<robot>/" (several robots, one tree)
+  bool cmd_vel_stamped = false;     ///< cmd_vel as geometry_msgs/TwistStamped
 };
 
 /// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's

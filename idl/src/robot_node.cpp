@@ -149,6 +149,7 @@ struct RobotNode::Topics {
   std::unique_ptr<dds::Writer<km::CraneState_PubSubType>> crane_state;
   // Readers last: destroyed first, so no callback outlives what it posts into.
   std::unique_ptr<dds::Reader<gm::Twist_PubSubType>> cmd_vel, rot_vel;
+  std::unique_ptr<dds::Reader<gm::TwistStamped_PubSubType>> cmd_vel_stamped;
   std::unique_ptr<dds::Reader<km::WheelSpeeds_PubSubType>> wheel_speeds;
   std::unique_ptr<dds::Reader<km::CraneCommand_PubSubType>> crane_command;
   std::unique_ptr<dds::Reader<km::MagnetCommand_PubSubType>> magnet;
@@ -172,19 +173,26 @@ struct RobotNode::Topics {
 };
 
 RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand post,
-                     std::string frame_prefix)
+                     NodeOptions options)
     : robot_(robot),
-      frame_prefix_(std::move(frame_prefix)),
+      options_(std::move(options)),
       frames_(robot.frames()),
       topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())) {
   Topics& t = *topics_;
   const std::string& name = t.name;
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
-  t.cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
-      p, dds::topics::cmd_vel(name), QosFamily::Command, [post](const gm::Twist_& m) {
-        const double v = m.linear().x(), w = m.angular().z();
-        if (finite({v, w})) post([v, w](RobotInterface& r) { r.command_twist(v, w); });
-      });
+  auto twist = [post](const gm::Twist_& m) {
+    const double v = m.linear().x(), w = m.angular().z();
+    if (finite({v, w})) post([v, w](RobotInterface& r) { r.command_twist(v, w); });
+  };
+  if (options_.cmd_vel_stamped) {
+    t.cmd_vel_stamped = std::make_unique<dds::Reader<gm::TwistStamped_PubSubType>>(
+        p, dds::topics::cmd_vel(name), QosFamily::Command,
+        [twist](const gm::TwistStamped_& m) { twist(m.twist()); });
+  } else {
+    t.cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(p, dds::topics::cmd_vel(name),
+                                                                    QosFamily::Command, twist);
+  }
   t.wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
       p, dds::topics::wheel_speeds(name), QosFamily::Command, [post](const km::WheelSpeeds_& m) {
         const double l = m.left(), r = m.right();
@@ -221,7 +229,8 @@ RobotNode::~RobotNode() = default;
 
 void RobotNode::poll_commands() {
   Topics& t = *topics_;
-  t.cmd_vel->poll();
+  if (t.cmd_vel) t.cmd_vel->poll();
+  if (t.cmd_vel_stamped) t.cmd_vel_stamped->poll();
   t.wheel_speeds->poll();
   if (t.rot_vel) t.rot_vel->poll();
   if (t.crane_command) t.crane_command->poll();
@@ -232,7 +241,7 @@ void RobotNode::publish() {
   Topics& t = *topics_;
   const Readings r = robot_.read();
   const double now = r.stamp;
-  const std::string& fp = frame_prefix_;
+  const std::string& fp = options_.frame_prefix;
   tf::TFMessage_ moving;
   if (r.odometry) {
     const Odometry& o = *r.odometry;
@@ -318,10 +327,11 @@ struct TopicLine {
   const char* what;
 };
 
-std::vector<TopicLine> topic_table(const std::string& n, const Capabilities& c) {
+std::vector<TopicLine> topic_table(const std::string& n, const Capabilities& c, bool stamped) {
   return {{true, dds::topics::kTf, "tf2_msgs/TFMessage, out"},
           {true, dds::topics::kTfStatic, "tf2_msgs/TFMessage, transient local, out"},
-          {true, dds::topics::cmd_vel(n), "geometry_msgs/Twist, in"},
+          {true, dds::topics::cmd_vel(n),
+           stamped ? "geometry_msgs/TwistStamped, in" : "geometry_msgs/Twist, in"},
           {true, dds::topics::wheel_speeds(n), "kurt_msgs/WheelSpeeds, in"},
           {c.rotunit, dds::topics::rot_vel(n), "geometry_msgs/Twist, in"},
           {c.crane, dds::topics::crane_command(n), "kurt_msgs/CraneCommand, in"},
@@ -339,7 +349,7 @@ std::vector<TopicLine> topic_table(const std::string& n, const Capabilities& c) 
 
 std::vector<std::string> RobotNode::topic_lines() const {
   std::vector<std::string> lines;
-  for (const auto& line : topic_table(topics_->name, topics_->has)) {
+  for (const auto& line : topic_table(topics_->name, topics_->has, options_.cmd_vel_stamped)) {
     if (line.served) lines.push_back(line.topic + " (" + line.what + ")");
   }
   return lines;
@@ -350,8 +360,8 @@ std::vector<std::string> RobotNode::lacking_topics() const {
   full.ground_truth = full.ranges = full.imu = full.rotunit = full.laser = full.laser_rotating =
       full.points = full.crane = full.magnet = true;
   std::vector<std::string> lacking;
-  const auto served = topic_table(topics_->name, topics_->has);
-  const auto all = topic_table(topics_->name, full);
+  const auto served = topic_table(topics_->name, topics_->has, options_.cmd_vel_stamped);
+  const auto all = topic_table(topics_->name, full, options_.cmd_vel_stamped);
   for (std::size_t i = 0; i < all.size(); ++i) {
     if (!served[i].served) lacking.push_back(all[i].topic);
   }

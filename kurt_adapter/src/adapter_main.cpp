@@ -76,10 +76,13 @@ int main(int argc, char** argv) {
              "(the userspace bus, e.g. with kurt_emulator)",
              &can_spec);
   cli.option("robot", "NAME", "the robot's topic namespace (default kurt)", &robot);
-  std::string frame_prefix;
+  macsim::robot::NodeOptions node_options;
   cli.option("frame-prefix", "PREFIX",
              "put PREFIX before every frame id (e.g. kurt/: kurt/odom, kurt/base_link)",
-             &frame_prefix);
+             &node_options.frame_prefix);
+  cli.flag("cmd-vel-stamped",
+           "take cmd_vel as geometry_msgs/TwistStamped (Nav2 from ROS 2 Kilted on), not Twist",
+           &node_options.cmd_vel_stamped);
   // The real driver's parameters; the defaults are the indoor KURT's (kurt_base), the outdoor
   // one has --wheel-perimeter 0.518 --axis-length 0.39 --turning-adaptation 0.64.
   macsim::KurtDriveParams params;
@@ -120,7 +123,7 @@ int main(int argc, char** argv) {
     macsim::robot::RobotNode node(
         dds, kurt,
         [&queue](macsim::robot::RobotCommand command) { queue.push(std::move(command)); },
-        frame_prefix);
+        node_options);
 
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
     // a simulator on the same domain stays the only one answering the rest.

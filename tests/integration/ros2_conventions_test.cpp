@@ -125,6 +125,21 @@ TEST_F(Ros2Conventions, RobotFramesPutTheRobotsNameBeforeEveryFrame) {
   EXPECT_EQ(r->header().frame_id().rfind("kurt/", 0), 0u) << r->header().frame_id();
 }
 
+TEST_F(Ros2Conventions, CmdVelStampedDrivesTheRobot) {
+  start({"--cmd-vel-stamped"});
+  EXPECT_NE(macsim_->output().find("rt/kurt/cmd_vel (geometry_msgs/TwistStamped, in)"),
+            std::string::npos)
+      << macsim_->output();
+  ChildProcess pub({bin("macsim_topic"), "pub", "/kurt/cmd_vel", "geometry_msgs/msg/TwistStamped",
+                    "{header: {frame_id: base_link}, twist: {linear: {x: 0.3}}}", "--rate", "10",
+                    "--times", "15", "--domain", std::to_string(domain_)});
+  ASSERT_EQ(pub.wait_for_exit(30s), 0) << pub.output();
+  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(*participant_, dds::topics::odom("kurt"));
+  const auto moved =
+      odom.wait_for([](const auto& o) { return o.pose().pose().position().x() > 0.2; }, 10s);
+  EXPECT_TRUE(moved) << "the robot did not drive on TwistStamped commands";
+}
+
 TEST_F(Ros2Conventions, DefaultReliableReadersGetOdometryImuJointStatesAndClock) {
   start();
   // A plain rclcpp subscription: reliable, volatile, keep last 10 (the state family's reader).

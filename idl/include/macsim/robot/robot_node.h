@@ -18,14 +18,22 @@ using RobotCommand = std::function<void(RobotInterface&)>;
 /// Hands a command to the owner's queue (called on Fast DDS's threads).
 using PostCommand = std::function<void(RobotCommand)>;
 
+/// How a node names its frames and takes its commands.
+struct NodeOptions {
+  /// Before every frame id it publishes ("kurt/": kurt/odom, kurt/base_link), so several robots
+  /// share one TF tree.
+  std::string frame_prefix;
+  /// cmd_vel as geometry_msgs/TwistStamped instead of Twist (Nav2 from ROS 2 Kilted on).
+  bool cmd_vel_stamped = false;
+};
+
 /// Serves one robot over DDS.
 class RobotNode {
  public:
   /// Creates the writers and readers of what `robot` has. Commands with a number that is not
-  /// finite are dropped; the rest go to `post`. Every frame id it publishes starts with
-  /// `frame_prefix` ("kurt/": kurt/odom, kurt/base_link), so several robots share one TF tree.
+  /// finite are dropped; the rest go to `post`.
   RobotNode(dds::Participant& participant, RobotInterface& robot, PostCommand post,
-            std::string frame_prefix = "");
+            NodeOptions options = {});
   ~RobotNode();
   RobotNode(const RobotNode&) = delete;
   RobotNode& operator=(const RobotNode&) = delete;
@@ -44,7 +52,7 @@ class RobotNode {
  private:
   struct Topics;
   RobotInterface& robot_;
-  std::string frame_prefix_;
+  NodeOptions options_;
   Frames frames_;
   bool static_sent_ = false;
   std::unique_ptr<Topics> topics_;
