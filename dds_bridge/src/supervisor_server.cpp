@@ -1,5 +1,6 @@
 #include "supervisor_server.h"
 
+#include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 #include "supervisor_codec.h"
 #include "supervisor_dispatch.h"
@@ -14,7 +15,10 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
       replies_(participant, dds::topics::kSupervisorReply, QosFamily::Command),
       objects_(participant, dds::topics::kWorldObjects, QosFamily::Latched),
       doors_(participant, dds::topics::kWorldDoors, QosFamily::Latched),
-      events_(participant, dds::topics::kWorldEvents, QosFamily::Command) {
+      events_(participant, dds::topics::kWorldEvents, QosFamily::Command),
+      object_list_(participant, dds::topics::kWorldObjectList, QosFamily::Latched),
+      door_list_(participant, dds::topics::kWorldDoorList, QosFamily::Latched),
+      events_stamped_(participant, dds::topics::kWorldEventsStamped, QosFamily::Command) {
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later.
   requests_ = std::make_unique<dds::Reader<mm::SupervisorRequest_PubSubType>>(
       participant, dds::topics::kSupervisorRequest, QosFamily::Command,
@@ -52,14 +56,20 @@ void SupervisorServer::publish_world_state(World& world) {
     generation_ = runner_.generation();
   }
   std::set<uint32_t> present;
+  // The lists cost a copy of the world: built only while someone reads them.
+  const bool lists = object_list_.matched() > 0 || door_list_.matched() > 0;
+  mm::ObjectList_ list;
+  list.header(dds::header(now, "world"));
   for (ObjectId id : world.object_ids()) {
     mm::ObjectState_ state;
     state.id(id);
     state.stamp(now);
     state.object(codec::object_message(world, id));
     objects_.write(state);
+    if (lists) list.objects().push_back(state.object());
     present.insert(id);
   }
+  if (lists) object_list_.write(list);
   for (uint32_t gone : published_ids_) {
     if (present.count(gone)) continue;
     mm::ObjectState_ state;
@@ -68,14 +78,18 @@ void SupervisorServer::publish_world_state(World& world) {
   }
   published_ids_ = std::move(present);
   std::set<std::string> doors;
+  mm::DoorList_ door_list;
+  door_list.header(dds::header(now, "world"));
   for (int d = 0; d < world.door_count(); ++d) {
     mm::DoorState_ state;
     state.name(world.door_name(d));
     state.stamp(now);
     state.door(codec::door_message(world, d));
     doors_.write(state);
+    if (lists) door_list.doors().push_back(state.door());
     doors.insert(state.name());
   }
+  if (lists) door_list_.write(door_list);
   for (const std::string& gone : published_doors_) {
     if (doors.count(gone)) continue;
     mm::DoorState_ state;
@@ -90,7 +104,10 @@ std::vector<std::string> SupervisorServer::topic_names() {
           dds::topics::kSupervisorReply + " (macsim_msgs/SupervisorReply, out)",
           dds::topics::kWorldObjects + " (macsim_msgs/ObjectState, keyed by object id, out)",
           dds::topics::kWorldDoors + " (macsim_msgs/DoorState, keyed by door name, out)",
-          dds::topics::kWorldEvents + " (macsim_msgs/WorldEvent, out)"};
+          dds::topics::kWorldEvents + " (macsim_msgs/WorldEvent, out)",
+          dds::topics::kWorldObjectList + " (macsim_msgs/ObjectList, unkeyed, latched, out)",
+          dds::topics::kWorldDoorList + " (macsim_msgs/DoorList, unkeyed, latched, out)",
+          dds::topics::kWorldEventsStamped + " (macsim_msgs/Event, out)"};
 }
 
 void SupervisorServer::publish() {
@@ -102,6 +119,12 @@ void SupervisorServer::publish() {
     event.subject(e.subject);
     event.detail(e.detail);
     events_.write(event);
+    mm::Event_ stamped;
+    stamped.header(dds::header(e.time, "world"));
+    stamped.type(event.type());
+    stamped.subject(event.subject());
+    stamped.detail(event.detail());
+    events_stamped_.write(stamped);
   }
   if (world.time() < last_time_ || runner_.generation() != generation_) {
     next_state_time_ = world.time();  // a reset or a new world: publish its state now

@@ -45,6 +45,10 @@ class SupervisorServer {
   dds::Writer<macsim_msgs::msg::dds_::ObjectState_PubSubType> objects_;
   dds::Writer<macsim_msgs::msg::dds_::DoorState_PubSubType> doors_;
   dds::Writer<macsim_msgs::msg::dds_::WorldEvent_PubSubType> events_;
+  // the same, unkeyed and stamped the ROS way
+  dds::Writer<macsim_msgs::msg::dds_::ObjectList_PubSubType> object_list_;
+  dds::Writer<macsim_msgs::msg::dds_::DoorList_PubSubType> door_list_;
+  dds::Writer<macsim_msgs::msg::dds_::Event_PubSubType> events_stamped_;
   std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>> requests_;
 };
 

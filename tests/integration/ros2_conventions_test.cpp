@@ -7,6 +7,7 @@
 #include <set>
 
 #include "macsim/dds/topics.h"
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/rosgraph_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
@@ -23,15 +24,11 @@ namespace tf = tf2_msgs::msg::dds_;
 
 class Ros2Conventions : public ::testing::Test {
  protected:
-  void start(std::vector<std::string> extra = {}) {
+  void start(std::vector<std::string> extra = {},
+             const std::string& world = "worlds/small_room.xml") {
     domain_ = unique_test_domain();
-    std::vector<std::string> argv{bin("macsim"),
-                                  "--world",
-                                  source("worlds/small_room.xml"),
-                                  "--domain",
-                                  std::to_string(domain_),
-                                  "--cameras",
-                                  "off"};
+    std::vector<std::string> argv{bin("macsim"),           "--world",   source(world), "--domain",
+                                  std::to_string(domain_), "--cameras", "off"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     macsim_ = std::make_unique<ChildProcess>(argv);
     ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
@@ -138,6 +135,26 @@ TEST_F(Ros2Conventions, CmdVelStampedDrivesTheRobot) {
   const auto moved =
       odom.wait_for([](const auto& o) { return o.pose().pose().position().x() > 0.2; }, 10s);
   EXPECT_TRUE(moved) << "the robot did not drive on TwistStamped commands";
+}
+
+TEST_F(Ros2Conventions, TheWorldStateComesUnkeyedAndStampedForRosNodes) {
+  start(std::vector<std::string>{}, "worlds/DemoWorld_v1.xml");
+  // a plain (unkeyed, reliable, volatile) reader, as rmw_fastrtps makes
+  Samples<macsim_msgs::msg::dds_::ObjectList_PubSubType> objects(
+      *participant_, dds::topics::kWorldObjectList, 10, dds::QosFamily::State);
+  Samples<macsim_msgs::msg::dds_::DoorList_PubSubType> doors(
+      *participant_, dds::topics::kWorldDoorList, 10, dds::QosFamily::State);
+  const auto list = objects.wait_for([](const auto&) { return true; }, 10s);
+  ASSERT_TRUE(list);
+  EXPECT_EQ(list->objects().size(), 24u);  // DemoWorld_v1's objects
+  EXPECT_EQ(list->header().frame_id(), "world");
+  EXPECT_GT(list->header().stamp().sec() * 1000000000LL + list->header().stamp().nanosec(), 0);
+  std::set<std::string> names;
+  for (const auto& o : list->objects()) names.insert(o.name());
+  EXPECT_EQ(names.count("environment_00/can_heavy_01"), 1u);
+  const auto door_list = doors.wait_for([](const auto&) { return true; }, 10s);
+  ASSERT_TRUE(door_list);
+  EXPECT_EQ(door_list->doors().size(), 1u);
 }
 
 TEST_F(Ros2Conventions, DefaultReliableReadersGetOdometryImuJointStatesAndClock) {

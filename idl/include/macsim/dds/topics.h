@@ -24,6 +24,13 @@ inline const std::string kWorldDoors = "rt/macsim/world/doors";
 /// (macsim_msgs/WorldEvent).
 inline const std::string kWorldEvents = "rt/macsim/world/events";
 
+/// The world state as unkeyed, ROS-stamped samples, for ROS 2 nodes: every object (every door)
+/// in one sample each 0.1 s of sim time (macsim_msgs/ObjectList, DoorList), latched; events
+/// with a header (macsim_msgs/Event).
+inline const std::string kWorldObjectList = "rt/macsim/world/object_list";
+inline const std::string kWorldDoorList = "rt/macsim/world/door_list";
+inline const std::string kWorldEventsStamped = "rt/macsim/world/events_stamped";
+
 /// Simulation control: pause, run, real-time factor, lock-step, load world, features.
 inline const std::string kSimulationRequest = "rt/macsim/simulation/request";
 inline const std::string kSimulationReply = "rt/macsim/simulation/reply";
