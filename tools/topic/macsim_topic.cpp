@@ -482,7 +482,9 @@ class Recorder {
     const std::string dds_type = t.writers.front().type;
     std::vector<topic::OfferedQos> offered;
     for (const auto& w : t.writers) offered.push_back({w.reliable, w.transient_local});
-    const int id = bag_.add_topic(ros_name, dds::ros_type_name(dds_type), offered);
+    const auto type = topic::wire_type(dds_type);
+    const int id = bag_.add_topic(ros_name, dds::ros_type_name(dds_type), offered,
+                                  type ? topic::ros2_msg_with_dependencies(*type) : "");
     counts_[t.name] = 0;
     auto* count = &counts_[t.name];
     readers_.push_back(std::make_unique<topic::RawReader>(
@@ -729,10 +731,12 @@ void show_type(const topic::WireType& type, int indent, std::set<std::string>& s
 
 int run_types(int argc, char** argv) {
   std::vector<std::string> args;
+  bool msg = false;
   dds::CommandLine cli("macsim_topic types",
                        "Lists the project's IDL types; with a TYPE, shows its members (as ros2 "
                        "interface show).");
   cli.arguments("[TYPE]", &args);
+  cli.flag("msg", "print TYPE as a ROS 2 .msg definition", &msg);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (args.size() > 1) return std::cerr << "macsim_topic types: give at most one TYPE\n", kUsage;
   if (args.empty()) {
@@ -744,6 +748,15 @@ int run_types(int argc, char** argv) {
   }
   auto type = known_type(dds::dds_type_name(args[0]));
   if (!type) return 1;
+  if (msg) {
+    const std::string definition = topic::ros2_msg_definition(*type);
+    if (definition.empty()) {
+      std::cerr << "macsim_topic types: " << args[0] << " has a union: .msg cannot express it\n";
+      return 1;
+    }
+    std::cout << definition;
+    return 0;
+  }
   std::set<std::string> shown;
   show_type(*type, 0, shown);
   return 0;

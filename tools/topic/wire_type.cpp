@@ -109,7 +109,9 @@ WireTypePtr describe(types::DynamicType_ptr type, std::map<std::string, WireType
       break;
     case types::TK_STRING8:
       out->kind = Kind::String;
-      out->length = descriptor->get_bounds();
+      // Fast DDS 2.9 gives an unbounded string the bound MAX_STRING_LENGTH; the IDL bounds none.
+      out->length =
+          descriptor->get_bounds() == types::MAX_STRING_LENGTH ? 0 : descriptor->get_bounds();
       break;
     case types::TK_ENUM: {
       out->kind = Kind::Enum;
@@ -239,6 +241,86 @@ std::string display_name(const WireType& type) {
       return display_name(*type.element) + "[" + std::to_string(type.length) + "]";
   }
   return type.name;
+}
+
+namespace {
+
+std::string package_of(const std::string& dds_name) {
+  return dds_name.substr(0, dds_name.find("::"));
+}
+
+/// The .msg spelling of a member's type; empty if .msg has none (a union).
+std::string msg_type(const WireType& t, const std::string& package) {
+  switch (t.kind) {
+    case Kind::Bool:
+      return "bool";
+    case Kind::Octet:
+      return "uint8";
+    case Kind::Char:
+      return "int8";
+    case Kind::Enum:
+      return "uint32";
+    case Kind::String:
+      return t.length ? "string<=" + std::to_string(t.length) : "string";
+    case Kind::Struct: {
+      const std::string ros = dds::ros_type_name(t.name);  // pkg/msg/Name
+      const std::string pkg = ros.substr(0, ros.find('/'));
+      const std::string name = ros.substr(ros.rfind('/') + 1);
+      return pkg == package ? name : pkg + "/" + name;
+    }
+    case Kind::Union:
+      return "";
+    case Kind::Sequence: {
+      const std::string element = msg_type(*t.element, package);
+      if (element.empty()) return "";
+      return element + (t.length ? "[<=" + std::to_string(t.length) + "]" : "[]");
+    }
+    case Kind::Array: {
+      const std::string element = msg_type(*t.element, package);
+      return element.empty() ? "" : element + "[" + std::to_string(t.length) + "]";
+    }
+    default:
+      return display_name(t);  // int16 ... float64: the same words
+  }
+}
+
+void collect_nested(const WireType& type, std::vector<const WireType*>& out) {
+  for (const auto& m : type.members) {
+    const WireType* inner = m.type.get();
+    while (inner->kind == Kind::Sequence || inner->kind == Kind::Array)
+      inner = inner->element.get();
+    if (inner->kind != Kind::Struct) continue;
+    if (std::find(out.begin(), out.end(), inner) != out.end()) continue;
+    out.push_back(inner);
+    collect_nested(*inner, out);
+  }
+}
+
+}  // namespace
+
+std::string ros2_msg_definition(const WireType& type) {
+  if (type.kind != Kind::Struct) return {};
+  const std::string package = package_of(type.name);
+  std::string out;
+  for (const auto& m : type.members) {
+    const std::string t = msg_type(*m.type, package);
+    if (t.empty()) return {};
+    out += t + " " + m.name + "\n";
+  }
+  return out;
+}
+
+std::string ros2_msg_with_dependencies(const WireType& type) {
+  std::string out = ros2_msg_definition(type);
+  if (out.empty()) return out;
+  std::vector<const WireType*> nested;
+  collect_nested(type, nested);
+  for (const WireType* n : nested) {
+    const std::string ros = dds::ros_type_name(n->name);  // pkg/msg/Name -> pkg/Name
+    out += std::string(80, '=') + "\nMSG: " + ros.substr(0, ros.find('/')) +
+           ros.substr(ros.rfind('/')) + "\n" + ros2_msg_definition(*n);
+  }
+  return out;
 }
 
 }  // namespace macsim::topic

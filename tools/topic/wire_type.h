@@ -61,4 +61,12 @@ bool is_primitive(WireType::Kind kind);
 /// The IDL-ish name of a type for messages: "float64", "string", "geometry_msgs/msg/Twist".
 std::string display_name(const WireType& type);
 
+/// The struct as a ROS 2 .msg definition: one "type name" line per member, in wire order
+/// (nested types of its own package by their short name, others as "pkg/Type"). Empty for a
+/// type .msg cannot express (a union in it).
+std::string ros2_msg_definition(const WireType& type);
+/// The same followed by every nested type's definition, as rosbag2 stores message definitions
+/// ("ros2msg": each after a line of 80 '=' and "MSG: pkg/Type").
+std::string ros2_msg_with_dependencies(const WireType& type);
+
 }  // namespace macsim::topic
