@@ -22,6 +22,7 @@
 #include "macsim/sim_core/world_variation.h"
 #include "picture_server.h"
 #include "sim_bridge.h"
+#include "sim_interfaces_server.h"
 #include "simulation_server.h"
 #include "supervisor_server.h"
 
@@ -279,6 +280,7 @@ int serve(macsim::Runner& runner, const Options& o) {
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
     macsim::SimulationServer control(dds, runner, o.limits());
+    macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     macsim::render::CameraIntrinsics picture_size;
     if (!o.pictures.empty()) {
       std::error_code error;
@@ -303,6 +305,8 @@ int serve(macsim::Runner& runner, const Options& o) {
               << " (macsim_msgs/PictureRequest, in)\n  " << macsim::dds::topics::kPictureReply
               << " (macsim_msgs/PictureReply, out)" << (o.pictures.empty() ? ": pictures off" : "")
               << "\n";
+    for (const auto& service : macsim::SimInterfacesServer::service_names())
+      std::cout << "  " << service << "\n";
     if (o.lockstep) {
       std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
     } else if (o.paused) {

@@ -372,8 +372,9 @@ class Loader {
       }
     }
     if (v.user_data.empty() || !has_area) {
-      r.fail(element, "<VARIATION> needs <OBJECTS> (the user data of the objects to place) and "
-                      "<AREA>");
+      r.fail(element,
+             "<VARIATION> needs <OBJECTS> (the user data of the objects to place) and "
+             "<AREA>");
     }
     world_.variation = std::move(v);
   }
@@ -945,6 +946,30 @@ WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
   return load_world_file(path, options);
 }
 
+namespace {
+
+/// An environment as the one import (of id `import_id`) of a world file in `directory`;
+/// `files` reads the environment and whatever it imports.
+WorldSpec load_environment(const std::string& path, const std::string& import_id,
+                           const std::vector<MaterialSpec>& materials, const WarningSink& warn,
+                           const WorldFiles& files) {
+  const std::string xml =
+      "<WORLD><IMPORT><ID>" + import_id + "</ID><NAME>" + path + "</NAME></IMPORT></WORLD>";
+  tinyxml2::XMLDocument doc;
+  doc.Parse(xml.c_str(), xml.size());
+  LoadOptions options;
+  options.warn = warn;
+  options.files = &files;
+  Loader loader(options, materials);
+  loader.load_root(doc, (fs::path(path).parent_path() / "<import_environment>").string());
+  WorldSpec world = loader.take();
+  check_references(world);
+  bounds::check_world(world);
+  return world;
+}
+
+}  // namespace
+
 WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
                                 const std::vector<MaterialSpec>& materials,
                                 const WarningSink& warn) {
@@ -952,18 +977,18 @@ WorldSpec load_environment_file(const std::string& path, const std::string& impo
   std::error_code error;
   const fs::path absolute = fs::absolute(path, error);
   if (error) throw WorldFileError(path, 0, "cannot resolve the path: " + error.message());
-  const std::string xml = "<WORLD><IMPORT><ID>" + import_id + "</ID><NAME>" + absolute.string() +
-                          "</NAME></IMPORT></WORLD>";
-  tinyxml2::XMLDocument doc;
-  doc.Parse(xml.c_str(), xml.size());
-  LoadOptions options;
-  options.warn = warn;
-  Loader loader(options, materials);
-  loader.load_root(doc, (absolute.parent_path() / "<import_environment>").string());
-  WorldSpec world = loader.take();
-  check_references(world);
-  bounds::check_world(world);
-  return world;
+  return load_environment(absolute.string(), import_id, materials, warn, disk_files());
+}
+
+WorldSpec load_environment_string(const std::string& xml, const std::string& import_id,
+                                  const std::vector<MaterialSpec>& materials,
+                                  const std::string& name, const WarningSink& warn) {
+  std::error_code error;
+  const fs::path absolute = fs::absolute(name, error);
+  if (error) throw WorldFileError(name, 0, "cannot resolve the path: " + error.message());
+  MemoryFiles files;
+  files.add(absolute.string(), xml);
+  return load_environment(absolute.string(), import_id, materials, warn, files);
 }
 
 WorldSpec load_world_string(const std::string& xml, const std::string& name,

@@ -248,6 +248,11 @@ Result<std::vector<ObjectId>> World::import_environment(const std::string& file,
   } catch (const std::exception& e) {  // e.g. a path the file system refuses
     return {Status::error(ErrorCode::BadFile, "cannot import '" + file + "': " + e.what())};
   }
+  return add_environment(std::move(fragment), pose);
+}
+
+Result<std::vector<ObjectId>> World::add_environment(WorldSpec fragment, const Pose& pose) {
+  if (auto p = pose_problem(pose)) return {invalid("the environment's " + *p)};
   Pose frame = pose;
   frame.orientation.normalize();
   for (auto& object : fragment.objects) object.pose = frame * object.pose;

@@ -94,11 +94,13 @@ RawReader::RawReader(dds::Participant& participant, const std::string& topic,
   reader_ = participant.subscriber()->create_datareader(
       participant.topic(topic, raw_type(type_name)), reader_qos, this);
   if (!reader_) throw dds::DdsError("cannot create a reader on " + topic + " (" + type_name + ")");
+  participant.endpoints_changed();
 }
 
 RawReader::~RawReader() {
   reader_->set_listener(nullptr);
   participant_.subscriber()->delete_datareader(reader_);
+  participant_.endpoints_changed();
 }
 
 void RawReader::on_data_available(fdds::DataReader* reader) {
@@ -134,9 +136,13 @@ RawWriter::RawWriter(dds::Participant& participant, const std::string& topic,
   writer_ = participant.publisher()->create_datawriter(
       participant.topic(topic, raw_type(type_name)), writer_qos);
   if (!writer_) throw dds::DdsError("cannot create a writer on " + topic + " (" + type_name + ")");
+  participant.endpoints_changed();
 }
 
-RawWriter::~RawWriter() { participant_.publisher()->delete_datawriter(writer_); }
+RawWriter::~RawWriter() {
+  participant_.publisher()->delete_datawriter(writer_);
+  participant_.endpoints_changed();
+}
 
 bool RawWriter::write(const std::vector<std::uint8_t>& bytes) {
   RawSample sample{bytes};

@@ -8,6 +8,7 @@
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 
 #include <algorithm>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <sstream>
 
 namespace macsim::topic {
@@ -47,8 +48,10 @@ std::string TopicGraph::participant_of(const std::string& guid) const {
   return found == participants_.end() ? std::string("?") : found->second;
 }
 
-void TopicGraph::on_publisher_discovery(fdds::DomainParticipant*,
+void TopicGraph::on_publisher_discovery(fdds::DomainParticipant* participant,
                                         rtps::WriterDiscoveryInfo&& info) {
+  // Fast DDS reports the listening participant's own endpoints too: they are not the domain's.
+  if (participant && info.info.guid().guidPrefix == participant->guid().guidPrefix) return;
   const std::string guid = text(info.info.guid());
   std::lock_guard<std::mutex> lock(mutex_);
   if (info.status == rtps::WriterDiscoveryInfo::REMOVED_WRITER) {
@@ -67,8 +70,9 @@ void TopicGraph::on_publisher_discovery(fdds::DomainParticipant*,
   changed_.notify_all();
 }
 
-void TopicGraph::on_subscriber_discovery(fdds::DomainParticipant*,
+void TopicGraph::on_subscriber_discovery(fdds::DomainParticipant* participant,
                                          rtps::ReaderDiscoveryInfo&& info) {
+  if (participant && info.info.guid().guidPrefix == participant->guid().guidPrefix) return;
   const std::string guid = text(info.info.guid());
   std::lock_guard<std::mutex> lock(mutex_);
   if (info.status == rtps::ReaderDiscoveryInfo::REMOVED_READER) {

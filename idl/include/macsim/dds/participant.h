@@ -38,6 +38,9 @@ struct ParticipantOptions {
   std::string name = "macsim";
   /// Hears discovery from the start (participants, writers, readers); not owned.
   fdds::DomainParticipantListener* listener = nullptr;
+  /// Appear in the ROS 2 graph as the node /<name> (ros_discovery_info, enclave "/"), so that
+  /// `ros2 node list` and `ros2 node info` show the participant and its endpoints.
+  bool ros_node = true;
 };
 
 /// Highest domain id Fast DDS's default port mapping allows.
@@ -83,6 +86,12 @@ class Participant {
     return make_topic(name, type);
   }
 
+  /// Announces the current readers and writers to the ROS 2 graph (ros_discovery_info); every
+  /// entity that creates or deletes a reader or writer calls it.
+  void endpoints_changed();
+  /// The ROS 2 node name this participant announces ("" if it announces none).
+  const std::string& ros_node_name() const { return node_name_; }
+
   fdds::DomainParticipant* get() const { return participant_; }
   fdds::Publisher* publisher() const { return publisher_; }
   fdds::Subscriber* subscriber() const { return subscriber_; }
@@ -92,6 +101,9 @@ class Participant {
   fdds::Topic* make_topic(const std::string& name, fdds::TypeSupport type);
 
   int domain_;
+  std::string node_name_;
+  std::mutex graph_mutex_;                    // one ros_discovery_info sample at a time
+  fdds::DataWriter* graph_writer_ = nullptr;  // ros_discovery_info, if a ROS node
   fdds::DomainParticipant* participant_ = nullptr;
   fdds::Publisher* publisher_ = nullptr;
   fdds::Subscriber* subscriber_ = nullptr;
@@ -109,8 +121,12 @@ class Writer {
     writer_ = participant.publisher()->create_datawriter(
         participant.topic<PubSubType>(topic_name), writer_qos(family, participant.publisher()));
     if (!writer_) throw DdsError("cannot create a writer on " + topic_name);
+    participant.endpoints_changed();
   }
-  ~Writer() { participant_.publisher()->delete_datawriter(writer_); }
+  ~Writer() {
+    participant_.publisher()->delete_datawriter(writer_);
+    participant_.endpoints_changed();
+  }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
 
@@ -160,10 +176,12 @@ class Reader : private fdds::DataReaderListener {
         participant.topic<PubSubType>(topic_name), reader_qos(family, participant.subscriber()),
         this);
     if (!reader_) throw DdsError("cannot create a reader on " + topic_name);
+    participant.endpoints_changed();
   }
   ~Reader() override {
     reader_->set_listener(nullptr);
     participant_.subscriber()->delete_datareader(reader_);
+    participant_.endpoints_changed();
   }
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;

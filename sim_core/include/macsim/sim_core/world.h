@@ -173,6 +173,9 @@ class World {
   /// and pose would; returns the new objects' ids. All or nothing.
   Result<std::vector<ObjectId>> import_environment(const std::string& file, const std::string& id,
                                                    const Pose& pose);
+  /// Adds the objects, joints and doors of an environment already loaded (names made by its
+  /// import id), placed at `pose`; returns the new objects' ids. All or nothing.
+  Result<std::vector<ObjectId>> add_environment(WorldSpec environment, const Pose& pose);
   Status destroy_object(ObjectId id);
   /// Destroys the objects with that user data; returns how many.
   int destroy_objects(const std::string& user_data);

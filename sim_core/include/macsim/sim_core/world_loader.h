@@ -79,6 +79,12 @@ WorldSpec load_environment_file(const std::string& path, const std::string& impo
                                 const std::vector<MaterialSpec>& materials,
                                 const WarningSink& warn = {});
 
+/// Loads an environment from XML text as load_environment_file would from a file called `name`
+/// (it stands for the file in messages); the text imports nothing from disk.
+WorldSpec load_environment_string(const std::string& xml, const std::string& import_id,
+                                  const std::vector<MaterialSpec>& materials,
+                                  const std::string& name, const WarningSink& warn = {});
+
 /// Loads a world from XML text; `name` stands for the file in messages and relative paths.
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
                             const LoadOptions& options);

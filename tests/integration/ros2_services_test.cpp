@@ -1,0 +1,394 @@
+// The ROS 2 side of macsim that is not a topic: the simulation_interfaces services, called as
+// an rmw_fastrtps_cpp client calls them (rq/.../rr/... topics, replies tied by sample
+// identity), and ros_discovery_info, which makes `ros2 node list` show macsim.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+
+#include "macsim/dds/convert.h"
+#include "macsim/dds/ros2_service.h"
+#include "macsim/msg/rmw_dds_commonPubSubTypes.h"
+#include "macsim/msg/simulation_interfacesPubSubTypes.h"
+#include "support/child_process.h"
+#include "support/latest_sample.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace si = simulation_interfaces::msg::dds_;
+namespace ss = simulation_interfaces::srv::dds_;
+namespace rc = si::Result_Constants;
+namespace st = si::SimulationState_Constants;
+
+namespace tag {  // each service as one type: its request and response types
+struct DeleteEntity {
+  using Req = ss::DeleteEntity_Request_PubSubType;
+  using Resp = ss::DeleteEntity_Response_PubSubType;
+};
+struct GetAvailableWorlds {
+  using Req = ss::GetAvailableWorlds_Request_PubSubType;
+  using Resp = ss::GetAvailableWorlds_Response_PubSubType;
+};
+struct GetCurrentWorld {
+  using Req = ss::GetCurrentWorld_Request_PubSubType;
+  using Resp = ss::GetCurrentWorld_Response_PubSubType;
+};
+struct GetEntities {
+  using Req = ss::GetEntities_Request_PubSubType;
+  using Resp = ss::GetEntities_Response_PubSubType;
+};
+struct GetEntityBounds {
+  using Req = ss::GetEntityBounds_Request_PubSubType;
+  using Resp = ss::GetEntityBounds_Response_PubSubType;
+};
+struct GetEntityInfo {
+  using Req = ss::GetEntityInfo_Request_PubSubType;
+  using Resp = ss::GetEntityInfo_Response_PubSubType;
+};
+struct GetEntityState {
+  using Req = ss::GetEntityState_Request_PubSubType;
+  using Resp = ss::GetEntityState_Response_PubSubType;
+};
+struct GetSimulationState {
+  using Req = ss::GetSimulationState_Request_PubSubType;
+  using Resp = ss::GetSimulationState_Response_PubSubType;
+};
+struct GetSimulatorFeatures {
+  using Req = ss::GetSimulatorFeatures_Request_PubSubType;
+  using Resp = ss::GetSimulatorFeatures_Response_PubSubType;
+};
+struct GetSpawnables {
+  using Req = ss::GetSpawnables_Request_PubSubType;
+  using Resp = ss::GetSpawnables_Response_PubSubType;
+};
+struct LoadWorld {
+  using Req = ss::LoadWorld_Request_PubSubType;
+  using Resp = ss::LoadWorld_Response_PubSubType;
+};
+struct ResetSimulation {
+  using Req = ss::ResetSimulation_Request_PubSubType;
+  using Resp = ss::ResetSimulation_Response_PubSubType;
+};
+struct SetEntityState {
+  using Req = ss::SetEntityState_Request_PubSubType;
+  using Resp = ss::SetEntityState_Response_PubSubType;
+};
+struct SetSimulationState {
+  using Req = ss::SetSimulationState_Request_PubSubType;
+  using Resp = ss::SetSimulationState_Response_PubSubType;
+};
+struct SpawnEntity {
+  using Req = ss::SpawnEntity_Request_PubSubType;
+  using Resp = ss::SpawnEntity_Response_PubSubType;
+};
+struct StepSimulation {
+  using Req = ss::StepSimulation_Request_PubSubType;
+  using Resp = ss::StepSimulation_Response_PubSubType;
+};
+struct UnloadWorld {
+  using Req = ss::UnloadWorld_Request_PubSubType;
+  using Resp = ss::UnloadWorld_Response_PubSubType;
+};
+}  // namespace tag
+
+/// One box, 0.2 m a side, as this project's XML spawns it.
+const char* kCrate =
+    "<ENVIRONMENT><OBJECT><ID>box</ID><TYPE>PORTABLE</TYPE><SHAPE>BOX</SHAPE>"
+    "<DIMS>0.2,0.2,0.2</DIMS><POS>0,0,0.1</POS><USER_DATA>crate</USER_DATA></OBJECT></ENVIRONMENT>";
+
+class SimulationInterfaces : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    domain_ = unique_test_domain();
+    macsim_ = std::make_unique<ChildProcess>(
+        std::vector<std::string>{bin("macsim"), "--world", source("worlds/small_room.xml"),
+                                 "--domain", std::to_string(domain_), "--cameras", "off"});
+    ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
+    participant_ =
+        std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "services_test"});
+  }
+  void TearDown() override {
+    clients_.clear();
+    participant_.reset();
+    if (!macsim_) return;
+    macsim_->signal(SIGTERM);
+    EXPECT_EQ(macsim_->wait_for_exit(10s), 0) << macsim_->output();
+  }
+  /// Calls /macsim/<service> once its server is seen (one client per service, kept).
+  template <class Service>
+  typename Service::Resp::type call(const std::string& service,
+                                    const typename Service::Req::type& request) {
+    using Client = dds::ServiceClient<typename Service::Req, typename Service::Resp>;
+    auto& slot = clients_[service];
+    if (!slot) {
+      auto client = std::make_shared<Client>(*participant_, "/macsim/" + service);
+      EXPECT_TRUE(client->wait_for_service(10s)) << service << " is not served";
+      slot = client;
+    }
+    auto reply = std::static_pointer_cast<Client>(slot)->call(request, 20s);
+    EXPECT_TRUE(reply.has_value()) << service << ": no reply";
+    return reply.value_or(typename Service::Resp::type{});
+  }
+  uint8_t state() {
+    return call<tag::GetSimulationState>("get_simulation_state", {}).state().state();
+  }
+  uint8_t set_state(uint8_t target) {
+    ss::SetSimulationState_Request_ q;
+    q.state().state(target);
+    return call<tag::SetSimulationState>("set_simulation_state", q).result().result();
+  }
+  ss::GetEntityState_Response_ entity_state(const std::string& name) {
+    ss::GetEntityState_Request_ q;
+    q.entity(name);
+    return call<tag::GetEntityState>("get_entity_state", q);
+  }
+  ss::SpawnEntity_Response_ spawn(const std::string& name, bool rename, double x, double y) {
+    ss::SpawnEntity_Request_ q;
+    q.name(name);
+    q.allow_renaming(rename);
+    q.resource_string(kCrate);
+    q.initial_pose().pose().position().x(x);
+    q.initial_pose().pose().position().y(y);
+    q.initial_pose().pose().orientation().w(1);
+    return call<tag::SpawnEntity>("spawn_entity", q);
+  }
+  std::vector<std::string> entities(const si::EntityFilters_& filters) {
+    ss::GetEntities_Request_ q;
+    q.filters(filters);
+    const auto r = call<tag::GetEntities>("get_entities", q);
+    EXPECT_EQ(r.result().result(), rc::RESULT_OK) << r.result().error_message();
+    return r.entities();
+  }
+
+  int domain_ = 0;
+  std::unique_ptr<ChildProcess> macsim_;
+  std::unique_ptr<dds::Participant> participant_;
+  std::map<std::string, std::shared_ptr<void>> clients_;
+};
+
+bool contains(const std::vector<std::string>& all, const std::string& one) {
+  return std::find(all.begin(), all.end(), one) != all.end();
+}
+
+TEST_F(SimulationInterfaces, PlayPauseStepResetAndStopAsTheStandardSays) {
+  const auto features = call<tag::GetSimulatorFeatures>("get_simulator_features", {});
+  const auto& f = features.features().features();
+  namespace sf = si::SimulatorFeatures_Constants;
+  for (uint16_t wanted :
+       {sf::SPAWNING, sf::DELETING, sf::ENTITY_STATE_GETTING, sf::ENTITY_STATE_SETTING,
+        sf::STEP_SIMULATION_MULTIPLE, sf::SIMULATION_STATE_PAUSE, sf::WORLD_LOADING}) {
+    EXPECT_EQ(std::count(f.begin(), f.end(), wanted), 1) << "feature " << wanted;
+  }
+  EXPECT_EQ(std::count(f.begin(), f.end(), sf::NAMED_POSES), 0);
+  EXPECT_EQ(features.features().spawn_formats(), std::vector<std::string>{"macsim_xml"});
+
+  EXPECT_EQ(state(), st::STATE_PLAYING);
+  ss::StepSimulation_Request_ steps;
+  steps.steps(10);
+  EXPECT_EQ(call<tag::StepSimulation>("step_simulation", steps).result().result(),
+            rc::RESULT_OPERATION_FAILED);  // playing: no stepping on request
+  EXPECT_EQ(set_state(st::STATE_PAUSED), rc::RESULT_OK);
+  EXPECT_EQ(set_state(st::STATE_PAUSED),
+            ss::SetSimulationState_Response_Constants::ALREADY_IN_TARGET_STATE);
+  EXPECT_EQ(state(), st::STATE_PAUSED);
+
+  // Paused, ten steps take the time exactly ten steps on (small_room steps 1 ms).
+  const double before = dds::to_seconds(entity_state("kurt").state().header().stamp());
+  const auto stepped = call<tag::StepSimulation>("step_simulation", steps);
+  EXPECT_EQ(stepped.result().result(), rc::RESULT_OK) << stepped.result().error_message();
+  const double after = dds::to_seconds(entity_state("kurt").state().header().stamp());
+  EXPECT_NEAR(after - before, 10 * 0.001, 1e-9);
+  std::this_thread::sleep_for(300ms);  // and nothing more while paused
+  EXPECT_NEAR(dds::to_seconds(entity_state("kurt").state().header().stamp()), after, 1e-9);
+
+  ss::ResetSimulation_Request_ reset;
+  reset.scope(ss::ResetSimulation_Request_Constants::SCOPE_TIME);
+  EXPECT_EQ(call<tag::ResetSimulation>("reset_simulation", reset).result().result(),
+            rc::RESULT_FEATURE_UNSUPPORTED);  // time alone cannot go back
+  reset.scope(ss::ResetSimulation_Request_Constants::SCOPE_TIME |
+              ss::ResetSimulation_Request_Constants::SCOPE_STATE);
+  EXPECT_EQ(call<tag::ResetSimulation>("reset_simulation", reset).result().result(), rc::RESULT_OK);
+  EXPECT_EQ(dds::to_seconds(entity_state("kurt").state().header().stamp()), 0.0);
+
+  // Stopped = paused at the start; playing again runs the clock.
+  EXPECT_EQ(call<tag::StepSimulation>("step_simulation", steps).result().result(), rc::RESULT_OK);
+  EXPECT_EQ(set_state(st::STATE_STOPPED), rc::RESULT_OK);
+  EXPECT_EQ(state(), st::STATE_STOPPED);
+  EXPECT_EQ(dds::to_seconds(entity_state("kurt").state().header().stamp()), 0.0);
+  EXPECT_EQ(set_state(st::STATE_NO_WORLD),
+            ss::SetSimulationState_Response_Constants::INCORRECT_TRANSITION);
+  EXPECT_EQ(set_state(st::STATE_PLAYING), rc::RESULT_OK);
+  EXPECT_EQ(state(), st::STATE_PLAYING);
+  std::this_thread::sleep_for(300ms);
+  EXPECT_GT(dds::to_seconds(entity_state("kurt").state().header().stamp()),
+            0.1);  // 300 ms at rtf 1
+}
+
+TEST_F(SimulationInterfaces, EntitiesAreListedSpawnedMovedAndDeleted) {
+  si::EntityFilters_ all;
+  const auto everything = entities(all);
+  EXPECT_TRUE(contains(everything, "kurt"));
+  EXPECT_GE(everything.size(), 5u);  // the robot and the room's walls and objects
+  si::EntityFilters_ robots;
+  robots.categories().resize(1);
+  robots.categories()[0].category(si::EntityCategory_Constants::CATEGORY_ROBOT);
+  EXPECT_EQ(entities(robots), std::vector<std::string>{"kurt"});
+  ss::GetEntityInfo_Request_ info_q;
+  info_q.entity("kurt");
+  const auto info = call<tag::GetEntityInfo>("get_entity_info", info_q);
+  EXPECT_EQ(info.info().category().category(), si::EntityCategory_Constants::CATEGORY_ROBOT);
+
+  // Spawned from this project's XML: one object takes the entity's name.
+  const auto crate = spawn("crate", false, 1.0, -0.5);
+  ASSERT_EQ(crate.result().result(), rc::RESULT_OK) << crate.result().error_message();
+  EXPECT_EQ(crate.entity_name(), "crate");
+  EXPECT_EQ(spawn("crate", false, 1.5, 0.5).result().result(),
+            ss::SpawnEntity_Response_Constants::NAME_NOT_UNIQUE);
+  const auto renamed = spawn("crate", true, 1.5, 0.5);
+  ASSERT_EQ(renamed.result().result(), rc::RESULT_OK) << renamed.result().error_message();
+  EXPECT_EQ(renamed.entity_name(), "crate_2");
+  const auto placed = entity_state("crate");
+  ASSERT_EQ(placed.result().result(), rc::RESULT_OK);
+  EXPECT_NEAR(placed.state().pose().position().x(), 1.0, 0.01);
+  EXPECT_NEAR(placed.state().pose().position().y(), -0.5, 0.01);
+  EXPECT_NEAR(placed.state().pose().position().z(), 0.1, 0.01);
+  ss::GetEntityBounds_Request_ bounds_q;
+  bounds_q.entity("crate");
+  const auto bounds = call<tag::GetEntityBounds>("get_entity_bounds", bounds_q);
+  ASSERT_EQ(bounds.bounds().points().size(), 2u);
+  EXPECT_NEAR(bounds.bounds().points()[0].x(), -0.1, 1e-9);
+  EXPECT_NEAR(bounds.bounds().points()[1].z(), 0.1, 1e-9);  // the box is centred on its frame
+
+  // Filters: a regular expression, tags (the user data), a sphere around the second crate.
+  si::EntityFilters_ named;
+  named.filter("^crate");
+  EXPECT_EQ(entities(named), (std::vector<std::string>{"crate", "crate_2"}));
+  si::EntityFilters_ tagged;
+  tagged.tags().tags({"crate", "portable"});
+  tagged.tags().filter_mode(si::TagsFilter_Constants::FILTER_MODE_ALL);
+  EXPECT_EQ(entities(tagged).size(), 2u);
+  si::EntityFilters_ near;
+  near.bounds().type(si::Bounds_Constants::TYPE_SPHERE);
+  near.bounds().points().resize(2);
+  near.bounds().points()[0].x(1.5);
+  near.bounds().points()[0].y(0.5);
+  near.bounds().points()[1].x(0.15);
+  EXPECT_EQ(entities(near), std::vector<std::string>{"crate_2"});
+  si::EntityFilters_ broken;
+  broken.filter("(unclosed");
+  ss::GetEntities_Request_ broken_q;
+  broken_q.filters(broken);
+  EXPECT_EQ(call<tag::GetEntities>("get_entities", broken_q).result().result(),
+            rc::RESULT_OPERATION_FAILED);
+
+  // Set: a new pose and twist at once; hostile numbers and unknown names change nothing.
+  ss::SetEntityState_Request_ set;
+  set.entity("crate");
+  set.state().pose().position().x(0.5);
+  set.state().pose().position().y(-1.0);
+  set.state().pose().position().z(0.1);
+  set.state().pose().orientation().w(1);
+  set.state().twist().linear().x(0.2);
+  const auto moved = call<tag::SetEntityState>("set_entity_state", set);
+  EXPECT_EQ(moved.result().result(), rc::RESULT_OK) << moved.result().error_message();
+  const auto now = entity_state("crate");
+  EXPECT_NEAR(now.state().pose().position().x(), 0.5, 0.05);
+  EXPECT_NEAR(now.state().pose().position().y(), -1.0, 0.01);
+  set.state().pose().position().x(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(call<tag::SetEntityState>("set_entity_state", set).result().result(),
+            ss::SetEntityState_Response_Constants::INVALID_POSE);
+  set.state().pose().position().x(1e308);
+  EXPECT_EQ(call<tag::SetEntityState>("set_entity_state", set).result().result(),
+            ss::SetEntityState_Response_Constants::INVALID_POSE);
+  set.entity("no_such_thing");
+  EXPECT_EQ(call<tag::SetEntityState>("set_entity_state", set).result().result(),
+            rc::RESULT_NOT_FOUND);
+  EXPECT_TRUE(std::isfinite(entity_state("crate").state().pose().position().x()));
+
+  // Delete; a reset of everything removes what was spawned.
+  ss::DeleteEntity_Request_ del;
+  del.entity("crate");
+  EXPECT_EQ(call<tag::DeleteEntity>("delete_entity", del).result().result(), rc::RESULT_OK);
+  EXPECT_EQ(entity_state("crate").result().result(), rc::RESULT_NOT_FOUND);
+  EXPECT_EQ(call<tag::DeleteEntity>("delete_entity", del).result().result(), rc::RESULT_NOT_FOUND);
+  ss::ResetSimulation_Request_ reset;  // SCOPE_DEFAULT: all
+  EXPECT_EQ(call<tag::ResetSimulation>("reset_simulation", reset).result().result(), rc::RESULT_OK);
+  EXPECT_EQ(entity_state("crate_2").result().result(), rc::RESULT_NOT_FOUND);
+  EXPECT_EQ(entities(all), everything);
+
+  // What is not served says so.
+  EXPECT_EQ(call<tag::UnloadWorld>("unload_world", {}).result().result(),
+            rc::RESULT_FEATURE_UNSUPPORTED);
+}
+
+TEST_F(SimulationInterfaces, WorldsAreListedAndLoadedAndBadOnesRefused) {
+  const auto available = call<tag::GetAvailableWorlds>("get_available_worlds", {});
+  ASSERT_EQ(available.result().result(), rc::RESULT_OK);
+  std::vector<std::string> names;
+  for (const auto& w : available.worlds()) names.push_back(w.name());
+  EXPECT_TRUE(contains(names, "small_room"));
+  EXPECT_TRUE(contains(names, "DemoWorld_v1"));
+  EXPECT_FALSE(contains(names, "cans"));  // an environment, not a world
+  const auto spawnables = call<tag::GetSpawnables>("get_spawnables", {});
+  bool cans = false;
+  for (const auto& s : spawnables.spawnables())
+    cans |= s.uri().find("objects/cans.xml") != std::string::npos;
+  EXPECT_TRUE(cans);
+
+  ss::LoadWorld_Request_ load;
+  load.uri("file://" + source("worlds/small_room.xml"));
+  const auto loaded = call<tag::LoadWorld>("load_world", load);
+  ASSERT_EQ(loaded.result().result(), rc::RESULT_OK) << loaded.result().error_message();
+  EXPECT_EQ(loaded.world().name(), "small_room");
+  EXPECT_EQ(state(), st::STATE_STOPPED);  // a loaded world waits to be played
+  EXPECT_EQ(call<tag::GetCurrentWorld>("get_current_world", {}).world().name(), "small_room");
+
+  load.uri("file:///nowhere/world.sdf");
+  EXPECT_EQ(call<tag::LoadWorld>("load_world", load).result().result(),
+            ss::LoadWorld_Response_Constants::UNSUPPORTED_FORMAT);
+  load.uri("");
+  EXPECT_EQ(call<tag::LoadWorld>("load_world", load).result().result(),
+            ss::LoadWorld_Response_Constants::NO_RESOURCE);
+  load.resource_string("<WORLD><OBJECT><ID>x</ID><SHAPE>BOX</WORLD>");
+  const auto broken = call<tag::LoadWorld>("load_world", load);
+  EXPECT_EQ(broken.result().result(), ss::LoadWorld_Response_Constants::RESOURCE_PARSE_ERROR);
+  EXPECT_NE(broken.result().error_message().find("resource_string.xml"), std::string::npos)
+      << broken.result().error_message();
+  EXPECT_EQ(call<tag::GetCurrentWorld>("get_current_world", {}).world().name(), "small_room");
+}
+
+TEST_F(SimulationInterfaces, RosDiscoveryInfoNamesTheNodeAndItsEndpoints) {
+  namespace rdc = rmw_dds_common::msg::dds_;
+  Samples<rdc::ParticipantEntitiesInfo_PubSubType> graph(*participant_, "ros_discovery_info", 100,
+                                                         dds::QosFamily::Latched);
+  const auto macsim = graph.wait_for(
+      [](const rdc::ParticipantEntitiesInfo_& p) {
+        return p.node_entities_info_seq().size() == 1 &&
+               p.node_entities_info_seq()[0].node_name() == "macsim";
+      },
+      10s);
+  ASSERT_TRUE(macsim.has_value());
+  const auto& node = macsim->node_entities_info_seq()[0];
+  EXPECT_EQ(node.node_namespace(), "/");
+  // 22 services: a request reader and a reply writer each, beside the topics
+  EXPECT_GE(node.reader_gid_seq().size(), 22u + 5u);
+  EXPECT_GE(node.writer_gid_seq().size(), 22u + 20u);
+  const auto& gid = macsim->gid().data();
+  EXPECT_EQ(gid[12], 0x00);  // the participant's entity id: 00 00 01 c1
+  EXPECT_EQ(gid[15], 0xc1);
+  for (const auto& w : node.writer_gid_seq()) {  // every endpoint of the same participant
+    EXPECT_TRUE(std::equal(gid.begin(), gid.begin() + 12, w.data().begin()));
+    EXPECT_EQ(w.data()[15] & 0x04, 0x00);  // a writer's entity kind: 0x02 or 0x03
+  }
+  for (const auto& r : node.reader_gid_seq()) EXPECT_EQ(r.data()[15] & 0x04, 0x04);  // readers
+}
+
+}  // namespace
+}  // namespace macsim::test
