@@ -10,8 +10,10 @@
 #include "kurt_msgsTypeObject.h"
 #include "macsim_msgsTypeObject.h"
 #include "nav_msgsTypeObject.h"
+#include "rmw_dds_commonTypeObject.h"
 #include "rosgraph_msgsTypeObject.h"
 #include "sensor_msgsTypeObject.h"
+#include "simulation_interfacesTypeObject.h"
 #include "std_msgsTypeObject.h"
 #include "tf2_msgsTypeObject.h"
 
@@ -31,6 +33,8 @@ void register_idl_types() {
     registerrosgraph_msgsTypes();
     registersensor_msgsTypes();
     registertf2_msgsTypes();
+    registersimulation_interfacesTypes();
+    registerrmw_dds_commonTypes();
     registerkurt_msgsTypes();
     registermacsim_msgsTypes();
   });

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iostream>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "macsim/msg/rmw_dds_commonPubSubTypes.h"
@@ -63,8 +64,12 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
     graph_writer_ = publisher_->create_datawriter(
         topic<rdc::ParticipantEntitiesInfo_PubSubType>("ros_discovery_info"),
         writer_qos(QosFamily::Latched, publisher_));
-    if (!graph_writer_) throw DdsError("cannot create the ros_discovery_info writer");
-    endpoints_changed();
+    if (graph_writer_) {
+      endpoints_changed();
+    } else {  // e.g. refused by DDS Security permissions: the participant works on unannounced
+      std::cerr << options.name
+                << ": not in the ROS 2 graph (cannot create the ros_discovery_info writer)\n";
+    }
   }
 }
 
