@@ -53,6 +53,14 @@ std::string not_found(const std::string& name) {
   return "no entity named '" + name + "' (GetEntities lists them)";
 }
 
+/// The entity a request names; if there is none, `response` says NOT_FOUND.
+template <class Response>
+std::optional<Entity> named(const World& world, const std::string& name, Response& response) {
+  auto e = find_entity(world, name);
+  if (!e) response.result(result(rc::RESULT_NOT_FOUND, not_found(name)));
+  return e;
+}
+
 Pose pose_of(const World& world, const Entity& e) {
   if (e.robot) return e.robot->base_link_pose();
   return world.object_state(*e.object).value.pose;
@@ -278,7 +286,7 @@ std::vector<fs::path> search_folders(const World& world, const std::vector<std::
     }
   }
   for (const std::string& s : sources) {
-    const fs::path folder = s.rfind("file://", 0) == 0 ? fs::path(s.substr(7)) : fs::path(s);
+    const fs::path folder = uri_path(s);
     if (fs::is_directory(folder, error)) {
       folders.push_back(folder);
     } else {
@@ -286,11 +294,6 @@ std::vector<fs::path> search_folders(const World& world, const std::vector<std::
     }
   }
   return folders;
-}
-
-/// A URI or path as a file path ("file://" taken off).
-std::string file_of(const std::string& uri) {
-  return uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
 }
 
 bool name_taken(const World& world, const std::string& name) {
@@ -302,6 +305,10 @@ bool name_taken(const World& world, const std::string& name) {
 }
 
 }  // namespace
+
+std::string uri_path(const std::string& uri) {
+  return uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
+}
 
 si::Result_ result(uint8_t code, const std::string& message) {
   si::Result_ r;
@@ -378,11 +385,8 @@ ss::GetEntitiesStates_Response_ get_entities_states(const ss::GetEntitiesStates_
 ss::GetEntityState_Response_ get_entity_state(const ss::GetEntityState_Request_& q,
                                               const World& world) {
   ss::GetEntityState_Response_ r;
-  const auto e = find_entity(world, q.entity());
-  if (!e) {
-    r.result(result(rc::RESULT_NOT_FOUND, not_found(q.entity())));
-    return r;
-  }
+  const auto e = named(world, q.entity(), r);
+  if (!e) return r;
   r.state(state_of(world, *e));
   r.result(result(rc::RESULT_OK));
   return r;
@@ -391,11 +395,8 @@ ss::GetEntityState_Response_ get_entity_state(const ss::GetEntityState_Request_&
 ss::SetEntityState_Response_ set_entity_state(const ss::SetEntityState_Request_& q, World& world) {
   constexpr uint8_t kInvalidPose = ss::SetEntityState_Response_Constants::INVALID_POSE;
   ss::SetEntityState_Response_ r;
-  const auto e = find_entity(world, q.entity());
-  if (!e) {
-    r.result(result(rc::RESULT_NOT_FOUND, not_found(q.entity())));
-    return r;
-  }
+  const auto e = named(world, q.entity(), r);
+  if (!e) return r;
   if (e->robot) {
     r.result(result(rc::RESULT_OPERATION_FAILED,
                     "a robot moves by its wheels: its state cannot be set (reset the simulation "
@@ -429,22 +430,23 @@ ss::SetEntityState_Response_ set_entity_state(const ss::SetEntityState_Request_&
     r.result(result(rc::RESULT_OPERATION_FAILED, *p));
     return r;
   }
-  const ObjectSpec& object = *world.object(*e->object);
-  if (!object.portable && (linear.norm() > 0 || angular.norm() > 0)) {
-    r.result(result(rc::RESULT_OPERATION_FAILED,
-                    "'" + e->name + "' is a fixed object: it takes a pose but no twist"));
+  // A body that takes no velocity (fixed, frozen, a door's part) takes a zero twist only.
+  const ObjectId id = *e->object;
+  const Status free = world.free_body(id, "twist");
+  if (!free.ok() && (linear.norm() > 0 || angular.norm() > 0)) {
+    r.result(result(rc::RESULT_OPERATION_FAILED, free.message));
     return r;
   }
-  const Status moved = world.set_pose(*e->object, target, PenetrationPolicy::Refuse);
-  if (!moved.ok()) {
-    r.result(
-        result(moved.code == ErrorCode::Penetration ? rc::RESULT_OPERATION_FAILED : kInvalidPose,
-               moved.message));
+  const Status moved = world.set_pose(id, target, PenetrationPolicy::Refuse);
+  if (!moved.ok()) {  // penetrating, or a door's part (moved with its door)
+    r.result(result(
+        moved.code == ErrorCode::InvalidArgument ? kInvalidPose : rc::RESULT_OPERATION_FAILED,
+        moved.message));
     return r;
   }
-  if (object.portable) {  // checked above: these cannot fail
-    world.set_linear_velocity(*e->object, linear);
-    world.set_angular_velocity(*e->object, angular);
+  if (free.ok()) {  // checked above: these cannot fail
+    world.set_linear_velocity(id, linear);
+    world.set_angular_velocity(id, angular);
   }
   r.result(result(rc::RESULT_OK));
   return r;
@@ -453,11 +455,8 @@ ss::SetEntityState_Response_ set_entity_state(const ss::SetEntityState_Request_&
 ss::GetEntityInfo_Response_ get_entity_info(const ss::GetEntityInfo_Request_& q,
                                             const World& world) {
   ss::GetEntityInfo_Response_ r;
-  const auto e = find_entity(world, q.entity());
-  if (!e) {
-    r.result(result(rc::RESULT_NOT_FOUND, not_found(q.entity())));
-    return r;
-  }
+  const auto e = named(world, q.entity(), r);
+  if (!e) return r;
   r.info().category().category(category_of(world, *e));
   r.info().tags(tags_of(world, *e));
   if (e->robot) {
@@ -477,11 +476,8 @@ ss::GetEntityInfo_Response_ get_entity_info(const ss::GetEntityInfo_Request_& q,
 ss::GetEntityBounds_Response_ get_entity_bounds(const ss::GetEntityBounds_Request_& q,
                                                 const World& world) {
   ss::GetEntityBounds_Response_ r;
-  const auto e = find_entity(world, q.entity());
-  if (!e) {
-    r.result(result(rc::RESULT_NOT_FOUND, not_found(q.entity())));
-    return r;
-  }
+  const auto e = named(world, q.entity(), r);
+  if (!e) return r;
   const Eigen::AlignedBox3d box = local_box(world, *e);
   r.bounds().type(bt::TYPE_BOX);
   r.bounds().points() = {msg(box.min()), msg(box.max())};
@@ -503,7 +499,7 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
     return fail(sc::NAMESPACE_INVALID,
                 "entity namespaces are not supported: the KURT's topics are named by the world");
   }
-  const std::string file = file_of(q.uri());
+  const std::string file = uri_path(q.uri());
   if (!file.empty() && fs::path(file).extension() != ".xml") {
     return fail(sc::UNSUPPORTED_FORMAT, "'" + q.uri() + "' is no macsim_xml file (.xml)");
   }

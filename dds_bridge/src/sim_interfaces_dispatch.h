@@ -15,6 +15,9 @@ namespace macsim::sim_interfaces {
 namespace si = simulation_interfaces::msg::dds_;
 namespace ss = simulation_interfaces::srv::dds_;
 
+/// The file a URI names: "file://" taken off, anything else taken as a path.
+std::string uri_path(const std::string& uri);
+
 /// A Result with that code and message.
 si::Result_ result(uint8_t code, const std::string& message = "");
 

@@ -172,7 +172,7 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
           r.result(result(code, message));
           server.reply(id, r);
         };
-        const std::string file = q.uri().rfind("file://", 0) == 0 ? q.uri().substr(7) : q.uri();
+        const std::string file = sim_interfaces::uri_path(q.uri());
         if (file.empty() && q.resource_string().empty()) {
           return refuse_now(lc::NO_RESOURCE, "give uri (a <WORLD> file) or resource_string");
         }

@@ -5,17 +5,7 @@
 #include <algorithm>
 #include <mutex>
 
-#include "builtin_interfacesTypeObject.h"
-#include "geometry_msgsTypeObject.h"
-#include "kurt_msgsTypeObject.h"
-#include "macsim_msgsTypeObject.h"
-#include "nav_msgsTypeObject.h"
-#include "rmw_dds_commonTypeObject.h"
-#include "rosgraph_msgsTypeObject.h"
-#include "sensor_msgsTypeObject.h"
-#include "simulation_interfacesTypeObject.h"
-#include "std_msgsTypeObject.h"
-#include "tf2_msgsTypeObject.h"
+#include "dynamic_type_registry.inc"
 
 namespace macsim::dds {
 
@@ -25,19 +15,7 @@ namespace {
 
 void register_idl_types() {
   static std::once_flag once;
-  std::call_once(once, [] {
-    registerbuiltin_interfacesTypes();
-    registerstd_msgsTypes();
-    registergeometry_msgsTypes();
-    registernav_msgsTypes();
-    registerrosgraph_msgsTypes();
-    registersensor_msgsTypes();
-    registertf2_msgsTypes();
-    registersimulation_interfacesTypes();
-    registerrmw_dds_commonTypes();
-    registerkurt_msgsTypes();
-    registermacsim_msgsTypes();
-  });
+  std::call_once(once, [] { register_idl_files(); });
 }
 
 bool starts_with(const std::string& s, const std::string& prefix) {

@@ -555,15 +555,9 @@ Status World::set_density(ObjectId id, double density) {
   });
 }
 
-Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
-                           dxBody*& body) const {
+Status World::free_body(ObjectId id, const std::string& what) const {
   const Object* o = nullptr;
   if (Status s = check_object_id(id, o); !s.ok()) return s;
-  const bool angular = std::string(what) == "angular velocity";
-  const double max = std::string(what) == "linear velocity" ? bounds::kMaxSpeed
-                     : angular                              ? bounds::kMaxAngularSpeed
-                                                            : bounds::kMaxForce;
-  if (auto p = bounds::magnitude_problem(value, max, what)) return invalid(*p);
   if (!o->body) {
     return Status::error(ErrorCode::NotApplicable, "'" + o->spec.name + "' is fixed: no " + what);
   }
@@ -574,6 +568,19 @@ Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char
     return Status::error(ErrorCode::NotApplicable,
                          "'" + o->spec.name + "' is driven by its door's joint: no " + what);
   }
+  return {};
+}
+
+Status World::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
+                           dxBody*& body) const {
+  const Object* o = nullptr;
+  if (Status s = check_object_id(id, o); !s.ok()) return s;
+  const bool angular = std::string(what) == "angular velocity";
+  const double max = std::string(what) == "linear velocity" ? bounds::kMaxSpeed
+                     : angular                              ? bounds::kMaxAngularSpeed
+                                                            : bounds::kMaxForce;
+  if (auto p = bounds::magnitude_problem(value, max, what)) return invalid(*p);
+  if (Status s = free_body(id, what); !s.ok()) return s;
   body = o->body;
   dBodyEnable(body);  // wake it: it is about to move
   return {};

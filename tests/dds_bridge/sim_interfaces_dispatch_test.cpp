@@ -116,6 +116,15 @@ TEST(SimInterfacesDispatch, AStateIsSetWhollyOrNotAtAll) {
   ss::GetEntityState_Request_ where;
   where.entity("pair/a");
   EXPECT_NEAR(sim::get_entity_state(where, world).state().pose().position().x(), 1.8, 1e-9);
+  // frozen: the pose may change, a twist is refused before anything moves
+  ASSERT_TRUE(world.set_frozen(*world.find_object("pair/a"), true).ok());
+  const uint64_t frozen = world.state_hash();
+  q.state().pose().position().x(0.6);
+  q.state().twist().linear().x(0.5);
+  const auto refused = sim::set_entity_state(q, world);
+  EXPECT_EQ(refused.result().result(), rc::RESULT_OPERATION_FAILED);
+  EXPECT_NE(refused.result().error_message().find("frozen"), std::string::npos);
+  EXPECT_EQ(world.state_hash(), frozen);
 }
 
 TEST(SimInterfacesDispatch, ResetScopesMapToTheWorldsResets) {

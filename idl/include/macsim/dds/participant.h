@@ -52,6 +52,12 @@ inline constexpr int kMaxDomainId = 232;
 template <class PubSubType>
 class CheckedType : public PubSubType {
  public:
+  CheckedType() {
+    // Matched by type name, as rmw_fastrtps and Cyclone endpoints are: no type object goes out
+    // in discovery (Fast DDS 2.9 crashes building some it receives, e.g. those of sequences).
+    this->auto_fill_type_object(false);
+    this->auto_fill_type_information(false);
+  }
   bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override {
     try {
       return PubSubType::deserialize(payload, data);

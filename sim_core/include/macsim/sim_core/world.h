@@ -208,6 +208,9 @@ class World {
   Status set_mass(ObjectId id, double mass);
   /// Density (kg/m^3); the mass follows, mass and inertia are recomputed exactly.
   Status set_density(ObjectId id, double density);
+  /// Ok if the object is a free rigid body that takes velocities, forces and torques (not
+  /// fixed, frozen, or driven by its door's joint); the error says which and names `what`.
+  Status free_body(ObjectId id, const std::string& what) const;
   Status set_linear_velocity(ObjectId id, const Eigen::Vector3d& velocity);
   Status set_angular_velocity(ObjectId id, const Eigen::Vector3d& velocity);
   /// A force (N, world frame, at the centre of mass) acting during the next step only.
