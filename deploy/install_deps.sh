@@ -25,6 +25,10 @@ PACKAGES=(
   clang-14 libclang-rt-14-dev
   # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test
   libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
+  # bench_peers only: MuJoCo 2.2.2 on the same scenes (its CMake config lists qhull's headers)
+  libmujoco-dev libqhull-dev
+  # profiles for bench/README.md
+  linux-perf
   # several hosts in tests: network namespaces joined by a veth pair; DDS Security certificates
   iproute2 openssl
   # packet loss on those links (nftables' random drop; kernels without netem have it too)

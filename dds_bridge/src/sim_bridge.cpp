@@ -1,6 +1,7 @@
 #include "sim_bridge.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -43,6 +44,8 @@ struct SimBridge::RobotTopics {
   SimulatedKurt kurt;
   robot::RobotNode node;
   uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
+  uint64_t stereo_waited = 0;   // camera instants the simulation waited for a busy renderer
+  double seconds_waited = 0.0;  // wall time of those waits
   double next_camera_time = 0.0;
   std::unique_ptr<dds::Writer<sm::Image_PubSubType>> left_image, right_image;
   std::unique_ptr<dds::Writer<sm::CameraInfo_PubSubType>> left_info, right_info;
@@ -156,8 +159,19 @@ void SimBridge::publish_cameras(RobotTopics& t, double now) {
   if (!t.cameras.empty() && now + 1e-9 >= t.next_camera_time) {
     t.next_camera_time += 1.0 / options_.camera_rate;
     // Both eyes render the same scene or neither does: a stereo pair never mixes two instants.
-    const bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
-                                   [](const auto& rig) { return rig->idle(); });
+    bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
+                             [](const auto& rig) { return rig->idle(); });
+    // Unpaced (as fast as possible, or steps on request) no frame due in sim time is skipped:
+    // the simulation waits for the renderers, and its real-time factor says what that costs.
+    // Paced in real time, keeping the pace comes first and a busy renderer skips an instant.
+    if (!ready && (runner_.settings().real_time_factor == 0.0 || runner_.stepping_on_request())) {
+      const auto start = std::chrono::steady_clock::now();
+      for (auto& rig : t.cameras) rig->wait_idle();
+      t.seconds_waited +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ++t.stereo_waited;
+      ready = true;
+    }
     if (ready) {
       const Scene scene = capture_scene(runner_.world());
       for (auto& rig : t.cameras) rig->submit(scene);
@@ -179,7 +193,8 @@ std::string SimBridge::camera_summary() const {
     if (t->cameras.empty()) continue;
     summary += "macsim: " + t->name + "'s cameras: " + std::to_string(t->cameras[0]->rendered()) +
                " stereo pairs rendered, " + std::to_string(t->stereo_skipped) +
-               " skipped (a renderer was busy)\n";
+               " skipped (a renderer was busy), " + std::to_string(t->stereo_waited) +
+               " waited for (" + std::to_string(t->seconds_waited) + " s)\n";
   }
   return summary;
 }

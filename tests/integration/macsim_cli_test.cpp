@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
@@ -49,10 +50,42 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_demo"), "--help"}, 0, "bench_demo [SEEDS [FIRST]]"},
            {{bin("bench_demo"), "0"}, 2, "SEEDS must be positive"},
            {{bin("bench_affordances"), "--help"}, 0, "usage: bench_affordances [TRIALS]"},
-           {{bin("bench_affordances"), "0"}, 2, "TRIALS must be positive"}}) {
+           {{bin("bench_affordances"), "0"}, 2, "TRIALS must be positive"},
+           {{bin("bench_peers"), "--help"}, 0, "usage: bench_peers"},
+           {{bin("bench_peers"), "--scene", "nope"}, 2, "unknown scene 'nope'"},
+           {{bin("bench_peers"), "--repeats", "0"}, 2, "bad argument"}}) {
     ChildProcess p(c.argv);
     EXPECT_EQ(p.wait_for_exit(20s), c.code) << c.argv.back() << ": " << p.output();
     EXPECT_NE(p.output().find(c.says), std::string::npos) << p.output();
+  }
+}
+
+// The peers benchmark compares engines only if they simulate the same scene: the vehicle must
+// drive as commanded and a pile must come to rest where it should in raw ODE, sim_core and
+// MuJoCo alike (a wrong MJCF or baseline would show here).
+TEST(MacsimCli, BenchPeersEnginesAgreeOnTheVehicleAndAPile) {
+  std::map<std::string, double> figures;
+  for (const char* scene : {"vehicle", "pile_10"}) {
+    ChildProcess p({bin("bench_peers"), "--scene", scene, "--repeats", "1"});
+    ASSERT_EQ(p.wait_for_exit(60s), 0) << p.output();
+    std::istringstream lines(p.output());
+    std::string name;
+    double value;
+    while (lines >> name >> value) {
+      figures[name] = value;
+      lines.ignore(1 << 20, '\n');
+    }
+  }
+  for (const char* engine : {"raw_ode", "sim_core", "mujoco"}) {
+    const std::string vehicle = std::string("fidelity.vehicle.") + engine;
+    ASSERT_TRUE(figures.count(vehicle + ".robot_travel")) << engine;
+    EXPECT_NEAR(figures[vehicle + ".robot_travel"], 1.5, 0.03) << engine;
+    EXPECT_NEAR(figures[vehicle + ".robot_yaw_change"], 0.0, 1.0) << engine;
+    const std::string pile = std::string("fidelity.pile_10.") + engine;
+    ASSERT_TRUE(figures.count(pile + ".rest_pose_error_max")) << engine;
+    EXPECT_LT(figures[pile + ".rest_pose_error_max"], 0.003) << engine;
+    EXPECT_LT(figures[pile + ".kinetic_energy_end"], 1e-6) << engine;
+    EXPECT_GT(figures[std::string("step_rate.pile_10.") + engine], 0.0) << engine;
   }
 }
 
@@ -242,6 +275,18 @@ TEST(MacsimCli, RunsForADurationAsFastAsPossibleAndReportsTheStepRate) {
   ASSERT_EQ(p.wait_for_exit(60s), 0) << p.output();
   EXPECT_NE(p.output().find("rt/kurt/cmd_vel"), std::string::npos) << p.output();
   EXPECT_NE(p.output().find("stopped at sim time 2.000 s after 2000 steps"), std::string::npos)
+      << p.output();
+}
+
+// Running unpaced, the simulation waits for a busy renderer: every stereo pair due in sim time
+// is rendered (60 Hz of 640x480 outruns the renderers at thousands of steps per second).
+TEST(MacsimCli, AsFastAsPossibleRendersEveryCameraFrameDue) {
+  ChildProcess p({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                  std::to_string(unique_test_domain()), "--as-fast-as-possible", "--duration", "2",
+                  "--cameras", "640x480", "--camera-rate", "60"});
+  ASSERT_EQ(p.wait_for_exit(60s), 0) << p.output();
+  // Instants 0, 1/60, ..., 119/60 s: 120 pairs; none skipped.
+  EXPECT_NE(p.output().find("cameras: 120 stereo pairs rendered, 0 skipped"), std::string::npos)
       << p.output();
 }
 

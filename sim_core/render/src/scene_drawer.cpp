@@ -15,7 +15,8 @@ constexpr int kSegments = 24;
 
 void unit_box() {
   // The cube [-0.5, 0.5]^3, one quad a face with its normal and texture coordinates.
-  static const float faces[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const float faces[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   static const float corners[6][4][3] = {
       {{0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}, {0.5f, -0.5f, 0.5f}},
       {{-0.5f, 0.5f, -0.5f}, {-0.5f, -0.5f, -0.5f}, {-0.5f, -0.5f, 0.5f}, {-0.5f, 0.5f, 0.5f}},
@@ -143,6 +144,10 @@ void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntri
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_NORMALIZE);
+  // Every shape is closed and wound counter-clockwise seen from outside: faces turned away
+  // from the camera are never seen, and not rasterising them halves the pixels shaded.
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
 
   glMatrixMode(GL_PROJECTION);
   glLoadIdentity();
@@ -181,23 +186,6 @@ void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntri
   glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
   glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
 
-  // The floor: a 1 m checker over the scene's extent and beyond.
-  glEnable(GL_TEXTURE_2D);
-  glBindTexture(GL_TEXTURE_2D, floor_texture_);
-  glColor3f(1, 1, 1);
-  const double extent = 30;
-  glBegin(GL_QUADS);
-  glNormal3f(0, 0, 1);
-  glTexCoord2d(-extent / 2, -extent / 2);
-  glVertex3d(-extent, -extent, 0);
-  glTexCoord2d(extent / 2, -extent / 2);
-  glVertex3d(extent, -extent, 0);
-  glTexCoord2d(extent / 2, extent / 2);
-  glVertex3d(extent, extent, 0);
-  glTexCoord2d(-extent / 2, extent / 2);
-  glVertex3d(-extent, extent, 0);
-  glEnd();
-
   for (const ShapeView& s : scene.shapes) {
     const GLuint image = s.texture.empty() ? 0 : texture(s.texture);
     if (image) {
@@ -227,8 +215,24 @@ void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntri
     }
     glPopMatrix();
   }
+  // The floor last: a 1 m checker over the scene's extent and beyond. Where objects stand in
+  // front of it the depth test drops its pixels before they are shaded.
+  glEnable(GL_TEXTURE_2D);
+  glBindTexture(GL_TEXTURE_2D, floor_texture_);
+  glColor3f(1, 1, 1);
+  const double extent = 30;
+  glBegin(GL_QUADS);
+  glNormal3f(0, 0, 1);
+  glTexCoord2d(-extent / 2, -extent / 2);
+  glVertex3d(-extent, -extent, 0);
+  glTexCoord2d(extent / 2, -extent / 2);
+  glVertex3d(extent, -extent, 0);
+  glTexCoord2d(extent / 2, extent / 2);
+  glVertex3d(extent, extent, 0);
+  glTexCoord2d(-extent / 2, extent / 2);
+  glVertex3d(-extent, extent, 0);
+  glEnd();
   glDisable(GL_TEXTURE_2D);
-
 }
 
 }  // namespace macsim::render::detail
