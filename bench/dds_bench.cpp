@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -121,22 +122,33 @@ void stop(pid_t pid) {
   waitpid(pid, nullptr, 0);
 }
 
-/// Round trip times (us) of `n` calls after 50 warm-up calls.
-template <class Client, class Call>
-std::vector<double> round_trips(Client& client, int n, Call call) {
-  client.wait_for_server(std::chrono::seconds(20));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let discovery settle both ways
-  for (int i = 0; i < 50; ++i) call();
+/// One request/reply exchange measured against the others: its call and its round trips (us).
+struct Exchange {
+  std::string name;
+  std::function<bool()> call;
   std::vector<double> us;
-  for (int i = 0; i < n; ++i) {
-    const auto t0 = Clock::now();
-    if (!call()) {
-      std::fprintf(stderr, "bench_dds: a call got no reply\n");
-      continue;
-    }
-    us.push_back(micros_since(t0));
+};
+
+/// `n` round trips of every exchange, in blocks of `n / 20` taken in turn (after 50 warm-up
+/// calls each), so all of them see the same machine noise: the ratios compare like with like.
+void interleave(std::vector<Exchange>& exchanges, int n) {
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let discovery settle both ways
+  for (auto& e : exchanges) {
+    for (int i = 0; i < 50; ++i) e.call();
   }
-  return us;
+  const int block = std::max(1, n / 20);
+  for (int done = 0; done < n; done += block) {
+    for (auto& e : exchanges) {
+      for (int i = 0; i < std::min(block, n - done); ++i) {
+        const auto t0 = Clock::now();
+        if (!e.call()) {
+          std::fprintf(stderr, "bench_dds: %s: a call got no reply\n", e.name.c_str());
+          continue;
+        }
+        e.us.push_back(micros_since(t0));
+      }
+    }
+  }
 }
 
 /// Twist out, the first odometry whose twist shows it back (us per trial). Trials alternate
@@ -187,7 +199,8 @@ int main(int argc, char** argv) {
     std::printf(
         "usage: bench_dds [--domain N] [ROUND_TRIPS] [round_trips|images]\n"
         "  (default 1000 round trips, both parts; run from the repository root)\n"
-        "  --domain N  the first of the six DDS domains it uses, N..N+5 (default 200 + pid %% 25)\n"
+        "  --domain N  the first of the seven DDS domains it uses, N..N+6 (default 200 + pid %% "
+        "25)\n"
         "  --help      this text\n");
     return 0;
   }
@@ -201,8 +214,8 @@ int main(int argc, char** argv) {
   int domain = 200 + getpid() % 25;
   if (argc > 2 && std::string(argv[1]) == "--domain") {
     domain = std::atoi(argv[2]);
-    if (domain < 0 || domain + 5 > macsim::dds::kMaxDomainId) {
-      std::fprintf(stderr, "bench_dds: --domain takes 0..%d\n", macsim::dds::kMaxDomainId - 5);
+    if (domain < 0 || domain + 6 > macsim::dds::kMaxDomainId) {
+      std::fprintf(stderr, "bench_dds: --domain takes 0..%d\n", macsim::dds::kMaxDomainId - 6);
       return 2;
     }
     argv += 2;
@@ -235,47 +248,55 @@ int main(int argc, char** argv) {
     return spawn(args);
   };
 
-  // 1. The bare baselines: the same payload types, a plain echo process.
-  std::vector<double> bare, bare_twist;
+  // 1-3. Request/reply round trips, all servers running at once and the exchanges taken in
+  //      turn (interleave()): the bare baseline (the same payload types through a plain echo
+  //      process), the supervisor against macsim in real time on the small room (one operation
+  //      executed per call), and lock-step Step(1) at a 1 ms step on a nearly empty world (the
+  //      protocol's cost) and on the small room with the KURT3D (its physics, sensors and
+  //      publishing).
+  std::vector<double> bare_twist;
   if (round_trips_wanted) {
-    const pid_t echo = spawn({bin + "/bench_dds", "--pong", std::to_string(domain)});
-    macsim::dds::Participant p({domain, "", "bench_ping"});
+    const std::vector<pid_t> servers{
+        spawn({bin + "/bench_dds", "--pong", std::to_string(domain)}),
+        start_macsim(1, "worlds/small_room.xml", {}),
+        start_macsim(2, "bench/worlds/empty_floor.xml", {"--lockstep"}),
+        start_macsim(6, "worlds/small_room.xml", {"--lockstep"})};
+    macsim::dds::Participant bare_p({domain, "", "bench_ping"});
     macsim::client::RequestReply<mm::SupervisorRequest_PubSubType, mm::SupervisorReply_PubSubType>
-        ping(p, "bench/ping", "bench/pong", "bench");
-    bare = round_trips(ping, n, [&] { return ping.call({}, std::chrono::seconds(5)).has_value(); });
-    bare_twist = twist_to_odometry(p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
+        ping(bare_p, "bench/ping", "bench/pong", "bench");
+    macsim::dds::Participant supervisor_p({domain + 1, "", "bench_supervisor"});
+    macsim::client::SupervisorClient supervisor(supervisor_p);
+    macsim::dds::Participant empty_p({domain + 2, "", "bench_lockstep"});
+    macsim::client::SimulationClient empty(empty_p);
+    macsim::dds::Participant room_p({domain + 6, "", "bench_lockstep"});
+    macsim::client::SimulationClient room(room_p);
+    for (bool ready : {ping.wait_for_server(std::chrono::seconds(20)),
+                       supervisor.wait_for_server(std::chrono::seconds(20)),
+                       empty.wait_for_server(std::chrono::seconds(20)),
+                       room.wait_for_server(std::chrono::seconds(20))}) {
+      if (!ready) std::fprintf(stderr, "bench_dds: a server did not appear\n");
+    }
+    const auto request = macsim::client::supervisor::get_object(1);
+    std::vector<Exchange> exchanges{
+        {"bare_ping_pong_rtt",
+         [&] { return ping.call({}, std::chrono::seconds(5)).has_value(); },
+         {}},
+        {"supervisor_rtt", [&] { return supervisor.call(request).has_value(); }, {}},
+        {"lockstep_step1_rtt.empty_floor", [&] { return empty.step(1).has_value(); }, {}},
+        {"lockstep_step1_rtt.small_room", [&] { return room.step(1).has_value(); }, {}}};
+    interleave(exchanges, n);
+    for (const pid_t server : servers) stop(server);
+    const std::vector<double>& bare = exchanges[0].us;
+    for (const Exchange& e : exchanges) {
+      report(e.name, e.us);
+      if (&e != &exchanges[0]) ratio(e.name, e.us, bare);
+    }
+
+    // The twist baseline: the echo process answers a twist with an odometry message.
+    const pid_t echo = spawn({bin + "/bench_dds", "--pong", std::to_string(domain)});
+    bare_twist = twist_to_odometry(bare_p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
     stop(echo);
-  }
-  if (round_trips_wanted) {
-    report("bare_ping_pong_rtt", bare);
     report("bare_twist_odometry_rtt", bare_twist);
-
-    // 2. The supervisor against macsim (the same types, one operation executed per call).
-    {
-      const pid_t macsim = start_macsim(1, "worlds/small_room.xml", {});
-      macsim::dds::Participant p({domain + 1, "", "bench_supervisor"});
-      macsim::client::SupervisorClient client(p);
-      const auto request = macsim::client::supervisor::get_object(1);
-      const auto supervisor =
-          round_trips(client, n, [&] { return client.call(request).has_value(); });
-      stop(macsim);
-      report("supervisor_rtt", supervisor);
-      ratio("supervisor_rtt", supervisor, bare);
-    }
-
-    // 3. Lock-step: Step(1) at a 1 ms step, on a nearly empty world (the protocol's cost) and on
-    //    the small room with the KURT3D (plus its physics, sensors and publishing).
-    for (const auto& [name, world] :
-         {std::pair{"lockstep_step1_rtt.empty_floor", "bench/worlds/empty_floor.xml"},
-          std::pair{"lockstep_step1_rtt.small_room", "worlds/small_room.xml"}}) {
-      const pid_t macsim = start_macsim(2, world, {"--lockstep"});
-      macsim::dds::Participant p({domain + 2, "", "bench_lockstep"});
-      macsim::client::SimulationClient client(p);
-      const auto step = round_trips(client, n, [&] { return client.step(1).has_value(); });
-      stop(macsim);
-      report(name, step);
-      ratio(name, step, bare);
-    }
 
     // 4. Twist -> macsim applies it at its next 1 ms step -> odometry of that step (encoder
     //    frames every step in this world) -> received. Goal: p99 <= bare p99 + one step.
