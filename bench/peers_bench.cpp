@@ -235,19 +235,28 @@ std::vector<std::pair<std::string, std::function<Scene()>>> scenes() {
 int main(int argc, char** argv) {
   int repeats = 3;
   std::string only;
+  std::vector<Engine> engines(std::begin(kEngines), std::end(kEngines));
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
       std::printf(
-          "usage: bench_peers [--repeats N] [--scene NAME]  (from the repository root)\n"
+          "usage: bench_peers [--repeats N] [--scene NAME] [--engine NAME]  (from the repo root)\n"
           "sim_core, raw ODE and MuJoCo %s on the same scenes, runs alternating; prints\n"
           "steps/s, ratios and fidelity checks as `name value unit` lines. Scenes: vehicle,\n"
-          "pile_10, pile_100, pile_300, pile_1000, demo_push_can (default: all).\n",
+          "pile_10, pile_100, pile_300, pile_1000, demo_push_can (default: all). --engine\n"
+          "raw_ode, sim_core or mujoco runs that one alone (for profiling; no ratios).\n",
           macsim::bench::mujoco_version().c_str());
       return 0;
     }
     if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
       repeats = std::atoi(argv[++i]);
       if (repeats >= 1) continue;
+    }
+    if (!std::strcmp(argv[i], "--engine") && i + 1 < argc) {
+      const std::string name = argv[++i];
+      std::erase_if(engines, [&](Engine e) { return name != engine_name(e); });
+      if (engines.size() == 1) continue;
+      std::fprintf(stderr, "bench_peers: unknown engine '%s' (see --help)\n", name.c_str());
+      return 2;
     }
     if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) {
       only = argv[++i];
@@ -277,22 +286,25 @@ int main(int argc, char** argv) {
     std::vector<double> rates[3];
     Outcome last[3];
     for (int r = 0; r < repeats; ++r) {
-      for (Engine e : kEngines) {
+      for (Engine e : engines) {
         last[static_cast<int>(e)] = run(e, scene);
         rates[static_cast<int>(e)].push_back(last[static_cast<int>(e)].steps_per_second);
       }
     }
     double rate[3];
-    for (Engine e : kEngines) {
+    for (Engine e : engines) {
       rate[static_cast<int>(e)] = median(rates[static_cast<int>(e)]);
       std::printf("step_rate.%s.%s %.0f steps/s\n", scene.name.c_str(), engine_name(e),
                   rate[static_cast<int>(e)]);
     }
-    const double raw = rate[0], core = rate[1], mujoco = rate[2];
-    std::printf("cost_ratio.%s.sim_core_over_raw_ode %.3f x\n", scene.name.c_str(), raw / core);
-    std::printf("speed_ratio.%s.sim_core_over_mujoco %.2f x\n", scene.name.c_str(), core / mujoco);
-    std::printf("speed_ratio.%s.raw_ode_over_mujoco %.2f x\n", scene.name.c_str(), raw / mujoco);
-    for (Engine e : kEngines) print_fidelity(scene, e, last[static_cast<int>(e)]);
+    if (engines.size() == 3) {
+      const double raw = rate[0], core = rate[1], mujoco = rate[2];
+      std::printf("cost_ratio.%s.sim_core_over_raw_ode %.3f x\n", scene.name.c_str(), raw / core);
+      std::printf("speed_ratio.%s.sim_core_over_mujoco %.2f x\n", scene.name.c_str(),
+                  core / mujoco);
+      std::printf("speed_ratio.%s.raw_ode_over_mujoco %.2f x\n", scene.name.c_str(), raw / mujoco);
+    }
+    for (Engine e : engines) print_fidelity(scene, e, last[static_cast<int>(e)]);
     std::fflush(stdout);
   }
   return 0;
