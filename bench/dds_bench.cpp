@@ -285,17 +285,14 @@ int main(int argc, char** argv) {
         {"lockstep_step1_rtt.empty_floor", [&] { return empty.step(1).has_value(); }, {}},
         {"lockstep_step1_rtt.small_room", [&] { return room.step(1).has_value(); }, {}}};
     interleave(exchanges, n);
+    // The twist baseline: the echo process answers a twist with an odometry message.
+    bare_twist = twist_to_odometry(bare_p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
     for (const pid_t server : servers) stop(server);
     const std::vector<double>& bare = exchanges[0].us;
     for (const Exchange& e : exchanges) {
       report(e.name, e.us);
       if (&e != &exchanges[0]) ratio(e.name, e.us, bare);
     }
-
-    // The twist baseline: the echo process answers a twist with an odometry message.
-    const pid_t echo = spawn({bin + "/bench_dds", "--pong", std::to_string(domain)});
-    bare_twist = twist_to_odometry(bare_p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
-    stop(echo);
     report("bare_twist_odometry_rtt", bare_twist);
 
     // 4. Twist -> macsim applies it at its next 1 ms step -> odometry of that step (encoder
