@@ -339,17 +339,24 @@ void KurtRobot::sweep_laser(double now) {
   const Eigen::Vector3d origin = base.position + base.orientation * state_.scan.origin;
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(state_.scan.rotunit_angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::array<Eigen::Vector3d, 181> local;
+  std::vector<Eigen::Vector3d> directions(181);
   for (int i = 0; i < 181; ++i) {
     const double a = state_.scan.angle_min + i * state_.scan.angle_increment;
-    const Eigen::Vector3d local =
-        rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
-                 : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
-    const auto hit = rays_->cast(origin, base.orientation * local, state_.scan.range_max);
+    local[i] = rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
+                        : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+    directions[i] = base.orientation * local[i];
+  }
+  // One sweep, one fan: what lies off the scan plane is set aside once for all 181 rays.
+  const auto hits = rays_->cast_fan(origin, directions, state_.scan.range_max);
+  for (int i = 0; i < 181; ++i) {
+    const auto& hit = hits[i];
     if (!hit || *hit < state_.scan.range_min) continue;
     const double range = *hit + config_.laser_noise * gaussian(state_.noise_rng);
     state_.scan.ranges[i] = static_cast<float>(range);
     if (turning)
-      state_.cloud_in_progress.points.push_back((state_.scan.origin + local * range).cast<float>());
+      state_.cloud_in_progress.points.push_back(
+          (state_.scan.origin + local[i] * range).cast<float>());
   }
   ++state_.scans;
   if (rotating && !turning) {  // a cloud is one revolution: none is assembled while it stands

@@ -1,5 +1,9 @@
 #include "ray_caster.h"
 
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 #include "ode_support.h"
 
 namespace macsim::detail {
@@ -33,6 +37,120 @@ std::optional<double> RayCaster::cast(const Eigen::Vector3d& origin,
   dSpaceCollide2(ray_, reinterpret_cast<dGeomID>(space_), this, &RayCaster::callback);
   if (!hit_) return std::nullopt;
   return nearest_;
+}
+
+namespace {
+
+/// The geom's bounding box as min and max corners; false if it is unbounded (a plane).
+bool bounds(dGeomID geom, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  dReal aabb[6];
+  dGeomGetAABB(geom, aabb);
+  lo = {aabb[0], aabb[2], aabb[4]};
+  hi = {aabb[1], aabb[3], aabb[5]};
+  return lo.allFinite() && hi.allFinite() && (hi - lo).maxCoeff() < 1e30;
+}
+
+/// Whether the segment origin + t * direction, t in [0, length], meets the box (slab test,
+/// widened by a millimetre so that rounding never sets aside a geom the ray touches).
+bool crosses(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double length,
+             const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  double enter = 0.0, leave = length;
+  for (int k = 0; k < 3; ++k) {
+    const double a = lo[k] - 1e-3, b = hi[k] + 1e-3;
+    if (std::fabs(direction[k]) < 1e-12) {
+      if (origin[k] < a || origin[k] > b) return false;
+      continue;
+    }
+    double t0 = (a - origin[k]) / direction[k], t1 = (b - origin[k]) / direction[k];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter > leave) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void RayCaster::collect(dSpaceID space, std::vector<dGeomID>& out) const {
+  const int n = dSpaceGetNumGeoms(space);
+  for (int i = 0; i < n; ++i) {
+    dGeomID g = dSpaceGetGeom(space, i);
+    if (dGeomIsSpace(g)) {
+      collect(reinterpret_cast<dSpaceID>(g), out);
+      continue;
+    }
+    if (!dGeomIsEnabled(g)) continue;
+    const auto* tag = static_cast<const GeomTag*>(dGeomGetData(g));
+    if (tag && tag->group == ignore_group_) continue;
+    // The category and collide bits, as dSpaceCollide2 looks at them.
+    if (!(dGeomGetCategoryBits(ray_) & dGeomGetCollideBits(g)) &&
+        !(dGeomGetCategoryBits(g) & dGeomGetCollideBits(ray_)))
+      continue;
+    out.push_back(g);
+  }
+}
+
+std::optional<double> RayCaster::nearest_of(const std::vector<dGeomID>& geoms) {
+  hit_ = false;
+  for (dGeomID g : geoms) callback(this, ray_, g);
+  if (!hit_) return std::nullopt;
+  return nearest_;
+}
+
+std::vector<std::optional<double>> RayCaster::cast_fan(
+    const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3d>& directions,
+    double max_range) {
+  std::vector<dGeomID> all;
+  collect(space_, all);
+  // The fan's plane, if all its rays lie in one.
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  if (directions.size() >= 2) {
+    for (const auto& d : directions) {
+      normal = directions.front().cross(d);
+      if (normal.norm() > 1e-3) break;
+    }
+    normal.normalize();
+    for (const auto& d : directions) {
+      if (!normal.allFinite() || std::fabs(normal.dot(d)) > 1e-9) {
+        normal.setZero();
+        break;
+      }
+    }
+  }
+  // Set aside what no ray of the fan reaches: out of range, or (planar fan) off its plane.
+  std::vector<dGeomID> near, unbounded;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+  for (dGeomID g : all) {
+    Eigen::Vector3d lo, hi;
+    if (!bounds(g, lo, hi)) {
+      unbounded.push_back(g);
+      continue;
+    }
+    const Eigen::Vector3d closest = origin.cwiseMax(lo).cwiseMin(hi);
+    if ((closest - origin).norm() > max_range + 1e-3) continue;
+    if (!normal.isZero()) {
+      const Eigen::Vector3d centre = (lo + hi) / 2, half = (hi - lo) / 2;
+      const double reach = half.dot(normal.cwiseAbs()) + 1e-3;
+      if (std::fabs(normal.dot(centre - origin)) > reach) continue;
+    }
+    near.push_back(g);
+    boxes.emplace_back(lo, hi);
+  }
+  std::vector<std::optional<double>> hits;
+  hits.reserve(directions.size());
+  std::vector<dGeomID> candidates;
+  dGeomRaySetLength(ray_, max_range);
+  for (const auto& d : directions) {
+    candidates = unbounded;
+    for (std::size_t i = 0; i < near.size(); ++i) {
+      if (crosses(origin, d, max_range, boxes[i].first, boxes[i].second))
+        candidates.push_back(near[i]);
+    }
+    dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), d.x(), d.y(), d.z());
+    hits.push_back(nearest_of(candidates));
+  }
+  return hits;
 }
 
 }  // namespace macsim::detail

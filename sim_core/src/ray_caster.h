@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <vector>
 
 namespace macsim::detail {
 
@@ -20,9 +21,19 @@ class RayCaster {
   /// within `max_range`.
   std::optional<double> cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                              double max_range);
+  /// cast() for a fan of rays from one origin (a laser sweep), the same answers: geoms that no
+  /// ray of a planar fan can reach (off its plane, out of range) are set aside once, and each
+  /// ray is tested only against the rest whose bounding box it crosses.
+  std::vector<std::optional<double>> cast_fan(const Eigen::Vector3d& origin,
+                                              const std::vector<Eigen::Vector3d>& directions,
+                                              double max_range);
 
  private:
   static void callback(void* data, dGeomID ray, dGeomID geom);
+  /// The geoms of `space` (and its sub-spaces) a ray may hit: enabled, not ignored.
+  void collect(dSpaceID space, std::vector<dGeomID>& out) const;
+  /// The nearest hit of the ray now set in `ray_` among `geoms`, if any.
+  std::optional<double> nearest_of(const std::vector<dGeomID>& geoms);
 
   dSpaceID space_;
   int ignore_group_;
