@@ -35,9 +35,8 @@ struct Setup {
   int camera_width = 0, camera_height = 0;  // 0: no cameras
 };
 
-/// Steps the demo world with the robot driving an arc for `seconds` of sim time; returns
-/// steps per wall second (median of 3 runs).
-double step_rate(const macsim::WorldSpec& base, const Setup& setup, double seconds) {
+/// The world with its robots of a robot type made for `setup` (sensors on or off).
+macsim::WorldSpec spec_for(const macsim::WorldSpec& base, const Setup& setup) {
   macsim::KurtConfig config = *macsim::find_robot_type("kurt3d");
   config.range_sensors = setup.ranges;
   config.laser = setup.laser ? macsim::LaserMount::Rotating : macsim::LaserMount::None;
@@ -45,49 +44,52 @@ double step_rate(const macsim::WorldSpec& base, const Setup& setup, double secon
   macsim::register_robot_type("bench_" + setup.name, config);
   macsim::WorldSpec spec = base;
   for (auto& robot : spec.robots) robot.type = "bench_" + setup.name;
-  std::vector<double> rates;
-  for (int run = 0; run < 3; ++run) {
-    macsim::World world(spec);
-    // As macsim does: one render thread per eye, and when a pair is due while they still
-    // render the previous one, the simulation waits (no frame due in sim time is skipped).
-    std::vector<std::unique_ptr<macsim::render::CameraRig>> rigs;
-    if (setup.camera_width > 0) {
-      macsim::render::CameraIntrinsics in;
-      in.width = setup.camera_width;
-      in.height = setup.camera_height;
-      for (auto eye : {macsim::render::Eye::Left, macsim::render::Eye::Right}) {
-        rigs.push_back(std::make_unique<macsim::render::CameraRig>(
-            "kurt", in, [](const macsim::render::CameraImage&) {},
-            std::vector<macsim::render::Eye>{eye}));
-      }
-    }
-    const long steps = static_cast<long>(seconds / world.step_size());
-    const long camera_every = static_cast<long>(1.0 / 15 / world.step_size());  // 15 Hz
-    long due = 0, waited = 0;
-    const auto start = Clock::now();
-    for (long i = 0; i < steps; ++i) {
-      if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.2, world.time());
-      world.step();
-      if (!rigs.empty() && i % camera_every == 0) {
-        ++due;
-        bool busy = false;
-        for (auto& rig : rigs) busy = busy || !rig->idle();
-        if (busy) ++waited;
-        for (auto& rig : rigs) rig->wait_idle();
-        const macsim::Scene scene = macsim::capture_scene(world);
-        for (auto& rig : rigs) rig->submit(scene);
-      }
-    }
-    for (auto& rig : rigs) rig->wait_idle();
-    rates.push_back(steps / seconds_since(start));
-    if (!rigs.empty() && run == 2) {
-      std::printf("camera_frames_rendered.%s %.0f %% of due\n", setup.name.c_str(),
-                  100.0 * static_cast<double>(rigs[0]->rendered()) / static_cast<double>(due));
-      std::printf("camera_frames_waited_for.%s %.0f %% of due\n", setup.name.c_str(),
-                  100.0 * static_cast<double>(waited) / static_cast<double>(due));
+  return spec;
+}
+
+/// Steps the world with the robot driving an arc for `seconds` of sim time; returns steps per
+/// wall second (and prints the camera frames' shares if `report`).
+double step_rate(const macsim::WorldSpec& spec, const Setup& setup, double seconds, bool report) {
+  macsim::World world(spec);
+  // As macsim does: one render thread per eye, and when a pair is due while they still
+  // render the previous one, the simulation waits (no frame due in sim time is skipped).
+  std::vector<std::unique_ptr<macsim::render::CameraRig>> rigs;
+  if (setup.camera_width > 0) {
+    macsim::render::CameraIntrinsics in;
+    in.width = setup.camera_width;
+    in.height = setup.camera_height;
+    for (auto eye : {macsim::render::Eye::Left, macsim::render::Eye::Right}) {
+      rigs.push_back(std::make_unique<macsim::render::CameraRig>(
+          "kurt", in, [](const macsim::render::CameraImage&) {},
+          std::vector<macsim::render::Eye>{eye}));
     }
   }
-  return median(rates);
+  const long steps = static_cast<long>(seconds / world.step_size());
+  const long camera_every = static_cast<long>(1.0 / 15 / world.step_size());  // 15 Hz
+  long due = 0, waited = 0;
+  const auto start = Clock::now();
+  for (long i = 0; i < steps; ++i) {
+    if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.2, world.time());
+    world.step();
+    if (!rigs.empty() && i % camera_every == 0) {
+      ++due;
+      bool busy = false;
+      for (auto& rig : rigs) busy = busy || !rig->idle();
+      if (busy) ++waited;
+      for (auto& rig : rigs) rig->wait_idle();
+      const macsim::Scene scene = macsim::capture_scene(world);
+      for (auto& rig : rigs) rig->submit(scene);
+    }
+  }
+  for (auto& rig : rigs) rig->wait_idle();
+  const double rate = steps / seconds_since(start);
+  if (!rigs.empty() && report) {
+    std::printf("camera_frames_rendered.%s %.0f %% of due\n", setup.name.c_str(),
+                100.0 * static_cast<double>(rigs[0]->rendered()) / static_cast<double>(due));
+    std::printf("camera_frames_waited_for.%s %.0f %% of due\n", setup.name.c_str(),
+                100.0 * static_cast<double>(waited) / static_cast<double>(due));
+  }
+  return rate;
 }
 
 }  // namespace
@@ -108,11 +110,19 @@ int main(int argc, char** argv) {
       {"ir_sonar_laser_cameras_320x240_15hz", true, true, 320, 240},
       {"ir_sonar_laser_cameras_640x480_15hz", true, true, 640, 480},
   };
+  // Three runs of each set-up, taken in turn so that all see the same machine noise; medians.
+  std::vector<macsim::WorldSpec> specs;
+  for (const auto& setup : setups) specs.push_back(spec_for(spec, setup));
+  std::vector<std::vector<double>> runs(setups.size());
+  for (int run = 0; run < 3; ++run) {
+    for (std::size_t i = 0; i < setups.size(); ++i)
+      runs[i].push_back(step_rate(specs[i], setups[i], seconds, run == 2));
+  }
   std::vector<double> rates;
-  for (const auto& setup : setups) {
-    rates.push_back(step_rate(spec, setup, seconds));
-    std::printf("step_rate.%s %.0f steps/s\n", setup.name.c_str(), rates.back());
-    std::printf("real_time_factor.%s %.1f x\n", setup.name.c_str(), rates.back() * 0.001);
+  for (std::size_t i = 0; i < setups.size(); ++i) {
+    rates.push_back(median(runs[i]));
+    std::printf("step_rate.%s %.0f steps/s\n", setups[i].name.c_str(), rates.back());
+    std::printf("real_time_factor.%s %.1f x\n", setups[i].name.c_str(), rates.back() * 0.001);
   }
   // Laser: 181 rays x 75 sweeps per sim second; their cost is what the laser adds per step.
   const double laser_wall_per_sim_second = 1000.0 / rates[2] - 1000.0 / rates[1];
