@@ -89,10 +89,11 @@ std::string servo_xml(const std::string& joint, double max_force, const std::str
 std::string mujoco_version() { return mj_versionString(); }
 
 std::string mjcf_from_spec(const WorldSpec& spec, const MujocoOptions& options) {
-  int portable = 0, nv = 0;
+  int portable = 0;
   for (const auto& o : spec.objects) portable += o.portable ? 1 : 0;
-  nv = 6 * portable + static_cast<int>(spec.joints.size()) +
-       15 * static_cast<int>(spec.robots.size());
+  // Degrees of freedom, about: free bodies, joints, the robots' free chassis and nine joints.
+  const int nv = 6 * portable + static_cast<int>(spec.joints.size()) +
+                 15 * static_cast<int>(spec.robots.size());
   // Room for about four contacts per object and the robot's, four rows each (pyramidal cones).
   // MuJoCo 2.2.2's buffer size is an int and its constraint arrays are dense (njmax x nv,
   // njmax x njmax): njmax is capped where the buffer still fits in 2 GiB. A scene needing more

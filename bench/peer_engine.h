@@ -17,9 +17,9 @@ class PeerEngine {
   virtual void step() = 0;
   /// Drives the robot (if any) straight ahead at `speed` m/s rim speed on every wheel.
   virtual void drive(double speed) = 0;
-  /// Centre positions of the spec's portable objects, in spec order.
+  /// Origins of the portable objects' frames (where the spec places them), in spec order.
   virtual std::vector<Eigen::Vector3d> object_positions() const = 0;
-  /// The robot's chassis pose (centre of mass frame).
+  /// The robot's chassis pose (its frame differs by engine: compare x, y and heading only).
   virtual Pose robot_pose() const = 0;
   /// Translational kinetic energy of the portable objects (robot excluded), J.
   virtual double kinetic_energy() const = 0;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -248,8 +249,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
-      repeats = std::atoi(argv[++i]);
-      if (repeats >= 1) continue;
+      char* end = nullptr;
+      repeats = static_cast<int>(std::strtol(argv[++i], &end, 10));
+      if (*end == '\0' && repeats >= 1) continue;
     }
     if (!std::strcmp(argv[i], "--engine") && i + 1 < argc) {
       const std::string name = argv[++i];
