@@ -15,8 +15,9 @@ PACKAGES=(
   libxxhash-dev
   # topic tools: YAML for echo/pub and bag metadata, sqlite3 for rosbag2 bags (+ its CLI)
   libyaml-cpp-dev libsqlite3-dev sqlite3
-  # Python (its sqlite3 module) reads the bags in a test
-  python3
+  # Python (its sqlite3 module) reads the bags in a test; the `macsim` Python module (pybind11,
+  # numpy arrays) and its pytest suite, for Debian's /usr/bin/python3
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest
   # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # the interactive window (freeglut on X) and a virtual X server for its tests

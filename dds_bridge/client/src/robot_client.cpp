@@ -10,6 +10,7 @@ namespace macsim::client {
 RobotClient::RobotClient(dds::Participant& participant, const std::string& robot_name)
     : robot_name_(robot_name),
       cmd_vel_(participant, dds::topics::cmd_vel(robot_name), dds::QosFamily::Command),
+      wheel_speeds_(participant, dds::topics::wheel_speeds(robot_name), dds::QosFamily::Command),
       odom_(participant, dds::topics::odom(robot_name), dds::QosFamily::Sensor,
             [this](const Odometry& odom) {
               {
@@ -22,6 +23,13 @@ RobotClient::RobotClient(dds::Participant& participant, const std::string& robot
 
 bool RobotClient::drive(double linear, double angular) {
   return cmd_vel_.write(dds::planar_twist(linear, angular));
+}
+
+bool RobotClient::drive_wheels(double left, double right) {
+  kurt_msgs::msg::dds_::WheelSpeeds_ speeds;
+  speeds.left(left);
+  speeds.right(right);
+  return wheel_speeds_.write(speeds);
 }
 
 std::optional<RobotClient::Odometry> RobotClient::wait_for_odometry(

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
@@ -47,7 +48,8 @@ cv::Mat to_bgr(const sm::Image_& image) {
   const int rows = static_cast<int>(image.height()), cols = static_cast<int>(image.width());
   const std::string& encoding = image.encoding();
   const int channels = encoding == "mono8" ? 1 : (encoding == "bgr8" || encoding == "rgb8") ? 3 : 0;
-  if (channels == 0 || rows <= 0 || cols <= 0 || image.step() < static_cast<uint32_t>(cols * channels) ||
+  if (channels == 0 || rows <= 0 || cols <= 0 ||
+      image.step() < static_cast<uint32_t>(cols * channels) ||
       image.data().size() < static_cast<std::size_t>(image.step()) * rows) {
     return {};
   }
@@ -91,6 +93,12 @@ std::optional<StereoFrame> StereoCamera::latest(double after) const {
   return frame;
 }
 
+const Latest<sm::Image_PubSubType>& StereoCamera::eye(const std::string& side) const {
+  if (side == "left") return left_;
+  if (side == "right") return right_;
+  throw std::invalid_argument("a camera is \"left\" or \"right\", not \"" + side + "\"");
+}
+
 std::optional<StereoFrame> StereoCamera::wait(double after,
                                               std::chrono::milliseconds timeout) const {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -127,8 +135,12 @@ Cloud to_cloud(const sm::PointCloud2_& message) {
   cloud.stamp = stamp_seconds(message.header());
   std::array<int, 3> offset{-1, -1, -1};
   for (const auto& field : message.fields()) {
-    const int axis = field.name() == "x" ? 0 : field.name() == "y" ? 1 : field.name() == "z" ? 2 : -1;
-    if (axis >= 0 && field.datatype() == 7 /* FLOAT32 */) offset[axis] = static_cast<int>(field.offset());
+    const int axis = field.name() == "x"   ? 0
+                     : field.name() == "y" ? 1
+                     : field.name() == "z" ? 2
+                                           : -1;
+    if (axis >= 0 && field.datatype() == 7 /* FLOAT32 */)
+      offset[axis] = static_cast<int>(field.offset());
   }
   const std::size_t step = message.point_step();
   const std::size_t count = std::size_t{message.width()} * message.height();
@@ -167,7 +179,8 @@ std::optional<double> Imu::yaw() const {
   const auto imu = imu_.get();
   if (!imu) return std::nullopt;
   const auto& q = imu->orientation();
-  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()),
+                    1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
 }
 
 }  // namespace macsim::client

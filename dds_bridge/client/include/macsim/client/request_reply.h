@@ -4,8 +4,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -25,9 +27,10 @@ class RequestReply {
 
   RequestReply(dds::Participant& participant, const std::string& request_topic,
                const std::string& reply_topic, std::string client_id)
-      : client_id_(client_id.empty() ? "client-" + std::to_string(::getpid()) + "-" +
-                                           std::to_string(reinterpret_cast<uintptr_t>(this) % 100000)
-                                     : std::move(client_id)),
+      : client_id_(client_id.empty()
+                       ? "client-" + std::to_string(::getpid()) + "-" +
+                             std::to_string(reinterpret_cast<uintptr_t>(this) % 100000)
+                       : std::move(client_id)),
         requests_(participant, request_topic, dds::QosFamily::Command),
         replies_(participant, reply_topic, dds::QosFamily::Command, [this](const Reply& r) {
           std::lock_guard<std::mutex> lock(mutex_);
@@ -36,11 +39,16 @@ class RequestReply {
           replied_.notify_all();
         }) {}
 
-  /// Sends `request` and waits for its reply; nullopt if none came within `timeout`.
+  /// Asked at least every 100 ms while a call waits: true gives up at once (a Ctrl-C).
+  using Interrupted = std::function<bool()>;
+
+  /// Sends `request` and waits for its reply; nullopt if none came within `timeout` (or
+  /// `interrupted` said so).
   std::optional<Reply> call(Request request,
-                            std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+                            std::chrono::milliseconds timeout = std::chrono::seconds(10),
+                            const Interrupted& interrupted = {}) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    if (!wait_for_server(timeout)) return std::nullopt;
+    if (!wait_for_server(timeout, interrupted)) return std::nullopt;
     request.client_id(client_id_);
     request.sequence_number(next_sequence_++);
     std::unique_lock<std::mutex> lock(mutex_);
@@ -52,16 +60,28 @@ class RequestReply {
       lock.lock();
       const auto retry =
           std::min(deadline, std::chrono::steady_clock::now() + std::chrono::seconds(1));
-      if (replied_.wait_until(lock, retry, [this] { return reply_.has_value(); })) return reply_;
+      // Without an interruption to look for, one wait to the retry; with one, slices of it.
+      while (std::chrono::steady_clock::now() < retry) {
+        const auto until =
+            interrupted ? std::min(retry, std::chrono::steady_clock::now() + kSlice) : retry;
+        if (replied_.wait_until(lock, until, [this] { return reply_.has_value(); })) return reply_;
+        if (interrupted) {
+          lock.unlock();
+          const bool stop = interrupted();
+          lock.lock();
+          if (stop) return std::nullopt;
+        }
+      }
     }
     return std::nullopt;
   }
 
   /// Waits until a server is matched both ways.
-  bool wait_for_server(std::chrono::milliseconds timeout) {
+  bool wait_for_server(std::chrono::milliseconds timeout, const Interrupted& interrupted = {}) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (requests_.matched() == 0 || replies_.matched() == 0) {
+    for (int polls = 1; requests_.matched() == 0 || replies_.matched() == 0; ++polls) {
       if (std::chrono::steady_clock::now() > deadline) return false;
+      if (interrupted && polls % 5 == 0 && interrupted()) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return true;
@@ -70,6 +90,7 @@ class RequestReply {
   const std::string& client_id() const { return client_id_; }
 
  private:
+  static constexpr std::chrono::milliseconds kSlice{100};
   std::string client_id_;
   uint64_t next_sequence_ = 1;
   std::mutex mutex_;

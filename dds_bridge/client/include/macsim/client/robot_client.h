@@ -12,6 +12,7 @@
 #include "macsim/dds/participant.h"
 #include "macsim/msg/geometry_msgs.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
+#include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgs.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 
@@ -27,10 +28,13 @@ class RobotClient {
   /// Publishes a velocity command (m/s forward, rad/s counter-clockwise) on cmd_vel.
   /// The robot stops by itself 0.6 s after the last command, so repeat it while moving.
   bool drive(double linear, double angular);
+  /// Publishes left and right wheel rim speeds (m/s) on wheel_speeds, the alternative to a
+  /// twist (the same 0.6 s timeout).
+  bool drive_wheels(double left, double right);
   /// Waits until the robot's participant has received every command sent so far (lock-step:
   /// call it before asking the simulator for the next step).
   bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
-    return cmd_vel_.wait_acknowledged(timeout);
+    return cmd_vel_.wait_acknowledged(timeout) && wheel_speeds_.wait_acknowledged(timeout);
   }
   /// Publishes a zero velocity command.
   bool stop() { return drive(0.0, 0.0); }
@@ -60,6 +64,7 @@ class RobotClient {
   std::optional<Odometry> latest_;
   uint64_t received_ = 0, returned_ = 0;
   dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> cmd_vel_;
+  dds::Writer<kurt_msgs::msg::dds_::WheelSpeeds_PubSubType> wheel_speeds_;
   dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom_;
 };
 

@@ -43,11 +43,11 @@ class Crane {
 
 /// One stereo pair taken at the same instant, with the pinhole calibration.
 struct StereoFrame {
-  double stamp = 0;        ///< s
-  cv::Mat left, right;     ///< BGR, 8 bits per channel
-  double focal = 0;        ///< px
-  double cx = 0, cy = 0;   ///< px, principal point
-  double baseline = 0;     ///< m between the optical centres (from the right camera's P)
+  double stamp = 0;       ///< s
+  cv::Mat left, right;    ///< BGR, 8 bits per channel
+  double focal = 0;       ///< px
+  double cx = 0, cy = 0;  ///< px, principal point
+  double baseline = 0;    ///< m between the optical centres (from the right camera's P)
 };
 
 /// The two cameras of a stereo pair.
@@ -58,6 +58,8 @@ class StereoCamera {
   std::optional<StereoFrame> latest(double after = -1.0) const;
   /// Waits up to `timeout` for a pair later than `after`.
   std::optional<StereoFrame> wait(double after, std::chrono::milliseconds timeout) const;
+  /// One eye's images as they come ("left" or "right"; anything else: std::invalid_argument).
+  const Latest<sensor_msgs::msg::dds_::Image_PubSubType>& eye(const std::string& side) const;
 
  private:
   Latest<sensor_msgs::msg::dds_::Image_PubSubType> left_, right_;

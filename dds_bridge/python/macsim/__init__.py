@@ -1,0 +1,62 @@
+"""MACSim-DDS from Python: drive a KURT3D (in the simulator or the real robot's adapter),
+supervise and step the simulator, all over DDS through the project's C++ client library.
+
+    import macsim
+    p = macsim.Participant(domain=7)
+    kurt = macsim.Robot(p, "kurt")
+    kurt.cmd_vel(0.3, 0.0)
+    print(kurt.odometry(timeout=5).position)
+    left = kurt.image("left")            # H x W x 3 uint8 numpy array (BGR)
+
+Blocking calls release the GIL, hear Ctrl-C, and raise TimeoutError when nobody answers.
+"""
+
+from ._macsim import (
+    Component,
+    CraneState,
+    Door,
+    Imu,
+    Object,
+    Odometry,
+    Participant,
+    Robot,
+    Scan,
+    SimulationStatus,
+    Simulation,
+    StereoFrame,
+    Supervisor,
+    SupervisorError,
+    WorldState,
+)
+from ._macsim import (
+    DESTROY_EVERY_OBJECT,
+    DESTROY_FIXED_OBJECTS,
+    DESTROY_PORTABLE_OBJECTS,
+    ERR_BAD_FILE,
+    ERR_BAD_TEXTURE,
+    ERR_INVALID_ARGUMENT,
+    ERR_NOT_APPLICABLE,
+    ERR_OK,
+    ERR_PENETRATION,
+    ERR_UNKNOWN_OBJECT,
+    ERR_UNKNOWN_OPERATION,
+    ERR_WRONG_GEOMETRY,
+    GAP_CLOSED,
+    GAP_HALF,
+    GAP_OPEN,
+    KIND_DOOR_FRAME,
+    KIND_DOOR_LEAF,
+    KIND_OBJECT,
+    KIND_RAMP,
+    KIND_SWITCH_BASE,
+    KIND_SWITCH_PLATFORM,
+    KIND_WALL,
+    RESET_EVERYTHING,
+    RESET_POSES,
+    RESET_POSES_AND_TIME,
+    SHAPE_BOX,
+    SHAPE_CYLINDER,
+    SHAPE_SPHERE,
+)
+
+__all__ = [name for name in dir() if not name.startswith("_")]

@@ -1,0 +1,493 @@
+// macsim.Supervisor (every supervisor operation, keyword arguments, SupervisorError on a
+// refusal), macsim.Simulation (pause, run, real-time factor, lock-step steps, reset, load,
+// features) and macsim.WorldState (the world state topic as a dict of objects by id).
+#include <pybind11/eval.h>
+
+#include <cstdio>
+#include <sstream>
+#include <thread>
+
+#include "bindings.h"
+#include "macsim/client/supervisor_client.h"
+#include "macsim/client/world_state.h"
+
+namespace macsim::python {
+
+namespace {
+
+namespace mm = macsim_msgs::msg::dds_;
+namespace sv = client::supervisor;
+
+/// A request the simulator answered with an error code.
+struct SupervisorFailure {
+  int code;
+  std::string message;
+  std::vector<std::string> names;
+};
+
+std::string seconds_text(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", s);
+  return text;
+}
+
+/// Calls over one request/reply pair: the GIL released while waiting, Ctrl-C heard, a silent
+/// simulator a TimeoutError, an error code a SupervisorError.
+template <class Client>
+struct PythonCaller {
+  PythonCaller(PythonParticipant& p, double seconds, const char* name)
+      : domain(p.domain), timeout(seconds), service(name), client(p.dds) {
+    to_milliseconds(seconds);
+  }
+
+  typename Client::Reply call(typename Client::Request request, std::optional<double> wait = {}) {
+    const double seconds = wait.value_or(timeout);
+    const auto limit = to_milliseconds(seconds);
+    std::optional<typename Client::Reply> reply;
+    {
+      py::gil_scoped_release release;
+      reply = client.call(std::move(request), limit, [] { return python_interrupted(); });
+    }
+    if (PyErr_Occurred()) raise_pending();
+    if (!reply) {
+      raise_timeout("no simulator answered the " + std::string(service) + " on DDS domain " +
+                    std::to_string(domain) + " within " + seconds_text(seconds) +
+                    " s: is macsim running with the same --domain and DDS profile?");
+    }
+    if (reply->code() != mm::ERR_OK)
+      throw SupervisorFailure{reply->code(), reply->message(), names(*reply)};
+    return *reply;
+  }
+  static std::vector<std::string> names(const mm::SupervisorReply_& r) { return r.names(); }
+  static std::vector<std::string> names(const mm::SimulationReply_&) { return {}; }
+
+  int domain;
+  double timeout;
+  const char* service;
+  Client client;
+};
+
+using PythonSupervisor = PythonCaller<client::SupervisorClient>;
+
+/// Simulation control, and the supervisor's reset.
+struct PythonSimulation {
+  PythonSimulation(PythonParticipant& p, double timeout)
+      : control(p, timeout, "simulation control"), supervisor(p, timeout, "supervisor") {}
+  mm::SimulationReply_ command(int32_t command) {
+    return control.call(client::SimulationClient::request(command));
+  }
+  PythonCaller<client::SimulationClient> control;
+  PythonSupervisor supervisor;
+};
+
+/// A door-switch structure as get_door answers it.
+struct DoorInfo {
+  std::string name;
+  bool triggered, virtually_triggered;
+  int gap;
+  double opening, switch_travel;
+  std::vector<uint32_t> object_ids;  ///< leaf, frame, platform, base
+};
+
+mm::Object_ object_of(const std::string& name, const std::vector<mm::Component_>& components,
+                      const sv::Vec3& position, const sv::Quat& orientation, int kind,
+                      bool portable, double density, double mass, const std::string& material,
+                      bool magnetizable, bool frozen, const std::string& user_data, int user_color,
+                      int user_shape, const sv::Vec3& ramp) {
+  mm::Object_ o;
+  o.name(name);
+  o.kind(kind);
+  o.portable(portable);
+  o.components(components);
+  o.pose().position().x(position[0]);
+  o.pose().position().y(position[1]);
+  o.pose().position().z(position[2]);
+  o.pose().orientation().x(orientation[0]);
+  o.pose().orientation().y(orientation[1]);
+  o.pose().orientation().z(orientation[2]);
+  o.pose().orientation().w(orientation[3]);
+  o.density(density);
+  o.mass(mass);
+  o.material(material);
+  o.magnetizable(magnetizable);
+  o.frozen(frozen);
+  o.user_data(user_data);
+  o.user_color(user_color);
+  o.user_shape(user_shape);
+  o.ramp(ramp);
+  return o;
+}
+
+constexpr const char* kSupervisorErrorClass = R"py(
+class SupervisorError(RuntimeError):
+    """A request the simulator refused: `code` (ERR_*), its `message`, and `names` (the
+    objects a change would penetrate, when that is why)."""
+    __module__ = "macsim"
+
+    def __init__(self, code, message, names=()):
+        super().__init__(f"{message} (code {code})")
+        self.code = code
+        self.message = message
+        self.names = list(names)
+)py";
+
+}  // namespace
+
+void bind_supervisor(py::module_& m) {
+  py::dict definitions;
+  py::exec(kSupervisorErrorClass, py::globals(), definitions);
+  m.attr("SupervisorError") = definitions["SupervisorError"];
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const SupervisorFailure& e) {
+      py::object cls = py::module_::import("macsim._macsim").attr("SupervisorError");
+      py::object error = cls(e.code, e.message, e.names);
+      PyErr_SetObject(cls.ptr(), error.ptr());
+    }
+  });
+
+  py::class_<DoorInfo>(m, "Door", "A door-switch structure.")
+      .def_readonly("name", &DoorInfo::name)
+      .def_readonly("triggered", &DoorInfo::triggered, "the switch is pressed (by weight)")
+      .def_readonly("virtually_triggered", &DoorInfo::virtually_triggered,
+                    "triggered by the supervisor")
+      .def_readonly("gap", &DoorInfo::gap, "GAP_CLOSED, GAP_HALF or GAP_OPEN")
+      .def_readonly("opening", &DoorInfo::opening, "0 (closed) .. 1 (open)")
+      .def_readonly("switch_travel", &DoorInfo::switch_travel, "0 .. 1")
+      .def_readonly("object_ids", &DoorInfo::object_ids,
+                    "the leaf's, frame's, switch platform's and switch base's object ids");
+
+  using S = PythonSupervisor;
+  const sv::Quat identity = sv::kIdentity;
+  py::class_<S>(m, "Supervisor",
+                "The simulator's supervisor: every operation on the world's objects and doors. A "
+                "refusal raises SupervisorError; no answer within `timeout` s, TimeoutError.")
+      .def(py::init([](PythonParticipant& p, double timeout) {
+             return std::make_unique<S>(p, timeout, "supervisor");
+           }),
+           py::arg("participant"), py::arg("timeout") = 10.0, py::keep_alive<1, 2>())
+      .def_readwrite("timeout", &S::timeout, "s to wait for each answer")
+      .def(
+          "list_objects",
+          [](S& s) {
+            const auto r = s.call(sv::list_objects());
+            py::dict objects;
+            for (std::size_t i = 0; i < r.object_ids().size() && i < r.names().size(); ++i)
+              objects[py::int_(r.object_ids()[i])] = r.names()[i];
+            return objects;
+          },
+          "Every object: {id: name}, in the world's order.")
+      .def(
+          "find_object",
+          [](S& s, const std::string& name) { return s.call(sv::find_object(name)).object_id(); },
+          py::arg("name"), "The id of the object of that (full) name.")
+      .def(
+          "find_by_user_data",
+          [](S& s, const std::string& user_data) {
+            return s.call(sv::find_by_user_data(user_data)).object_ids();
+          },
+          py::arg("user_data"), "The ids of the objects carrying that user data.")
+      .def(
+          "get_object", [](S& s, uint32_t id) { return s.call(sv::get_object(id)).object(); },
+          py::arg("object_id"), "The object: description, pose, velocity, mass, flags.")
+      .def(
+          "create_object",
+          [](S& s, const std::string& name, const std::vector<mm::Component_>& components,
+             const sv::Vec3& position, const sv::Quat& orientation, int kind, bool portable,
+             double density, double mass, const std::string& material, bool magnetizable,
+             bool frozen, const std::string& user_data, int user_color, int user_shape,
+             const sv::Vec3& ramp, bool allow_penetration) {
+            return s
+                .call(sv::create_object(object_of(name, components, position, orientation, kind,
+                                                  portable, density, mass, material, magnetizable,
+                                                  frozen, user_data, user_color, user_shape, ramp),
+                                        allow_penetration))
+                .object_id();
+          },
+          py::arg("name"), py::arg("components") = std::vector<mm::Component_>{},
+          py::arg("position") = sv::Vec3{0, 0, 0}, py::arg("orientation") = identity, py::kw_only(),
+          py::arg("kind") = mm::KIND_OBJECT, py::arg("portable") = true, py::arg("density") = 0.0,
+          py::arg("mass") = 0.0, py::arg("material") = "", py::arg("magnetizable") = false,
+          py::arg("frozen") = false, py::arg("user_data") = "", py::arg("user_color") = 0,
+          py::arg("user_shape") = 0, py::arg("ramp") = sv::Vec3{0, 0, 0},
+          py::arg("allow_penetration") = true,
+          "Creates an object (KIND_OBJECT of Components, or KIND_RAMP of `ramp` = width, "
+          "height, angle) and returns its id. density kg/m^3 (0: 100); mass > 0 sets the "
+          "density from the volume.")
+      .def(
+          "import_environment",
+          [](S& s, const std::string& file, const std::string& import_id, const sv::Vec3& position,
+             const sv::Quat& orientation) {
+            return s.call(sv::import_environment(file, import_id, position, orientation))
+                .object_ids();
+          },
+          py::arg("file"), py::arg("import_id"), py::arg("position") = sv::Vec3{0, 0, 0},
+          py::arg("orientation") = identity,
+          "Imports an environment file (as an <IMPORT> names it); the new objects' ids.")
+      .def(
+          "destroy_object", [](S& s, uint32_t id) { s.call(sv::destroy_object(id)); },
+          py::arg("object_id"))
+      .def(
+          "destroy_by_user_data",
+          [](S& s, const std::string& user_data) {
+            return s.call(sv::destroy_by_user_data(user_data)).count();
+          },
+          py::arg("user_data"), "How many were destroyed.")
+      .def(
+          "destroy_all", [](S& s, int which) { return s.call(sv::destroy_all(which)).count(); },
+          py::arg("which") = mm::DESTROY_PORTABLE_OBJECTS,
+          "DESTROY_EVERY_OBJECT, DESTROY_PORTABLE_OBJECTS or DESTROY_FIXED_OBJECTS; how many "
+          "were destroyed.")
+      .def(
+          "set_pose",
+          [](S& s, uint32_t id, const sv::Vec3& position, const sv::Quat& orientation, bool pen) {
+            s.call(sv::set_pose(id, position, orientation, pen));
+          },
+          py::arg("object_id"), py::arg("position"), py::arg("orientation") = identity,
+          py::arg("allow_penetration") = false)
+      .def(
+          "set_position",
+          [](S& s, uint32_t id, const sv::Vec3& position, bool pen) {
+            s.call(sv::set_position(id, position, pen));
+          },
+          py::arg("object_id"), py::arg("position"), py::arg("allow_penetration") = false)
+      .def(
+          "set_orientation",
+          [](S& s, uint32_t id, const sv::Quat& orientation, bool pen) {
+            s.call(sv::set_orientation(id, orientation, pen));
+          },
+          py::arg("object_id"), py::arg("orientation"), py::arg("allow_penetration") = false)
+      .def(
+          "set_box_size",
+          [](S& s, uint32_t id, int component, const sv::Vec3& size, bool pen) {
+            s.call(sv::set_box_size(id, component, size, pen));
+          },
+          py::arg("object_id"), py::arg("component"), py::arg("size"),
+          py::arg("allow_penetration") = false, "Full sizes, m.")
+      .def(
+          "set_cylinder_size",
+          [](S& s, uint32_t id, int component, double radius, double height, bool pen) {
+            s.call(sv::set_cylinder_size(id, component, radius, height, pen));
+          },
+          py::arg("object_id"), py::arg("component"), py::arg("radius"), py::arg("height"),
+          py::arg("allow_penetration") = false)
+      .def(
+          "set_sphere_size",
+          [](S& s, uint32_t id, int component, double radius, bool pen) {
+            s.call(sv::set_sphere_size(id, component, radius, pen));
+          },
+          py::arg("object_id"), py::arg("component"), py::arg("radius"),
+          py::arg("allow_penetration") = false)
+      .def(
+          "set_ramp",
+          [](S& s, uint32_t id, double width, double height, double angle, bool pen) {
+            s.call(sv::set_ramp(id, width, height, angle, pen));
+          },
+          py::arg("object_id"), py::arg("width"), py::arg("height"), py::arg("angle"),
+          py::arg("allow_penetration") = false, "m, m, rad.")
+      .def(
+          "set_color",
+          [](S& s, uint32_t id, const sv::Rgba& rgba, int component) {
+            s.call(sv::set_color(id, rgba, component));
+          },
+          py::arg("object_id"), py::arg("rgba"), py::arg("component") = -1,
+          "rgba in [0, 1]; component -1: every component.")
+      .def(
+          "set_texture",
+          [](S& s, uint32_t id, const std::string& file, int component) {
+            s.call(sv::set_texture(id, file, component));
+          },
+          py::arg("object_id"), py::arg("file"), py::arg("component") = -1,
+          "A BMP of 2^n x 2^n pixels; '' removes the texture.")
+      .def(
+          "set_mass", [](S& s, uint32_t id, double mass) { s.call(sv::set_mass(id, mass)); },
+          py::arg("object_id"), py::arg("mass"), "kg")
+      .def(
+          "set_density",
+          [](S& s, uint32_t id, double density) { s.call(sv::set_density(id, density)); },
+          py::arg("object_id"), py::arg("density"), "kg/m^3")
+      .def(
+          "set_linear_velocity",
+          [](S& s, uint32_t id, const sv::Vec3& v) { s.call(sv::set_linear_velocity(id, v)); },
+          py::arg("object_id"), py::arg("velocity"), "m/s, world frame")
+      .def(
+          "set_angular_velocity",
+          [](S& s, uint32_t id, const sv::Vec3& v) { s.call(sv::set_angular_velocity(id, v)); },
+          py::arg("object_id"), py::arg("velocity"), "rad/s, world frame")
+      .def(
+          "add_force", [](S& s, uint32_t id, const sv::Vec3& f) { s.call(sv::add_force(id, f)); },
+          py::arg("object_id"), py::arg("force"),
+          "N at the centre of mass, world frame, during the next step only.")
+      .def(
+          "add_torque", [](S& s, uint32_t id, const sv::Vec3& t) { s.call(sv::add_torque(id, t)); },
+          py::arg("object_id"), py::arg("torque"), "N m, world frame, next step only.")
+      .def(
+          "set_frozen", [](S& s, uint32_t id, bool on) { s.call(sv::set_frozen(id, on)); },
+          py::arg("object_id"), py::arg("frozen"))
+      .def(
+          "set_magnetizable",
+          [](S& s, uint32_t id, bool on) { s.call(sv::set_magnetizable(id, on)); },
+          py::arg("object_id"), py::arg("magnetizable"))
+      .def(
+          "set_user_data",
+          [](S& s, uint32_t id, const std::string& data) { s.call(sv::set_user_data(id, data)); },
+          py::arg("object_id"), py::arg("user_data"))
+      .def(
+          "set_user_labels",
+          [](S& s, uint32_t id, int color, int shape) {
+            s.call(sv::set_user_labels(id, color, shape));
+          },
+          py::arg("object_id"), py::arg("color_label"), py::arg("shape_label"))
+      .def("door_count", [](S& s) { return s.call(sv::door_count()).count(); })
+      .def(
+          "get_door",
+          [](S& s, int door) {
+            const auto r = s.call(sv::get_door(door));
+            const auto& d = r.door();
+            return DoorInfo{d.name(),    d.triggered(),     d.virtually_triggered(), d.gap(),
+                            d.opening(), d.switch_travel(), r.object_ids()};
+          },
+          py::arg("door"), "Door `door` (0 .. door_count() - 1).")
+      .def(
+          "set_switch_triggered",
+          [](S& s, int door, bool on) { s.call(sv::set_switch_triggered(door, on)); },
+          py::arg("door"), py::arg("triggered"))
+      .def(
+          "set_door_position",
+          [](S& s, int door, const sv::Vec3& p) { s.call(sv::set_door_position(door, p)); },
+          py::arg("door"), py::arg("position"), "Where the leaf's frame stands, m.")
+      .def(
+          "set_switch_position",
+          [](S& s, int door, const sv::Vec3& p) { s.call(sv::set_switch_position(door, p)); },
+          py::arg("door"), py::arg("position"), "Where the switch's platform stands, m.")
+      .def(
+          "reset", [](S& s, int scope) { s.call(sv::reset(scope)); },
+          py::arg("scope") = mm::RESET_EVERYTHING,
+          "RESET_POSES, RESET_POSES_AND_TIME or RESET_EVERYTHING (the world as loaded).")
+      .def(
+          "save_snapshot", [](S& s, const std::string& name) { s.call(sv::save_snapshot(name)); },
+          py::arg("name"))
+      .def(
+          "restore_snapshot",
+          [](S& s, const std::string& name) { s.call(sv::restore_snapshot(name)); },
+          py::arg("name"))
+      .def(
+          "state_hash", [](S& s) { return s.call(sv::state_hash()).hash(); },
+          "The hash of the world's whole state: equal states, equal hashes.");
+
+  using Sim = PythonSimulation;
+  py::class_<Sim>(m, "Simulation",
+                  "Controls the simulation: pause, run, real-time factor, lock-step steps, "
+                  "reset, load a world. No answer within `timeout` s: TimeoutError.")
+      .def(py::init<PythonParticipant&, double>(), py::arg("participant"),
+           py::arg("timeout") = 10.0, py::keep_alive<1, 2>())
+      .def_property(
+          "timeout", [](const Sim& s) { return s.control.timeout; },
+          [](Sim& s, double t) {
+            to_milliseconds(t);
+            s.control.timeout = s.supervisor.timeout = t;
+          },
+          "s to wait for each answer")
+      .def(
+          "pause", [](Sim& s) { return s.command(mm::SIM_PAUSE); }, "Stops stepping.")
+      .def(
+          "run", [](Sim& s) { return s.command(mm::SIM_RUN); },
+          "Steps again, at the real-time factor.")
+      .def(
+          "set_real_time_factor",
+          [](Sim& s, double factor) {
+            auto request = client::SimulationClient::request(mm::SIM_SET_RTF);
+            request.real_time_factor(factor);
+            return s.control.call(request);
+          },
+          py::arg("factor"), "> 0, or 0 for as fast as possible.")
+      .def(
+          "step",
+          [](Sim& s, uint64_t steps, std::optional<double> timeout) {
+            auto request = client::SimulationClient::request(mm::SIM_STEP);
+            request.steps(steps);
+            return s.control.call(request, timeout);
+          },
+          py::arg("steps") = 1, py::arg("timeout") = py::none(),
+          "Lock-step: advances `steps` steps; answered once the steps' data is out, with the "
+          "new sim time and state hash.")
+      .def(
+          "status", [](Sim& s) { return s.command(mm::SIM_STATUS); },
+          "Time, steps, state hash, paused, real-time factor.")
+      .def(
+          "reset",
+          [](Sim& s, int scope) {
+            s.supervisor.call(sv::reset(scope));
+            return s.command(mm::SIM_STATUS);
+          },
+          py::arg("scope") = mm::RESET_EVERYTHING,
+          "Puts the world back (RESET_POSES, RESET_POSES_AND_TIME or RESET_EVERYTHING).")
+      .def(
+          "load_world",
+          [](Sim& s, const std::string& file, double timeout) {
+            auto request = client::SimulationClient::request(mm::SIM_LOAD_WORLD);
+            request.world_file(file);
+            return s.control.call(request, timeout);
+          },
+          py::arg("file"), py::arg("timeout") = 60.0,
+          "Loads another world file (same robot names); answered once it runs.")
+      .def(
+          "features",
+          [](Sim& s) {
+            std::vector<std::string> out;
+            std::stringstream list(s.command(mm::SIM_FEATURES).features());
+            for (std::string item; std::getline(list, item, ',');)
+              if (!item.empty()) out.push_back(item);
+            return out;
+          },
+          "What the participant supports: 'simulator', 'supervisor', 'lockstep', ...");
+
+  using W = client::WorldStateClient;
+  py::class_<W>(m, "WorldState", "The world state topic: the latest state of every object, by id.")
+      .def(py::init([](PythonParticipant& p) { return std::make_unique<W>(p.dds); }),
+           py::arg("participant"), py::keep_alive<1, 2>())
+      .def(
+          "objects",
+          [](W& w) {
+            W::Objects objects;
+            {
+              py::gil_scoped_release release;
+              objects = w.objects();
+            }
+            py::dict out;
+            for (auto& [id, state] : objects) out[py::int_(id)] = py::cast(state.object());
+            return out;
+          },
+          "{id: Object} of every object alive, as last published.")
+      .def(
+          "wait",
+          [](W& w, const py::function& check, double timeout) {
+            const auto limit = to_milliseconds(timeout);
+            const auto deadline = std::chrono::steady_clock::now() + limit;
+            while (true) {
+              W::Objects objects;
+              {
+                py::gil_scoped_release release;
+                objects = w.objects();
+              }
+              py::dict view;
+              for (auto& [id, state] : objects) view[py::int_(id)] = py::cast(state.object());
+              if (check(view).cast<bool>()) return view;
+              if (std::chrono::steady_clock::now() >= deadline) {
+                raise_timeout("the world state did not come to what was asked within " +
+                              seconds_text(timeout) + " s");
+              }
+              {
+                py::gil_scoped_release release;
+                std::this_thread::sleep_for(std::chrono::milliseconds(20));
+              }
+              if (PyErr_CheckSignals() != 0) raise_pending();
+            }
+          },
+          py::arg("check"), py::arg("timeout") = 10.0,
+          "Waits until check({id: Object}) is true and returns that dict; TimeoutError after "
+          "`timeout` s.");
+}
+
+}  // namespace macsim::python

@@ -1,0 +1,146 @@
+"""macsim.Simulation against real macsim processes: lock-step steps and their hashes (two runs,
+the same hashes), pause / run / real-time factor, reset, load, features; blocking calls release
+the GIL and hear Ctrl-C."""
+
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+import macsim
+from conftest import _lock_domain, source, start_macsim
+
+LOCKSTEP = ("--lockstep", "--cameras", "off")
+
+
+def lockstep_run(domain, spawn):
+    """Drives, pushes the ball and steps; the state hash after every step request."""
+    start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
+    participant = macsim.Participant(domain=domain, name="lockstep_test")
+    simulation = macsim.Simulation(participant)
+    supervisor = macsim.Supervisor(participant)
+    robot = macsim.Robot(participant)
+    for _ in range(100):
+        if robot.connected:
+            break
+        time.sleep(0.05)
+    # While paused every command lands at sim time 0: repeat it until discovery settled.
+    for _ in range(20):
+        robot.cmd_vel(0.3, 0.4)
+        time.sleep(0.05)
+    hashes = []
+    for k in range(10):
+        if k == 4:
+            robot.cmd_vel(-0.2, 0.6)
+            assert robot.wait_delivered()
+        if k == 3:
+            supervisor.add_force(supervisor.find_object("red_box"), (0, 40, 0))
+        status = simulation.step(50)
+        hashes.append(status.state_hash)
+        assert status.steps == 50 * (k + 1)
+        assert status.sim_time == pytest.approx(0.05 * (k + 1))
+    return hashes
+
+
+def test_lockstep_runs_are_deterministic(domain, spawn):
+    first = lockstep_run(domain, spawn)
+    other, fd = _lock_domain()
+    try:
+        second = lockstep_run(other, spawn)
+    finally:
+        import os
+        os.close(fd)
+    assert len(set(first)) == len(first), "the world did not change between steps"
+    assert first == second
+
+
+def test_pause_run_rate_status_reset_load_features(domain, spawn):
+    start_macsim(spawn, domain, "worlds/small_room.xml", "--cameras", "off", "--paused")
+    participant = macsim.Participant(domain=domain)
+    simulation = macsim.Simulation(participant)
+    features = simulation.features()
+    assert {"simulator", "supervisor", "lockstep"} <= set(features)
+    status = simulation.status()
+    assert status.paused and status.steps == 0
+    one = simulation.step(1)
+    assert one.steps == 1 and one.sim_time == pytest.approx(0.001)
+    assert simulation.set_real_time_factor(0).real_time_factor == 0  # as fast as possible
+    simulation.run()
+    time.sleep(0.5)
+    running = simulation.status()
+    assert not running.paused and running.steps > 100
+    paused = simulation.pause()
+    assert paused.paused
+    assert simulation.status().steps == simulation.status().steps  # nothing moves while paused
+    with pytest.raises(macsim.SupervisorError) as error:
+        simulation.set_real_time_factor(-1)
+    assert error.value.code == macsim.ERR_INVALID_ARGUMENT
+    reset = simulation.reset(macsim.RESET_EVERYTHING)
+    assert reset.sim_time == 0
+    loaded = simulation.load_world(source("worlds/small_room.xml"))
+    assert loaded.steps == 0
+    with pytest.raises(macsim.SupervisorError) as error:
+        simulation.load_world(source("worlds/no_such_world.xml"))
+    assert simulation.step(2).steps == 2  # the old world still runs
+
+
+def test_a_blocking_call_lets_other_threads_run(domain):
+    participant = macsim.Participant(domain=domain)
+    robot = macsim.Robot(participant)
+    counted = [0]
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            counted[0] += 1
+
+    thread = threading.Thread(target=count)
+    thread.start()
+    start = time.monotonic()
+    with pytest.raises(TimeoutError):
+        robot.odometry(timeout=1.0)
+    with pytest.raises(TimeoutError):
+        macsim.Supervisor(participant, timeout=0.5).list_objects()
+    elapsed = time.monotonic() - start
+    stop.set()
+    thread.join()
+    assert 1.4 < elapsed < 3.0
+    assert counted[0] > 10000  # the other thread ran while this one waited
+
+
+CTRL_C_SCRIPT = """
+import sys, time, macsim
+p = macsim.Participant(domain=int(sys.argv[1]))
+print("waiting", flush=True)
+try:
+    if sys.argv[2] == "odometry":
+        macsim.Robot(p).odometry(timeout=60)
+    elif sys.argv[2] == "image":
+        macsim.Robot(p).image("left", timeout=60)
+    else:
+        macsim.Supervisor(p, timeout=60).state_hash()
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(130)
+"""
+
+
+@pytest.mark.parametrize("call", ["odometry", "image", "supervisor"])
+def test_ctrl_c_interrupts_a_blocking_call(domain, call):
+    child = subprocess.Popen([sys.executable, "-c", CTRL_C_SCRIPT, str(domain), call],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        assert child.stdout.readline().strip() == "waiting"
+        time.sleep(0.5)
+        sent = time.monotonic()
+        child.send_signal(subprocess.signal.SIGINT)
+        out, _ = child.communicate(timeout=10)
+        assert time.monotonic() - sent < 2.0
+        assert child.returncode == 130, out
+        assert "interrupted" in out
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()

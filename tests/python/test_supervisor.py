@@ -1,0 +1,217 @@
+"""Every supervisor call of macsim.Supervisor against a real macsim (lock-step, so nothing moves
+unless stepped), and the errors: refusals as SupervisorError with their code, hostile numbers
+refused, a silent simulator a TimeoutError."""
+
+import math
+
+import pytest
+
+import macsim
+from conftest import source, start_macsim
+
+
+@pytest.fixture
+def world(domain, spawn):
+    start_macsim(spawn, domain, "worlds/small_room.xml", "--lockstep", "--cameras", "off")
+    participant = macsim.Participant(domain=domain, name="supervisor_test")
+    return participant, macsim.Supervisor(participant), macsim.Simulation(participant)
+
+
+def box(size=0.1, color=(0.2, 0.9, 0.2, 1.0)):
+    return macsim.Component(macsim.SHAPE_BOX, (size, size, size), color=color)
+
+
+def test_objects_are_listed_found_and_read(world):
+    _, supervisor, _ = world
+    objects = supervisor.list_objects()
+    assert "red_box" in objects.values() and "wall_ahead" in objects.values()
+    red = supervisor.find_object("red_box")
+    assert objects[red] == "red_box"
+    got = supervisor.get_object(red)
+    assert (got.id, got.name, got.portable) == (red, "red_box", True)
+    assert got.position == pytest.approx((1.0, 1.0, 0.1), abs=0.01)
+    assert got.components[0].shape == macsim.SHAPE_BOX
+    assert got.components[0].size == pytest.approx((0.2, 0.2, 0.2))
+    assert got.mass == pytest.approx(100 * 0.2 ** 3)
+    assert supervisor.get_object(supervisor.find_object("wall_ahead")).portable is False
+
+
+def test_an_object_is_created_changed_and_destroyed(world):
+    _, s, _ = world
+    oid = s.create_object("py_box", [box()], position=(-0.5, 0.3, 0.05), mass=0.2)
+    o = s.get_object(oid)
+    assert o.name == "py_box" and o.kind == macsim.KIND_OBJECT
+    assert o.mass == pytest.approx(0.2) and o.components[0].color[1] == pytest.approx(0.9)
+
+    s.set_pose(oid, (-0.5, -0.6, 0.05), (0, 0, math.sin(0.25), math.cos(0.25)))
+    assert s.get_object(oid).position == pytest.approx((-0.5, -0.6, 0.05))
+    s.set_position(oid, (-0.7, -0.6, 0.05))
+    s.set_orientation(oid, (0, 0, 0, 1))
+    o = s.get_object(oid)
+    assert o.position == pytest.approx((-0.7, -0.6, 0.05)) and o.orientation[3] == pytest.approx(1)
+    s.set_box_size(oid, 0, (0.1, 0.1, 0.08))
+    assert s.get_object(oid).components[0].size == pytest.approx((0.1, 0.1, 0.08))
+    s.set_color(oid, (0.1, 0.2, 0.3, 1.0))
+    assert s.get_object(oid).components[0].color == pytest.approx((0.1, 0.2, 0.3, 1.0))
+    texture = source("worlds/DemoEnvironment_v1/textures/checker.bmp")
+    s.set_texture(oid, texture)
+    assert s.get_object(oid).components[0].texture.endswith("checker.bmp")
+    s.set_texture(oid, "")
+    assert s.get_object(oid).components[0].texture == ""
+    s.set_mass(oid, 0.5)
+    assert s.get_object(oid).mass == pytest.approx(0.5)
+    s.set_density(oid, 300.0)
+    assert s.get_object(oid).density == pytest.approx(300.0)
+    s.set_linear_velocity(oid, (0.1, 0, 0))
+    s.set_angular_velocity(oid, (0, 0, 0.5))
+    o = s.get_object(oid)
+    assert o.linear_velocity == pytest.approx((0.1, 0, 0)) and o.angular_velocity[2] == pytest.approx(0.5)
+    s.add_force(oid, (0, 0, 1))
+    s.add_torque(oid, (0, 0, 0.01))
+    s.set_frozen(oid, True)
+    assert s.get_object(oid).frozen
+    s.set_frozen(oid, False)
+    s.set_magnetizable(oid, True)
+    assert s.get_object(oid).magnetizable
+    s.set_user_data(oid, "python-test")
+    assert s.find_by_user_data("python-test") == [oid]
+    s.set_user_labels(oid, 3, 4)
+    o = s.get_object(oid)
+    assert (o.user_data, o.user_color, o.user_shape) == ("python-test", 3, 4)
+    s.destroy_object(oid)
+    assert oid not in s.list_objects()
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.get_object(oid)
+    assert error.value.code == macsim.ERR_UNKNOWN_OBJECT
+
+
+def test_shapes_ramps_and_imports(world):
+    _, s, _ = world
+    can = s.create_object("py_can", [macsim.Component(macsim.SHAPE_CYLINDER, (0.05, 0, 0.1))],
+                          position=(-1.5, 1.5, 0.07))
+    s.set_cylinder_size(can, 0, 0.04, 0.12)
+    assert s.get_object(can).components[0].size == pytest.approx((0.04, 0, 0.12))
+    ball = s.create_object("py_ball", [macsim.Component(macsim.SHAPE_SPHERE, (0.05, 0, 0))],
+                           position=(-1.5, -1.5, 0.07))
+    s.set_sphere_size(ball, 0, 0.06)
+    assert s.get_object(ball).components[0].size[0] == pytest.approx(0.06)
+    ramp = s.create_object("py_ramp", kind=macsim.KIND_RAMP, position=(-2, 0, 0),
+                           ramp=(0.5, 0.1, 0.2), portable=False)
+    assert s.get_object(ramp).ramp == pytest.approx((0.5, 0.1, 0.2))
+    s.set_ramp(ramp, 0.6, 0.12, 0.25)
+    assert s.get_object(ramp).ramp == pytest.approx((0.6, 0.12, 0.25))
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.set_sphere_size(can, 0, 0.1)
+    assert error.value.code == macsim.ERR_WRONG_GEOMETRY
+
+    assert s.door_count() == 0
+    s.import_environment(source("worlds/DemoEnvironment_v1/materials.xml"), "materials")
+    ids = s.import_environment(source("worlds/DemoEnvironment_v1/doors/door_switch.xml"),
+                               "py_door", (-3, -3, 0))
+    assert len(ids) >= 4
+    assert s.door_count() == 1
+    door = s.get_door(0)
+    assert door.name and not door.triggered and door.gap == macsim.GAP_CLOSED
+    assert len(door.object_ids) == 4 and set(door.object_ids) <= set(ids)
+    s.set_switch_triggered(0, True)
+    assert s.get_door(0).virtually_triggered
+    leaf = s.get_object(door.object_ids[0]).position
+    s.set_door_position(0, (leaf[0], leaf[1] - 0.5, leaf[2]))
+    assert s.get_object(door.object_ids[0]).position[1] == pytest.approx(leaf[1] - 0.5, abs=1e-6)
+    platform = s.get_object(door.object_ids[2]).position
+    s.set_switch_position(0, (platform[0] + 0.3, platform[1], platform[2]))
+    assert s.get_object(door.object_ids[2]).position[0] == pytest.approx(platform[0] + 0.3, abs=1e-6)
+
+    s.set_user_data(can, "py")
+    s.set_user_data(ball, "py")
+    assert s.destroy_by_user_data("py") == 2
+    portable = sum(1 for oid in s.list_objects() if s.get_object(oid).portable)
+    assert s.destroy_all(macsim.DESTROY_PORTABLE_OBJECTS) >= portable > 0
+    assert all(not s.get_object(oid).portable for oid in s.list_objects())
+
+
+def test_snapshots_reset_and_the_state_hash(world):
+    _, s, simulation = world
+    red = s.find_object("red_box")
+    before = s.state_hash()
+    s.save_snapshot("start")
+    s.set_position(red, (1.5, 1.0, 0.1))
+    moved = s.state_hash()
+    assert moved != before
+    s.restore_snapshot("start")
+    assert s.state_hash() == before
+    with pytest.raises(macsim.SupervisorError):
+        s.restore_snapshot("never_saved")
+    s.set_position(red, (1.5, 1.0, 0.1))
+    simulation.step(10)
+    s.reset(macsim.RESET_EVERYTHING)
+    assert s.get_object(red).position == pytest.approx((1.0, 1.0, 0.1), abs=0.01)
+    assert s.state_hash() == before
+
+
+def test_refusals_carry_their_code_and_leave_the_world_as_it_was(world):
+    _, s, _ = world
+    red = s.find_object("red_box")
+    before = s.state_hash()
+    for hostile in (math.nan, math.inf, -1.0, 1e308):
+        with pytest.raises(macsim.SupervisorError) as error:
+            s.set_mass(red, hostile)
+        assert error.value.code == macsim.ERR_INVALID_ARGUMENT, hostile
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.set_position(red, (math.nan, 0, 0))
+    assert error.value.code == macsim.ERR_INVALID_ARGUMENT
+    # Into the wall: refused, and the reply names what it would penetrate.
+    wall = s.get_object(s.find_object("wall_ahead")).position
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.set_position(red, wall)
+    assert error.value.code == macsim.ERR_PENETRATION
+    assert "wall_ahead" in error.value.names
+    assert isinstance(error.value, RuntimeError) and "code 5" in str(error.value)
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.find_object("no_such_object")
+    assert error.value.code == macsim.ERR_UNKNOWN_OBJECT
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.set_texture(red, "/nonexistent/picture.bmp")
+    assert error.value.code == macsim.ERR_BAD_TEXTURE
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.get_door(7)
+    assert s.state_hash() == before
+    # Bad arguments never leave Python.
+    with pytest.raises(TypeError):
+        s.set_position(red, (1, 2))
+    with pytest.raises(ValueError):
+        macsim.Component(9, (1, 1, 1))
+    with pytest.raises(ValueError):
+        macsim.Component(macsim.SHAPE_BOX, (1, 1))
+    with pytest.raises(ValueError):
+        s.timeout = -1
+        s.state_hash()
+
+
+def test_the_world_state_is_a_dict_of_objects_by_id(world):
+    participant, s, simulation = world
+    state = macsim.WorldState(participant)
+    red = s.find_object("red_box")
+    simulation.step(100)  # the state goes out every 0.1 s of sim time
+    objects = state.wait(lambda objects: red in objects, timeout=20)
+    assert objects[red].name == "red_box"
+    assert set(objects) == set(s.list_objects())
+    created = s.create_object("late_box", [box()], position=(-0.5, -1.5, 0.05))
+    simulation.step(100)
+    assert state.wait(lambda objects: created in objects, timeout=20)[created].name == "late_box"
+    s.destroy_object(created)
+    simulation.step(100)
+    assert created not in state.wait(lambda objects: created not in objects, timeout=20)
+    with pytest.raises(TimeoutError):
+        state.wait(lambda objects: False, timeout=0.2)
+
+
+def test_a_missing_simulator_is_a_timeout_not_a_hang(domain):
+    participant = macsim.Participant(domain=domain)
+    supervisor = macsim.Supervisor(participant, timeout=0.5)
+    with pytest.raises(TimeoutError, match=f"domain {domain}"):
+        supervisor.state_hash()
+    with pytest.raises(TimeoutError):
+        macsim.Simulation(participant, timeout=0.3).step(1)
+    with pytest.raises(ValueError):
+        macsim.Participant(domain=233)
