@@ -55,7 +55,9 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_peers"), "--scene", "nope"}, 2, "unknown scene 'nope'"},
            {{bin("bench_peers"), "--repeats", "0"}, 2, "bad argument"},
            {{bin("bench_peers"), "--repeats", "5x"}, 2, "bad argument '5x'"},
-           {{bin("bench_peers"), "--engine", "bullet"}, 2, "unknown engine 'bullet'"}}) {
+           {{bin("bench_peers"), "--engine", "bullet"}, 2, "unknown engine 'bullet'"},
+           {{bin("bench_client"), "--help"}, 0, "usage: bench_client"},
+           {{bin("bench_client")}, 2, "--domain"}}) {
     ChildProcess p(c.argv);
     EXPECT_EQ(p.wait_for_exit(20s), c.code) << c.argv.back() << ": " << p.output();
     EXPECT_NE(p.output().find(c.says), std::string::npos) << p.output();

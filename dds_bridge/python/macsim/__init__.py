@@ -12,6 +12,7 @@ Blocking calls release the GIL, hear Ctrl-C, and raise TimeoutError when nobody 
 """
 
 from ._macsim import (
+    CameraImage,
     Component,
     CraneState,
     Door,

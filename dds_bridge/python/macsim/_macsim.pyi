@@ -191,6 +191,13 @@ class StereoFrame:
     cy: float
     baseline: float
 
+class CameraImage:
+    """One camera image and when it was taken."""
+    stamp: float
+    frame_id: str
+    image: npt.NDArray[np.uint8]
+    """H x W x 3, BGR, read-only (a view of the received sample)."""
+
 class SimulationStatus:
     """Where the simulation stands after a command."""
     @property
@@ -243,6 +250,8 @@ class Robot:
     def scan(self, after: float = -1.0, timeout: float = 0.0) -> Optional[Scan]: ...
     def points(self, after: float = -1.0, timeout: float = 0.0) -> Optional[npt.NDArray[np.float32]]:
         """The latest 3D cloud later than `after`: N x 3 float32 in base_link, m."""
+    def camera(self, side: str = "left", after: float = -1.0, timeout: float = 5.0) -> CameraImage:
+        """Camera `side`'s newest image later than `after`, with its stamp; TimeoutError."""
     def image(self, side: str = "left", after: float = -1.0, timeout: float = 5.0) -> npt.NDArray[np.uint8]:
         """Camera `side` ('left'/'right'): read-only H x W x 3 uint8 BGR; TimeoutError."""
     def stereo(self, after: float = -1.0, timeout: float = 5.0) -> StereoFrame: ...

@@ -16,6 +16,44 @@ namespace {
 namespace sm = sensor_msgs::msg::dds_;
 using Ms = std::chrono::milliseconds;
 
+/// A read-only H x W x 3 BGR view of an image message that keeps the message alive; rgb8 and
+/// mono8 are viewed as BGR through strides (no copy either).
+py::array bgr_view(std::shared_ptr<const sm::Image_> image) {
+  const auto& encoding = image->encoding();
+  const py::ssize_t rows = image->height(), cols = image->width(), step = image->step();
+  const int channels = encoding == "mono8" ? 1 : (encoding == "bgr8" || encoding == "rgb8") ? 3 : 0;
+  if (channels == 0)
+    throw py::value_error("an image of encoding '" + encoding +
+                          "': only bgr8, rgb8 and mono8 are read");
+  if (rows <= 0 || cols <= 0 || step < cols * channels ||
+      image->data().size() < static_cast<std::size_t>(step * rows)) {
+    throw py::value_error("an image whose sizes do not add up (" + std::to_string(cols) + "x" +
+                          std::to_string(rows) + ", step " + std::to_string(step) + ", " +
+                          std::to_string(image->data().size()) + " bytes)");
+  }
+  auto* data = const_cast<uint8_t*>(image->data().data());
+  std::vector<py::ssize_t> strides{step, channels, 1};
+  if (encoding == "rgb8") {
+    data += 2;  // blue is the third byte: walk the channels backwards
+    strides[2] = -1;
+  } else if (encoding == "mono8") {
+    strides[2] = 0;  // one grey byte, seen three times
+  }
+  auto* owner = new std::shared_ptr<const sm::Image_>(std::move(image));
+  py::capsule keep(owner,
+                   [](void* p) { delete static_cast<std::shared_ptr<const sm::Image_>*>(p); });
+  py::array view(py::dtype::of<uint8_t>(), {rows, cols, py::ssize_t{3}}, strides, data, keep);
+  py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return view;
+}
+
+/// One camera image and when it was taken.
+struct CameraImage {
+  double stamp;          ///< s
+  std::string frame_id;  ///< the camera's optical frame
+  py::array image;       ///< H x W x 3 uint8, BGR, read-only
+};
+
 /// Every handle on one robot's topics.
 struct PythonRobot {
   PythonRobot(PythonParticipant& p, const std::string& robot_name, bool rotating_laser)
@@ -55,6 +93,30 @@ struct PythonRobot {
     return value;
   }
 
+  /// The newest image of one eye later than `after` as a BGR view, waiting up to `timeout`.
+  CameraImage camera_image(const std::string& side, double after, double timeout) {
+    const auto& eye = cameras.eye(side);
+    std::shared_ptr<const sm::Image_> image = eye.get_shared();
+    auto fresh = [&] { return image && client::stamp_seconds(image->header()) > after; };
+    if (!fresh()) {
+      wait_interruptibly(to_milliseconds(timeout), [&](Ms slice) {
+        const auto end = std::chrono::steady_clock::now() + slice;
+        while (true) {
+          const uint64_t seen = eye.count();
+          image = eye.get_shared();
+          if (fresh()) return true;
+          const auto now = std::chrono::steady_clock::now();
+          if (now >= end) return false;
+          eye.wait_shared_after(seen, std::chrono::duration_cast<Ms>(end - now) + Ms(1));
+        }
+      });
+    }
+    if (!fresh()) raise_nothing(side + " image", timeout);
+    const double stamp = client::stamp_seconds(image->header());
+    std::string frame_id = image->header().frame_id();
+    return {stamp, std::move(frame_id), bgr_view(std::move(image))};
+  }
+
   int domain;
   client::RobotClient drive;
   client::Crane crane;
@@ -63,37 +125,6 @@ struct PythonRobot {
   client::RangeSensors ranges;
   client::Imu imu;
 };
-
-/// A read-only H x W x 3 BGR view of an image message that keeps the message alive; rgb8 and
-/// mono8 are viewed as BGR through strides (no copy either).
-py::array bgr_view(std::shared_ptr<const sm::Image_> image) {
-  const auto& encoding = image->encoding();
-  const py::ssize_t rows = image->height(), cols = image->width(), step = image->step();
-  const int channels = encoding == "mono8" ? 1 : (encoding == "bgr8" || encoding == "rgb8") ? 3 : 0;
-  if (channels == 0)
-    throw py::value_error("an image of encoding '" + encoding +
-                          "': only bgr8, rgb8 and mono8 are read");
-  if (rows <= 0 || cols <= 0 || step < cols * channels ||
-      image->data().size() < static_cast<std::size_t>(step * rows)) {
-    throw py::value_error("an image whose sizes do not add up (" + std::to_string(cols) + "x" +
-                          std::to_string(rows) + ", step " + std::to_string(step) + ", " +
-                          std::to_string(image->data().size()) + " bytes)");
-  }
-  auto* data = const_cast<uint8_t*>(image->data().data());
-  std::vector<py::ssize_t> strides{step, channels, 1};
-  if (encoding == "rgb8") {
-    data += 2;  // blue is the third byte: walk the channels backwards
-    strides[2] = -1;
-  } else if (encoding == "mono8") {
-    strides[2] = 0;  // one grey byte, seen three times
-  }
-  auto* owner = new std::shared_ptr<const sm::Image_>(std::move(image));
-  py::capsule keep(owner,
-                   [](void* p) { delete static_cast<std::shared_ptr<const sm::Image_>*>(p); });
-  py::array view(py::dtype::of<uint8_t>(), {rows, cols, py::ssize_t{3}}, strides, data, keep);
-  py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return view;
-}
 
 /// A cv::Mat (8-bit, 1 or 3 channels) as a numpy array sharing its pixels.
 py::array mat_view(const cv::Mat& mat) {
@@ -118,6 +149,12 @@ py::array points_array(client::Cloud cloud) {
 }  // namespace
 
 void bind_robot(py::module_& m) {
+  py::class_<CameraImage>(m, "CameraImage", "One camera image and when it was taken.")
+      .def_readonly("stamp", &CameraImage::stamp, "s of sim (or robot) time")
+      .def_readonly("frame_id", &CameraImage::frame_id, "the camera's optical frame")
+      .def_readonly("image", &CameraImage::image,
+                    "H x W x 3 uint8, BGR, read-only (a view of the received sample)");
+
   py::class_<client::StereoFrame>(m, "StereoFrame",
                                   "A stereo pair of one instant and its pinhole calibration.")
       .def_readonly("stamp", &client::StereoFrame::stamp, "s of sim (or robot) time")
@@ -226,27 +263,17 @@ void bind_robot(py::module_& m) {
           "The latest 3D cloud stamped later than `after` (s), as an N x 3 float32 array in "
           "base_link (m); None if none (timeout 0), else waits and raises TimeoutError.")
       .def(
+          "camera",
+          [](PythonRobot& r, const std::string& side, double after, double timeout) {
+            return r.camera_image(side, after, timeout);
+          },
+          py::arg("side") = "left", py::arg("after") = -1.0, py::arg("timeout") = 5.0,
+          "The newest image of camera `side` ('left' or 'right') stamped later than `after` "
+          "(s), with its stamp; waits up to `timeout` s, then TimeoutError.")
+      .def(
           "image",
           [](PythonRobot& r, const std::string& side, double after, double timeout) {
-            const auto& eye = r.cameras.eye(side);
-            std::shared_ptr<const sm::Image_> image;
-            auto fresh = [&] { return image && client::stamp_seconds(image->header()) > after; };
-            image = eye.get_shared();
-            if (!fresh()) {
-              wait_interruptibly(to_milliseconds(timeout), [&](Ms slice) {
-                const auto end = std::chrono::steady_clock::now() + slice;
-                while (true) {
-                  const uint64_t seen = eye.count();
-                  image = eye.get_shared();
-                  if (fresh()) return true;
-                  const auto now = std::chrono::steady_clock::now();
-                  if (now >= end) return false;
-                  eye.wait_shared_after(seen, std::chrono::duration_cast<Ms>(end - now) + Ms(1));
-                }
-              });
-            }
-            if (!fresh()) r.raise_nothing(side + " image", timeout);
-            return bgr_view(std::move(image));
+            return r.camera_image(side, after, timeout).image;
           },
           py::arg("side") = "left", py::arg("after") = -1.0, py::arg("timeout") = 5.0,
           "The newest image of camera `side` ('left' or 'right') stamped later than `after` "

@@ -56,7 +56,7 @@ struct PythonCaller {
     }
     if (reply->code() != mm::ERR_OK)
       throw SupervisorFailure{reply->code(), reply->message(), names(*reply)};
-    return *reply;
+    return std::move(*reply);
   }
   static std::vector<std::string> names(const mm::SupervisorReply_& r) { return r.names(); }
   static std::vector<std::string> names(const mm::SimulationReply_&) { return {}; }
