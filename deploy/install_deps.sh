@@ -36,6 +36,9 @@ PACKAGES=(
   nftables
   # checking the service units (systemd-analyze verify)
   systemd
+  # macsim_web: HTTP + WebSocket (websocketpp on standalone asio), JSON; its browser test drives
+  # Debian's Chromium through chromedriver
+  libwebsocketpp-dev libasio-dev nlohmann-json3-dev chromium chromium-driver
 )
 
 missing=()
@@ -44,6 +47,10 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+
+# The page's three.js comes from the npm registry into the build tree (npm ci); Node.js and npm
+# are Debian's when the machine has none.
+if ! command -v npm > /dev/null; then missing+=(npm); fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#PACKAGES[@]} packages present"

@@ -25,7 +25,7 @@ using namespace std::chrono_literals;
 TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
   for (const char* program :
        {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest", "kurt_demo", "kurt_adapter",
-        "kurt_emulator", "bench_dds", "affordance_trials", "macsim_topic"}) {
+        "kurt_emulator", "bench_dds", "affordance_trials", "macsim_topic", "macsim_web"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
     EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();

@@ -1,0 +1,126 @@
+"""macsim_web in a real browser (ctest label `browser`): macsim on the demo world, macsim_web,
+and Debian's headless Chromium driven through chromedriver's WebDriver HTTP interface. The page
+must draw every object of the world state, show a picture that is not blank, and follow the
+robot when it drives; bad requests get errors and the server keeps serving."""
+
+import os
+import re
+import sys
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import macsim
+from conftest import SOURCE_DIR, binary, start_macsim
+
+sys.path.insert(0, str(SOURCE_DIR / "tools" / "web"))
+from webdriver import ChromeDriver, decode_png  # noqa: E402
+
+def wait_until(check, timeout, what):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = check()
+        if value:
+            return value
+        time.sleep(0.2)
+    raise AssertionError(f"{what} within {timeout} s")
+
+
+@pytest.fixture
+def served(domain, spawn):
+    start_macsim(spawn, domain, "worlds/DemoWorld_v1.xml", "--cameras", "320x240")
+    web = spawn([binary("macsim_web"), "--domain", domain, "--port", "0"])
+    assert web.wait_for_output("serving http://", 20), web.output()
+    url = re.search(r"serving (http://\S+)", web.output()).group(1)
+    driver = ChromeDriver(9515 + domain)
+    try:
+        browser = driver.browser()
+        yield url, browser, web
+        browser.quit()
+    finally:
+        driver.stop()
+
+
+def test_the_page_draws_the_world_and_follows_the_robot(served, domain):
+    url, browser, web = served
+    participant = macsim.Participant(domain=domain, name="web_test")
+    world = macsim.WorldState(participant)
+    objects = world.wait(lambda o: len(o) > 20, timeout=30)
+    browser.open(url)
+    view = wait_until(lambda: (v := browser.view()) and v["drawn"] == len(objects) and v, 60,
+                      f"the page did not draw the world's {len(objects)} objects")
+    assert view["objectIds"] == sorted(objects)
+    assert view["domain"] == domain and view["connected"]
+    assert "objects drawn" in browser.run("return document.title;")
+    names = browser.run("return [...document.querySelectorAll('#objects li')].map(e => e.textContent);")
+    assert sorted(names) == sorted(f"{i} {o.name}" for i, o in objects.items())
+
+    picture = decode_png(browser.screenshot())
+    out = Path(os.environ.get("MACSIM_BIN_DIR", ".")).parent / "web_test_screenshot.png"
+    out.write_bytes(browser.screenshot())
+    assert picture.shape[0] >= 600 and picture.std() > 20, "a blank picture"
+    assert len(np.unique(picture.reshape(-1, 3)[::7], axis=0)) > 200, "too few colours"
+
+    # Sensors reach the page: a scan, and camera images.
+    wait_until(lambda: browser.view()["scans"] > 0, 20, "no laser scan on the page")
+    wait_until(lambda: browser.view()["images"] >= 2, 20, "no camera image on the page")
+
+    # The robot drives; the page's pose follows the simulator's.
+    robot = macsim.Robot(participant)
+    start = wait_until(lambda: browser.view()["robotPose"], 20, "no robot pose on the page")
+    deadline = time.monotonic() + 20
+    while time.monotonic() < deadline:
+        robot.cmd_vel(0.3, 0.0)
+        pose = browser.view()["robotPose"]
+        if np.hypot(pose[0] - start[0], pose[1] - start[1]) > 0.4:
+            break
+        time.sleep(0.1)
+    robot.stop()
+    pose = browser.view()["robotPose"]
+    assert np.hypot(pose[0] - start[0], pose[1] - start[1]) > 0.4, (start, pose)
+
+    # Camera modes are buttons with the simulator's names.
+    for mode in ("MouseOnly", "FixedFollow", "Follow", "Inside", "LeftCamera", "RightCamera"):
+        browser.run(f"document.querySelector('button[data-mode={mode}]').click();")
+        assert browser.view()["mode"] == mode
+
+
+def test_bad_requests_get_errors_and_the_server_keeps_serving(served):
+    url, browser, web = served
+    with pytest.raises(urllib.error.HTTPError) as error:
+        urllib.request.urlopen(url + "no/such/page.html", timeout=10)
+    assert error.value.code == 404
+    with pytest.raises(urllib.error.HTTPError) as error:
+        urllib.request.urlopen(url + "../../etc/passwd", timeout=10)
+    assert error.value.code == 404
+    browser.open(url)
+    wait_until(lambda: browser.view() and browser.view()["connected"], 30, "no connection")
+    # Malformed messages over a WebSocket of the browser's: each gets an error, in order.
+    replies = browser.call("POST", f"/session/{browser.session}/execute/async", {"args": [], "script": """
+        const done = arguments[arguments.length - 1];
+        const socket = new WebSocket(`ws://${location.host}/ws`);
+        const errors = [];
+        socket.onmessage = (e) => {
+          const m = JSON.parse(e.data);
+          if (m.type === 'error' || m.type === 'hello') errors.push(m);
+          if (errors.length === 4) { socket.close(); done(errors); }
+        };
+        socket.onopen = () => {
+          socket.send('not json {');
+          socket.send('[1, 2]');
+          socket.send(JSON.stringify({type: 'explode'}));
+          socket.send(JSON.stringify({type: 'hello'}));
+        };"""})
+    assert [r["type"] for r in replies] == ["error", "error", "error", "hello"]
+    assert "not JSON" in replies[0]["message"] and "explode" in replies[2]["message"]
+    # Browsers come and go; their connections are freed, the server still serves.
+    for _ in range(3):
+        browser.open("about:blank")
+        browser.open(url)
+    wait_until(lambda: browser.view() and browser.view()["drawn"] > 0, 30, "the page after reloads")
+    with urllib.request.urlopen(url, timeout=10) as page:
+        assert b"macsim_web" in page.read()

@@ -1,0 +1,119 @@
+// macsim_web's messages from wire types: what the page is sent, parsed back as JSON.
+#include "web_messages.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+namespace macsim::web {
+namespace {
+
+using nlohmann::json;
+namespace mm = macsim_msgs::msg::dds_;
+
+Objects two_objects() {
+  Objects objects;
+  for (uint32_t id : {3u, 7u}) {
+    mm::ObjectState_ state;
+    state.id(id);
+    auto& o = state.object();
+    o.id(id);
+    o.name(id == 3 ? "red_box" : "blue_can");
+    mm::Component_ c;
+    c.shape(id == 3 ? mm::SHAPE_BOX : mm::SHAPE_CYLINDER);
+    c.size({0.1, 0.2, 0.3});
+    c.color({0.9f, 0.1f, 0.1f, 1.0f});
+    c.pose().orientation().w(1);
+    o.components().push_back(c);
+    o.pose().position().x(1.23456);
+    o.pose().orientation().w(1);
+    objects[id] = state;
+  }
+  return objects;
+}
+
+TEST(WebMessages, TheSceneHoldsEveryObjectWithItsShapes) {
+  const json scene = json::parse(scene_message(two_objects(), 42, "kurt"));
+  EXPECT_EQ(scene["type"], "scene");
+  EXPECT_EQ(scene["domain"], 42);
+  ASSERT_EQ(scene["objects"].size(), 2u);
+  EXPECT_EQ(scene["objects"][0]["id"], 3);
+  EXPECT_EQ(scene["objects"][0]["name"], "red_box");
+  EXPECT_EQ(scene["objects"][1]["components"][0]["shape"], mm::SHAPE_CYLINDER);
+  EXPECT_DOUBLE_EQ(scene["objects"][1]["components"][0]["size"][2], 0.3);
+  EXPECT_DOUBLE_EQ(scene["objects"][0]["pose"][0], 1.235);  // to the millimetre
+}
+
+TEST(WebMessages, AnUpdateCarriesPosesAndTheRobotOnlyOnceKnown) {
+  RobotView robot;
+  json update = json::parse(update_message(two_objects(), 12.5, 0.987, robot));
+  EXPECT_EQ(update["type"], "update");
+  EXPECT_DOUBLE_EQ(update["time"], 12.5);
+  EXPECT_DOUBLE_EQ(update["rtf"], 0.99);
+  EXPECT_EQ(update["objects"]["7"].size(), 7u);
+  EXPECT_FALSE(update.contains("robot"));
+  robot.known = true;
+  robot.pose = {1, 2, 0.167, 0, 0, 0.7071, 0.7071};
+  robot.slew = 0.3;
+  robot.magnet = true;
+  robot.held = "can";
+  update = json::parse(update_message(two_objects(), 12.5, 1.0, robot));
+  EXPECT_DOUBLE_EQ(update["robot"]["pose"][1], 2);
+  EXPECT_DOUBLE_EQ(update["robot"]["crane"][0], 0.3);
+  EXPECT_EQ(update["robot"]["held"], "can");
+}
+
+TEST(WebMessages, AScanSaysNullWhereNothingEchoed) {
+  sensor_msgs::msg::dds_::LaserScan_ scan;
+  scan.range_min(0.02f);
+  scan.range_max(30.0f);
+  scan.angle_min(-1.0f);
+  scan.angle_increment(0.5f);
+  scan.ranges({1.23456f, std::numeric_limits<float>::infinity(), 0.0f, std::nanf(""), 40.0f});
+  const json message = json::parse(scan_message(scan));
+  ASSERT_EQ(message["ranges"].size(), 5u);
+  EXPECT_NEAR(message["ranges"][0].get<double>(), 1.235, 1e-9);
+  for (int i : {1, 2, 3, 4}) EXPECT_TRUE(message["ranges"][i].is_null()) << i;
+}
+
+TEST(WebMessages, ACloudIsThinnedToItsCapAndKeepsOnlyFinitePoints) {
+  client::Cloud cloud;
+  cloud.stamp = 3.0;
+  for (int i = 0; i < 10000; ++i) cloud.points.push_back({i * 0.001f, 1.0f, 0.5f});
+  cloud.points[0][1] = std::nanf("");
+  const json message = json::parse(cloud_message(cloud, 1000));
+  const auto count = message["points"].size() / 3;
+  EXPECT_LE(count, 1000u);
+  EXPECT_GE(count, 990u);
+  EXPECT_EQ(message["points"].size() % 3, 0u);
+  EXPECT_DOUBLE_EQ(message["points"][1], 1.0);
+}
+
+TEST(WebMessages, AnImageIsItsEyeThenAJpegOfTheSameSize) {
+  cv::Mat bgr(48, 64, CV_8UC3, cv::Scalar(10, 200, 30));
+  const std::string frame = image_frame('R', bgr, 80);
+  ASSERT_GT(frame.size(), 3u);
+  EXPECT_EQ(frame[0], 'R');
+  const std::vector<uchar> jpeg(frame.begin() + 1, frame.end());
+  const cv::Mat back = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  EXPECT_EQ(back.size(), bgr.size());
+  EXPECT_NEAR(back.at<cv::Vec3b>(20, 20)[1], 200, 4);
+  EXPECT_TRUE(image_frame('L', cv::Mat(), 80).empty());
+}
+
+TEST(WebMessages, ThePageGetsAnAnswerToAnythingItSends) {
+  EXPECT_EQ(json::parse(answer(R"({"type":"hello"})", 9, "kurt"))["domain"], 9);
+  for (const std::string& bad :
+       std::vector<std::string>{"not json {", "[1,2]", R"({"type":7})", R"({"type":"explode"})",
+                                "\xff\xfe{\"type\":\"\xc3\x28\"}"}) {
+    const json reply = json::parse(answer(bad, 9, "kurt"));  // always valid JSON
+    EXPECT_EQ(reply["type"], "error") << bad;
+    EXPECT_FALSE(reply["message"].get<std::string>().empty());
+  }
+}
+
+}  // namespace
+}  // namespace macsim::web
