@@ -11,6 +11,7 @@
 #include <optional>
 #include <thread>
 
+#include "image_source.h"
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/command_line.h"
@@ -30,24 +31,6 @@ double micros_since(Clock::time_point start) {
   return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
 }
 
-[[noreturn]] void image_source(macsim::dds::Participant& p) {
-  macsim::dds::Writer<sm::Image_PubSubType> writer(p, macsim::dds::topics::image("kurt", "left"),
-                                                   macsim::dds::QosFamily::Sensor);
-  sm::Image_ image;
-  image.height(480);
-  image.width(640);
-  image.encoding("bgr8");
-  image.step(640 * 3);
-  image.data().assign(640 * 480 * 3, 128);
-  auto next = Clock::now();
-  while (true) {
-    next += std::chrono::microseconds(33333);
-    std::this_thread::sleep_until(next);
-    image.header().stamp(macsim::dds::to_time(now_seconds()));
-    writer.write(image);
-  }
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,7 +47,7 @@ int main(int argc, char** argv) {
   cli.flag("image-source", "publish 640x480 images at 30 Hz as kurt's left camera", &source);
   if (auto code = cli.parse(argc, argv)) return *code;
   macsim::dds::Participant p(participant);
-  if (source) image_source(p);
+  if (source) macsim::bench::publish_images(p, macsim::dds::topics::image("kurt", "left"));
 
   // One long-lived participant and its clients, like the Python side's.
   macsim::client::SupervisorClient supervisor(p);

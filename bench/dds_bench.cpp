@@ -23,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "image_source.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
@@ -82,25 +83,10 @@ double micros_since(Clock::time_point t0) {
   while (true) std::this_thread::sleep_for(std::chrono::seconds(1));
 }
 
-/// The images' bare baseline: 640x480 bgr8 images at 30 Hz, stamped with the sending time on
-/// the steady clock (CLOCK_MONOTONIC, the same in every process of the machine).
+/// The images' bare baseline (image_source.h) on "bench/image".
 [[noreturn]] void image_source(int domain) {
   macsim::dds::Participant p({domain, "", "bench_images"});
-  macsim::dds::Writer<sm::Image_PubSubType> writer(p, "bench/image", QosFamily::Sensor);
-  sm::Image_ image;
-  image.height(480);
-  image.width(640);
-  image.encoding("bgr8");
-  image.step(640 * 3);
-  image.data().assign(640 * 480 * 3, 128);
-  auto next = Clock::now();
-  while (true) {
-    next += std::chrono::microseconds(33333);
-    std::this_thread::sleep_until(next);
-    image.header().stamp(macsim::dds::to_time(
-        std::chrono::duration<double>(Clock::now().time_since_epoch()).count()));
-    writer.write(image);
-  }
+  macsim::bench::publish_images(p, "bench/image");
 }
 
 pid_t spawn(const std::vector<std::string>& argv) {
