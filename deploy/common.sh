@@ -1,12 +1,45 @@
-# Shared by the deploy scripts: set-up and build, from any working directory.
+# Shared by the deploy scripts: set-up and build, from any working directory, with the time each
+# phase took.
 # shellcheck shell=bash
 MACSIM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 MACSIM_BUILD="${MACSIM_BUILD:-$MACSIM_ROOT/build}"
 # Keep every DDS participant of the demo and the tests on this machine (127.0.0.1 + shared memory).
 export FASTRTPS_DEFAULT_PROFILES_FILE="${FASTRTPS_DEFAULT_PROFILES_FILE:-$MACSIM_ROOT/deploy/dds/localhost.xml}"
 
+# Phases: `macsim_phase NAME` ends the running phase and starts NAME; `macsim_phases` ends the
+# last one and prints each with its wall time.
+MACSIM_PHASES=()
+macsim_now() { date +%s%N; }
+macsim_phase() {
+  local now
+  now=$(macsim_now)
+  if [[ -n "${MACSIM_PHASE_NAME:-}" ]]; then
+    MACSIM_PHASES+=("$MACSIM_PHASE_NAME $(( (now - MACSIM_PHASE_START) / 1000000 ))")
+  fi
+  MACSIM_PHASE_NAME="$1"
+  MACSIM_PHASE_START=$now
+}
+macsim_phases() {
+  macsim_phase ""
+  local line name ms total=0
+  echo "== phases (wall time):"
+  for line in "${MACSIM_PHASES[@]}"; do
+    read -r name ms <<< "$line"
+    total=$((total + ms))
+    printf '   %-10s %6d.%d s\n' "$name" $((ms / 1000)) $((ms % 1000 / 100))
+  done
+  printf '   %-10s %6d.%d s\n' "total" $((total / 1000)) $((total % 1000 / 100))
+}
+
+# Installs what is missing, configures, and builds TARGETS (all when none are named). The demo
+# and the tests configure the same way, so neither recompiles what the other built.
 macsim_setup_and_build() {
+  macsim_phase install
   "$MACSIM_ROOT/deploy/install_deps.sh"
+  macsim_phase configure
   cmake -S "$MACSIM_ROOT" -B "$MACSIM_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo
-  cmake --build "$MACSIM_BUILD" -j "$(nproc)"
+  macsim_phase build
+  local targets=()
+  for t in "$@"; do targets+=(--target "$t"); done
+  cmake --build "$MACSIM_BUILD" -j "$(nproc)" "${targets[@]}"
 }

@@ -36,6 +36,8 @@ PACKAGES=(
   nftables
   # checking the service units (systemd-analyze verify)
   systemd
+  # Debian packages (cpack -G DEB: dependencies by dpkg-shlibdeps, which needs file)
+  dpkg-dev file
   # macsim_web: HTTP + WebSocket (websocketpp on standalone asio), JSON; its browser test drives
   # Debian's Chromium through chromedriver
   libwebsocketpp-dev libasio-dev nlohmann-json3-dev chromium chromium-driver

@@ -24,7 +24,9 @@ while [[ $# -gt 0 ]]; do
   shift
 done
 domain="${MACSIM_DOMAIN:-42}"
-macsim_setup_and_build
+# Only what the demo runs; the test command builds the rest in the same tree.
+macsim_setup_and_build macsim kurt_demo
+macsim_phase run
 bin="$MACSIM_BUILD/bin"
 pictures="$MACSIM_BUILD/demo_pictures"
 rm -rf "$pictures"
@@ -57,4 +59,5 @@ echo "== pictures ($count) in $pictures:"
 find "$pictures" -name '*.png' | sort | sed 's/^/   /'
 printf '== demo %s: kurt_demo exited with %d after %d.%d s of wall time (its last line gives the robot time)\n' \
   "$([[ $status == 0 ]] && echo SUCCEEDED || echo FAILED)" "$status" $((wall_ms / 1000)) $((wall_ms % 1000 / 100))
+macsim_phases
 exit $status

@@ -376,6 +376,8 @@ int serve(macsim::Runner& runner, const Options& o) {
         "real-time factor %.2f\n",
         world.time(), static_cast<unsigned long long>(world.steps()), wall, world.steps() / wall,
         world.time() / wall);
+    // A frame still being rendered is counted once it is done, not whenever the summary comes.
+    bridge.wait_for_cameras();
     std::printf("%s", bridge.camera_summary().c_str());
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "macsim: DDS error: " << e.what() << std::endl;

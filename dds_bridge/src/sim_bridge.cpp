@@ -46,7 +46,10 @@ struct SimBridge::RobotTopics {
   uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
   uint64_t stereo_waited = 0;   // camera instants the simulation waited for a busy renderer
   double seconds_waited = 0.0;  // wall time of those waits
-  double next_camera_time = 0.0;
+  // Camera instants are camera_epoch + k / rate, k = next_camera_instant, ...: counted, not summed,
+  // so which instants a run reaches does not drift with floating-point sums.
+  double camera_epoch = 0.0;
+  uint64_t next_camera_instant = 0;
   std::unique_ptr<dds::Writer<sm::Image_PubSubType>> left_image, right_image;
   std::unique_ptr<dds::Writer<sm::CameraInfo_PubSubType>> left_info, right_info;
   std::vector<std::unique_ptr<render::CameraRig>> cameras;  // one per eye, rendering in parallel
@@ -140,7 +143,10 @@ void SimBridge::publish() {
     // A reset or a new world: start the schedules again.
     generation_ = runner_.generation();
     next_clock_time_ = now;
-    for (auto& t : robots_) t->next_camera_time = now;
+    for (auto& t : robots_) {
+      t->camera_epoch = now;
+      t->next_camera_instant = 0;
+    }
   }
   last_time_ = now;
   if (now + 1e-9 >= next_clock_time_) {
@@ -156,8 +162,10 @@ void SimBridge::publish() {
 }
 
 void SimBridge::publish_cameras(RobotTopics& t, double now) {
-  if (!t.cameras.empty() && now + 1e-9 >= t.next_camera_time) {
-    t.next_camera_time += 1.0 / options_.camera_rate;
+  const double due =
+      t.camera_epoch + static_cast<double>(t.next_camera_instant) / options_.camera_rate;
+  if (!t.cameras.empty() && now + 1e-9 >= due) {
+    ++t.next_camera_instant;
     // Both eyes render the same scene or neither does: a stereo pair never mixes two instants.
     bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
                              [](const auto& rig) { return rig->idle(); });

@@ -9,6 +9,7 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/client/world_state.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/data_files.h"
 #include "macsim/dds/convert.h"
 
 namespace mm = macsim_msgs::msg::dds_;
@@ -214,7 +215,7 @@ void ramps(Context& c) {
 
 int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{0, "", "dynamicObjectTest"};
-  std::string textures = "worlds/DemoEnvironment_v1/textures";
+  std::string textures = macsim::dds::data_file("worlds/DemoEnvironment_v1/textures");
   macsim::dds::CommandLine cli(
       "dynamicObjectTest",
       "usage: dynamicObjectTest N (1 create and destroy, 2 change object properties, 3 composite "
@@ -222,7 +223,7 @@ int main(int argc, char** argv) {
       "Exit 0: every effect seen; 1: some effect not seen; 2: usage, or no simulator.");
   cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("textures", "DIR",
-             "folder of BMP textures (default worlds/DemoEnvironment_v1/textures)", &textures);
+             "folder of BMP textures (default: the installed worlds' DemoEnvironment_v1/textures)", &textures);
   // The seed's form: the test number as an argument of its own (not an option's value: every
   // option here but --help takes one).
   int test = 0;

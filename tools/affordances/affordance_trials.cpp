@@ -16,6 +16,7 @@
 
 #include "macsim/client/child_program.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/data_files.h"
 #include "trial_pool.h"
 
 namespace {
@@ -174,10 +175,7 @@ int main(int argc, char** argv) {
     return usage("domains " + std::to_string(participant.domain) + ".." +
                  std::to_string(participant.domain + instances - 1) + " go past 232");
   if (world.empty()) {
-    world = (std::filesystem::path(macsim::client::sibling_program("macsim")).parent_path() /
-             "../../worlds/affordance_trials.xml")
-                .lexically_normal()
-                .string();
+    world = macsim::dds::data_file("worlds/affordance_trials.xml");
   }
   if (attached.empty() && !std::filesystem::exists(world))
     return usage("no world file '" + world + "' (give --world)");

@@ -16,6 +16,7 @@
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/world_state.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/data_files.h"
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
@@ -83,8 +84,7 @@ int main(int argc, char** argv) {
   std::string robot = "kurt";
   double rate = 30.0, image_rate = 5.0;
   int quality = 70, max_points = 4000;
-  const std::filesystem::path exe = std::filesystem::canonical("/proc/self/exe");
-  server.root = (exe.parent_path().parent_path() / "web").string();
+  server.root = macsim::dds::data_file("web");
 
   macsim::dds::CommandLine cli(
       "macsim_web",
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   cli.option("image-rate", "HZ", "camera images per second to each browser (default 5; 0: none)",
              &image_rate);
   cli.option("robot", "NAME", "the robot to show (default kurt)", &robot);
-  cli.option("root", "DIR", "the page's files (default: build/web next to build/bin)",
+  cli.option("root", "DIR", "the page's files (default: share/macsim/web beside this program's bin/)",
              &server.root);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(rate > 0 && rate <= 240) || !(image_rate >= 0 && image_rate <= 60) || server.port < 0 ||

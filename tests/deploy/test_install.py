@@ -1,0 +1,121 @@
+"""deploy/: `cmake --install` into a prefix of the test's own makes a working installation. A
+controller built outside the tree against the installed CMake package drives the installed
+macsim; `import macsim` works from the installed files alone; the installed programs find
+their data (worlds, profiles, the web page) under the prefix, with no source tree."""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import time
+import urllib.request
+
+import pytest
+
+from conftest import BUILD_DIR, SOURCE_DIR
+
+
+def run(argv, **kwargs):
+    result = subprocess.run([str(a) for a in argv], capture_output=True, text=True, **kwargs)
+    assert result.returncode == 0, f"{argv}\n{result.stdout}\n{result.stderr}"
+    return result.stdout
+
+
+@pytest.fixture(scope="module")
+def prefix(tmp_path_factory):
+    path = tmp_path_factory.mktemp("prefix")
+    run(["cmake", "--install", BUILD_DIR, "--prefix", path])
+    return path
+
+
+@pytest.fixture
+def installed_env(prefix, tmp_path):
+    """What a user of the installation has: its programs, its profile, its Python path; no
+    variable that names the source or build tree."""
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith("MACSIM_") and k not in ("PYTHONPATH", "FASTRTPS_DEFAULT_PROFILES_FILE")}
+    env["PATH"] = f"{prefix}/bin:/usr/bin:/bin"
+    env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(prefix / "share/macsim/dds/localhost.xml")
+    env["PYTHONPATH"] = str(prefix / "lib/python3/dist-packages")
+    env["PYTHONDONTWRITEBYTECODE"] = "1"
+    return env
+
+
+def test_the_prefix_holds_programs_data_sdk_units_and_python(prefix):
+    for name in ["macsim", "kurt_demo", "helloKurt", "kurt_adapter", "kurt_emulator",
+                 "macsim_topic", "macsim_web", "affordance_trials", "macsim_shm_clean"]:
+        assert os.access(prefix / "bin" / name, os.X_OK), name
+    for relative in ["share/macsim/worlds/DemoWorld_v1.xml", "share/macsim/worlds/affordance_trials.xml",
+                     "share/macsim/dds/localhost.xml", "share/macsim/dds/service.xml",
+                     "share/macsim/web/index.html", "share/macsim/web/vendor/three.module.js",
+                     "include/macsim/client/robot_client.h", "include/macsim/dds/participant.h",
+                     "include/macsim/msg/nav_msgs.h", "lib/libmacsim_client.a",
+                     "lib/cmake/macsim/macsimConfig.cmake", "lib/cmake/macsim/macsimConfigVersion.cmake",
+                     "lib/systemd/system/macsim.service", "lib/systemd/system/kurt_adapter.service",
+                     "lib/python3/dist-packages/macsim/__init__.py"]:
+        assert (prefix / relative).is_file(), relative
+    # Nothing of the tests, benchmarks or sanitizers is installed.
+    installed = " ".join(str(p) for p in prefix.rglob("*"))
+    for word in ["_tests", "bench_", "asan", "fuzz"]:
+        assert word not in installed, word
+    # The units start the programs where they are installed.
+    unit = (prefix / "lib/systemd/system/macsim.service").read_text()
+    assert f"ExecStart={prefix}/bin/macsim " in unit, unit
+
+
+def test_a_controller_built_out_of_tree_drives_the_installed_simulator(prefix, installed_env,
+                                                                       tmp_path, domain, spawn):
+    # The README's snippet, as a project outside the repository, against the installed package.
+    project = tmp_path / "my_controller"
+    shutil.copytree(SOURCE_DIR / "examples" / "out_of_tree", project)
+    build = tmp_path / "build"
+    run(["cmake", "-S", project, "-B", build, f"-DCMAKE_PREFIX_PATH={prefix}",
+         "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON", "-DCMAKE_BUILD_TYPE=Release"], env=installed_env)
+    run(["cmake", "--build", build], env=installed_env)
+    # It was compiled against the installed headers, not the tree's.
+    commands = json.loads((build / "compile_commands.json").read_text())
+    assert str(prefix / "include") in commands[0]["command"]
+    assert str(SOURCE_DIR) not in commands[0]["command"]
+    assert str(BUILD_DIR) not in commands[0]["command"]
+
+    # The installed macsim, on an installed world, started outside the tree.
+    sim = spawn([prefix / "bin" / "macsim", "--world", prefix / "share/macsim/worlds/small_room.xml",
+                 "--domain", domain, "--cameras", "off"], env=installed_env)
+    assert sim.wait_for_output("stepping", 60), sim.output()
+    result = subprocess.run([build / "my_controller", "--domain", str(domain), "--distance", "0.5"],
+                            capture_output=True, text=True, env=installed_env, cwd=tmp_path,
+                            timeout=90)
+    assert result.returncode == 0, result.stdout + result.stderr
+    travelled = float(re.search(r"travelled ([0-9.]+) m", result.stdout).group(1))
+    assert travelled >= 0.5
+
+    # The installed Python package sees the robot where the controller left it.
+    script = ("import macsim, sys\n"
+              "assert macsim.__file__.startswith(sys.argv[1]), macsim.__file__\n"
+              "robot = macsim.Robot(macsim.Participant(domain=int(sys.argv[2])))\n"
+              "print(robot.odometry(timeout=20).position[0])\n")
+    result = subprocess.run(["/usr/bin/python3", "-c", script, str(prefix), str(domain)],
+                            capture_output=True, text=True, env=installed_env, cwd=tmp_path,
+                            timeout=60)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert float(result.stdout.strip()) >= 0.45
+
+
+def test_installed_programs_find_their_data_under_the_prefix(prefix, installed_env, tmp_path,
+                                                             domain, spawn):
+    # macsim_web serves the installed page.
+    web = spawn([prefix / "bin" / "macsim_web", "--domain", domain, "--port", "0"], env=installed_env)
+    assert web.wait_for_output("serving http://", 30), web.output()
+    port = re.search(r"serving http://127\.0\.0\.1:(\d+)/", web.output()).group(1)
+    page = urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10).read().decode()
+    assert "<canvas" in page or "app.js" in page, page[:500]
+    three = urllib.request.urlopen(f"http://127.0.0.1:{port}/vendor/three.module.js", timeout=10)
+    assert three.status == 200
+    # affordance_trials starts its simulators on the installed trial world by default.
+    out = tmp_path / "lift.csv"
+    result = subprocess.run([prefix / "bin" / "affordance_trials", "--domain", str(domain),
+                             "--trials", "1", "--out", out], capture_output=True, text=True,
+                            env=installed_env, cwd=tmp_path, timeout=120)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert len(out.read_text().splitlines()) == 2
