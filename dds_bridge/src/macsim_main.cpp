@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/data_files.h"
 #include "macsim/dds/shared_memory.h"
 #include "macsim/dds/topics.h"
 #include "macsim/render/camera_modes.h"
@@ -156,7 +157,10 @@ struct Options {
 std::optional<int> parse_options(int argc, char** argv, Options& o) {
   macsim::dds::CommandLine cli("macsim",
                                "Loads a MACSim world, steps its physics and serves it over DDS.");
-  cli.option("world", "FILE", "world file to load (required)", &o.world_file);
+  cli.option("world", "FILE",
+             "world file to load (required); a name not found from here is looked up among the "
+             "installed worlds (share/macsim/worlds beside bin/), e.g. DemoWorld_v1.xml",
+             &o.world_file);
   cli.participant_options(&o.participant);
   cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &o.realtime);
   cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &o.rtf);
@@ -224,6 +228,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   if (o.world_file.empty()) {
     std::cerr << "macsim: --world FILE is required (see --help)\n";
     return 2;
+  }
+  if (const auto installed = macsim::dds::data_file("worlds/" + o.world_file);
+      !std::filesystem::exists(o.world_file) && std::filesystem::path(o.world_file).is_relative() &&
+      std::filesystem::exists(installed)) {
+    o.world_file = installed;
   }
   if (o.seed < -1) {
     std::cerr << "macsim: --seed must be 0 or more, got " << o.seed << "\n";

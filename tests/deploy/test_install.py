@@ -79,10 +79,11 @@ def test_a_controller_built_out_of_tree_drives_the_installed_simulator(prefix, i
     assert str(SOURCE_DIR) not in commands[0]["command"]
     assert str(BUILD_DIR) not in commands[0]["command"]
 
-    # The installed macsim, on an installed world, started outside the tree.
-    sim = spawn([prefix / "bin" / "macsim", "--world", prefix / "share/macsim/worlds/small_room.xml",
-                 "--domain", domain, "--cameras", "off"], env=installed_env)
+    # The installed macsim, on an installed world named alone (found under the prefix).
+    sim = spawn([prefix / "bin" / "macsim", "--world", "small_room.xml", "--domain", domain,
+                 "--cameras", "off"], env=installed_env)
     assert sim.wait_for_output("stepping", 60), sim.output()
+    assert f"{prefix}/share/macsim/worlds/small_room.xml" in sim.output(), sim.output()
     result = subprocess.run([build / "my_controller", "--domain", str(domain), "--distance", "0.5"],
                             capture_output=True, text=True, env=installed_env, cwd=tmp_path,
                             timeout=90)

@@ -272,6 +272,18 @@ TEST(MacsimCli, ValidatePrintsASummaryAndExitsZero) {
       << p.output();
 }
 
+TEST(MacsimCli, AWorldNamedAloneIsFoundAmongTheSharedWorlds) {
+  // No small_room.xml where the test runs: the one in share/macsim/worlds beside bin/ is loaded.
+  ASSERT_FALSE(std::filesystem::exists("small_room.xml"));
+  ChildProcess p({bin("macsim"), "--world", "small_room.xml", "--validate"});
+  ASSERT_EQ(p.wait_for_exit(20s), 0) << p.output();
+  EXPECT_NE(p.output().find("4 objects (3 portable"), std::string::npos) << p.output();
+  // A name that is nowhere is still an error naming it.
+  ChildProcess missing({bin("macsim"), "--world", "no_such_world.xml", "--validate"});
+  EXPECT_NE(missing.wait_for_exit(20s), 0) << missing.output();
+  EXPECT_NE(missing.output().find("no_such_world.xml"), std::string::npos) << missing.output();
+}
+
 TEST(MacsimCli, RunsForADurationAsFastAsPossibleAndReportsTheStepRate) {
   ChildProcess p({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
                   std::to_string(unique_test_domain()), "--as-fast-as-possible", "--duration",
