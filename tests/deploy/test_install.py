@@ -59,9 +59,14 @@ def test_the_prefix_holds_programs_data_sdk_units_and_python(prefix):
     installed = " ".join(str(p) for p in prefix.rglob("*"))
     for word in ["_tests", "bench_", "asan", "fuzz"]:
         assert word not in installed, word
-    # The units start the programs where they are installed.
+    # The units start the programs where they are installed, and systemd takes them as they are
+    # (verify fails on a unit whose program is missing, or on a setting it cannot parse).
     unit = (prefix / "lib/systemd/system/macsim.service").read_text()
     assert f"ExecStart={prefix}/bin/macsim " in unit, unit
+    for name in ["macsim", "kurt_adapter", "macsim-discovery"]:
+        result = subprocess.run(["systemd-analyze", "verify", prefix / f"lib/systemd/system/{name}.service"],
+                                capture_output=True, text=True, cwd="/")
+        assert result.returncode == 0 and result.stderr == "", f"{name}: {result.stderr}"
 
 
 def test_a_controller_built_out_of_tree_drives_the_installed_simulator(prefix, installed_env,
