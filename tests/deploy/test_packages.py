@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BIN_DIR, BUILD_DIR, readable_by_all
+from conftest import BUILD_DIR, readable_by_all
 
 VERSION_FILE = BUILD_DIR / "CPackConfig.cmake"
 PACKAGES = ["macsim-common", "macsim", "kurt-adapter", "macsim-dev", "python3-macsim"]
@@ -167,13 +167,14 @@ def test_macsim_runs_unprivileged_as_its_unit_runs_it(root, domain, spawn):
     status = open(f"/proc/{sim.proc.pid}/status").read()
     assert re.search(r"^Uid:\s+65534\s+65534", status, re.M), status
     assert re.search(r"^CapEff:\s+0+$", status, re.M), status
-    # A controller of another user sees it publish: the robot's odometry and the clock.
+    # A controller of another user, with the usual profile (shared memory and UDP on 127.0.0.1),
+    # sees it publish the robot's odometry. Its programs and profile come from the packages too,
+    # so that no folder of the checkout needs to be open to that user.
     reader = ["setpriv", "--reuid=daemon", "--regid=daemon", "--clear-groups", "--no-new-privs",
-              BIN_DIR / "macsim_topic", "echo", "/kurt/odom", "--count", "2", "--domain", domain]
+              root / "usr/bin/macsim_topic", "echo", "/kurt/odom", "--count", "2", "--domain", domain]
     result = subprocess.run([str(a) for a in reader], capture_output=True, text=True, timeout=60,
-                            env={"PATH": "/usr/bin:/bin",
-                                 "FASTRTPS_DEFAULT_PROFILES_FILE":
-                                     str(BUILD_DIR / "share/macsim/dds/localhost.xml")})
+                            env={"PATH": "/usr/bin:/bin", "FASTRTPS_DEFAULT_PROFILES_FILE":
+                                 str(root / "usr/share/macsim/dds/localhost.xml")})
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count("pose:") >= 2, result.stdout
     assert "macsim" in sim.output() and "DemoWorld_v1" in sim.output()
