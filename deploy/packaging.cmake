@@ -15,7 +15,10 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "MACSim-DDS: the KURT3D robot simulator on
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
-set(CPACK_COMPONENTS_ALL common simulator robot dev python)
+set(CPACK_COMPONENTS_ALL common simulator robot dev)
+if(MACSIM_BUILD_PYTHON)
+  list(APPEND CPACK_COMPONENTS_ALL python)
+endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
@@ -28,12 +31,13 @@ set(CPACK_DEBIAN_DEV_PACKAGE_NAME macsim-dev)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-macsim)
 # Beyond the shared libraries dpkg-shlibdeps finds: the cameras render through Mesa (EGL and
 # llvmpipe, loaded at run time) and the discovery server's unit runs Fast DDS's own server; the
-# SDK's static libraries need the headers and CMake packages of what they link; the Python module
+# SDK's static libraries need the headers and CMake packages of what they link (OpenCV's CMake
+# package is in libopencv-dev only); the Python module
 # is built for Debian 12's Python 3.11 and hands out numpy arrays.
 set(CPACK_DEBIAN_SIMULATOR_PACKAGE_DEPENDS "fastdds-tools, libegl-mesa0, libgl1-mesa-dri")
-set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
-    "libfastrtps-dev (>= 2.9), libfastcdr-dev, libopencv-core-dev, libopencv-imgproc-dev")
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libfastrtps-dev (>= 2.9), libfastcdr-dev, libopencv-dev")
 set(CPACK_DEBIAN_DEV_PACKAGE_RECOMMENDS "cmake, g++")
+set(CPACK_DEBIAN_COMMON_PACKAGE_RECOMMENDS "openssl")  # security/make_security.sh
 set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS "python3 (>= 3.11), python3 (<< 3.12), python3-numpy")
 
 include(CPack)

@@ -50,13 +50,16 @@ def test_the_prefix_holds_programs_data_sdk_units_and_python(prefix):
                      "share/macsim/dds/localhost.xml", "share/macsim/dds/service.xml",
                      "share/macsim/web/index.html", "share/macsim/web/vendor/three.module.js",
                      "include/macsim/client/robot_client.h", "include/macsim/dds/participant.h",
-                     "include/macsim/msg/nav_msgs.h", "lib/libmacsim_client.a",
-                     "lib/cmake/macsim/macsimConfig.cmake", "lib/cmake/macsim/macsimConfigVersion.cmake",
+                     "include/macsim/msg/nav_msgs.h",
                      "lib/systemd/system/macsim.service", "lib/systemd/system/kurt_adapter.service",
                      "lib/python3/dist-packages/macsim/__init__.py"]:
         assert (prefix / relative).is_file(), relative
+    # The SDK's libraries and CMake package, in lib/ or lib/<multiarch>/ (GNUInstallDirs).
+    for pattern in ["lib*/**/libmacsim_client.a", "lib*/**/cmake/macsim/macsimConfig.cmake",
+                    "lib*/**/cmake/macsim/macsimConfigVersion.cmake"]:
+        assert list(prefix.glob(pattern)), pattern
     # Nothing of the tests, benchmarks or sanitizers is installed.
-    installed = " ".join(str(p) for p in prefix.rglob("*"))
+    installed = " ".join(str(p.relative_to(prefix)) for p in prefix.rglob("*"))
     for word in ["_tests", "bench_", "asan", "fuzz"]:
         assert word not in installed, word
     # The units start the programs where they are installed, and systemd takes them as they are
@@ -66,7 +69,9 @@ def test_the_prefix_holds_programs_data_sdk_units_and_python(prefix):
     for name in ["macsim", "kurt_adapter", "macsim-discovery"]:
         result = subprocess.run(["systemd-analyze", "verify", prefix / f"lib/systemd/system/{name}.service"],
                                 capture_output=True, text=True, cwd="/")
-        assert result.returncode == 0 and result.stderr == "", f"{name}: {result.stderr}"
+        # Only what it says of this unit (it may warn of units of the host a unit refers to).
+        said = [line for line in result.stderr.splitlines() if f"{name}.service" in line]
+        assert result.returncode == 0 and not said, f"{name}: {result.stderr}"
 
 
 def test_a_controller_built_out_of_tree_drives_the_installed_simulator(prefix, installed_env,
