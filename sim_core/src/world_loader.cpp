@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -327,7 +328,11 @@ class Loader {
       } else if (tag == "CFM") {
         spec.cfm = r.positive(e);
       } else if (tag == "SEED") {
-        spec.seed = static_cast<uint32_t>(r.non_negative(e));
+        const double seed = r.non_negative(e);
+        if (seed != std::floor(seed) || seed > double(std::numeric_limits<uint32_t>::max())) {
+          r.fail(e, "<SEED> must be a whole number from 0 to 4294967295, got " + r.text(e));
+        }
+        spec.seed = static_cast<uint32_t>(seed);
       } else {
         r.unknown(e, "PHYSICS");
       }

@@ -42,6 +42,10 @@ TEST(WorldBounds, AWorldFileOutOfBoundsIsRefusedWithItsLine) {
   expect_refused("<PHYSICS><CFM>1e308</CFM></PHYSICS>", 2, "CFM");
   expect_refused("<PHYSICS>\n<ITERATIONS>0.5</ITERATIONS></PHYSICS>", 3, "whole number");
   expect_refused("<PHYSICS>\n<ITERATIONS>1e9</ITERATIONS></PHYSICS>", 3, "whole number");
+  // A seed past 32 bits (found by the world loader's fuzzer), or with a fraction.
+  expect_refused("<PHYSICS>\n<SEED>1.7e104</SEED></PHYSICS>", 3, "<SEED> must be a whole number");
+  expect_refused("<PHYSICS>\n<SEED>4294967296</SEED></PHYSICS>", 3, "<SEED> must be a whole number");
+  expect_refused("<PHYSICS>\n<SEED>0.5</SEED></PHYSICS>", 3, "<SEED> must be a whole number");
   expect_refused("<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><POS>1e308,0,0</POS></ROBOT>", 2,
                  "position");
   expect_refused("<RAMP><ID>r</ID><WIDTH>1</WIDTH><HEIGHT>0.1</HEIGHT><ANGLE>1e-10</ANGLE></RAMP>",
