@@ -288,7 +288,9 @@ int serve(macsim::Runner& runner, const Options& o) {
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
-    macsim::SimulationServer control(dds, runner, o.limits());
+    macsim::SimulationServer control(
+        dds, runner, o.limits(),
+        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); });
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     macsim::render::CameraIntrinsics picture_size;
     if (!o.pictures.empty()) {
@@ -359,6 +361,8 @@ int serve(macsim::Runner& runner, const Options& o) {
             std::chrono::duration<double>(o.status_period));
       }
     };
+    // A step request that wanted its data at its end: out before its reply.
+    hooks.request_end = [&](macsim::World&) { bridge.flush(); };
     auto loop = [&] {
       runner.run(g_stop, last_step, hooks);
       finished.store(true);

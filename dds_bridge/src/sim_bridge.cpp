@@ -149,23 +149,45 @@ void SimBridge::publish() {
     }
   }
   last_time_ = now;
+  // A controller's request may ask for its data only at its end (it reads nothing before).
+  const StepRequest* request = runner_.step_request();
+  const bool hold = request && request->publish_at_end;
   if (now + 1e-9 >= next_clock_time_) {
-    rosgraph_msgs::msg::dds_::Clock_ clock;
-    clock.clock(dds::to_time(now));
-    clock_->writer.write(clock);
+    held_clock_.emplace();
+    held_clock_->clock(dds::to_time(now));
     next_clock_time_ += 0.01;
   }
+  if (!hold) flush_clock();
   for (auto& topics : robots_) {
-    topics->node.publish();
-    publish_cameras(*topics, now);
+    topics->node.publish(hold);
+    publish_cameras(*topics, now, !request || request->cameras);
   }
 }
 
-void SimBridge::publish_cameras(RobotTopics& t, double now) {
+void SimBridge::flush() {
+  flush_clock();
+  for (auto& topics : robots_) topics->node.flush();
+}
+
+void SimBridge::flush_clock() {
+  if (!held_clock_) return;
+  clock_->writer.write(*held_clock_);
+  held_clock_.reset();
+}
+
+const robot::Readings* SimBridge::latest_readings(const std::string& robot) const {
+  for (const auto& t : robots_) {
+    if (robot.empty() || t->name == robot) return &t->node.latest();
+  }
+  return nullptr;
+}
+
+void SimBridge::publish_cameras(RobotTopics& t, double now, bool render) {
   const double due =
       t.camera_epoch + static_cast<double>(t.next_camera_instant) / options_.camera_rate;
   if (!t.cameras.empty() && now + 1e-9 >= due) {
-    ++t.next_camera_instant;
+    ++t.next_camera_instant;  // the schedule goes on whether this instant is rendered or not
+    if (!render) return;
     // Both eyes render the same scene or neither does: a stereo pair never mixes two instants.
     bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),
                              [](const auto& rig) { return rig->idle(); });

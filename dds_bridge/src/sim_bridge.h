@@ -2,11 +2,14 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "macsim/dds/participant.h"
+#include "macsim/msg/rosgraph_msgs.h"
 #include "macsim/render/renderer.h"
+#include "macsim/robot/robot_interface.h"
 #include "macsim/sim_core/runner.h"
 
 namespace macsim {
@@ -32,7 +35,12 @@ class SimBridge {
   /// writer saw acknowledged before asking for the step lands in that step, in lock-step too).
   void poll_commands();
   /// Publishes what the last step produced (clock, odometry, sensors; cameras handed over).
+  /// During a step request that wants its data at its end, only the newest of each is kept.
   void publish();
+  /// Writes what publish() kept back (a step request's end).
+  void flush();
+  /// The newest readings a robot published (empty name: the first robot), or nullptr.
+  const robot::Readings* latest_readings(const std::string& robot) const;
   /// Blocks until every camera image submitted so far is rendered and written (lock-step: the
   /// step is done when its data is out, and which instants are rendered does not depend on
   /// timing).
@@ -44,12 +52,14 @@ class SimBridge {
 
  private:
   struct RobotTopics;
-  void publish_cameras(RobotTopics& topics, double now);
+  void publish_cameras(RobotTopics& topics, double now, bool render);
+  void flush_clock();
 
   Runner& runner_;
   BridgeOptions options_;
   double next_clock_time_ = 0.0;
   double last_time_ = 0.0;
+  std::optional<rosgraph_msgs::msg::dds_::Clock_> held_clock_;
   uint64_t generation_ = 0;  // of the world whose schedules run
   struct Clock;
   std::unique_ptr<Clock> clock_;

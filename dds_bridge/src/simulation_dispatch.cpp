@@ -1,5 +1,7 @@
 #include "simulation_dispatch.h"
 
+#include <memory>
+
 namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
@@ -17,14 +19,15 @@ mm::SimulationReply_ simulation_reply(const mm::SimulationRequest_& q, const Run
   r.state_hash(world.state_hash());
   r.paused(runner.settings().paused);
   r.real_time_factor(runner.settings().real_time_factor);
+  r.ended_by(-1);
   r.features(
-      "simulator,supervisor,lockstep,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
+      "simulator,supervisor,lockstep,step_until,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
   return r;
 }
 
 std::optional<mm::SimulationReply_> dispatch_simulation(
     const mm::SimulationRequest_& q, Runner& runner,
-    std::function<void(const mm::SimulationReply_&)> stepped) {
+    std::function<void(const mm::SimulationReply_&)> stepped, const LatestReadings& readings) {
   switch (q.command()) {
     case mm::SIM_PAUSE:
       runner.pause();
@@ -41,13 +44,41 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       break;
     case mm::SIM_STEP: {
       if (q.steps() == 0) break;  // zero steps: answered at once
-      const bool taken =
-          runner.request_steps(q.steps(), [&runner, q, stepped = std::move(stepped)](bool done) {
-            stepped(done ? simulation_reply(q, runner, mm::ERR_OK, "")
-                         : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
-                                            "cancelled: paused by SIM_PAUSE, or by a body "
-                                            "that went unstable (see the events)"));
-          });
+      constexpr uint32_t kKnownOptions = mm::STEP_PUBLISH_AT_END | mm::STEP_NO_CAMERAS |
+                                         mm::STEP_HOLD_COMMANDS | mm::STEP_TRACE_HASH;
+      if (q.step_options() & ~kKnownOptions) {
+        return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT,
+                                "step_options " + std::to_string(q.step_options()) +
+                                    " has bits that are no STEP_* option");
+      }
+      auto compiled = StepConditions::compile(q, runner.world(), readings);
+      if (auto* error = std::get_if<std::string>(&compiled)) {
+        return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT, *error);
+      }
+      auto conditions = std::make_shared<StepConditions>(std::get<StepConditions>(std::move(compiled)));
+      StepRequest request;
+      request.steps = q.steps();
+      request.check_every = q.check_every();
+      if (!conditions->empty()) {
+        request.until = [conditions](const World& world) { return conditions->check(world); };
+      }
+      if (q.step_options() & mm::STEP_TRACE_HASH) {
+        request.each_step = [conditions](const World& world) { conditions->trace(world); };
+      }
+      request.hold_commands = q.step_options() & mm::STEP_HOLD_COMMANDS;
+      request.publish_at_end = q.step_options() & mm::STEP_PUBLISH_AT_END;
+      request.cameras = !(q.step_options() & mm::STEP_NO_CAMERAS);
+      request.done = [&runner, q, conditions, stepped = std::move(stepped)](bool done) {
+        auto reply = done ? simulation_reply(q, runner, mm::ERR_OK, "")
+                          : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
+                                             "cancelled: paused by SIM_PAUSE, or by a body "
+                                             "that went unstable (see the events)");
+        reply.ended_by(conditions->ended_by());
+        reply.samples(conditions->samples());
+        reply.step_trace(conditions->step_trace());
+        stepped(reply);
+      };
+      const bool taken = runner.request_steps(std::move(request));
       if (!taken) {
         return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT,
                                 "a step request is still running");

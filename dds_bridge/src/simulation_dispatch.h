@@ -9,6 +9,7 @@
 
 #include "macsim/msg/macsim_msgs.h"
 #include "macsim/sim_core/runner.h"
+#include "step_conditions.h"
 
 namespace macsim {
 
@@ -20,8 +21,10 @@ macsim_msgs::msg::dds_::SimulationReply_ simulation_reply(
 
 /// Applies the request to the runner. The reply now, or nothing for a step request that was
 /// taken: `stepped` receives its reply once the last step is done (or a pause cancelled it).
+/// A step request's robot conditions read `readings` (none: they are refused).
 std::optional<macsim_msgs::msg::dds_::SimulationReply_> dispatch_simulation(
     const macsim_msgs::msg::dds_::SimulationRequest_& request, Runner& runner,
-    std::function<void(const macsim_msgs::msg::dds_::SimulationReply_&)> stepped);
+    std::function<void(const macsim_msgs::msg::dds_::SimulationReply_&)> stepped,
+    const LatestReadings& readings = {});
 
 }  // namespace macsim

@@ -9,9 +9,11 @@ namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
 
-SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits)
+SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits,
+                                   LatestReadings readings)
     : runner_(runner),
       limits_(limits),
+      readings_(std::move(readings)),
       replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command) {
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread.
@@ -71,10 +73,13 @@ bool SimulationServer::repeated(const Request& q) {
 
 void SimulationServer::execute(const Request& q) {
   if (repeated(q)) return;
-  auto reply = dispatch_simulation(q, runner_, [this](const Reply& stepped) {
-    stepping_.reset();
-    send(stepped);
-  });
+  auto reply = dispatch_simulation(
+      q, runner_,
+      [this](const Reply& stepped) {
+        stepping_.reset();
+        send(stepped);
+      },
+      readings_);
   if (reply) {
     send(*reply);
   } else {

@@ -12,6 +12,7 @@
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 #include "reply_cache.h"
+#include "step_conditions.h"
 
 namespace macsim {
 
@@ -19,8 +20,9 @@ namespace macsim {
 /// once its last step's data is out, a SIM_LOAD_WORLD once the new world runs (or was refused).
 class SimulationServer {
  public:
-  /// Worlds loaded on request are held to `limits`.
-  SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {});
+  /// Worlds loaded on request are held to `limits`; step conditions read `readings`.
+  SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
+                   LatestReadings readings = {});
   ~SimulationServer();
 
  private:
@@ -35,6 +37,7 @@ class SimulationServer {
 
   Runner& runner_;
   const LoadLimits limits_;
+  const LatestReadings readings_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
   ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;                     // guards last_load_ (Fast DDS's threads)

@@ -177,7 +177,8 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     : robot_(robot),
       options_(std::move(options)),
       frames_(robot.frames()),
-      topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())) {
+      topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())),
+      outbox_(std::make_unique<Outbox>()) {
   Topics& t = *topics_;
   const std::string& name = t.name;
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
@@ -237,77 +238,93 @@ void RobotNode::poll_commands() {
   if (t.magnet) t.magnet->poll();
 }
 
-void RobotNode::publish() {
+/// The newest message of each kind not yet written (several publish(true) calls keep only the
+/// newest of each).
+struct RobotNode::Outbox {
+  std::optional<nm::Odometry_> odom, truth;
+  std::optional<sm::JointState_> wheels, rotunit;
+  std::optional<sm::Imu_> imu;
+  std::vector<sm::Range_> ranges;  // of one frame
+  std::optional<km::CraneState_> crane;
+  std::optional<sm::LaserScan_> scan;
+  std::optional<sm::PointCloud2_> cloud;
+  std::vector<gm::TransformStamped_> tf_odom, tf_crane, tf_laser;
+  std::optional<tf::TFMessage_> tf_static;
+};
+
+void RobotNode::publish(bool hold) {
   Topics& t = *topics_;
+  Outbox& out = *outbox_;
   const Readings r = robot_.read();
   const double now = r.stamp;
   const std::string& fp = options_.frame_prefix;
-  tf::TFMessage_ moving;
   if (r.odometry) {
+    latest_.odometry = r.odometry;
     const Odometry& o = *r.odometry;
     auto odom = dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now);
     odom.child_frame_id(framed(fp, odom.child_frame_id()));
-    t.odom.write(in_frames(odom, fp));
-    moving.transforms().push_back(
-        transform(now, framed(fp, "odom"), framed(fp, "base_footprint"), {o.x, o.y, 0.0},
-                  Eigen::Quaterniond(Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ()))));
+    out.odom = in_frames(odom, fp);
+    out.tf_odom = {transform(now, framed(fp, "odom"), framed(fp, "base_footprint"), {o.x, o.y, 0.0},
+                             Eigen::Quaterniond(Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ())))};
+    out.wheels = dds::kurt_wheel_joints(o.left_wheel, o.right_wheel, now);
   }
+  if (r.ground_truth) latest_.ground_truth = r.ground_truth;
   if (r.ground_truth && t.ground_truth) {
     auto truth = ground_truth_message(*r.ground_truth, now);  // in "world": no robot's frame
     truth.child_frame_id(framed(fp, truth.child_frame_id()));
-    t.ground_truth->write(truth);
+    out.truth = truth;
   }
-  if (r.odometry) {
-    t.joint_states.write(
-        dds::kurt_wheel_joints(r.odometry->left_wheel, r.odometry->right_wheel, now));
-  }
+  if (r.imu) latest_.imu = r.imu;
   if (r.imu && t.imu) {
     const Imu& i = *r.imu;
     auto imu = dds::kurt_imu(i.roll, i.pitch, i.yaw, i.yaw_variance, i.yaw_rate, now);
-    t.imu->write(in_frames(imu, fp));
+    out.imu = in_frames(imu, fp);
   }
-  if (t.range) {
+  if (!r.ranges.empty()) latest_.ranges = r.ranges;
+  if (t.range && !r.ranges.empty()) {
+    out.ranges.clear();
     for (const Range& each : r.ranges) {
       auto range = dds::kurt_range(each.frame, each.sonar, each.range, now);
-      t.range->write(in_frames(range, fp));
+      out.ranges.push_back(in_frames(range, fp));
     }
   }
+  if (r.crane) latest_.crane = r.crane;
   if (r.crane && t.crane_state) {
     auto crane = crane_message(*r.crane, now);
-    t.crane_state->write(in_frames(crane, fp));
+    out.crane = in_frames(crane, fp);
     if (!frames_.crane_pivot.child.empty()) {
       const Crane& c = *r.crane;
       const Mount& pivot = frames_.crane_pivot;
-      moving.transforms().push_back(
+      out.tf_crane = {
           transform(now, framed(fp, pivot.parent), framed(fp, "crane_turret"), position_of(pivot),
-                    orientation_of(pivot) * Eigen::AngleAxisd(c.slew, Eigen::Vector3d::UnitZ())));
-      moving.transforms().push_back(transform(
-          now, framed(fp, "crane_turret"), framed(fp, "crane_boom"), Eigen::Vector3d::Zero(),
-          Eigen::Quaterniond(Eigen::AngleAxisd(c.lift, -Eigen::Vector3d::UnitY()))));
-      moving.transforms().push_back(
+                    orientation_of(pivot) * Eigen::AngleAxisd(c.slew, Eigen::Vector3d::UnitZ())),
+          transform(now, framed(fp, "crane_turret"), framed(fp, "crane_boom"),
+                    Eigen::Vector3d::Zero(),
+                    Eigen::Quaterniond(Eigen::AngleAxisd(c.lift, -Eigen::Vector3d::UnitY()))),
           transform(now, framed(fp, "crane_boom"), framed(fp, "crane_magnet"),
-                    {frames_.boom_length, 0.0, -c.hoist}, Eigen::Quaterniond::Identity()));
+                    {frames_.boom_length, 0.0, -c.hoist}, Eigen::Quaterniond::Identity())};
     }
   }
+  if (r.scan) latest_.scan = r.scan;
   if (r.scan && t.scan) {
     auto scan = scan_message(*r.scan, now);
-    t.scan->write(in_frames(scan, fp));
+    out.scan = in_frames(scan, fp);
   }
   // The driver publishes the rotunit in joint_states messages of its own.
   if (r.rotunit) {
-    t.joint_states.write(dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now));
+    latest_.rotunit = r.rotunit;
+    out.rotunit = dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now);
     const Mount& laser = frames_.laser;
     if (!laser.child.empty()) {
-      moving.transforms().push_back(transform(
+      out.tf_laser = {transform(
           now, framed(fp, laser.parent), framed(fp, laser.child), position_of(laser),
-          Eigen::AngleAxisd(r.rotunit->angle, Eigen::Vector3d::UnitZ()) * orientation_of(laser)));
+          Eigen::AngleAxisd(r.rotunit->angle, Eigen::Vector3d::UnitZ()) * orientation_of(laser))};
     }
   }
   if (r.cloud && t.points) {
     auto cloud = cloud_message(*r.cloud, now);
-    t.points->write(in_frames(cloud, fp));
+    out.cloud = in_frames(cloud, fp);
   }
-  if (!moving.transforms().empty()) t.tf.write(moving);
   if (!static_sent_ && r.odometry) {
     // Once, in one message (tf_static keeps the last sample per writer): every fixed mount.
     tf::TFMessage_ fixed;
@@ -315,9 +332,32 @@ void RobotNode::publish() {
       fixed.transforms().push_back(transform(now, framed(fp, m.parent), framed(fp, m.child),
                                              position_of(m), orientation_of(m)));
     }
-    if (!fixed.transforms().empty()) t.tf_static.write(fixed);
+    if (!fixed.transforms().empty()) out.tf_static = fixed;
     static_sent_ = true;
   }
+  latest_.stamp = now;
+  if (!hold) flush();
+}
+
+void RobotNode::flush() {
+  Topics& t = *topics_;
+  Outbox& out = *outbox_;
+  if (out.odom) t.odom.write(*out.odom);
+  if (out.truth) t.ground_truth->write(*out.truth);
+  if (out.wheels) t.joint_states.write(*out.wheels);
+  if (out.imu) t.imu->write(*out.imu);
+  for (const auto& range : out.ranges) t.range->write(range);
+  if (out.crane) t.crane_state->write(*out.crane);
+  if (out.scan) t.scan->write(*out.scan);
+  if (out.rotunit) t.joint_states.write(*out.rotunit);
+  if (out.cloud) t.points->write(*out.cloud);
+  tf::TFMessage_ moving;
+  for (auto* part : {&out.tf_odom, &out.tf_crane, &out.tf_laser}) {
+    for (auto& each : *part) moving.transforms().push_back(std::move(each));
+  }
+  if (!moving.transforms().empty()) t.tf.write(moving);
+  if (out.tf_static) t.tf_static.write(*out.tf_static);
+  out = Outbox{};
 }
 
 namespace {

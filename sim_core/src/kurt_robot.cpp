@@ -235,6 +235,12 @@ void KurtRobot::command_rotunit(double speed) {
   state_.rotunit_speed = rotunit_speed_from_command(rotunit_speed_command(speed));
 }
 
+void KurtRobot::keep_command(double now) {
+  if (now - state_.last_command_time < config_.drive.command_timeout) {
+    state_.last_command_time = now;
+  }
+}
+
 // ---- stepping ----------------------------------------------------------------------------
 
 void KurtRobot::before_step(double now) {

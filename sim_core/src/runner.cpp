@@ -147,9 +147,10 @@ void Runner::step() {
 
 void Runner::step(const StepHooks& hooks) {
   if (hooks.before_step) hooks.before_step();
+  if (requested_steps_ > 0 && request_.hold_commands) world_->keep_robot_commands();
   step();
   if (hooks.after_step) hooks.after_step(*world_);
-  finish_requested_step();  // a requested step is done once its data is out
+  finish_requested_step(hooks);  // a requested step is done once its data is out
 }
 
 bool Runner::set_real_time_factor(double factor) {
@@ -162,26 +163,45 @@ void Runner::pause() {
   settings_.paused = true;
   if (requested_steps_ == 0) return;
   requested_steps_ = 0;  // a huge request can be stopped
-  auto done = std::move(steps_done_);
-  steps_done_ = nullptr;
+  auto done = std::move(request_.done);
+  request_ = {};
   if (done) done(false);
 }
 
 bool Runner::request_steps(uint64_t steps, std::function<void(bool)> done) {
+  StepRequest request;
+  request.steps = steps;
+  request.done = std::move(done);
+  return request_steps(std::move(request));
+}
+
+bool Runner::request_steps(StepRequest request) {
   if (requested_steps_ > 0) return false;
-  if (steps == 0) {
-    if (done) done(true);
+  if (request.steps == 0) {
+    if (request.done) request.done(true);
     return true;
   }
-  requested_steps_ = steps;
-  steps_done_ = std::move(done);
+  request.check_every = std::max<uint64_t>(request.check_every, 1);
+  requested_steps_ = request.steps;
+  steps_since_check_ = 0;
+  request_ = std::move(request);
   return true;
 }
 
-void Runner::finish_requested_step() {
-  if (requested_steps_ == 0 || --requested_steps_ > 0) return;
-  auto done = std::move(steps_done_);
-  steps_done_ = nullptr;
+void Runner::finish_requested_step(const StepHooks& hooks) {
+  if (requested_steps_ == 0) return;
+  --requested_steps_;
+  if (request_.each_step) request_.each_step(*world_);
+  bool ended = requested_steps_ == 0;
+  if (++steps_since_check_ == request_.check_every || ended) {
+    steps_since_check_ = 0;
+    if (request_.until && request_.until(*world_)) ended = true;
+  }
+  if (!ended) return;
+  if (hooks.request_end) hooks.request_end(*world_);
+  requested_steps_ = 0;
+  auto done = std::move(request_.done);
+  request_ = {};
   if (done) done(true);
 }
 

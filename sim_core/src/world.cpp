@@ -607,6 +607,10 @@ bool World::check_stability() {
   return stable;
 }
 
+void World::keep_robot_commands() {
+  for (auto& robot : robots_) robot->keep_command(time());
+}
+
 bool World::step() {
   detail::ensure_ode_ready();
   if (!fault_.empty()) return false;

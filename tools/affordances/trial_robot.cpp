@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <thread>
+#include <vector>
 
 #include "macsim/client/latest.h"
 #include "macsim/client/robot_client.h"
@@ -16,17 +17,22 @@ namespace affordances {
 
 namespace mm = macsim_msgs::msg::dds_;
 namespace sv = macsim::client::supervisor;
+namespace until = macsim::client::step_until;
+using Conditions = std::vector<until::Condition>;
 using namespace std::chrono_literals;
 using macsim::client::stamp_seconds;
 
 namespace {
 
 // Time in a trial. The robot's encoder frames (odometry, ground truth, crane state) come every
-// 10 ms of sim time, the laser's sweeps every 1/75 s, from the reset on. The controller stops
-// stepping only at 6 ms past a multiple of 10 ms (the first requests step 6 ms, every later one
-// 20 ms: the world's step must divide 2 ms), so the newest frame due is always the one stamped
-// within the last 8 ms, and the one before it is older: which sample a decision reads never
-// depends on how fast DDS delivered it.
+// 10 ms of sim time, the laser's sweeps every 1/75 s, from the reset on. The controller decides
+// only at 6 ms past a multiple of 20 ms (a tick; the first requests step 6 ms, every later one
+// a whole number of ticks: the world's step must divide 2 ms), so the newest frame due is always
+// the one stamped within the last 8 ms, and the one before it is older: which sample a decision
+// reads never depends on how fast DDS delivered it. Where the controller has nothing to decide
+// but when to stop (drive to a distance, wait for the crane, push, climb), one request steps
+// until the simulator finds its condition true at a tick (reading the same newest samples the
+// controller would), and brings back the readings of every tick it needs.
 constexpr double kFirst = 0.006;
 constexpr double kTick = 0.02;
 constexpr double kFrameWindow = 0.008;
@@ -80,7 +86,7 @@ struct TrialRobot::Impl {
   double dt = 0;  // the world's step, s (from the first step's reply)
   uint64_t steps = 0, hash = 0, trace = 0;
   bool drive_sent = false, crane_sent = false;
-  double speed = 0, speed_sent_at = -1;
+  double speed = 0;
 
   mm::SupervisorReply_ call(const sv::Request& request, const char* what) {
     auto reply = supervisor.call(request, o.timeout);
@@ -90,42 +96,45 @@ struct TrialRobot::Impl {
     return *reply;
   }
 
-  /// One lock-step request of `n` steps, robot commands delivered first.
-  void step(int n) {
+  /// Steps of one tick.
+  int tick_steps() const { return static_cast<int>(std::lround(kTick / dt)); }
+  /// Ticks from now to `until` (sim time).
+  int ticks_to(double until) const {
+    return static_cast<int>(std::max(0L, std::lround((until - now) / kTick)));
+  }
+
+  /// One lock-step request of at most `n` steps, robot commands delivered first: ended early
+  /// when a group of `conditions` holds at a tick, `samples` read at every tick. The topics
+  /// bring only the newest sample of each at its end (nothing reads them before), the drive
+  /// command holds through it, and the cameras render only when asked.
+  mm::SimulationReply_ step(int n, const Conditions& conditions = {},
+                            const Conditions& samples = {}, bool render = false) {
     if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
     if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
     drive_sent = crane_sent = false;
-    for (int done = 0; done < n;) {
-      const int batch = o.hash_every_step ? 1 : n;
-      auto reply = simulation.step(static_cast<uint64_t>(batch), o.timeout);
-      if (!reply || reply->code() != 0)
-        throw InstanceLost(reply ? "step refused: " + reply->message() : "no step reply");
-      done += batch;
-      now = reply->sim_time();
-      steps = reply->steps();
-      hash = reply->state_hash();
-      trace = mix(trace, hash);
-    }
+    uint32_t options = mm::STEP_PUBLISH_AT_END | mm::STEP_HOLD_COMMANDS;
+    if (!render) options |= mm::STEP_NO_CAMERAS;
+    if (o.hash_every_step) options |= mm::STEP_TRACE_HASH;
+    auto request = until::request(static_cast<uint64_t>(n), dt > 0 ? tick_steps() : 1, options);
+    request.until(conditions);
+    request.samples(samples);
+    auto reply = simulation.call(request, o.timeout);
+    if (!reply || reply->code() != 0)
+      throw InstanceLost(reply ? "step refused: " + reply->message() : "no step reply");
+    now = reply->sim_time();
+    steps = reply->steps();
+    hash = reply->state_hash();
+    trace = mix(trace, o.hash_every_step ? reply->step_trace() : hash);
+    return *reply;
   }
 
-  /// One tick of the controller: keeps the drive command alive, steps 20 ms.
-  void tick() {
-    if (speed != 0 && now - speed_sent_at > 0.25) set_speed(speed);
-    step(static_cast<int>(std::lround(kTick / dt)));
-  }
-  /// Steps `seconds` (a multiple of a tick): in one request when nothing needs a tick.
-  void advance(double seconds) {
-    if (speed == 0 && seconds > kTick) {
-      step(static_cast<int>(std::lround(seconds / dt)));
-      return;
-    }
-    const double until = now + seconds - 1e-9;
-    while (now < until) tick();
-  }
+  /// One tick of the controller: 20 ms.
+  void tick() { step(tick_steps()); }
+  /// Steps `seconds` (a multiple of a tick) in one request.
+  void advance(double seconds) { step(static_cast<int>(std::lround(seconds / dt))); }
 
   void set_speed(double v) {
     speed = v;
-    speed_sent_at = now;
     drive.drive(v, 0.0);
     drive_sent = true;
   }
@@ -173,14 +182,18 @@ struct TrialRobot::Impl {
   /// seconds passed; the crane state last read.
   kurt_msgs::msg::dds_::CraneState_ wait_crane(double slew, double lift, double hoist, double limit,
                                                bool until_held = false) {
-    const double until = now + limit;
-    while (true) {
-      auto s = crane_state();
-      const bool there = std::fabs(s.slew() - slew) < 0.02 && std::fabs(s.lift() - lift) < 0.02 &&
-                         std::fabs(s.hoist() - hoist) < 0.006;
-      if (there || (until_held && !s.held_object().empty()) || now >= until - 1e-9) return s;
-      tick();
-    }
+    const double end = now + limit;
+    auto s = crane_state();
+    const bool there = std::fabs(s.slew() - slew) < 0.02 && std::fabs(s.lift() - lift) < 0.02 &&
+                       std::fabs(s.hoist() - hoist) < 0.006;
+    if (there || (until_held && !s.held_object().empty()) || now >= end - 1e-9) return s;
+    // The same test at every tick, in the simulator.
+    Conditions conditions{until::near(mm::STEP_READ_CRANE_SLEW, slew, 0.02),
+                          until::near(mm::STEP_READ_CRANE_LIFT, lift, 0.02),
+                          until::near(mm::STEP_READ_CRANE_HOIST, hoist, 0.006)};
+    if (until_held) conditions.push_back(until::above(mm::STEP_READ_CRANE_HOLDING, 0.5, 1));
+    step(ticks_to(end) * tick_steps(), conditions);
+    return crane_state();
   }
 
   void begin() {
@@ -191,7 +204,6 @@ struct TrialRobot::Impl {
     now = 0;
     trace = 0;
     speed = 0;
-    speed_sent_at = -1;
     drive_sent = crane_sent = false;
   }
 
@@ -249,7 +261,7 @@ struct TrialRobot::Impl {
       throw std::runtime_error("the world's step (" + std::to_string(dt) +
                                " s) does not divide 2 ms");
     step(static_cast<int>(std::lround(kFirst / dt)) - 1);
-    advance(kPerceiveAt - now);
+    step(static_cast<int>(std::lround((kPerceiveAt - now) / dt)), {}, {}, true);  // the pair
     Percept p;
     const double window = 1.0 / o.camera_rate;
     const auto deadline = std::chrono::steady_clock::now() + o.timeout;
@@ -288,12 +300,19 @@ struct TrialRobot::Impl {
       crane_to(slew, lift, 0.0);
       const double x_start = odometry_x();
       if (travel > 0.01) {
+        constexpr double kGain = 3, kTop = 0.5;
         const double limit = now + 4.0;
         while (now < limit) {
           const double left = travel - (odometry_x() - x_start);
           if (left < 0.004) break;
-          set_speed(std::clamp(left * 3, 0.05, 0.5));
-          tick();
+          set_speed(std::clamp(left * kGain, 0.05, kTop));
+          if (left * kGain >= kTop) {
+            // Top speed until less than kTop / kGain is left: nothing to decide before.
+            step(ticks_to(limit) * tick_steps(),
+                 {until::above(mm::STEP_READ_ODOMETRY_X, x_start + travel - kTop / kGain)});
+          } else {
+            tick();
+          }
         }
         set_speed(0);
       }
@@ -322,13 +341,11 @@ struct TrialRobot::Impl {
     crane_to(kAsideSlew, 0.6, 0.0);  // the boom up and aside: only the bumper touches
     Outcome out;
     set_speed(0.4);
-    const double until = now + 3.0;
-    while (now < until - 1e-9) {
-      tick();
-      const mm::Object_ now_state = object(id);
-      const auto& w = now_state.velocity().angular();
-      out.rolled += std::hypot(w.x(), w.y()) * kTick;
-    }
+    // 3 s, the object's turning about horizontal axes read at every tick.
+    const auto reply =
+        step(ticks_to(now + 3.0) * tick_steps(), {},
+             {until::reading(mm::STEP_READ_OBJECT_TILT_RATE, id)});
+    for (double tilt_rate : reply.samples()) out.rolled += tilt_rate * kTick;
     set_speed(0);
     advance(0.4);
     const mm::Object_ end = object(id);
@@ -348,22 +365,22 @@ struct TrialRobot::Impl {
     const double top_x = s.x + s.ramp_height / std::tan(s.ramp_angle);
     Outcome out;
     set_speed(0.4);
-    double best_x = x0, best_at = now, last_x = x0, last_z = z0;
-    bool reached = false;
-    const double until = now + 8.0;
-    while (now < until - 1e-9) {
-      tick();
-      const auto g = ground_truth();
-      last_x = g.pose().pose().position().x();
-      last_z = g.pose().pose().position().z();
+    // At most 8 s: until the robot's middle is past the top, or no headway (2 cm) for a second;
+    // where it was at every tick.
+    const auto reply =
+        step(ticks_to(now + 8.0) * tick_steps(),
+             {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(top_x, -1e9), 0),
+              until::stalled(mm::STEP_READ_TRUTH_X, 1.0, 0.02, 1)},
+             {until::reading(mm::STEP_READ_TRUTH_X), until::reading(mm::STEP_READ_TRUTH_Z)});
+    double best_x = x0, last_x = x0, last_z = z0;
+    const auto& track = reply.samples();
+    for (std::size_t i = 0; i + 1 < track.size(); i += 2) {
+      last_x = track[i];
+      last_z = track[i + 1];
       out.rise = std::max(out.rise, last_z - z0);
-      if (last_x > best_x + 0.02) best_x = last_x, best_at = now;
-      if (last_x >= top_x) {
-        reached = true;
-        break;
-      }
-      if (now - best_at > 1.0) break;  // no headway for a second
+      if (last_x > best_x + 0.02) best_x = last_x;
     }
+    const bool reached = last_x >= top_x;
     out.progress = best_x - x0;
     if (reached)
       out.label = "climbed";

@@ -43,7 +43,13 @@ class RobotNode {
   /// Reads the robot and writes what is new (the owner's thread): its topics, the moving frames
   /// on rt/tf (odom -> base_footprint, the rotating laser, the crane) and, the first time, the
   /// fixed ones on rt/tf_static.
-  void publish();
+  /// `hold`: nothing is written yet; only the newest message of each kind waits for flush()
+  /// (lock-step: a controller reads only at the end of its step request).
+  void publish(bool hold = false);
+  /// Writes what publish(true) held back.
+  void flush();
+  /// The newest of each reading published (or held) so far.
+  const Readings& latest() const { return latest_; }
   /// "topic (type, in|out)" of each topic served.
   std::vector<std::string> topic_lines() const;
   /// The topics a full KURT3D serves that this robot lacks.
@@ -51,11 +57,14 @@ class RobotNode {
 
  private:
   struct Topics;
+  struct Outbox;
   RobotInterface& robot_;
   NodeOptions options_;
   Frames frames_;
   bool static_sent_ = false;
+  Readings latest_;
   std::unique_ptr<Topics> topics_;
+  std::unique_ptr<Outbox> outbox_;
 };
 
 }  // namespace macsim::robot

@@ -150,6 +150,8 @@ class KurtRobot {
   void command_magnet(bool on);
   /// Rotating unit speed (rad/s), quantized as the real driver sends it.
   void command_rotunit(double speed);
+  /// A drive command still in force at sim time `now` is renewed as if sent again then.
+  void keep_command(double now);
 
   // ---- stepping -------------------------------------------------------------------------
   /// Applies the motor set-points (zero after the command timeout); call before each step.

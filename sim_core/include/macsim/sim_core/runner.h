@@ -48,6 +48,22 @@ struct RunSettings {
 struct StepHooks {
   std::function<void()> before_step;       ///< e.g. take every command received so far
   std::function<void(World&)> after_step;  ///< publish what the step produced
+  /// A step request ended (before its `done`): what was held back for its end goes out.
+  std::function<void(World&)> request_end;
+};
+
+/// A controller's request for steps (lock-step): at most `steps` steps, ended early when `until`
+/// says so; answered through `done` once the last step's data is out.
+struct StepRequest {
+  uint64_t steps = 0;
+  uint64_t check_every = 1;  ///< `until` is asked after every this many steps (and at the end)
+  /// Asked on the simulation thread after the step's hooks: true ends the request there.
+  std::function<bool(const World&)> until;
+  std::function<void(const World&)> each_step;  ///< after every step's hooks (e.g. hash it)
+  bool hold_commands = false;   ///< the robots' last commands do not time out meanwhile
+  bool publish_at_end = false;  ///< the hooks need publish only the newest data, at the end
+  bool cameras = true;          ///< the hooks render the camera instants within it
+  std::function<void(bool completed)> done;  ///< false: a pause cancelled it
 };
 
 /// Owns and runs one world at a time.
@@ -93,8 +109,12 @@ class Runner {
   /// after_step hook has run, `done(false)` if a pause cancels it first. False (and nothing
   /// queued) while another request is still stepping.
   bool request_steps(uint64_t steps, std::function<void(bool completed)> done);
+  /// The same for a request that may end on a condition and say how its data goes out.
+  bool request_steps(StepRequest request);
   /// True while requested steps remain.
   bool stepping_on_request() const { return requested_steps_ > 0; }
+  /// The request being stepped, or nullptr.
+  const StepRequest* step_request() const { return requested_steps_ > 0 ? &request_ : nullptr; }
   const RunSettings& settings() const { return settings_; }
 
   World& world() { return *world_; }
@@ -114,14 +134,15 @@ class Runner {
   /// True if the item at the queue's front may run now (a load only once parsed).
   static bool runnable(const Item& item);
   void replace_world(Load& load);
-  void finish_requested_step();
+  void finish_requested_step(const StepHooks& hooks);
 
   std::unique_ptr<World> world_;
   uint64_t generation_ = 0;
   std::map<std::string, WorldSnapshot> snapshots_;
   RunSettings settings_;
-  uint64_t requested_steps_ = 0;
-  std::function<void(bool)> steps_done_;
+  uint64_t requested_steps_ = 0;  // left of request_
+  uint64_t steps_since_check_ = 0;
+  StepRequest request_;
 
   std::mutex mutex_;
   std::condition_variable arrived_;

@@ -123,6 +123,9 @@ class World {
   /// instability check (a body gone NaN or wild is put back and reported). False when a body
   /// went unstable or ODE reported an error (then this world steps no more).
   bool step();
+  /// Robot drive commands still in force are renewed now (a controller stepping the world
+  /// through a long request keeps its robot moving).
+  void keep_robot_commands();
   double time() const { return static_cast<double>(steps_) * spec_.physics.step; }
   uint64_t steps() const { return steps_; }
   double step_size() const { return spec_.physics.step; }

@@ -35,4 +35,22 @@ class SimulationClient : public RequestReply<macsim_msgs::msg::dds_::SimulationR
   static Request request(int32_t command);
 };
 
+/// Parts of a SIM_STEP request that ends on a condition (macsim_msgs STEP_*): e.g. steps until
+/// the odometry passes 0.3 m, checked every tick, recording the crane's hoist at every check.
+namespace step_until {
+using Condition = macsim_msgs::msg::dds_::StepCondition_;
+/// A SIM_STEP request of at most `steps` steps, conditions checked every `check_every`.
+SimulationClient::Request request(uint64_t steps, uint32_t check_every, uint32_t options = 0);
+/// The robot's (or, for STEP_READ_OBJECT_*, the object's) reading, to record as a sample.
+Condition reading(int32_t what, uint32_t object_id = 0);
+/// reading > value.
+Condition above(int32_t what, double value, int32_t group = 0, uint32_t object_id = 0);
+/// reading < value.
+Condition below(int32_t what, double value, int32_t group = 0, uint32_t object_id = 0);
+/// |reading - value| < tolerance.
+Condition near(int32_t what, double value, double tolerance, int32_t group = 0);
+/// The reading has not risen `rise` above its best for `seconds`.
+Condition stalled(int32_t what, double seconds, double rise, int32_t group = 0);
+}  // namespace step_until
+
 }  // namespace macsim::client
