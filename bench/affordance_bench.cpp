@@ -1,5 +1,7 @@
-// Affordance trials at scale: trials per minute of affordance_trials with K = 1, 2 and 4
-// simulators (lift, then push and climb at K = 2), each beside K = 1 of the same run; and the
+// Affordance trials at scale: trials per minute of affordance_trials with K = 1 and 2 simulators
+// for lift, push and climb (and K = 4 for lift), each beside the bound measured in the same run:
+// the trials' own steps at the in-process step rate of the trial world (sim_core alone, no DDS,
+// the robot driving), on min(K, cores) cores; efficiency = trials/min over that bound. And the
 // scoped reset's cost, in process (sim_core on the liftability and trial worlds) and as a
 // supervisor round trip against macsim beside a state-hash request (the round trip's baseline).
 // `name value unit` lines.
@@ -7,11 +9,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -20,6 +24,9 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
+#include "supervisor_codec.h"
+#include "trial_robot.h"
+#include "trial_spec.h"
 
 namespace {
 
@@ -30,9 +37,38 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-/// affordance_trials' `trials_per_minute...` figure for one run (0 when it failed).
-double trials_per_minute(const std::string& affordance, int instances, int trials, int domain,
-                         const std::string& dir) {
+/// What one affordance_trials run came to.
+struct TrialRun {
+  double per_minute = 0;      ///< trials/min (0: the run failed)
+  double steps_per_trial = 0;  ///< mean of its rows' steps
+};
+
+/// Mean of the `steps` column of a trials file.
+double mean_steps(const std::string& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  if (!std::getline(in, line)) return 0;
+  int column = -1, i = 0;
+  std::stringstream header(line);
+  for (std::string name; std::getline(header, name, ','); ++i) {
+    if (name == "steps") column = i;
+  }
+  double sum = 0;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string field;
+    for (int c = 0; c <= column && std::getline(row, field, ','); ++c) {
+    }
+    sum += std::atof(field.c_str());
+    ++rows;
+  }
+  return rows ? sum / rows : 0;
+}
+
+/// One affordance_trials run with K started simulators.
+TrialRun run_trials(const std::string& affordance, int instances, int trials, int domain,
+                    const std::string& dir) {
   const std::string tag = affordance + "_k" + std::to_string(instances);
   const std::string log = dir + "/" + tag + ".log";
   macsim::client::ChildProgram run(
@@ -42,13 +78,16 @@ double trials_per_minute(const std::string& affordance, int instances, int trial
       log);
   if (run.wait(std::chrono::hours(2)).value_or(-1) != 0) {
     std::fprintf(stderr, "bench_affordances: %s failed, see %s\n", tag.c_str(), log.c_str());
-    return 0;
+    return {};
   }
+  TrialRun result;
   std::ifstream in(log);
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("trials_per_minute.", 0) == 0) return std::atof(line.c_str() + line.find(' '));
+    if (line.rfind("trials_per_minute.", 0) == 0)
+      result.per_minute = std::atof(line.c_str() + line.find(' '));
   }
-  return 0;
+  result.steps_per_trial = mean_steps(dir + "/" + tag + ".csv");
+  return result;
 }
 
 /// Median cost of reset(Everything) in process, microseconds.
@@ -62,6 +101,48 @@ double reset_in_process(const std::string& world_file) {
     costs.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t).count());
   }
   return median(costs);
+}
+
+/// sim_core alone on the trial world: steps per second of one core over `trials` of the
+/// affordance's own trials (seeds 1, 2, ...: the object or ramp each spawns), each `steps` steps
+/// from a scoped reset (the reset itself not counted), the robot driving as the trials drive:
+/// standing while it looks (0.806 s), then at 0.4 m/s into the object for about as long as the
+/// affordance drives (lift 1 s, push 3 s, climb to the end), its command renewed as a
+/// controller would.
+double in_process_step_rate(const std::string& world_file, affordances::Affordance affordance,
+                            int steps, int trials) {
+  const double look = 0.806;
+  const double drive = affordance == affordances::Affordance::Lift   ? 1.0
+                       : affordance == affordances::Affordance::Push ? 3.0
+                                                                     : 1e9;
+  macsim::World world(macsim::load_world_file(world_file));
+  double seconds = 0;
+  uint64_t stepped = 0;
+  for (int trial = 0; trial < trials + 2; ++trial) {
+    world.reset(macsim::ResetScope::Everything);
+    const auto spec = affordances::make_trial(affordance, affordances::Generator::Material,
+                                              static_cast<uint64_t>(trial % trials + 1));
+    std::string error;
+    auto object = macsim::codec::spec_of(affordances::trial_object(spec), error);
+    if (!object || !world.create_object(*object).ok()) {
+      std::fprintf(stderr, "bench_affordances: trial %d's object: %s\n", trial, error.c_str());
+      return 0;
+    }
+    const auto t = Clock::now();
+    for (int s = 0; s < steps; ++s) {
+      const double now = world.time();
+      if (s % 100 == 0 || std::fabs(now - look) < 1e-9) {
+        const double speed = now >= look - 1e-9 && now < look + drive ? 0.4 : 0.0;
+        for (const auto& robot : world.robots()) robot->command_twist(speed, 0.0, now);
+      }
+      world.step();
+    }
+    if (trial >= 2) {  // the first two warm the caches
+      seconds += std::chrono::duration<double>(Clock::now() - t).count();
+      stepped += static_cast<uint64_t>(steps);
+    }
+  }
+  return stepped / seconds;
 }
 
 }  // namespace
@@ -120,17 +201,33 @@ int main(int argc, char** argv) {
     std::printf("ratio.reset_over_state_hash_round_trip %.2f x\n", median(reset) / median(hash));
   }
 
-  // 2. Trials per minute.
-  const double k1 = trials_per_minute("lift", 1, trials, domain, dir);
-  std::printf("trials_per_minute.lift.k1 %.1f trials/min\n", k1);
-  for (int k : {2, 4}) {
-    const double rate = trials_per_minute("lift", k, trials, domain, dir);
-    std::printf("trials_per_minute.lift.k%d %.1f trials/min\n", k, rate);
-    std::printf("speedup.lift.k%d_over_k1 %.2f x\n", k, k1 > 0 ? rate / k1 : 0.0);
-  }
-  for (const char* a : {"push", "climb"}) {
-    std::printf("trials_per_minute.%s.k2 %.1f trials/min\n", a,
-                trials_per_minute(a, 2, trials, domain, dir));
+  // 2. Trials per minute beside the bound.
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (const char* a : {"lift", "push", "climb"}) {
+    double k1 = 0, rate = 0;
+    for (int k : {1, 2, 4}) {
+      if (k == 4 && std::string(a) != "lift") continue;
+      const TrialRun run = run_trials(a, k, trials, domain, dir);
+      if (k == 1) {
+        // The same affordance's trials in process, as many steps as the run's trials took.
+        rate = in_process_step_rate("worlds/affordance_trials.xml",
+                                    *affordances::affordance_from_name(a),
+                                    static_cast<int>(std::lround(run.steps_per_trial)), 20);
+        std::printf("in_process_step_rate.%s %.0f steps/s\n", a, rate);
+      }
+      // Each trial's steps at the in-process rate, on as many cores as instances can use.
+      const double bound =
+          run.steps_per_trial > 0 ? 60.0 * rate / run.steps_per_trial * std::min(k, cores) : 0.0;
+      std::printf("trials_per_minute.%s.k%d %.1f trials/min\n", a, k, run.per_minute);
+      std::printf("steps_per_trial.%s.k%d %.0f steps\n", a, k, run.steps_per_trial);
+      std::printf("bound.%s.k%d %.1f trials/min\n", a, k, bound);
+      std::printf("efficiency.%s.k%d %.2f ratio\n", a, k, bound > 0 ? run.per_minute / bound : 0.0);
+      if (k == 1) {
+        k1 = run.per_minute;
+      } else {
+        std::printf("speedup.%s.k%d_over_k1 %.2f x\n", a, k, k1 > 0 ? run.per_minute / k1 : 0.0);
+      }
+    }
   }
   std::filesystem::remove_all(dir);
   return 0;

@@ -59,6 +59,52 @@ uint64_t mix(uint64_t trace, uint64_t value) {
 
 }  // namespace
 
+/// The object (or ramp) the supervisor spawns for a trial, as its seed drew it.
+mm::Object_ trial_object(const TrialSpec& s) {
+  mm::Object_ object;
+  mm::Component_ c;
+  c.pose().orientation().w(1.0);
+  c.color({s.colour[0], s.colour[1], s.colour[2], 1.0f});
+  object.pose().orientation().w(1.0);
+  object.name("trial_object");
+  object.material(s.material);
+  object.magnetizable(s.magnetizable);
+  object.density(s.density);
+  object.user_data("trial");
+  double z = s.height() / 2;
+  switch (s.shape) {
+    case Shape::Box:
+      c.shape(mm::SHAPE_BOX);
+      c.size({s.size[0], s.size[1], s.size[2]});
+      break;
+    case Shape::Cylinder:
+      c.shape(mm::SHAPE_CYLINDER);
+      c.size({s.size[0] / 2, 0, s.size[2]});
+      break;
+    case Shape::LyingCylinder:  // its axis across the robot's way: it can roll ahead
+      c.shape(mm::SHAPE_CYLINDER);
+      c.size({s.size[0] / 2, 0, s.size[2]});
+      object.pose().orientation(
+          macsim::dds::quaternion(std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)));
+      break;
+    case Shape::Sphere:
+      c.shape(mm::SHAPE_SPHERE);
+      c.size({s.size[0] / 2, 0, 0});
+      break;
+    case Shape::Ramp:
+      c.shape(mm::SHAPE_BOX);
+      object.kind(mm::KIND_RAMP);
+      object.portable(false);
+      object.ramp({s.ramp_width, s.ramp_height, s.ramp_angle});
+      z = 0;
+      break;
+  }
+  if (s.shape != Shape::Ramp) object.portable(true);
+  object.components().push_back(c);
+  object.pose().position(macsim::dds::point(s.x, s.y, z));
+  return object;
+}
+
 struct TrialRobot::Impl {
   explicit Impl(const InstanceOptions& options)
       : o(options),
@@ -208,48 +254,7 @@ struct TrialRobot::Impl {
   }
 
   uint32_t spawn(const TrialSpec& s) {
-    mm::Object_ object;
-    mm::Component_ c;
-    c.pose().orientation().w(1.0);
-    c.color({s.colour[0], s.colour[1], s.colour[2], 1.0f});
-    object.pose().orientation().w(1.0);
-    object.name("trial_object");
-    object.material(s.material);
-    object.magnetizable(s.magnetizable);
-    object.density(s.density);
-    object.user_data("trial");
-    double z = s.height() / 2;
-    switch (s.shape) {
-      case Shape::Box:
-        c.shape(mm::SHAPE_BOX);
-        c.size({s.size[0], s.size[1], s.size[2]});
-        break;
-      case Shape::Cylinder:
-        c.shape(mm::SHAPE_CYLINDER);
-        c.size({s.size[0] / 2, 0, s.size[2]});
-        break;
-      case Shape::LyingCylinder:  // its axis across the robot's way: it can roll ahead
-        c.shape(mm::SHAPE_CYLINDER);
-        c.size({s.size[0] / 2, 0, s.size[2]});
-        object.pose().orientation(
-            macsim::dds::quaternion(std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)));
-        break;
-      case Shape::Sphere:
-        c.shape(mm::SHAPE_SPHERE);
-        c.size({s.size[0] / 2, 0, 0});
-        break;
-      case Shape::Ramp:
-        c.shape(mm::SHAPE_BOX);
-        object.kind(mm::KIND_RAMP);
-        object.portable(false);
-        object.ramp({s.ramp_width, s.ramp_height, s.ramp_angle});
-        z = 0;
-        break;
-    }
-    if (s.shape != Shape::Ramp) object.portable(true);
-    object.components().push_back(c);
-    object.pose().position(macsim::dds::point(s.x, s.y, z));
-    return call(sv::create_object(object, false), "create_object").object_id();
+    return call(sv::create_object(trial_object(s), false), "create_object").object_id();
   }
 
   /// Looks: the crane swung out of the laser's plane, then one stereo pair and one sweep.
@@ -306,13 +311,12 @@ struct TrialRobot::Impl {
           const double left = travel - (odometry_x() - x_start);
           if (left < 0.004) break;
           set_speed(std::clamp(left * kGain, 0.05, kTop));
-          if (left * kGain >= kTop) {
-            // Top speed until less than kTop / kGain is left: nothing to decide before.
-            step(ticks_to(limit) * tick_steps(),
-                 {until::above(mm::STEP_READ_ODOMETRY_X, x_start + travel - kTop / kGain)});
-          } else {
-            tick();
-          }
+          // Top speed until less than kTop / kGain is left: nothing to decide before. Then the
+          // speed follows what is left every 0.1 s, the stop looked at every tick.
+          const int ticks = left * kGain >= kTop ? ticks_to(limit) : std::min(ticks_to(limit), 5);
+          step(ticks * tick_steps(),
+               {until::above(mm::STEP_READ_ODOMETRY_X,
+                             x_start + travel - (left * kGain >= kTop ? kTop / kGain : 0.004))});
         }
         set_speed(0);
       }

@@ -9,10 +9,14 @@
 #include <string>
 
 #include "macsim/dds/participant.h"
+#include "macsim/msg/macsim_msgs.h"
 #include "trial_record.h"
 #include "trial_spec.h"
 
 namespace affordances {
+
+/// The object (or ramp) the supervisor spawns for a trial, as its seed drew it.
+macsim_msgs::msg::dds_::Object_ trial_object(const TrialSpec& spec);
 
 /// How to reach an instance and how it was started.
 struct InstanceOptions {
