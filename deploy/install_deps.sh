@@ -38,6 +38,10 @@ PACKAGES=(
   systemd
   # Debian packages (cpack -G DEB: dependencies by dpkg-shlibdeps, which needs file)
   dpkg-dev file
+  # affordance trials as Slurm job arrays (deploy/slurm/): the slurm test's one-node cluster,
+  # which the test starts itself with a key, socket, ports and config of its own (beside any
+  # munged or slurmd the packages' units may start; it uses neither /etc/munge nor /etc/slurm)
+  slurm-wlm munge
   # macsim_web: HTTP + WebSocket (websocketpp on standalone asio), JSON; its browser test drives
   # Debian's Chromium through chromedriver
   libwebsocketpp-dev libasio-dev nlohmann-json3-dev chromium chromium-driver
