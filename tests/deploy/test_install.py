@@ -48,6 +48,7 @@ def test_the_prefix_holds_programs_data_sdk_units_and_python(prefix):
         assert os.access(prefix / "bin" / name, os.X_OK), name
     for relative in ["share/macsim/worlds/DemoWorld_v1.xml", "share/macsim/worlds/affordance_trials.xml",
                      "share/macsim/dds/localhost.xml", "share/macsim/dds/service.xml",
+                     "share/macsim/slurm/submit_affordances.sh", "share/macsim/slurm/affordance_array.sbatch",
                      "share/macsim/web/index.html", "share/macsim/web/vendor/three.module.js",
                      "include/macsim/client/robot_client.h", "include/macsim/dds/participant.h",
                      "include/macsim/msg/nav_msgs.h",
