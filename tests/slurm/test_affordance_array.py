@@ -4,8 +4,10 @@ a task cancelled mid-run leaves its shard short, the merge names the missing see
 task run again (the command the submit script prints) fills exactly those rows; stopping the
 cluster while tasks run leaves no process behind."""
 
+import os
 import re
 import shlex
+import signal
 import subprocess
 import time
 
@@ -72,6 +74,15 @@ def wait_array(cluster, array_job, count, timeout=150):
                          f"{cluster.log_tails()}")
 
 
+def sbatch(cluster, argv):
+    """Submits a job (argv: an sbatch command) and waits for its end (polling scontrol, faster
+    than sbatch --wait); its id and scontrol's fields (of its one task for an array)."""
+    job = cluster.run(argv[:1] + ["--parsable"] + argv[1:]).stdout.strip().split(";")[0]
+    if any(a.startswith("--array=") for a in argv):
+        return job, next(iter(wait_array(cluster, job, 1).values()))
+    return job, cluster.wait_job(job)
+
+
 def test_an_array_of_four_tasks_and_its_merge_give_the_rows_of_one_run(cluster, domains, reference,
                                                                        tmp_path):
     out_dir = tmp_path / "a"
@@ -113,13 +124,19 @@ def test_a_task_cancelled_mid_run_and_run_again_fills_exactly_its_missing_rows(
     killed = SHARDS - 1
     array_job, merge_job, rerun, merge, _ = submit(cluster, out_dir, domains)
     shard_file = out_dir / f"lift-shard-{killed}-of-{SHARDS}.csv"
-    # Cancel the task once it has written a row (a whole line), well before its tenth.
+    # Cancel the task once it has written a row (a whole line), well before its tenth: its
+    # affordance_trials is stopped (SIGSTOP) at once, so that Slurm's cancel (SIGCONT, SIGTERM,
+    # SIGKILL after KillWait) cannot come too late however fast the trials run.
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:
         text = shard_file.read_text() if shard_file.exists() else ""
         if text.count("\n") >= 2 and text.endswith("\n"):
+            task = [pid for pid, c in cluster.processes().items()
+                    if "bin/affordance_trials " in c and f"--shard {killed}/{SHARDS} " in c]
+            assert len(task) == 1, cluster.processes()
+            os.kill(task[0], signal.SIGSTOP)
             break
-        time.sleep(0.02)
+        time.sleep(0.01)
     else:
         pytest.fail(f"task {killed} wrote no row in 120 s\n{cluster.log_tails()}")
     cluster.run(["scancel", f"{array_job}_{killed}"])
@@ -136,9 +153,9 @@ def test_a_task_cancelled_mid_run_and_run_again_fills_exactly_its_missing_rows(
     # The merge before the re-run names the shard's missing seeds (exit 1).
     first_seed = killed * 10 + 1
     missing = sorted(set(range(first_seed, first_seed + 10)) - {seed_of(r) for r in before})
-    job = cluster.run(merge[:1] + ["--wait", "--parsable"] + merge[1:], check=False)
-    report = (out_dir / f"slurm-merge-{job.stdout.strip()}.out").read_text()
-    assert job.returncode == 1, job.stdout + job.stderr + report
+    job, fields = sbatch(cluster, merge)
+    report = (out_dir / f"slurm-merge-{job}.out").read_text()
+    assert fields["ExitCode"] == "1:0", (fields, report)
     for i in range(killed):
         assert f"shard {i}: seeds {i * 10 + 1}-{i * 10 + 10}, done 10, missing 0" in report, report
     listed = " ".join(map(str, missing[:8])) + (" ..." if len(missing) > 8 else "")
@@ -148,17 +165,18 @@ def test_a_task_cancelled_mid_run_and_run_again_fills_exactly_its_missing_rows(
 
     # The task run again, as the submit script said: only the missing rows are run.
     again = [a.replace("--array=I", f"--array={killed}") for a in rerun]
-    job = cluster.run(again[:1] + ["--wait", "--parsable"] + again[1:], timeout=120)
-    output = (out_dir / f"slurm-{job.stdout.strip()}_{killed}.out").read_text()
+    job, fields = sbatch(cluster, again)
+    output = (out_dir / f"slurm-{job}_{killed}.out").read_text()
+    assert fields["JobState"] == "COMPLETED" and fields["ExitCode"] == "0:0", (fields, output)
     assert f"{len(before)} trials already in" in output, output
     assert f"{len(missing)} trials run" in output, output
     _, after = rows(shard_file)
     assert set(before) <= set(after), "a row written before the cancel was run again"
     assert [seed_of(r) for r in after] == list(range(first_seed, first_seed + 10))
 
-    job = cluster.run(merge[:1] + ["--wait", "--parsable"] + merge[1:], check=False)
-    report = (out_dir / f"slurm-merge-{job.stdout.strip()}.out").read_text()
-    assert job.returncode == 0, report
+    job, fields = sbatch(cluster, merge)
+    report = (out_dir / f"slurm-merge-{job}.out").read_text()
+    assert fields["JobState"] == "COMPLETED" and fields["ExitCode"] == "0:0", (fields, report)
     header, merged = rows(out_dir / "lift.csv")
     assert header == reference[0]
     assert [result_part(r) for r in merged] == reference[1]
