@@ -6,11 +6,13 @@
 
 #include <mutex>
 #include <set>
+#include <vector>
 
 #include "macsim/client/robot_client.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
@@ -153,6 +155,78 @@ TEST(Lockstep, EveryCameraInstantIsRenderedAndOutBeforeItsStepIsAnswered) {
   EXPECT_NE(macsim.output().find(" 0 skipped"), std::string::npos) << macsim.output();
   std::lock_guard<std::mutex> lock(mutex);
   EXPECT_GE(stamps.size(), 12u);  // one image per instant reached the client
+}
+
+TEST(Lockstep, ARequestWantingItsDataAtItsEndGetsTheNewestSampleOfEachAndNoUnaskedImages) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                       std::to_string(domain), "--lockstep", "--cameras", "160x120",
+                       "--camera-rate", "15"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  std::mutex mutex;
+  std::vector<double> odometry;  // stamps, in arrival order
+  int images = 0;
+  {
+    dds::Participant p({domain, "", "lockstep_test"});
+    client::SimulationClient sim(p);
+    client::RobotClient kurt(p, "kurt");
+    dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
+        p, dds::topics::odom("kurt"), dds::QosFamily::State,
+        [&](const nav_msgs::msg::dds_::Odometry_& o) {
+          std::lock_guard<std::mutex> lock(mutex);
+          odometry.push_back(dds::to_seconds(o.header().stamp()));
+        });
+    dds::Reader<sensor_msgs::msg::dds_::Image_PubSubType> left(
+        p, dds::topics::image("kurt", "left"), dds::QosFamily::Sensor,
+        [&](const sensor_msgs::msg::dds_::Image_&) {
+          std::lock_guard<std::mutex> lock(mutex);
+          ++images;
+        });
+    ASSERT_TRUE(sim.wait_for_server(20s));
+    for (int i = 0; i < 100 && (left.matched() == 0 || odom.matched() == 0); ++i)
+      std::this_thread::sleep_for(50ms);
+    std::this_thread::sleep_for(500ms);  // both ways matched
+    auto counts = [&] {
+      std::this_thread::sleep_for(300ms);  // what is on its way arrives
+      std::lock_guard<std::mutex> lock(mutex);
+      return std::make_pair(odometry.size(), images);
+    };
+    // Every encoder frame (10 ms) and camera instant (1/15 s) of 0.5 s.
+    ASSERT_TRUE(sim.step(500));
+    const auto [odom_every, images_every] = counts();
+    EXPECT_GE(odom_every, 45u);
+    EXPECT_GE(images_every, 7);
+    // The same 0.5 s wanting its data at the end, no images: one odometry sample, the newest.
+    auto q = client::step_until::request(500, 10,
+                                         mm::STEP_PUBLISH_AT_END | mm::STEP_NO_CAMERAS);
+    const auto reply = sim.call(q, 10s);
+    ASSERT_TRUE(reply && reply->code() == mm::ERR_OK);
+    const auto [odom_end, images_end] = counts();
+    EXPECT_EQ(odom_end, odom_every + 1);
+    EXPECT_EQ(images_end, images_every);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      EXPECT_NEAR(odometry.back(), reply->sim_time(), 0.0101);  // the last frame of the request
+    }
+    // A drive that ends when the odometry the robot publishes passes 0.05 m.
+    for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);
+    ASSERT_TRUE(kurt.drive(0.3, 0.0));
+    ASSERT_TRUE(kurt.wait_delivered());
+    auto drive = client::step_until::request(
+        5000, 10, mm::STEP_PUBLISH_AT_END | mm::STEP_HOLD_COMMANDS | mm::STEP_NO_CAMERAS);
+    drive.until({client::step_until::above(mm::STEP_READ_ODOMETRY_X, 0.05)});
+    const auto driven = sim.call(drive, 10s);
+    ASSERT_TRUE(driven && driven->code() == mm::ERR_OK) << (driven ? driven->message() : "");
+    EXPECT_EQ(driven->ended_by(), 0);
+    EXPECT_LT(driven->steps(), reply->steps() + 5000);
+    std::this_thread::sleep_for(300ms);
+    const auto newest = kurt.latest_odometry();
+    ASSERT_TRUE(newest.has_value());
+    EXPECT_GT(newest->pose().pose().position().x(), 0.05);
+    EXPECT_LT(newest->pose().pose().position().x(), 0.06);
+  }
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();
 }
 
 }  // namespace

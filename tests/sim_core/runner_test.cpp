@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <future>
+#include <string>
 #include <thread>
 
 #include "macsim/sim_core/world_bounds.h"
@@ -203,6 +205,65 @@ TEST(Runner, StepRequestsRunWhilePausedAndAnswerAfterTheLastStep) {
   EXPECT_EQ(answered, 1);
   EXPECT_EQ(answered_at, 3u);
   EXPECT_EQ(published, (std::vector<uint64_t>{1, 2, 3}));  // every step's data out first
+}
+
+TEST(Runner, AStepRequestEndsAtTheFirstCheckItsConditionHoldsAndFlushesBeforeItsAnswer) {
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  std::atomic<bool> stop{false};
+  std::vector<uint64_t> checked_at, each_at;
+  std::vector<std::string> order;
+  bool completed = false;
+  StepRequest request;
+  request.steps = 1000;
+  request.check_every = 10;
+  // True from step 35 on: first seen at the check after step 40.
+  request.until = [&](const World& w) {
+    checked_at.push_back(w.steps());
+    return w.steps() >= 35;
+  };
+  request.each_step = [&](const World& w) { each_at.push_back(w.steps()); };
+  request.publish_at_end = true;
+  request.done = [&](bool c) {
+    completed = c;
+    order.push_back("done");
+    stop = true;
+  };
+  StepHooks hooks;
+  hooks.after_step = [&](World&) {
+    ASSERT_NE(runner.step_request(), nullptr);
+    EXPECT_TRUE(runner.step_request()->publish_at_end);  // the hooks see what the request wants
+  };
+  hooks.request_end = [&](World& w) { order.push_back("end at " + std::to_string(w.steps())); };
+  runner.push([&](World&) { EXPECT_TRUE(runner.request_steps(std::move(request))); });
+  runner.run(stop, 2000, hooks);
+  EXPECT_TRUE(completed);
+  EXPECT_EQ(runner.world().steps(), 40u);
+  EXPECT_EQ(checked_at, (std::vector<uint64_t>{10, 20, 30, 40}));
+  EXPECT_EQ(each_at.size(), 40u);
+  EXPECT_EQ(order, (std::vector<std::string>{"end at 40", "done"}));
+  EXPECT_EQ(runner.step_request(), nullptr);
+}
+
+TEST(Runner, AStepRequestThatHoldsCommandsKeepsTheRobotDrivingPastTheCommandTimeout) {
+  // The robot is sent 0.3 m/s once; a request of 2 s (past the 0.6 s command timeout) that holds
+  // commands keeps it driving, one that does not lets it stop.
+  auto travelled = [](bool hold) {
+    Runner runner(small_room(), RunSettings{true, 0.0});
+    std::atomic<bool> stop{false};
+    KurtRobot& robot = *runner.world().robots().front();
+    const double x0 = robot.base_footprint_pose().position.x();
+    robot.command_twist(0.3, 0.0, runner.world().time());
+    StepRequest request;
+    request.steps = static_cast<uint64_t>(std::lround(2.0 / runner.world().step_size()));
+    request.hold_commands = hold;
+    request.done = [&](bool) { stop = true; };
+    runner.push([&](World&) { runner.request_steps(std::move(request)); });
+    runner.run(stop, 100000, {});
+    return robot.base_footprint_pose().position.x() - x0;
+  };
+  const double held = travelled(true), timed_out = travelled(false);
+  EXPECT_GT(held, 0.45);       // about 0.3 m/s for 2 s
+  EXPECT_LT(timed_out, 0.25);  // stopped after 0.6 s
 }
 
 TEST(Runner, APauseCancelsAHugeStepRequest) {
