@@ -362,7 +362,10 @@ int serve(macsim::Runner& runner, const Options& o) {
       }
     };
     // A step request that wanted its data at its end: out before its reply.
-    hooks.request_end = [&](macsim::World&) { bridge.flush(); };
+    hooks.request_end = [&](macsim::World&) {
+      bridge.flush();
+      supervisor.flush();
+    };
     auto loop = [&] {
       runner.run(g_stop, last_step, hooks);
       finished.store(true);

@@ -132,8 +132,16 @@ void SupervisorServer::publish() {
   last_time_ = world.time();
   if (world.time() + 1e-9 >= next_state_time_) {
     next_state_time_ = world.time() + 0.1;
-    publish_world_state(world);
+    const StepRequest* request = runner_.step_request();
+    state_held_ = request && request->publish_at_end;
+    if (!state_held_) publish_world_state(world);
   }
+}
+
+void SupervisorServer::flush() {
+  if (!state_held_) return;
+  state_held_ = false;
+  publish_world_state(runner_.world());
 }
 
 }  // namespace macsim

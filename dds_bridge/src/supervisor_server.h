@@ -24,6 +24,9 @@ class SupervisorServer {
 
   /// Publishes the world state every 0.1 s of sim time, and the events of the last step.
   void publish();
+  /// Writes the world's state if publish() kept it back (a step request wanting its data at
+  /// its end).
+  void flush();
   /// Topic names it serves, for the start-up banner.
   static std::vector<std::string> topic_names();
 
@@ -36,6 +39,7 @@ class SupervisorServer {
 
   Runner& runner_;
   double next_state_time_ = 0.0;
+  bool state_held_ = false;  // due while a step request wanted its data at its end
   double last_time_ = 0.0;
   uint64_t generation_ = 0;  // of the world published_ids_ belong to
   std::set<uint32_t> published_ids_;

@@ -177,7 +177,9 @@ struct TrialRobot::Impl {
   /// One tick of the controller: 20 ms.
   void tick() { step(tick_steps()); }
   /// Steps `seconds` (a multiple of a tick) in one request.
-  void advance(double seconds) { step(static_cast<int>(std::lround(seconds / dt))); }
+  mm::SimulationReply_ advance(double seconds, const Conditions& samples = {}) {
+    return step(static_cast<int>(std::lround(seconds / dt)), {}, samples);
+  }
 
   void set_speed(double v) {
     speed = v;
@@ -260,12 +262,17 @@ struct TrialRobot::Impl {
   /// Looks: the crane swung out of the laser's plane, then one stereo pair and one sweep.
   Percept perceive() {
     crane_to(kAsideSlew, 0.0, 0.0);
-    step(1);
-    dt = now;
-    if (!(dt > 0) || std::fabs(std::remainder(0.002, dt)) > 1e-9)
-      throw std::runtime_error("the world's step (" + std::to_string(dt) +
-                               " s) does not divide 2 ms");
-    step(static_cast<int>(std::lround(kFirst / dt)) - 1);
+    if (dt == 0) {
+      // The instance's first look: its world's step, from the first step's reply.
+      step(1);
+      dt = now;
+      if (!(dt > 0) || std::fabs(std::remainder(0.002, dt)) > 1e-9)
+        throw std::runtime_error("the world's step (" + std::to_string(dt) +
+                                 " s) does not divide 2 ms");
+      step(static_cast<int>(std::lround(kFirst / dt)) - 1);
+    } else {
+      step(static_cast<int>(std::lround(kFirst / dt)));
+    }
     step(static_cast<int>(std::lround((kPerceiveAt - now) / dt)), {}, {}, true);  // the pair
     Percept p;
     const double window = 1.0 / o.camera_rate;
@@ -333,8 +340,7 @@ struct TrialRobot::Impl {
       wait_crane(slew, lift + 0.3, 0.0, 1.2);
     }
     const double z1 = object(id).pose().position().z();
-    advance(1.0);
-    const double z2 = object(id).pose().position().z();
+    const double z2 = advance(1.0, {until::reading(mm::STEP_READ_OBJECT_Z, id)}).samples().back();
     out.raised = std::min(z1, z2) - z0;
     out.label = out.raised >= 0.05 ? "liftable" : "not_liftable";
     return out;
@@ -351,10 +357,11 @@ struct TrialRobot::Impl {
              {until::reading(mm::STEP_READ_OBJECT_TILT_RATE, id)});
     for (double tilt_rate : reply.samples()) out.rolled += tilt_rate * kTick;
     set_speed(0);
-    advance(0.4);
-    const mm::Object_ end = object(id);
-    out.moved = std::hypot(end.pose().position().x() - start.pose().position().x(),
-                           end.pose().position().y() - start.pose().position().y());
+    const auto end = advance(0.4, {until::reading(mm::STEP_READ_OBJECT_X, id),
+                                   until::reading(mm::STEP_READ_OBJECT_Y, id)})
+                         .samples();
+    out.moved = std::hypot(end[end.size() - 2] - start.pose().position().x(),
+                           end.back() - start.pose().position().y());
     if (out.moved < 0.10)
       out.label = "stalled";
     else
