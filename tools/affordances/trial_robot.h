@@ -24,7 +24,7 @@ struct InstanceOptions {
   std::string profile;  ///< DDS profile XML; empty: FASTRTPS_DEFAULT_PROFILES_FILE
   std::string robot = "kurt";
   double camera_rate = 1.25;     ///< Hz: the instance's --camera-rate
-  bool hash_every_step = false;  ///< step one step per request (the trace holds every step)
+  bool hash_every_step = false;  ///< the trace mixes the state hash of every step
   std::chrono::milliseconds timeout{10000};  ///< wall time an answer or a sample may take
 };
 
