@@ -552,12 +552,23 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
 
   // Sorted by seed: the same trials give the same file, however many instances ran them.
+  // Written beside it and renamed over it, so a kill now (a cluster task cancelled at its end)
+  // leaves the rows either as appended or sorted, never lost.
   file.close();
   sort_rows(rows);
   {
-    std::ofstream sorted(out, std::ios::trunc);
+    const std::string temporary = out + ".sorting";
+    std::ofstream sorted(temporary, std::ios::trunc);
     sorted << csv_header() << "\n";
     for (const auto& row : rows) sorted << row << "\n";
+    sorted.close();
+    std::error_code error;
+    if (sorted) std::filesystem::rename(temporary, out, error);
+    if (!sorted || error) {
+      std::filesystem::remove(temporary, error);
+      std::cerr << "affordance_trials: cannot write the sorted rows; " << out
+                << " keeps them in the order they came\n";
+    }
   }
   std::map<std::string, int> labels;
   for (const auto& row : rows) {
