@@ -4,7 +4,7 @@
 # once every task succeeded (affordance_merge.sbatch). Prints both job ids, where the output
 # goes, and how to re-run a failed task. See README.md beside this script.
 #
-#   submit_affordances.sh --out-dir DIR --trials T [--shards N] [--instances K] [--seed S]
+#   submit_affordances.sh --out-dir DIR --trials T [--shards N (4)] [--instances K (1)] [--seed S]
 #                         [--affordance A] [--generator G] [--bin DIR] [--domain-base B]
 #                         [--domain-blocks M] [--lock-dir DIR] [-- more affordance_trials options]
 #
@@ -58,6 +58,8 @@ for pair in "--trials:$trials" "--shards:$shards" "--instances:$instances" "--se
 done
 ((trials >= 1 && shards >= 1 && instances >= 1)) || die "--trials, --shards, --instances must be at least 1"
 ((shards <= trials)) || die "--shards $shards is more than --trials $trials"
+[[ "$affordance" =~ ^(lift|push|climb)$ ]] || die "unknown --affordance '$affordance' (lift, push, climb)"
+[[ "$generator" =~ ^(material|figure11)$ ]] || die "unknown --generator '$generator' (material, figure11)"
 
 # affordance_trials: --bin, else the installation this script belongs to (share/macsim/slurm
 # beside bin/), else the source tree's build (deploy/slurm beside build/), else PATH.
