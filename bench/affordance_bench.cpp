@@ -105,17 +105,31 @@ double reset_in_process(const std::string& world_file) {
 
 /// sim_core alone on the trial world: steps per second of one core over `trials` of the
 /// affordance's own trials (seeds 1, 2, ...: the object or ramp each spawns), each `steps` steps
-/// from a scoped reset (the reset itself not counted), the robot driving as the trials drive:
-/// standing while it looks (0.806 s), then at 0.4 m/s into the object for about as long as the
-/// affordance drives (lift 1 s, push 3 s, climb to the end), its command renewed as a
-/// controller would.
+/// from a scoped reset (the reset itself not counted), the robot acting as the trials act: the
+/// crane aside while it looks (0.806 s), then driving at 0.4 m/s into the object for about as
+/// long as the affordance drives (lift 1 s, push 3 s, climb to the end) with the boom up and
+/// aside, or (lift) the boom swung ahead, lowered with the magnet on and raised again; drive
+/// commands renewed as a controller would.
 double in_process_step_rate(const std::string& world_file, affordances::Affordance affordance,
                             int steps, int trials) {
+  using affordances::Affordance;
   const double look = 0.806;
-  const double drive = affordance == affordances::Affordance::Lift   ? 1.0
-                       : affordance == affordances::Affordance::Push ? 3.0
-                                                                     : 1e9;
+  const double drive = affordance == Affordance::Lift ? 1.0 : affordance == Affordance::Push ? 3.0 : 1e9;
+  // (time, slew, lift, hoist, magnet): the crane's commands of a trial.
+  struct CraneAt {
+    double at, slew, lift, hoist;
+    bool magnet;
+  };
+  std::vector<CraneAt> crane{{0.0, -0.75, 0.0, 0.0, false}};
+  if (affordance == Affordance::Lift) {
+    crane.push_back({look, 0.0, 0.2, 0.0, false});
+    crane.push_back({look + 1.5, 0.0, 0.2, 0.12, true});
+    crane.push_back({look + 2.3, 0.0, 0.5, 0.0, true});
+  } else {
+    crane.push_back({look, -0.75, 0.6, 0.0, false});
+  }
   macsim::World world(macsim::load_world_file(world_file));
+  const double dt = world.step_size();
   double seconds = 0;
   uint64_t stepped = 0;
   for (int trial = 0; trial < trials + 2; ++trial) {
@@ -128,13 +142,19 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
       std::fprintf(stderr, "bench_affordances: trial %d's object: %s\n", trial, error.c_str());
       return 0;
     }
+    auto& robot = *world.robots().front();
+    std::size_t next_crane = 0;
     const auto t = Clock::now();
     for (int s = 0; s < steps; ++s) {
       const double now = world.time();
-      if (s % 100 == 0 || std::fabs(now - look) < 1e-9) {
-        const double speed = now >= look - 1e-9 && now < look + drive ? 0.4 : 0.0;
-        for (const auto& robot : world.robots()) robot->command_twist(speed, 0.0, now);
+      if (next_crane < crane.size() && now + dt / 2 >= crane[next_crane].at) {
+        const CraneAt& c = crane[next_crane++];
+        robot.command_crane({c.slew, c.lift, c.hoist});
+        robot.command_magnet(c.magnet);
       }
+      if (s % 100 == 0 || std::fabs(now - look) < dt / 2 || std::fabs(now - look - drive) < dt / 2)
+        robot.command_twist(now + dt / 2 >= look && now + dt / 2 < look + drive ? 0.4 : 0.0, 0.0,
+                            now);
       world.step();
     }
     if (trial >= 2) {  // the first two warm the caches
@@ -201,23 +221,30 @@ int main(int argc, char** argv) {
     std::printf("ratio.reset_over_state_hash_round_trip %.2f x\n", median(reset) / median(hash));
   }
 
-  // 2. Trials per minute beside the bound.
+  // 2. Trials per minute beside the bound. The in-process rate is measured right before and
+  // right after each run (as many steps per trial as the run's trials took) and averaged: this
+  // machine's speed drifts over minutes, and the bound must be the machine the run had.
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (const char* a : {"lift", "push", "climb"}) {
-    double k1 = 0, rate = 0;
+    const auto affordance = *affordances::affordance_from_name(a);
+    const auto steps_of = [&](int k) {  // the last run's steps per trial (a first guess before)
+      const double mean = mean_steps(dir + "/" + std::string(a) + "_k" + std::to_string(k) + ".csv");
+      return mean > 0 ? static_cast<int>(std::lround(mean)) : 2500;
+    };
+    double k1 = 0;
     for (int k : {1, 2, 4}) {
       if (k == 4 && std::string(a) != "lift") continue;
+      const double before = in_process_step_rate("worlds/affordance_trials.xml", affordance,
+                                                 k == 1 ? 2500 : steps_of(1), 10);
       const TrialRun run = run_trials(a, k, trials, domain, dir);
-      if (k == 1) {
-        // The same affordance's trials in process, as many steps as the run's trials took.
-        rate = in_process_step_rate("worlds/affordance_trials.xml",
-                                    *affordances::affordance_from_name(a),
-                                    static_cast<int>(std::lround(run.steps_per_trial)), 20);
-        std::printf("in_process_step_rate.%s %.0f steps/s\n", a, rate);
-      }
+      const double after = in_process_step_rate("worlds/affordance_trials.xml", affordance,
+                                                static_cast<int>(std::lround(run.steps_per_trial)),
+                                                10);
+      const double rate = (before + after) / 2;
       // Each trial's steps at the in-process rate, on as many cores as instances can use.
       const double bound =
           run.steps_per_trial > 0 ? 60.0 * rate / run.steps_per_trial * std::min(k, cores) : 0.0;
+      std::printf("in_process_step_rate.%s.k%d %.0f steps/s\n", a, k, rate);
       std::printf("trials_per_minute.%s.k%d %.1f trials/min\n", a, k, run.per_minute);
       std::printf("steps_per_trial.%s.k%d %.0f steps\n", a, k, run.steps_per_trial);
       std::printf("bound.%s.k%d %.1f trials/min\n", a, k, bound);

@@ -178,7 +178,8 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
       options_(std::move(options)),
       frames_(robot.frames()),
       topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())),
-      outbox_(std::make_unique<Outbox>()) {
+      outbox_(std::make_unique<Outbox>()),
+      held_(std::make_unique<Held>()) {
   Topics& t = *topics_;
   const std::string& name = t.name;
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
@@ -238,6 +239,23 @@ void RobotNode::poll_commands() {
   if (t.magnet) t.magnet->poll();
 }
 
+/// The newest reading of each kind a held publish() kept, with its stamp.
+struct RobotNode::Held {
+  template <class T>
+  struct Slot {
+    double stamp = 0;
+    std::optional<T> value;
+  };
+  Slot<Odometry> odometry;
+  Slot<GroundTruth> ground_truth;
+  Slot<Imu> imu;
+  Slot<Crane> crane;
+  Slot<Scan> scan;
+  Slot<Rotunit> rotunit;
+  Slot<Cloud> cloud;
+  Slot<std::vector<Range>> ranges;
+};
+
 /// The newest message of each kind not yet written (several publish(true) calls keep only the
 /// newest of each).
 struct RobotNode::Outbox {
@@ -253,13 +271,48 @@ struct RobotNode::Outbox {
 };
 
 void RobotNode::publish(bool hold) {
+  Readings r = robot_.read();
+  // The newest of each kind, for whoever asks (a step request's conditions).
+  if (r.odometry) latest_.odometry = r.odometry;
+  if (r.ground_truth) latest_.ground_truth = r.ground_truth;
+  if (r.imu) latest_.imu = r.imu;
+  if (!r.ranges.empty()) latest_.ranges = r.ranges;
+  if (r.crane) latest_.crane = r.crane;
+  if (r.scan) latest_.scan = r.scan;
+  if (r.rotunit) latest_.rotunit = r.rotunit;
+  latest_.stamp = r.stamp;
+  if (!hold) {
+    fill(r);
+    flush();
+    return;
+  }
+  // Held: only the newest reading of each kind, with its stamp; messages are made at flush().
+  Held& h = *held_;
+  const double now = r.stamp;
+  auto keep = [now](auto& slot, auto& value) {
+    if (!value) return;
+    slot.stamp = now;
+    slot.value = std::move(value);
+  };
+  keep(h.odometry, r.odometry);
+  keep(h.ground_truth, r.ground_truth);
+  keep(h.imu, r.imu);
+  keep(h.crane, r.crane);
+  keep(h.scan, r.scan);
+  keep(h.rotunit, r.rotunit);
+  keep(h.cloud, r.cloud);
+  if (!r.ranges.empty()) {
+    h.ranges.stamp = now;
+    h.ranges.value = std::move(r.ranges);
+  }
+}
+
+void RobotNode::fill(const Readings& r) {
   Topics& t = *topics_;
   Outbox& out = *outbox_;
-  const Readings r = robot_.read();
   const double now = r.stamp;
   const std::string& fp = options_.frame_prefix;
   if (r.odometry) {
-    latest_.odometry = r.odometry;
     const Odometry& o = *r.odometry;
     auto odom = dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now);
     odom.child_frame_id(framed(fp, odom.child_frame_id()));
@@ -268,19 +321,16 @@ void RobotNode::publish(bool hold) {
                              Eigen::Quaterniond(Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ())))};
     out.wheels = dds::kurt_wheel_joints(o.left_wheel, o.right_wheel, now);
   }
-  if (r.ground_truth) latest_.ground_truth = r.ground_truth;
   if (r.ground_truth && t.ground_truth) {
     auto truth = ground_truth_message(*r.ground_truth, now);  // in "world": no robot's frame
     truth.child_frame_id(framed(fp, truth.child_frame_id()));
     out.truth = truth;
   }
-  if (r.imu) latest_.imu = r.imu;
   if (r.imu && t.imu) {
     const Imu& i = *r.imu;
     auto imu = dds::kurt_imu(i.roll, i.pitch, i.yaw, i.yaw_variance, i.yaw_rate, now);
     out.imu = in_frames(imu, fp);
   }
-  if (!r.ranges.empty()) latest_.ranges = r.ranges;
   if (t.range && !r.ranges.empty()) {
     out.ranges.clear();
     for (const Range& each : r.ranges) {
@@ -288,7 +338,6 @@ void RobotNode::publish(bool hold) {
       out.ranges.push_back(in_frames(range, fp));
     }
   }
-  if (r.crane) latest_.crane = r.crane;
   if (r.crane && t.crane_state) {
     auto crane = crane_message(*r.crane, now);
     out.crane = in_frames(crane, fp);
@@ -305,14 +354,12 @@ void RobotNode::publish(bool hold) {
                     {frames_.boom_length, 0.0, -c.hoist}, Eigen::Quaterniond::Identity())};
     }
   }
-  if (r.scan) latest_.scan = r.scan;
   if (r.scan && t.scan) {
     auto scan = scan_message(*r.scan, now);
     out.scan = in_frames(scan, fp);
   }
   // The driver publishes the rotunit in joint_states messages of its own.
   if (r.rotunit) {
-    latest_.rotunit = r.rotunit;
     out.rotunit = dds::kurt_rotunit_joint(r.rotunit->angle, r.rotunit->speed, now);
     const Mount& laser = frames_.laser;
     if (!laser.child.empty()) {
@@ -335,11 +382,33 @@ void RobotNode::publish(bool hold) {
     if (!fixed.transforms().empty()) out.tf_static = fixed;
     static_sent_ = true;
   }
-  latest_.stamp = now;
-  if (!hold) flush();
 }
 
 void RobotNode::flush() {
+  // What publish(true) held, made into messages now, each kind with its own stamp.
+  Held& h = *held_;
+  auto one = [this](auto& slot, auto member) {
+    if (!slot.value) return;
+    Readings r;
+    r.stamp = slot.stamp;
+    r.*member = std::move(slot.value);
+    fill(r);
+    slot.value.reset();
+  };
+  one(h.odometry, &Readings::odometry);
+  one(h.ground_truth, &Readings::ground_truth);
+  one(h.imu, &Readings::imu);
+  one(h.crane, &Readings::crane);
+  one(h.scan, &Readings::scan);
+  one(h.rotunit, &Readings::rotunit);
+  one(h.cloud, &Readings::cloud);
+  if (h.ranges.value) {
+    Readings r;
+    r.stamp = h.ranges.stamp;
+    r.ranges = std::move(*h.ranges.value);
+    fill(r);
+    h.ranges.value.reset();
+  }
   Topics& t = *topics_;
   Outbox& out = *outbox_;
   if (out.odom) t.odom.write(*out.odom);

@@ -58,6 +58,9 @@ class RobotNode {
  private:
   struct Topics;
   struct Outbox;
+  struct Held;
+  /// Makes the messages of `readings` (what is in them) into the outbox.
+  void fill(const Readings& readings);
   RobotInterface& robot_;
   NodeOptions options_;
   Frames frames_;
@@ -65,6 +68,7 @@ class RobotNode {
   Readings latest_;
   std::unique_ptr<Topics> topics_;
   std::unique_ptr<Outbox> outbox_;
+  std::unique_ptr<Held> held_;
 };
 
 }  // namespace macsim::robot
