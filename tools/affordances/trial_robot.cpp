@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -229,7 +230,9 @@ struct TrialRobot::Impl {
   /// Waits (in ticks) until the crane's joints are within tolerance of the targets, or `limit`
   /// seconds passed; the crane state last read.
   kurt_msgs::msg::dds_::CraneState_ wait_crane(double slew, double lift, double hoist, double limit,
-                                               bool until_held = false) {
+                                               bool until_held = false,
+                                               const Conditions& samples = {},
+                                               mm::SimulationReply_* reply = nullptr) {
     const double end = now + limit;
     auto s = crane_state();
     const bool there = std::fabs(s.slew() - slew) < 0.02 && std::fabs(s.lift() - lift) < 0.02 &&
@@ -240,7 +243,8 @@ struct TrialRobot::Impl {
                           until::near(mm::STEP_READ_CRANE_LIFT, lift, 0.02),
                           until::near(mm::STEP_READ_CRANE_HOIST, hoist, 0.006)};
     if (until_held) conditions.push_back(until::above(mm::STEP_READ_CRANE_HOLDING, 0.5, 1));
-    step(ticks_to(end) * tick_steps(), conditions);
+    auto stepped = step(ticks_to(end) * tick_steps(), conditions, samples);
+    if (reply) *reply = std::move(stepped);
     return crane_state();
   }
 
@@ -291,6 +295,7 @@ struct TrialRobot::Impl {
 
   Outcome lift(const Percept& p, uint32_t id) {
     const double z0 = object(id).pose().position().z();
+    std::optional<double> z_up;  // the object's height once the boom is up, if a wait read it
     Outcome out;
     if (p.seen && p.laser_hit) {
       // Where the object is, from the percept: its near face by the laser, its middle half its
@@ -319,8 +324,8 @@ struct TrialRobot::Impl {
           if (left < 0.004) break;
           set_speed(std::clamp(left * kGain, 0.05, kTop));
           // Top speed until less than kTop / kGain is left: nothing to decide before. Then the
-          // speed follows what is left every 0.1 s, the stop looked at every tick.
-          const int ticks = left * kGain >= kTop ? ticks_to(limit) : std::min(ticks_to(limit), 5);
+          // speed follows what is left every 0.2 s, the stop looked at every tick.
+          const int ticks = left * kGain >= kTop ? ticks_to(limit) : std::min(ticks_to(limit), 10);
           step(ticks * tick_steps(),
                {until::above(mm::STEP_READ_ODOMETRY_X,
                              x_start + travel - (left * kGain >= kTop ? kTop / kGain : 0.004))});
@@ -337,9 +342,15 @@ struct TrialRobot::Impl {
       advance(0.1);
       // Up: the hoist in and the boom 0.3 rad higher.
       crane_to(slew, lift + 0.3, 0.0);
-      wait_crane(slew, lift + 0.3, 0.0, 1.2);
+      // Where the object is once the boom is up: the last sample of that wait (it always waits:
+      // the boom turns 0.3 rad at 1 rad/s).
+      mm::SimulationReply_ up;
+      up.sim_time(-1);
+      wait_crane(slew, lift + 0.3, 0.0, 1.2, false, {until::reading(mm::STEP_READ_OBJECT_Z, id)},
+                 &up);
+      if (up.sim_time() == now && !up.samples().empty()) z_up = up.samples().back();
     }
-    const double z1 = object(id).pose().position().z();
+    const double z1 = z_up ? *z_up : object(id).pose().position().z();
     const double z2 = advance(1.0, {until::reading(mm::STEP_READ_OBJECT_Z, id)}).samples().back();
     out.raised = std::min(z1, z2) - z0;
     out.label = out.raised >= 0.05 ? "liftable" : "not_liftable";
