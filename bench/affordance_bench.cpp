@@ -5,7 +5,7 @@
 // scoped reset's cost, in process (sim_core on the liftability and trial worlds) and as a
 // supervisor round trip against macsim beside a state-hash request (the round trip's baseline).
 // `name value unit` lines.
-//   bench_affordances [TRIALS]   (default 200 per run; from the repository root)
+//   bench_affordances [TRIALS] [--domain N]   (default 200 per run; from the repository root)
 #include <unistd.h>
 
 #include <algorithm>
@@ -172,23 +172,41 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 2 ||
-      (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h"))) {
-    std::printf(
-        "usage: bench_affordances [TRIALS]   (default 200 trials per run, from the "
-        "repository root)\n");
-    return argc == 2 ? 0 : 2;
+  // [TRIALS] [--domain N]: the runs use domains N..N+3 (default 190 + pid % 30).
+  int trials = 200, domain = 190 + getpid() % 30;
+  bool help = false, bad = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    char* end = nullptr;
+    if (arg == "--help" || arg == "-h") {
+      help = true;
+    } else if (arg == "--domain" && i + 1 < argc) {
+      const long d = std::strtol(argv[++i], &end, 10);
+      bad |= *end != '\0' || d < 0 || d + 3 > 232;
+      domain = static_cast<int>(d);
+    } else {
+      const long n = std::strtol(arg.c_str(), &end, 10);
+      if (*end != '\0' || n < 1) {
+        std::fprintf(stderr, "bench_affordances: TRIALS must be positive, --domain 0..229\n");
+        return 2;
+      }
+      trials = static_cast<int>(n);
+    }
   }
-  const int trials = argc == 2 ? std::atoi(argv[1]) : 200;
-  if (trials < 1) {
-    std::fprintf(stderr, "bench_affordances: TRIALS must be positive\n");
+  if (bad) {
+    std::fprintf(stderr, "bench_affordances: --domain takes 0..229 (see --help)\n");
     return 2;
+  }
+  if (help) {
+    std::printf(
+        "usage: bench_affordances [TRIALS] [--domain N]   (default 200 trials per run; the "
+        "simulators on domains N..N+3; from the repository root)\n");
+    return 0;
   }
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("bench_affordances_" + std::to_string(getpid())))
           .string();
   std::filesystem::create_directories(dir);
-  const int domain = 190 + getpid() % 30;
 
   // 1. The scoped reset.
   std::printf("reset_in_process.liftability %.1f us\n", reset_in_process("worlds/liftability.xml"));

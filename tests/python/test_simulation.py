@@ -144,3 +144,32 @@ def test_ctrl_c_interrupts_a_blocking_call(domain, call):
         if child.poll() is None:
             child.kill()
             child.wait()
+
+
+def test_step_until_ends_on_the_published_odometry_and_reads_samples(domain, spawn):
+    start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
+    participant = macsim.Participant(domain=domain, name="step_until_test")
+    simulation = macsim.Simulation(participant)
+    robot = macsim.Robot(participant)
+    for _ in range(100):
+        if robot.connected:
+            break
+        time.sleep(0.05)
+    robot.cmd_vel(0.3, 0.0)
+    assert robot.wait_delivered()
+    status = simulation.step_until(
+        5000, check_every=10, publish_at_end=True, hold_commands=True,
+        until=[macsim.StepCondition(macsim.STEP_READ_ODOMETRY_X, macsim.STEP_TEST_ABOVE, 0.1)],
+        samples=[macsim.StepCondition(macsim.STEP_READ_ODOMETRY_X),
+                 macsim.StepCondition(macsim.STEP_READ_SIM_TIME)])
+    assert status.ended_by == 0
+    assert status.steps < 5000
+    x, t = status.samples[0::2], status.samples[1::2]
+    assert len(x) == status.steps // 10
+    assert x[-1] > 0.1 >= x[-2]
+    assert t[-1] == pytest.approx(status.sim_time)
+    # A bad field is refused naming it, and nothing steps.
+    with pytest.raises(macsim.SupervisorError, match=r"until\[0\].object_id"):
+        simulation.step_until(10, until=[macsim.StepCondition(
+            macsim.STEP_READ_OBJECT_Z, macsim.STEP_TEST_ABOVE, 1.0, object_id=424242)])
+    assert simulation.status().steps == status.steps

@@ -28,6 +28,25 @@ DESTROY_FIXED_OBJECTS: int
 RESET_POSES: int
 RESET_POSES_AND_TIME: int
 RESET_EVERYTHING: int
+STEP_READ_SIM_TIME: int
+STEP_READ_ODOMETRY_X: int
+STEP_READ_ODOMETRY_Y: int
+STEP_READ_ODOMETRY_YAW: int
+STEP_READ_TRUTH_X: int
+STEP_READ_TRUTH_Y: int
+STEP_READ_TRUTH_Z: int
+STEP_READ_CRANE_SLEW: int
+STEP_READ_CRANE_LIFT: int
+STEP_READ_CRANE_HOIST: int
+STEP_READ_CRANE_HOLDING: int
+STEP_READ_OBJECT_X: int
+STEP_READ_OBJECT_Y: int
+STEP_READ_OBJECT_Z: int
+STEP_READ_OBJECT_TILT_RATE: int
+STEP_TEST_ABOVE: int
+STEP_TEST_BELOW: int
+STEP_TEST_NEAR: int
+STEP_TEST_STALLED: int
 ERR_OK: int
 ERR_UNKNOWN_OBJECT: int
 ERR_WRONG_GEOMETRY: int
@@ -211,6 +230,26 @@ class SimulationStatus:
     def paused(self) -> bool: ...
     @property
     def real_time_factor(self) -> float: ...
+    @property
+    def ended_by(self) -> int:
+        """step_until: the group of conditions that ended it, or -1."""
+    @property
+    def samples(self) -> list[float]:
+        """step_until: the samples' readings at every check, in order."""
+    @property
+    def step_trace(self) -> int:
+        """step_until(trace_hash=True): every step's state hash mixed in order."""
+
+class StepCondition:
+    """A reading of a step request (STEP_READ_*) and, as a condition, its test (STEP_TEST_*)."""
+    def __init__(self, reading: int, test: int = 0, value: float = 0.0, tolerance: float = 0.0,
+                 group: int = 0, robot: str = "", object_id: int = 0) -> None: ...
+    @property
+    def reading(self) -> int: ...
+    @property
+    def test(self) -> int: ...
+    @property
+    def value(self) -> float: ...
 
 class Door:
     """A door-switch structure."""
@@ -324,6 +363,12 @@ class Simulation:
         """> 0, or 0 for as fast as possible."""
     def step(self, steps: int = 1, timeout: Optional[float] = None) -> SimulationStatus:
         """Lock-step: advances `steps` steps; answered once their data is out."""
+    def step_until(self, steps: int, until: list[StepCondition] = ...,
+                   samples: list[StepCondition] = ..., check_every: int = 1,
+                   publish_at_end: bool = False, cameras: bool = True,
+                   hold_commands: bool = False, trace_hash: bool = False,
+                   timeout: Optional[float] = None) -> SimulationStatus:
+        """Lock-step until a group of conditions holds at a check (or `steps` ran out)."""
     def status(self) -> SimulationStatus: ...
     def reset(self, scope: int = ...) -> SimulationStatus: ...
     def load_world(self, file: str, timeout: float = 60.0) -> SimulationStatus: ...

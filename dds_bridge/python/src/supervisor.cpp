@@ -413,6 +413,33 @@ void bind_supervisor(py::module_& m) {
           "Lock-step: advances `steps` steps; answered once the steps' data is out, with the "
           "new sim time and state hash.")
       .def(
+          "step_until",
+          [](Sim& s, uint64_t steps, const std::vector<mm::StepCondition_>& until,
+             const std::vector<mm::StepCondition_>& samples, uint32_t check_every,
+             bool publish_at_end, bool cameras, bool hold_commands, bool trace_hash,
+             std::optional<double> timeout) {
+            uint32_t options = 0;
+            if (publish_at_end) options |= mm::STEP_PUBLISH_AT_END;
+            if (!cameras) options |= mm::STEP_NO_CAMERAS;
+            if (hold_commands) options |= mm::STEP_HOLD_COMMANDS;
+            if (trace_hash) options |= mm::STEP_TRACE_HASH;
+            auto request = client::step_until::request(steps, check_every, options);
+            request.until(until);
+            request.samples(samples);
+            return s.control.call(request, timeout);
+          },
+          py::arg("steps"), py::arg("until") = std::vector<mm::StepCondition_>{},
+          py::arg("samples") = std::vector<mm::StepCondition_>{}, py::arg("check_every") = 1,
+          py::arg("publish_at_end") = false, py::arg("cameras") = true,
+          py::arg("hold_commands") = false, py::arg("trace_hash") = false,
+          py::arg("timeout") = py::none(),
+          "Lock-step: at most `steps` steps, ended at the first check (every `check_every` "
+          "steps) where a group of `until` conditions holds; `samples` read at every check. "
+          "The reply's ended_by names the group (-1: the steps ran out), its samples hold the "
+          "readings. publish_at_end: topics bring only their newest sample, at the end; "
+          "cameras=False: no images of its instants; hold_commands: drive commands do not time "
+          "out meanwhile. A bad condition: SupervisorError naming the field.")
+      .def(
           "status", [](Sim& s) { return s.command(mm::SIM_STATUS); },
           "Time, steps, state hash, paused, real-time factor.")
       .def(

@@ -3,6 +3,7 @@
 #include <pybind11/numpy.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <sstream>
 
 #include "bindings.h"
@@ -64,6 +65,52 @@ void bind_wire_types(py::module_& m) {
   m.attr("RESET_POSES") = mm::RESET_POSES;
   m.attr("RESET_POSES_AND_TIME") = mm::RESET_POSES_AND_TIME;
   m.attr("RESET_EVERYTHING") = mm::RESET_EVERYTHING;
+  // A step request's readings, tests and options (Simulation.step_until).
+  for (const auto& [name, value] : std::initializer_list<std::pair<const char*, int>>{
+           {"STEP_READ_SIM_TIME", mm::STEP_READ_SIM_TIME},
+           {"STEP_READ_ODOMETRY_X", mm::STEP_READ_ODOMETRY_X},
+           {"STEP_READ_ODOMETRY_Y", mm::STEP_READ_ODOMETRY_Y},
+           {"STEP_READ_ODOMETRY_YAW", mm::STEP_READ_ODOMETRY_YAW},
+           {"STEP_READ_TRUTH_X", mm::STEP_READ_TRUTH_X},
+           {"STEP_READ_TRUTH_Y", mm::STEP_READ_TRUTH_Y},
+           {"STEP_READ_TRUTH_Z", mm::STEP_READ_TRUTH_Z},
+           {"STEP_READ_CRANE_SLEW", mm::STEP_READ_CRANE_SLEW},
+           {"STEP_READ_CRANE_LIFT", mm::STEP_READ_CRANE_LIFT},
+           {"STEP_READ_CRANE_HOIST", mm::STEP_READ_CRANE_HOIST},
+           {"STEP_READ_CRANE_HOLDING", mm::STEP_READ_CRANE_HOLDING},
+           {"STEP_READ_OBJECT_X", mm::STEP_READ_OBJECT_X},
+           {"STEP_READ_OBJECT_Y", mm::STEP_READ_OBJECT_Y},
+           {"STEP_READ_OBJECT_Z", mm::STEP_READ_OBJECT_Z},
+           {"STEP_READ_OBJECT_TILT_RATE", mm::STEP_READ_OBJECT_TILT_RATE},
+           {"STEP_TEST_ABOVE", mm::STEP_TEST_ABOVE},
+           {"STEP_TEST_BELOW", mm::STEP_TEST_BELOW},
+           {"STEP_TEST_NEAR", mm::STEP_TEST_NEAR},
+           {"STEP_TEST_STALLED", mm::STEP_TEST_STALLED}}) {
+    m.attr(name) = value;
+  }
+  py::class_<mm::StepCondition_>(
+      m, "StepCondition",
+      "A reading of a step request (STEP_READ_*, of `robot` or of the object `object_id`) and, "
+      "as a condition, its test (STEP_TEST_*) against `value` (and `tolerance`); conditions of "
+      "one `group` must all hold.")
+      .def(py::init([](int reading, int test, double value, double tolerance, int group,
+                       const std::string& robot, uint32_t object_id) {
+             mm::StepCondition_ c;
+             c.reading(reading);
+             c.test(test);
+             c.value(value);
+             c.tolerance(tolerance);
+             c.group(group);
+             c.robot(robot);
+             c.object_id(object_id);
+             return c;
+           }),
+           py::arg("reading"), py::arg("test") = 0, py::arg("value") = 0.0,
+           py::arg("tolerance") = 0.0, py::arg("group") = 0, py::arg("robot") = "",
+           py::arg("object_id") = 0)
+      .def_property_readonly("reading", [](const mm::StepCondition_& c) { return c.reading(); })
+      .def_property_readonly("test", [](const mm::StepCondition_& c) { return c.test(); })
+      .def_property_readonly("value", [](const mm::StepCondition_& c) { return c.value(); });
   m.attr("ERR_OK") = mm::ERR_OK;
   m.attr("ERR_UNKNOWN_OBJECT") = mm::ERR_UNKNOWN_OBJECT;
   m.attr("ERR_WRONG_GEOMETRY") = mm::ERR_WRONG_GEOMETRY;
@@ -246,6 +293,15 @@ void bind_wire_types(py::module_& m) {
       .def_property_readonly("paused", [](const mm::SimulationReply_& r) { return r.paused(); })
       .def_property_readonly("real_time_factor",
                              [](const mm::SimulationReply_& r) { return r.real_time_factor(); })
+      .def_property_readonly(
+          "ended_by", [](const mm::SimulationReply_& r) { return r.ended_by(); },
+          "step_until: the group of conditions that ended it, or -1")
+      .def_property_readonly(
+          "samples", [](const mm::SimulationReply_& r) { return r.samples(); },
+          "step_until: the samples' readings at every check, in order")
+      .def_property_readonly(
+          "step_trace", [](const mm::SimulationReply_& r) { return r.step_trace(); },
+          "step_until(trace_hash=True): every step's state hash mixed in order")
       .def("__repr__", [](const mm::SimulationReply_& r) {
         return "<macsim.SimulationStatus t=" + std::to_string(r.sim_time()) +
                " steps=" + std::to_string(r.steps()) + " hash=" + std::to_string(r.state_hash()) +
