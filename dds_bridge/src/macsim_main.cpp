@@ -288,9 +288,14 @@ int serve(macsim::Runner& runner, const Options& o) {
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
+    // What a step request wanting its data at its end held back: out before its reply.
+    auto flush_held = [&bridge, &supervisor] {
+      bridge.flush();
+      supervisor.flush();
+    };
     macsim::SimulationServer control(
         dds, runner, o.limits(),
-        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); });
+        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); }, flush_held);
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     macsim::render::CameraIntrinsics picture_size;
     if (!o.pictures.empty()) {
@@ -361,11 +366,7 @@ int serve(macsim::Runner& runner, const Options& o) {
             std::chrono::duration<double>(o.status_period));
       }
     };
-    // A step request that wanted its data at its end: out before its reply.
-    hooks.request_end = [&](macsim::World&) {
-      bridge.flush();
-      supervisor.flush();
-    };
+    hooks.request_end = [&](macsim::World&) { flush_held(); };
     auto loop = [&] {
       runner.run(g_stop, last_step, hooks);
       finished.store(true);

@@ -94,7 +94,8 @@ double StepConditions::read(const Reading& r, const World& world) const {
     }
   }
   const robot::Readings* latest = readings_ ? readings_(r.robot) : nullptr;
-  if (!latest) return kNone;
+  // Stamped after now: read before a reset or a world load took the time back; not there yet.
+  if (!latest || latest->stamp > world.time() + 1e-9) return kNone;
   const auto& o = latest->odometry;
   const auto& g = latest->ground_truth;
   const auto& c = latest->crane;

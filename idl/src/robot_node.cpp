@@ -282,6 +282,7 @@ void RobotNode::publish(bool hold) {
   if (r.rotunit) latest_.rotunit = r.rotunit;
   latest_.stamp = r.stamp;
   if (!hold) {
+    flush();  // what a held request kept (one cancelled by a pause) goes first: it is older
     fill(r);
     flush();
     return;

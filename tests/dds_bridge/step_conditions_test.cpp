@@ -45,6 +45,7 @@ struct Stepper {
     StepHooks hooks;
     hooks.after_step = [&](World&) {
       robot::Readings r = kurt.read();
+      latest.stamp = r.stamp;
       if (r.odometry) latest.odometry = r.odometry;
       if (r.ground_truth) latest.ground_truth = r.ground_truth;
       if (r.crane) latest.crane = r.crane;
@@ -160,6 +161,21 @@ TEST(StepConditions, AStallEndsARequestWhenTheReadingGainsNothingForItsTime) {
   const auto driving = s.serve(
       steps(500, 10, until::stalled(mm::STEP_READ_TRUTH_X, 0.5, 0.01), mm::STEP_HOLD_COMMANDS));
   EXPECT_EQ(driving.ended_by(), -1);
+}
+
+TEST(StepConditions, ReadingsFromBeforeAResetAreNotTakenForNewOnes) {
+  // Driven 0.3 m, then reset: the newest readings kept are from before the reset (stamped
+  // later than the new time). A stall counted from them would see no headway over 0.3 m.
+  Stepper s;
+  s.kurt.command_twist(0.3, 0.0);
+  s.serve(steps(5000, 10, until::above(mm::STEP_READ_TRUTH_X, 0.3), mm::STEP_HOLD_COMMANDS));
+  ASSERT_GT(s.latest.ground_truth->position[0], 0.3);
+  s.runner.world().reset(ResetScope::Everything);
+  s.kurt.command_twist(0.3, 0.0);
+  const auto driving = s.serve(steps(300, 10, until::stalled(mm::STEP_READ_TRUTH_X, 0.2, 0.01),
+                                     mm::STEP_HOLD_COMMANDS));
+  EXPECT_EQ(driving.ended_by(), -1) << "stalled at " << driving.sim_time();
+  EXPECT_EQ(driving.steps(), 300u);
 }
 
 TEST(StepConditions, TheStepTraceCoversEveryStepAndRepeats) {
