@@ -259,6 +259,10 @@ int main(int argc, char** argv) {
       const double before = in_process_step_rate("worlds/affordance_trials.xml", affordance,
                                                  k == 1 ? 2500 : steps_of(1), 10);
       const TrialRun run = run_trials(a, k, trials, domain, dir);
+      if (!(run.steps_per_trial > 0)) {
+        std::printf("efficiency.%s.k%d 0 ratio\n", a, k);  // the run failed (said above)
+        continue;
+      }
       const double after = in_process_step_rate("worlds/affordance_trials.xml", affordance,
                                                 static_cast<int>(std::lround(run.steps_per_trial)),
                                                 10);

@@ -43,7 +43,6 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       }
       break;
     case mm::SIM_STEP: {
-      if (q.steps() == 0) break;  // zero steps: answered at once
       constexpr uint32_t kKnownOptions = mm::STEP_PUBLISH_AT_END | mm::STEP_NO_CAMERAS |
                                          mm::STEP_HOLD_COMMANDS | mm::STEP_TRACE_HASH;
       if (q.step_options() & ~kKnownOptions) {
@@ -55,6 +54,7 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       if (auto* error = std::get_if<std::string>(&compiled)) {
         return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT, *error);
       }
+      if (q.steps() == 0) break;  // zero steps (fields checked): answered at once
       auto conditions = std::make_shared<StepConditions>(std::get<StepConditions>(std::move(compiled)));
       StepRequest request;
       request.steps = q.steps();
@@ -71,8 +71,9 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       request.done = [&runner, q, conditions, stepped = std::move(stepped)](bool done) {
         auto reply = done ? simulation_reply(q, runner, mm::ERR_OK, "")
                           : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
-                                             "cancelled: paused by SIM_PAUSE, or by a body "
-                                             "that went unstable (see the events)");
+                                             "cancelled: paused (SIM_PAUSE, or a body that "
+                                             "went unstable: see the events), or the world was "
+                                             "reset or replaced");
         reply.ended_by(conditions->ended_by());
         reply.samples(conditions->samples());
         reply.step_trace(conditions->step_trace());

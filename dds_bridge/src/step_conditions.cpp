@@ -11,8 +11,8 @@ namespace mm = macsim_msgs::msg::dds_;
 namespace {
 
 constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-// A request may make the reply carry at most this many sample values.
-constexpr double kMaxSampleValues = 1e6;
+// A request may make the reply carry at most this many sample values (512 KiB).
+constexpr double kMaxSampleValues = 65536;
 
 bool robot_reading(int32_t what) { return what >= mm::STEP_READ_ODOMETRY_X && what <= mm::STEP_READ_CRANE_HOLDING; }
 bool object_reading(int32_t what) {

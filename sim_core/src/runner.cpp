@@ -139,7 +139,17 @@ void Runner::replace_world(Load& load) {
 }
 
 void Runner::step() {
+  const bool requested = requested_steps_ > 0;
+  const double before = world_->time();
+  const uint64_t generation = generation_;
   apply_commands();
+  // A request does not run on into a reset that took the time back or into another world: its
+  // conditions and samples were about the world it started in.
+  if (requested_steps_ > 0 && (generation_ != generation || world_->time() < before)) {
+    cancel_request();
+  }
+  // A request cancelled by what just ran (a pause, a reset, another world) gets no more steps.
+  if (requested && requested_steps_ == 0 && settings_.paused) return;
   // A body gone non-finite or wild was put back and reported (an Instability event naming it);
   // pausing keeps a learning run from stepping on through a broken world unnoticed.
   if (!world_->step() && settings_.pause_on_instability) pause();
@@ -161,8 +171,12 @@ bool Runner::set_real_time_factor(double factor) {
 
 void Runner::pause() {
   settings_.paused = true;
+  cancel_request();  // a huge request can be stopped
+}
+
+void Runner::cancel_request() {
   if (requested_steps_ == 0) return;
-  requested_steps_ = 0;  // a huge request can be stopped
+  requested_steps_ = 0;
   auto done = std::move(request_.done);
   request_ = {};
   if (done) done(false);

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <future>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -264,6 +265,29 @@ TEST(Runner, AStepRequestThatHoldsCommandsKeepsTheRobotDrivingPastTheCommandTime
   const double held = travelled(true), timed_out = travelled(false);
   EXPECT_GT(held, 0.45);       // about 0.3 m/s for 2 s
   EXPECT_LT(timed_out, 0.25);  // stopped after 0.6 s
+}
+
+TEST(Runner, AResetThatTakesTheTimeBackCancelsAStepRequestWithNoStepAfterIt) {
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  std::atomic<bool> stop{false};
+  std::optional<bool> completed;
+  StepRequest request;
+  request.steps = 1000;
+  request.until = [](const World&) { return false; };
+  request.done = [&](bool c) {
+    completed = c;
+    stop = true;
+  };
+  runner.push([&](World&) { runner.request_steps(std::move(request)); });
+  StepHooks hooks;
+  hooks.after_step = [&](World& w) {
+    if (w.steps() == 5) runner.push([](World& world) { world.reset(ResetScope::Everything); });
+  };
+  runner.run(stop, 2000, hooks);
+  ASSERT_TRUE(completed.has_value());
+  EXPECT_FALSE(*completed);
+  EXPECT_FALSE(runner.stepping_on_request());
+  EXPECT_EQ(runner.world().steps(), 0u);  // reset, and not stepped on for the cancelled request
 }
 
 TEST(Runner, APauseCancelsAHugeStepRequest) {

@@ -165,9 +165,18 @@ struct TrialRobot::Impl {
     auto request = until::request(static_cast<uint64_t>(n), dt > 0 ? tick_steps() : 1, options);
     request.until(conditions);
     request.samples(samples);
-    auto reply = simulation.call(request, o.timeout);
-    if (!reply || reply->code() != 0)
-      throw InstanceLost(reply ? "step refused: " + reply->message() : "no step reply");
+    for (auto* list : {&request.until(), &request.samples()}) {
+      for (auto& c : *list) c.robot(o.robot);  // this instance's robot (objects ignore it)
+    }
+    // A long request takes its sim time on top of the answer's own allowance (at least real
+    // time: a slower simulator counts as lost).
+    const auto timeout =
+        o.timeout + std::chrono::milliseconds(static_cast<int64_t>(std::ceil(n * dt * 1000)));
+    auto reply = simulation.call(request, timeout);
+    if (!reply) throw InstanceLost("no step reply");
+    if (reply->code() == mm::ERR_NOT_APPLICABLE)  // cancelled: paused, reset or replaced
+      throw InstanceLost("step cancelled: " + reply->message());
+    if (reply->code() != 0) throw std::runtime_error("step refused: " + reply->message());
     now = reply->sim_time();
     steps = reply->steps();
     hash = reply->state_hash();
@@ -319,7 +328,7 @@ struct TrialRobot::Impl {
       if (travel > 0.01) {
         constexpr double kGain = 3, kTop = 0.5;
         const double limit = now + 4.0;
-        while (now < limit) {
+        while (ticks_to(limit) > 0) {
           const double left = travel - (odometry_x() - x_start);
           if (left < 0.004) break;
           set_speed(std::clamp(left * kGain, 0.05, kTop));

@@ -99,7 +99,8 @@ class Runner {
   /// the world reaches `last_step` steps.
   void run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks);
 
-  /// Stops stepping; a step request still running is cancelled (its `done` gets false).
+  /// Stops stepping; a step request still running is cancelled (its `done` gets false), as it
+  /// is when a command resets the world's time or another world is swapped in.
   void pause();
   void resume() { settings_.paused = false; }
   /// Sim seconds per wall second (kMinRealTimeFactor or more), or 0 for as fast as possible;
@@ -135,6 +136,8 @@ class Runner {
   static bool runnable(const Item& item);
   void replace_world(Load& load);
   void finish_requested_step(const StepHooks& hooks);
+  /// The running step request, if any, ends unfinished (its `done` gets false).
+  void cancel_request();
 
   std::unique_ptr<World> world_;
   uint64_t generation_ = 0;
