@@ -15,7 +15,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,6 +24,7 @@
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 #include "supervisor_codec.h"
+#include "trial_record.h"
 #include "trial_robot.h"
 #include "trial_spec.h"
 
@@ -45,27 +45,15 @@ struct TrialRun {
   double steps_per_trial = 0;  ///< mean of its rows' steps
 };
 
-/// Mean of the `steps` column of a trials file.
+/// Mean of the `steps` column of a trials file (0 when there is none).
 double mean_steps(const std::string& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  if (!std::getline(in, line)) return 0;
-  int column = -1, i = 0;
-  std::stringstream header(line);
-  for (std::string name; std::getline(header, name, ','); ++i) {
-    if (name == "steps") column = i;
-  }
+  if (!std::filesystem::exists(csv)) return 0;
+  const affordances::CsvTable table = affordances::read_csv(csv);
+  const auto column = table.column("steps");
+  if (!column || table.rows.empty()) return 0;
   double sum = 0;
-  int rows = 0;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string field;
-    for (int c = 0; c <= column && std::getline(row, field, ','); ++c) {
-    }
-    sum += std::atof(field.c_str());
-    ++rows;
-  }
-  return rows ? sum / rows : 0;
+  for (const auto& row : table.rows) sum += std::atof(row[*column].c_str());
+  return sum / static_cast<double>(table.rows.size());
 }
 
 /// One affordance_trials run with K started simulators.

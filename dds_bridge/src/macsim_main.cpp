@@ -288,14 +288,9 @@ int serve(macsim::Runner& runner, const Options& o) {
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
-    // What a step request wanting its data at its end held back: out before its reply.
-    auto flush_held = [&bridge, &supervisor] {
-      bridge.flush();
-      supervisor.flush();
-    };
     macsim::SimulationServer control(
         dds, runner, o.limits(),
-        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); }, flush_held);
+        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); });
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     macsim::render::CameraIntrinsics picture_size;
     if (!o.pictures.empty()) {
@@ -366,7 +361,12 @@ int serve(macsim::Runner& runner, const Options& o) {
             std::chrono::duration<double>(o.status_period));
       }
     };
-    hooks.request_end = [&](macsim::World&) { flush_held(); };
+    // What a step request wanting its data at its end held back: out before its reply (also of
+    // a request a pause, a reset or another world cancelled).
+    hooks.request_end = [&](macsim::World&) {
+      bridge.flush();
+      supervisor.flush();
+    };
     auto loop = [&] {
       runner.run(g_stop, last_step, hooks);
       finished.store(true);

@@ -10,11 +10,10 @@ namespace macsim {
 namespace mm = macsim_msgs::msg::dds_;
 
 SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits,
-                                   LatestReadings readings, std::function<void()> flush)
+                                   LatestReadings readings)
     : runner_(runner),
       limits_(limits),
       readings_(std::move(readings)),
-      flush_(std::move(flush)),
       replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command) {
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread.
@@ -78,7 +77,6 @@ void SimulationServer::execute(const Request& q) {
       q, runner_,
       [this](const Reply& stepped) {
         stepping_.reset();
-        if (flush_) flush_();  // the step's data out before its answer
         send(stepped);
       },
       readings_);

@@ -1,7 +1,6 @@
 // Simulation control over DDS: pause, run, real-time factor, lock-step, load world, features.
 #pragma once
 
-#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -21,11 +20,9 @@ namespace macsim {
 /// once its last step's data is out, a SIM_LOAD_WORLD once the new world runs (or was refused).
 class SimulationServer {
  public:
-  /// Worlds loaded on request are held to `limits`; step conditions read `readings`; `flush`
-  /// writes what a step request wanting its data at its end held back (before each step reply,
-  /// also of a request a pause cancelled).
+  /// Worlds loaded on request are held to `limits`; step conditions read `readings`.
   SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
-                   LatestReadings readings = {}, std::function<void()> flush = {});
+                   LatestReadings readings = {});
   ~SimulationServer();
 
  private:
@@ -41,7 +38,6 @@ class SimulationServer {
   Runner& runner_;
   const LoadLimits limits_;
   const LatestReadings readings_;
-  const std::function<void()> flush_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
   ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;                     // guards last_load_ (Fast DDS's threads)

@@ -70,6 +70,9 @@ std::variant<StepConditions, std::string> StepConditions::compile(
            std::to_string(q.steps()) + " steps would pass " +
            std::to_string(static_cast<long>(kMaxSampleValues)) + " values";
   }
+  // Groups in order of their numbers (check() takes each as a run of conditions).
+  std::stable_sort(out.until_.begin(), out.until_.end(),
+                   [](const Condition& a, const Condition& b) { return a.group < b.group; });
   // A stall counts from the request's start.
   for (auto& c : out.until_) {
     if (c.test != mm::STEP_TEST_STALLED) continue;
@@ -125,9 +128,12 @@ void StepConditions::trace(const World& world) {
 bool StepConditions::check(const World& world) {
   for (const auto& r : recorded_) samples_.push_back(read(r, world));
   const double now = world.time();
-  // A group holds when every one of its conditions holds (a reading not there holds nothing).
-  std::vector<std::pair<int32_t, bool>> groups;
-  for (auto& c : until_) {
+  // A group holds when every one of its conditions holds (a reading not there holds nothing);
+  // the conditions are sorted by group, so a group is a run of them. Every condition is tested
+  // (a stall keeps its best), the first group that holds ends the request.
+  bool group_holds = true;
+  for (std::size_t i = 0; i < until_.size(); ++i) {
+    Condition& c = until_[i];
     const double v = read(c.reading, world);
     bool holds = false;
     switch (c.test) {
@@ -139,21 +145,14 @@ bool StepConditions::check(const World& world) {
         if (c.started && v > c.best + c.tolerance) c.best = v, c.best_at = now;
         holds = c.started && now - c.best_at > c.value;
     }
-    auto group = std::find_if(groups.begin(), groups.end(),
-                              [&](const auto& g) { return g.first == c.group; });
-    if (group == groups.end()) {
-      groups.emplace_back(c.group, holds);
-    } else {
-      group->second = group->second && holds;
+    group_holds = group_holds && holds;
+    const bool group_ends = i + 1 == until_.size() || until_[i + 1].group != c.group;
+    if (group_ends) {
+      if (group_holds && ended_by_ < 0) ended_by_ = c.group;
+      group_holds = true;
     }
   }
-  for (const auto& [group, holds] : groups) {
-    if (holds) {
-      ended_by_ = group;
-      return true;
-    }
-  }
-  return false;
+  return ended_by_ >= 0;
 }
 
 }  // namespace macsim

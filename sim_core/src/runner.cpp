@@ -156,11 +156,14 @@ void Runner::step() {
 }
 
 void Runner::step(const StepHooks& hooks) {
+  const StepHooks* outer = hooks_;
+  hooks_ = &hooks;  // a request ended inside (by its steps or cancelled) calls its request_end
   if (hooks.before_step) hooks.before_step();
   if (requested_steps_ > 0 && request_.hold_commands) world_->keep_robot_commands();
   step();
   if (hooks.after_step) hooks.after_step(*world_);
-  finish_requested_step(hooks);  // a requested step is done once its data is out
+  finish_requested_step();  // a requested step is done once its data is out
+  hooks_ = outer;
 }
 
 bool Runner::set_real_time_factor(double factor) {
@@ -175,11 +178,16 @@ void Runner::pause() {
 }
 
 void Runner::cancel_request() {
-  if (requested_steps_ == 0) return;
+  if (requested_steps_ > 0) end_request(false);
+}
+
+void Runner::end_request(bool completed) {
   requested_steps_ = 0;
+  // What the hooks held back for the request's end goes out before its answer.
+  if (hooks_ && hooks_->request_end) hooks_->request_end(*world_);
   auto done = std::move(request_.done);
   request_ = {};
-  if (done) done(false);
+  if (done) done(completed);
 }
 
 bool Runner::request_steps(uint64_t steps, std::function<void(bool)> done) {
@@ -202,7 +210,7 @@ bool Runner::request_steps(StepRequest request) {
   return true;
 }
 
-void Runner::finish_requested_step(const StepHooks& hooks) {
+void Runner::finish_requested_step() {
   if (requested_steps_ == 0) return;
   --requested_steps_;
   if (request_.each_step) request_.each_step(*world_);
@@ -211,15 +219,11 @@ void Runner::finish_requested_step(const StepHooks& hooks) {
     steps_since_check_ = 0;
     if (request_.until && request_.until(*world_)) ended = true;
   }
-  if (!ended) return;
-  if (hooks.request_end) hooks.request_end(*world_);
-  requested_steps_ = 0;
-  auto done = std::move(request_.done);
-  request_ = {};
-  if (done) done(true);
+  if (ended) end_request(true);
 }
 
 void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHooks& hooks) {
+  hooks_ = &hooks;  // also for a request a command cancels between steps
   auto next = Clock::now();
   while (!stop.load() && world_->steps() < last_step) {
     if (settings_.paused && requested_steps_ == 0) {
@@ -246,6 +250,7 @@ void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHo
       }
     }
   }
+  hooks_ = nullptr;
 }
 
 }  // namespace macsim

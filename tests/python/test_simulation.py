@@ -15,6 +15,14 @@ from conftest import _lock_domain, source, start_macsim
 LOCKSTEP = ("--lockstep", "--cameras", "off")
 
 
+def wait_connected(robot):
+    """Waits (up to 5 s) until the robot's topics are matched."""
+    for _ in range(100):
+        if robot.connected:
+            return
+        time.sleep(0.05)
+
+
 def lockstep_run(domain, spawn):
     """Drives, pushes the ball and steps; the state hash after every step request."""
     start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
@@ -22,10 +30,7 @@ def lockstep_run(domain, spawn):
     simulation = macsim.Simulation(participant)
     supervisor = macsim.Supervisor(participant)
     robot = macsim.Robot(participant)
-    for _ in range(100):
-        if robot.connected:
-            break
-        time.sleep(0.05)
+    wait_connected(robot)
     # While paused every command lands at sim time 0: repeat it until discovery settled.
     for _ in range(20):
         robot.cmd_vel(0.3, 0.4)
@@ -151,10 +156,7 @@ def test_step_until_ends_on_the_published_odometry_and_reads_samples(domain, spa
     participant = macsim.Participant(domain=domain, name="step_until_test")
     simulation = macsim.Simulation(participant)
     robot = macsim.Robot(participant)
-    for _ in range(100):
-        if robot.connected:
-            break
-        time.sleep(0.05)
+    wait_connected(robot)
     robot.cmd_vel(0.3, 0.0)
     assert robot.wait_delivered()
     status = simulation.step_until(

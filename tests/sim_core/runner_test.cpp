@@ -283,9 +283,12 @@ TEST(Runner, AResetThatTakesTheTimeBackCancelsAStepRequestWithNoStepAfterIt) {
   hooks.after_step = [&](World& w) {
     if (w.steps() == 5) runner.push([](World& world) { world.reset(ResetScope::Everything); });
   };
+  bool flushed_before_answer = false;  // what was held for the request's end goes out first
+  hooks.request_end = [&](World&) { flushed_before_answer = !completed.has_value(); };
   runner.run(stop, 2000, hooks);
   ASSERT_TRUE(completed.has_value());
   EXPECT_FALSE(*completed);
+  EXPECT_TRUE(flushed_before_answer);
   EXPECT_FALSE(runner.stepping_on_request());
   EXPECT_EQ(runner.world().steps(), 0u);  // reset, and not stepped on for the cancelled request
 }

@@ -237,24 +237,20 @@ struct TrialRobot::Impl {
   mm::Object_ object(uint32_t id) { return call(sv::get_object(id), "get_object").object(); }
 
   /// Waits (in ticks) until the crane's joints are within tolerance of the targets, or `limit`
-  /// seconds passed; the crane state last read.
-  kurt_msgs::msg::dds_::CraneState_ wait_crane(double slew, double lift, double hoist, double limit,
-                                               bool until_held = false,
-                                               const Conditions& samples = {},
-                                               mm::SimulationReply_* reply = nullptr) {
+  /// seconds passed; `samples` read at every tick of the wait (none when it had not to wait).
+  std::vector<double> wait_crane(double slew, double lift, double hoist, double limit,
+                                 bool until_held = false, const Conditions& samples = {}) {
     const double end = now + limit;
-    auto s = crane_state();
+    const auto s = crane_state();
     const bool there = std::fabs(s.slew() - slew) < 0.02 && std::fabs(s.lift() - lift) < 0.02 &&
                        std::fabs(s.hoist() - hoist) < 0.006;
-    if (there || (until_held && !s.held_object().empty()) || now >= end - 1e-9) return s;
+    if (there || (until_held && !s.held_object().empty()) || now >= end - 1e-9) return {};
     // The same test at every tick, in the simulator.
     Conditions conditions{until::near(mm::STEP_READ_CRANE_SLEW, slew, 0.02),
                           until::near(mm::STEP_READ_CRANE_LIFT, lift, 0.02),
                           until::near(mm::STEP_READ_CRANE_HOIST, hoist, 0.006)};
     if (until_held) conditions.push_back(until::above(mm::STEP_READ_CRANE_HOLDING, 0.5, 1));
-    auto stepped = step(ticks_to(end) * tick_steps(), conditions, samples);
-    if (reply) *reply = std::move(stepped);
-    return crane_state();
+    return step(ticks_to(end) * tick_steps(), conditions, samples).samples();
   }
 
   void begin() {
@@ -353,11 +349,9 @@ struct TrialRobot::Impl {
       crane_to(slew, lift + 0.3, 0.0);
       // Where the object is once the boom is up: the last sample of that wait (it always waits:
       // the boom turns 0.3 rad at 1 rad/s).
-      mm::SimulationReply_ up;
-      up.sim_time(-1);
-      wait_crane(slew, lift + 0.3, 0.0, 1.2, false, {until::reading(mm::STEP_READ_OBJECT_Z, id)},
-                 &up);
-      if (up.sim_time() == now && !up.samples().empty()) z_up = up.samples().back();
+      const auto up = wait_crane(slew, lift + 0.3, 0.0, 1.2, false,
+                                 {until::reading(mm::STEP_READ_OBJECT_Z, id)});
+      if (!up.empty()) z_up = up.back();
     }
     const double z1 = z_up ? *z_up : object(id).pose().position().z();
     const double z2 = advance(1.0, {until::reading(mm::STEP_READ_OBJECT_Z, id)}).samples().back();

@@ -48,7 +48,8 @@ struct RunSettings {
 struct StepHooks {
   std::function<void()> before_step;       ///< e.g. take every command received so far
   std::function<void(World&)> after_step;  ///< publish what the step produced
-  /// A step request ended (before its `done`): what was held back for its end goes out.
+  /// A step request ended, by its steps, its condition or a cancel (before its `done`): what
+  /// was held back for its end goes out.
   std::function<void(World&)> request_end;
 };
 
@@ -135,9 +136,11 @@ class Runner {
   /// True if the item at the queue's front may run now (a load only once parsed).
   static bool runnable(const Item& item);
   void replace_world(Load& load);
-  void finish_requested_step(const StepHooks& hooks);
+  void finish_requested_step();
   /// The running step request, if any, ends unfinished (its `done` gets false).
   void cancel_request();
+  /// Ends the running request: the hooks' request_end, then its `done`.
+  void end_request(bool completed);
 
   std::unique_ptr<World> world_;
   uint64_t generation_ = 0;
@@ -146,6 +149,7 @@ class Runner {
   uint64_t requested_steps_ = 0;  // left of request_
   uint64_t steps_since_check_ = 0;
   StepRequest request_;
+  const StepHooks* hooks_ = nullptr;  // of the run (or step) under way
 
   std::mutex mutex_;
   std::condition_variable arrived_;
