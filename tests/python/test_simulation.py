@@ -16,11 +16,21 @@ LOCKSTEP = ("--lockstep", "--cameras", "off")
 
 
 def wait_connected(robot):
-    """Waits (up to 5 s) until the robot's topics are matched."""
-    for _ in range(100):
+    """Waits (up to 10 s) until the robot's topics are matched."""
+    for _ in range(200):
         if robot.connected:
             return
         time.sleep(0.05)
+    pytest.fail("the simulator's robot never matched")
+
+
+def command_while_paused(robot, linear, angular):
+    """Repeats a command for 1 s: while paused every copy lands at sim time 0, and a reader
+    that matched our writer only after the first copies (volatile QoS) takes a later one."""
+    for _ in range(20):
+        robot.cmd_vel(linear, angular)
+        time.sleep(0.05)
+    assert robot.wait_delivered()
 
 
 def lockstep_run(domain, spawn):
@@ -31,10 +41,7 @@ def lockstep_run(domain, spawn):
     supervisor = macsim.Supervisor(participant)
     robot = macsim.Robot(participant)
     wait_connected(robot)
-    # While paused every command lands at sim time 0: repeat it until discovery settled.
-    for _ in range(20):
-        robot.cmd_vel(0.3, 0.4)
-        time.sleep(0.05)
+    command_while_paused(robot, 0.3, 0.4)
     hashes = []
     for k in range(10):
         if k == 4:
@@ -157,8 +164,7 @@ def test_step_until_ends_on_the_published_odometry_and_reads_samples(domain, spa
     simulation = macsim.Simulation(participant)
     robot = macsim.Robot(participant)
     wait_connected(robot)
-    robot.cmd_vel(0.3, 0.0)
-    assert robot.wait_delivered()
+    command_while_paused(robot, 0.3, 0.0)
     status = simulation.step_until(
         5000, check_every=10, publish_at_end=True, hold_commands=True,
         until=[macsim.StepCondition(macsim.STEP_READ_ODOMETRY_X, macsim.STEP_TEST_ABOVE, 0.1)],
