@@ -448,17 +448,7 @@ void World::near_callback(void* data, dGeomID a, dGeomID b) {
   self->contacts_ += n;
 }
 
-namespace {
-
-struct PenetrationQuery {
-  const detail::GeomTag* tag;
-  dBodyID body;
-  std::vector<const detail::GeomTag*> hits;
-};
-
-/// How deep a point lies inside a geom (negative: outside). ODE's colliders miss some deep,
-/// concentric overlaps (a box centred in a cylinder gives no contact), this catches them.
-double point_depth(dGeomID g, const dReal* p) {
+double detail::point_depth(dGeomID g, const dReal* p) {
   switch (dGeomGetClass(g)) {
     case dBoxClass:
       return dGeomBoxPointDepth(g, p[0], p[1], p[2]);
@@ -480,6 +470,14 @@ double point_depth(dGeomID g, const dReal* p) {
   }
 }
 
+namespace {
+
+struct PenetrationQuery {
+  const detail::GeomTag* tag;
+  dBodyID body;
+  std::vector<const detail::GeomTag*> hits;
+};
+
 void penetration_callback(void* data, dGeomID a, dGeomID b) {
   auto* q = static_cast<PenetrationQuery*>(data);
   const auto* ta = static_cast<const GeomTag*>(dGeomGetData(a));
@@ -492,7 +490,7 @@ void penetration_callback(void* data, dGeomID a, dGeomID b) {
   const int n = dCollide(a, b, kMaxContacts, contacts, sizeof(dContactGeom));
   auto centre_inside = [](dGeomID outer, dGeomID inner) {
     return dGeomGetClass(inner) != dPlaneClass &&
-           point_depth(outer, dGeomGetPosition(inner)) > kPenetrationDepth;
+           detail::point_depth(outer, dGeomGetPosition(inner)) > kPenetrationDepth;
   };
   bool deep = centre_inside(a, b) || centre_inside(b, a);
   for (int i = 0; i < n && !deep; ++i) deep = contacts[i].depth > kPenetrationDepth;

@@ -41,6 +41,9 @@ BodyState body_state(dBodyID body);
 void set_body_state(dBodyID body, const BodyState& state);
 /// True if every number of the state is finite and the speeds are physically plausible.
 bool plausible(const BodyState& state);
+/// How deep a point lies inside a geom (negative: outside). ODE's colliders miss some deep,
+/// concentric overlaps (a box centred in a cylinder gives no contact); this catches them.
+double point_depth(dGeomID g, const dReal* p);
 }  // namespace detail
 
 }  // namespace macsim

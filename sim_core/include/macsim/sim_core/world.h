@@ -11,6 +11,7 @@
 
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/ode_handles.h"
+#include "macsim/sim_core/world_overlaps.h"
 #include "macsim/sim_core/world_spec.h"
 #include "macsim/sim_core/world_state.h"
 
@@ -242,6 +243,12 @@ class World {
 
   /// Every object's and robot's shapes as they stand now, with their looks (for renderers).
   std::vector<ShapeView> shapes() const;
+  /// Pairs of objects and robots (or one of them and the ground) inside each other deeper than
+  /// `tolerance` (m) as they stand now; right after loading: as they start. Not overlaps: parts
+  /// of one object, one door-switch structure or one robot; bodies joined by a joint; things that
+  /// cannot move (fixed objects, frozen ones, the ground) among themselves; a ramp in the ground.
+  /// One collision pass over ODE's space: about the cost of a step's collisions.
+  OverlapReport overlaps(double tolerance = kOverlapTolerance) const;
 
   // ---- events, state, reset ------------------------------------------------------------
   /// Events since the last call.
