@@ -6,8 +6,8 @@
 
 namespace macsim {
 
-std::optional<std::string> texture_problem(const std::string& path) {
-  const auto bytes = disk_files().read(path);
+std::optional<std::string> texture_problem(const std::string& path, const WorldFiles& files) {
+  const auto bytes = files.read(path);
   if (!bytes) return "texture file '" + path + "' does not exist";
   return texture_bytes_problem(path, *bytes);
 }

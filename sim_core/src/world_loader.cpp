@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "macsim/sim_core/data_roots.h"
 #include "macsim/sim_core/texture.h"
 #include "macsim/sim_core/world_bounds.h"
 
@@ -97,6 +98,15 @@ class Reader {
   std::string text(const XMLElement* e) const { return trim(e->GetText() ? e->GetText() : ""); }
 
   std::string tag(const XMLElement* e) const { return "<" + std::string(e->Name()) + ">"; }
+
+  /// The bytes of the file `e` names, or nothing if it is missing; a refused file fails at `e`.
+  std::optional<std::string> read(const XMLElement* e, const std::string& path) const {
+    try {
+      return files_.read(path);
+    } catch (const FileRefused& refused) {
+      fail(e, refused.what());
+    }
+  }
 
   double number(const XMLElement* e) const {
     const std::string t = text(e);
@@ -187,7 +197,7 @@ class Reader {
         (relative.is_absolute() ? relative : fs::path(file_).parent_path() / relative)
             .lexically_normal()
             .string();
-    const auto bytes = files_.read(path);
+    const auto bytes = read(e, path);
     if (!bytes) fail(e, "texture file '" + path + "' does not exist");
     if (auto problem = texture_bytes_problem(path, *bytes)) fail(e, *problem);
     return path;
@@ -234,7 +244,10 @@ class Loader {
     }
     world_.file = file;
     world_.name = fs::path(file).stem().string();
-    if (files_.read(file)) stack_.push_back(files_.identity(file));
+    try {
+      if (files_.read(file)) stack_.push_back(files_.identity(file));
+    } catch (const FileRefused&) {  // text named after a file it is not: nothing to cycle back to
+    }
     FileContents contents;
     read_children(r, root, Pose{}, "", contents, true);
   }
@@ -778,7 +791,7 @@ class Loader {
                          " files in all (import '" + id +
                          "': do the imports fan out? LoadLimits::max_imported_files)");
     }
-    const auto bytes = files_.read(shown);
+    const auto bytes = r.read(import, shown);
     if (!bytes) {
       r.fail(import, "imported file '" + shown + "' (import '" + id + "') does not exist");
     }
@@ -940,7 +953,7 @@ std::string MemoryFiles::identity(const std::string& path) const {
 }
 
 WorldSpec load_world_file(const std::string& path, const LoadOptions& options) {
-  const auto bytes = options.files->read(path);
+  const auto bytes = options.files->read(path);  // a refusal is the whole answer: no line
   if (!bytes) throw WorldFileError(path, 0, "no such world file");
   return load_world_bytes(*bytes, path, options);
 }
@@ -958,6 +971,8 @@ namespace {
 WorldSpec load_environment(const std::string& path, const std::string& import_id,
                            const std::vector<MaterialSpec>& materials, const WarningSink& warn,
                            const WorldFiles& files) {
+  // A refusal is the whole answer, not an error of the import standing for the file.
+  if (!files.read(path)) throw WorldFileError(path, 0, "no such environment file");
   const std::string xml =
       "<WORLD><IMPORT><ID>" + import_id + "</ID><NAME>" + path + "</NAME></IMPORT></WORLD>";
   tinyxml2::XMLDocument doc;
@@ -977,12 +992,12 @@ WorldSpec load_environment(const std::string& path, const std::string& import_id
 
 WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
                                 const std::vector<MaterialSpec>& materials,
-                                const WarningSink& warn) {
+                                const WarningSink& warn, const WorldFiles& files) {
   // The file becomes the one import of a world file that would sit beside it.
   std::error_code error;
   const fs::path absolute = fs::absolute(path, error);
   if (error) throw WorldFileError(path, 0, "cannot resolve the path: " + error.message());
-  return load_environment(absolute.string(), import_id, materials, warn, disk_files());
+  return load_environment(absolute.string(), import_id, materials, warn, files);
 }
 
 WorldSpec load_environment_string(const std::string& xml, const std::string& import_id,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "macsim/sim_core/data_roots.h"
 #include "macsim/sim_core/texture.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_bounds.h"
@@ -174,7 +175,7 @@ Status World::validate_new_object(ObjectSpec& spec) const {
   normalize_orientations(spec);
   for (const auto& c : spec.components) {
     if (!c.texture.empty()) {
-      if (auto p = texture_problem(c.texture)) return Status::error(ErrorCode::BadTexture, *p);
+      if (Status s = texture_status(c.texture); !s.ok()) return s;
     }
   }
   if (!spec_.material(spec.material)) return invalid("unknown material '" + spec.material + "'");
@@ -242,8 +243,10 @@ Result<std::vector<ObjectId>> World::import_environment(const std::string& file,
   if (auto p = bounds::id_problem(id)) return {invalid("import id: " + *p)};
   WorldSpec fragment;
   try {
-    fragment = load_environment_file(file, id, spec_.materials);
+    fragment = load_environment_file(file, id, spec_.materials, {}, *files_);
   } catch (const WorldFileError& e) {
+    return {Status::error(ErrorCode::BadFile, e.what())};
+  } catch (const FileRefused& e) {  // outside the data roots, a special file, too large
     return {Status::error(ErrorCode::BadFile, e.what())};
   } catch (const std::exception& e) {  // e.g. a path the file system refuses
     return {Status::error(ErrorCode::BadFile, "cannot import '" + file + "': " + e.what())};
@@ -508,6 +511,19 @@ Status World::set_color(ObjectId id, const Color& color, int component) {
   return {};
 }
 
+Status World::texture_status(const std::string& path) const {
+  try {
+    if (auto p = texture_problem(path, *files_)) return Status::error(ErrorCode::BadTexture, *p);
+  } catch (const FileRefused& refused) {
+    return Status::error(ErrorCode::BadFile, refused.what());
+  }
+  return {};
+}
+
+void World::set_data_roots(std::shared_ptr<const DataRoots> roots) {
+  files_ = roots ? std::move(roots) : DataRoots::anywhere();
+}
+
 Status World::set_texture(ObjectId id, const std::string& path, int component) {
   const Object* found = nullptr;
   if (Status s = check_object_id(id, found); !s.ok()) return s;
@@ -517,7 +533,7 @@ Status World::set_texture(ObjectId id, const std::string& path, int component) {
   }
   std::string file;
   if (!path.empty()) {
-    if (auto p = texture_problem(path)) return Status::error(ErrorCode::BadTexture, *p);
+    if (Status s = texture_status(path); !s.ok()) return s;
     file = std::filesystem::absolute(path).lexically_normal().string();
   }
   for (int i = 0; i < static_cast<int>(o.spec.components.size()); ++i) {

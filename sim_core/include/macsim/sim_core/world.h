@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "macsim/sim_core/data_roots.h"
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/ode_handles.h"
 #include "macsim/sim_core/world_overlaps.h"
@@ -269,6 +270,11 @@ class World {
   /// Identifies the world as loaded (its description and initial state); snapshots carry it.
   uint64_t fingerprint() const { return fingerprint_; }
 
+  // ---- files ---------------------------------------------------------------------------
+  /// Where the operations that name files (textures, imports) may read them; nullptr: anywhere.
+  void set_data_roots(std::shared_ptr<const DataRoots> roots);
+  const DataRoots& data_roots() const { return *files_; }
+
  private:
   struct Object;
   struct Joint;
@@ -303,6 +309,8 @@ class World {
   /// Rebuilds an object from `spec` at `state`, re-attaching its joints where they were.
   void rebuild_object(Object& object, const ObjectSpec& spec, const ObjectState& state);
   Status validate_new_object(ObjectSpec& spec) const;
+  /// BadTexture for a file that is no usable texture, BadFile for one the roots refuse.
+  Status texture_status(const std::string& path) const;
   void erase_object(ObjectId id);
   int destroy_matching(const std::function<bool(const ObjectSpec&)>& match);
   Status resize_component(ObjectId id, int component, Shape shape, const Eigen::Vector3d& size,
@@ -335,6 +343,7 @@ class World {
   std::string fault_;  // ODE's error inside a step: the world steps no more
   std::vector<WorldEvent> events_;
   mutable std::vector<std::string> textures_;  // texture id - 1 -> file
+  std::shared_ptr<const DataRoots> files_ = DataRoots::anywhere();
   WorldState initial_;
   uint64_t fingerprint_ = 0;
   unsigned long random_seed_ = 0;  // this world's dRand state

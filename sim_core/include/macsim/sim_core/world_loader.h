@@ -69,15 +69,17 @@ struct LoadOptions {
   const WorldFiles* files = &disk_files();  ///< where the file and its imports are read
 };
 
-/// Loads a world file; throws WorldFileError and never returns a half-loaded world.
+/// Loads a world file; throws WorldFileError (or what `options.files` throws for a file it
+/// refuses) and never returns a half-loaded world.
 WorldSpec load_world_file(const std::string& path, const LoadOptions& options);
 WorldSpec load_world_file(const std::string& path, const WarningSink& warn = {});
 
 /// Loads an environment file as an <IMPORT> of that id at the origin would, resolving material
-/// names against `materials` too (for adding it to a running world).
+/// names against `materials` too (for adding it to a running world), reading through `files`.
 WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
                                 const std::vector<MaterialSpec>& materials,
-                                const WarningSink& warn = {});
+                                const WarningSink& warn = {},
+                                const WorldFiles& files = disk_files());
 
 /// Loads an environment from XML text as load_environment_file would from a file called `name`
 /// (it stands for the file in messages); the text imports nothing from disk.

@@ -1,0 +1,155 @@
+#include "macsim/sim_core/data_roots.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+namespace macsim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// True if `canonical` is `folder` or lies below it (both canonical).
+bool is_under(const fs::path& canonical, const fs::path& folder) {
+  auto p = canonical.begin();
+  for (auto f = folder.begin(); f != folder.end(); ++f, ++p) {
+    if (f->empty()) continue;  // a trailing separator
+    if (p == canonical.end() || *p != *f) return false;
+  }
+  return true;
+}
+
+/// The kernel's pseudo file systems and device nodes: never read, whatever the roots say.
+bool special(const fs::path& canonical) {
+  for (const char* folder : {"/proc", "/sys", "/dev"}) {
+    if (is_under(canonical, folder)) return true;
+  }
+  return false;
+}
+
+std::string quoted(const std::string& path) { return "'" + path + "'"; }
+
+/// Closes a descriptor on every way out.
+struct Descriptor {
+  int fd;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+}  // namespace
+
+std::shared_ptr<const DataRoots> DataRoots::anywhere() {
+  static const std::shared_ptr<const DataRoots> everywhere(new DataRoots());
+  return everywhere;
+}
+
+DataRoots::DataRoots(const std::vector<std::string>& folders, std::size_t max_file_bytes)
+    : restricted_(true), max_file_bytes_(max_file_bytes) {
+  for (const std::string& folder : folders) {
+    std::error_code error;
+    const auto canonical = resolve(folder);
+    if (!canonical || !fs::is_directory(*canonical, error)) {
+      throw std::invalid_argument("data root " + quoted(folder) + " is no folder");
+    }
+    if (special(*canonical) || canonical->parent_path() == *canonical) {
+      throw std::invalid_argument("data root " + quoted(folder) +
+                                  " would open the file system's root, /proc, /sys or /dev");
+    }
+    if (std::find(folders_.begin(), folders_.end(), *canonical) == folders_.end()) {
+      folders_.push_back(*canonical);
+    }
+  }
+}
+
+std::optional<fs::path> DataRoots::resolve(const std::string& path) {
+  if (path.empty() || path.find('\0') != std::string::npos) return std::nullopt;
+  std::error_code error;
+  const fs::path absolute = fs::absolute(path, error);
+  if (error) return std::nullopt;
+  fs::path canonical = fs::weakly_canonical(absolute, error);
+  if (error) return std::nullopt;
+  return canonical.lexically_normal();
+}
+
+bool DataRoots::under_root(const fs::path& canonical) const {
+  if (!restricted_) return true;
+  for (const fs::path& folder : folders_) {
+    if (is_under(canonical, folder)) return true;
+  }
+  return false;
+}
+
+bool DataRoots::contains(const std::string& path) const {
+  const auto canonical = resolve(path);
+  return canonical && under_root(*canonical) && !special(*canonical);
+}
+
+std::string DataRoots::outside_message(const std::string& path) {
+  return quoted(path) +
+         " is outside the folders this simulator reads files from (its data roots: the loaded "
+         "world's folder, the shipped worlds and each --data-path)";
+}
+
+std::optional<std::string> DataRoots::read(const std::string& path) const {
+  const auto canonical = resolve(path);
+  if (!canonical || !under_root(*canonical)) throw FileRefused(outside_message(path));
+  if (special(*canonical)) {
+    throw FileRefused(quoted(path) + " is a kernel or device file (/proc, /sys, /dev): not read");
+  }
+  // What the path is, looked at without opening it (a FIFO would block an open).
+  struct stat seen {};
+  if (::lstat(canonical->c_str(), &seen) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) return std::nullopt;
+    throw FileRefused(quoted(path) + " cannot be read: " + std::strerror(errno));
+  }
+  if (S_ISLNK(seen.st_mode)) {
+    // Resolution left a symbolic link: it points nowhere, maybe outside a root.
+    throw FileRefused(restricted_ ? outside_message(path)
+                                  : quoted(path) + " is a symbolic link to nothing");
+  }
+  if (!S_ISREG(seen.st_mode)) {
+    throw FileRefused(quoted(path) +
+                      " is not a regular file (a folder, device, FIFO or socket): not read");
+  }
+  const auto too_large = [&] {
+    return FileRefused(quoted(path) + " is larger than the " +
+                       std::to_string(max_file_bytes_ >> 20) + " MiB a file read on request may be");
+  };
+  if (std::size_t(seen.st_size) > max_file_bytes_) throw too_large();
+  // Opened without following a link and without blocking, then checked to be what was seen.
+  const Descriptor file{::open(canonical->c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY |
+                                                     O_CLOEXEC)};
+  if (file.fd < 0) {
+    if (errno == ENOENT) return std::nullopt;
+    throw FileRefused(quoted(path) + " cannot be read: " + std::strerror(errno));
+  }
+  struct stat opened {};
+  if (::fstat(file.fd, &opened) != 0 || !S_ISREG(opened.st_mode) ||
+      opened.st_ino != seen.st_ino || opened.st_dev != seen.st_dev) {
+    throw FileRefused(quoted(path) + " changed while it was opened: not read");
+  }
+  std::string bytes;
+  char buffer[1 << 16];
+  while (true) {
+    const ssize_t got = ::read(file.fd, buffer, sizeof buffer);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw FileRefused(quoted(path) + " cannot be read: " + std::strerror(errno));
+    if (got == 0) break;
+    bytes.append(buffer, std::size_t(got));
+    if (bytes.size() > max_file_bytes_) throw too_large();
+  }
+  return bytes;
+}
+
+std::string DataRoots::identity(const std::string& path) const {
+  const auto canonical = resolve(path);
+  return canonical ? canonical->string() : fs::path(path).lexically_normal().string();
+}
+
+}  // namespace macsim

@@ -1,0 +1,177 @@
+// DataRoots: files under the roots are read; a path outside (by `..`, a symbolic link, or
+// plainly) gets one answer whether it exists or not; special files are refused unopened; the
+// size cap holds; the world's operations and the loader answer with the same refusal.
+#include "macsim/sim_core/data_roots.h"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <fstream>
+
+#include "macsim/sim_core/world.h"
+#include "macsim/sim_core/world_loader.h"
+
+namespace macsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+void write(const fs::path& file, const std::string& text) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+/// root/ (the only root) and outside/ beside it, in a fresh temporary folder.
+class DataRootsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    base_ = fs::temp_directory_path() /
+            ("macsim_roots_" + std::to_string(::getpid()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(base_);
+    root_ = base_ / "root";
+    outside_ = base_ / "outside";
+    write(root_ / "inside.xml", "<ENVIRONMENT/>");
+    write(root_ / "sub" / "deeper.xml", "deeper");
+    write(outside_ / "secret.xml", "secret");
+    fs::create_symlink(outside_ / "secret.xml", root_ / "link_out.xml");
+    fs::create_symlink(root_ / "inside.xml", root_ / "link_in.xml");
+    fs::create_symlink(outside_ / "gone.xml", root_ / "dangling.xml");
+    ASSERT_EQ(::mkfifo((root_ / "fifo.xml").c_str(), 0600), 0);
+    roots_ = std::make_shared<DataRoots>(std::vector<std::string>{root_.string()});
+  }
+  void TearDown() override { fs::remove_all(base_); }
+
+  /// The refusal of `path`, with the path itself taken out (what is left must not depend on it).
+  std::string refusal(const std::string& path) const {
+    try {
+      roots_->read(path);
+    } catch (const FileRefused& e) {
+      std::string what = e.what();
+      if (const auto at = what.find(path); at != std::string::npos) what.erase(at, path.size());
+      return what;
+    }
+    return "read";
+  }
+  /// True if a reader holds the FIFO open (a writer's non-blocking open then succeeds).
+  bool fifo_opened() const {
+    const int fd = ::open((root_ / "fifo.xml").c_str(), O_WRONLY | O_NONBLOCK);
+    if (fd >= 0) ::close(fd);
+    return fd >= 0;
+  }
+
+  fs::path base_, root_, outside_;
+  std::shared_ptr<DataRoots> roots_;
+};
+
+TEST_F(DataRootsTest, ReadsFilesUnderARootAndSaysWhenOneIsMissing) {
+  EXPECT_EQ(roots_->read((root_ / "inside.xml").string()), "<ENVIRONMENT/>");
+  EXPECT_EQ(roots_->read((root_ / "sub" / ".." / "sub" / "deeper.xml").string()), "deeper");
+  EXPECT_EQ(roots_->read((root_ / "link_in.xml").string()), "<ENVIRONMENT/>");
+  EXPECT_EQ(roots_->read((root_ / "missing.xml").string()), std::nullopt);
+  EXPECT_EQ(roots_->read((root_ / "nofolder" / "missing.xml").string()), std::nullopt);
+  EXPECT_TRUE(roots_->contains((root_ / "missing.xml").string()));
+  EXPECT_EQ(roots_->folders(), std::vector<fs::path>{fs::canonical(root_)});
+}
+
+TEST_F(DataRootsTest, EveryWayOutGetsTheSameAnswerWhetherTheFileExistsOrNot) {
+  const std::string expected = refusal((outside_ / "secret.xml").string());
+  EXPECT_NE(expected, "read");
+  EXPECT_NE(expected.find("is outside the folders this simulator reads files from"),
+            std::string::npos)
+      << expected;
+  for (const fs::path& path :
+       {outside_ / "missing.xml", outside_ / "nofolder" / "missing.xml",
+        root_ / ".." / "outside" / "secret.xml", root_ / ".." / "outside" / "missing.xml",
+        root_ / "link_out.xml", root_ / "dangling.xml", fs::path("/dev/zero"),
+        fs::path("/proc/self/environ"), fs::path("/etc/hostname"), fs::path("/nonexistent")}) {
+    EXPECT_EQ(refusal(path.string()), expected) << path;
+    EXPECT_FALSE(roots_->contains(path.string()) && path.filename() != "dangling.xml") << path;
+  }
+  // Relative paths are taken from the working folder: outside the root too.
+  EXPECT_EQ(refusal("secret.xml"), expected);
+}
+
+TEST_F(DataRootsTest, SpecialFilesAreRefusedWithoutBeingOpened) {
+  const std::string answer = refusal((root_ / "fifo.xml").string());
+  EXPECT_NE(answer.find("is not a regular file"), std::string::npos) << answer;
+  EXPECT_FALSE(fifo_opened());
+  EXPECT_NE(refusal(root_.string()).find("is not a regular file"), std::string::npos);
+  // Even with no roots, the kernel's files and devices are never read.
+  const auto anywhere = DataRoots::anywhere();
+  EXPECT_FALSE(anywhere->restricted());
+  for (const char* special : {"/dev/zero", "/dev/urandom", "/proc/self/environ", "/sys/kernel"}) {
+    EXPECT_THROW(anywhere->read(special), FileRefused) << special;
+  }
+  EXPECT_THROW(anywhere->read((root_ / "fifo.xml").string()), FileRefused);
+  EXPECT_FALSE(fifo_opened());
+  EXPECT_EQ(anywhere->read((outside_ / "secret.xml").string()), "secret");
+}
+
+TEST_F(DataRootsTest, FilesOverTheSizeCapAreRefused) {
+  write(root_ / "big.xml", std::string(2000, 'x'));
+  const DataRoots small({root_.string()}, 1000);
+  try {
+    small.read((root_ / "big.xml").string());
+    ADD_FAILURE() << "a file over the cap was read";
+  } catch (const FileRefused& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(small.read((root_ / "inside.xml").string()), "<ENVIRONMENT/>");
+}
+
+TEST_F(DataRootsTest, RootsMustBeFoldersOutsideTheKernelsFiles) {
+  EXPECT_THROW(DataRoots({(root_ / "inside.xml").string()}), std::invalid_argument);
+  EXPECT_THROW(DataRoots({(base_ / "nofolder").string()}), std::invalid_argument);
+  for (const char* bad : {"/", "/proc", "/sys/kernel", "/dev"}) {
+    EXPECT_THROW(DataRoots({bad}), std::invalid_argument) << bad;
+  }
+  const DataRoots twice({root_.string(), (root_ / ".." / "root").string()});
+  EXPECT_EQ(twice.folders().size(), 1u);
+}
+
+TEST_F(DataRootsTest, TheLoaderAndTheWorldsOperationsAnswerWithTheRefusal) {
+  write(root_ / "world.xml",
+        "<WORLD><OBJECT><ID>box</ID><TYPE>PORTABLE</TYPE><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS>"
+        "<POS>0,0,0.1</POS></OBJECT></WORLD>");
+  LoadOptions options;
+  options.files = roots_.get();
+  World world(load_world_file((root_ / "world.xml").string(), options));
+  world.set_data_roots(roots_);
+  const uint64_t hash = world.state_hash();
+  const std::string secret = (outside_ / "secret.xml").string();
+  EXPECT_THROW(load_world_file(secret, options), FileRefused);
+  // An import or a texture named inside a world file fails at its line with the refusal.
+  const std::string importing =
+      "<WORLD><IMPORT><ID>s</ID><NAME>" + secret + "</NAME></IMPORT></WORLD>";
+  try {
+    load_world_string(importing, (root_ / "text.xml").string(), options);
+    ADD_FAILURE() << "an import outside the roots was read";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_EQ(e.message(), DataRoots::outside_message(secret));
+  }
+  const ObjectId box = world.find_object("box").value();
+  for (const std::string& path : {secret, (outside_ / "missing.bmp").string(),
+                                  (root_ / "fifo.xml").string(), std::string("/dev/zero")}) {
+    const Status texture = world.set_texture(box, path);
+    EXPECT_EQ(texture.code, ErrorCode::BadFile) << path << ": " << texture.message;
+    const auto imported = world.import_environment(path, "x", Pose{});
+    EXPECT_EQ(imported.status.code, ErrorCode::BadFile) << path << ": " << imported.status.message;
+    if (path.rfind(outside_.string(), 0) == 0) {
+      EXPECT_EQ(texture.message, DataRoots::outside_message(path));
+      EXPECT_EQ(imported.status.message, DataRoots::outside_message(path));
+    }
+  }
+  EXPECT_FALSE(fifo_opened());
+  EXPECT_EQ(world.state_hash(), hash);
+  // Inside the roots the operations go on as before.
+  EXPECT_TRUE(world.import_environment((root_ / "inside.xml").string(), "in", Pose{}).ok());
+}
+
+}  // namespace
+}  // namespace macsim
