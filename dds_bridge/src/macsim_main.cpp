@@ -1,5 +1,6 @@
 // macsim: loads a world, steps it and serves it over Fast DDS.
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -146,6 +147,10 @@ struct Options {
   int max_objects = int(macsim::bounds::kMaxObjects);
   int max_import_depth = int(macsim::bounds::kMaxImportDepth);
   int max_imported_files = int(macsim::bounds::kMaxImportedFiles);
+  int max_snapshots = int(macsim::SnapshotLimits{}.max_count);
+  std::string max_snapshot_bytes = std::to_string(macsim::SnapshotLimits{}.max_bytes);
+  int max_pictures = int(macsim::PictureServer::kDefaultMaxFiles);
+  macsim::SnapshotLimits snapshot_limits;  // from the two above, once parsed
 
   macsim::LoadLimits limits() const {
     return {std::size_t(max_import_depth), std::size_t(max_imported_files),
@@ -219,7 +224,32 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "refuse a world importing more files in all (default " +
                  std::to_string(o.max_imported_files) + ")",
              &o.max_imported_files);
+  cli.option("max-snapshots", "N",
+             "keep at most N named snapshots; saving a new name beyond is refused "
+             "(ERR_LIMIT_REACHED) (default " + std::to_string(o.max_snapshots) + ")",
+             &o.max_snapshots);
+  cli.option("max-snapshot-bytes", "BYTES",
+             "keep named snapshots of at most this many bytes in all (default " +
+                 o.max_snapshot_bytes + ", 256 MiB)",
+             &o.max_snapshot_bytes);
+  cli.option("max-pictures", "N",
+             "write at most N distinct picture files per run (a name written before may be "
+             "written again) (default " + std::to_string(o.max_pictures) + ")",
+             &o.max_pictures);
   if (auto code = cli.parse(argc, argv)) return code;
+  {
+    unsigned long long bytes = 0;
+    const std::string& text = o.max_snapshot_bytes;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), bytes);
+    if (error != std::errc() || end != text.data() + text.size() || o.max_snapshots < 1 ||
+        o.max_pictures < 1) {
+      std::cerr << "macsim: --max-snapshots and --max-pictures must be at least 1, "
+                   "--max-snapshot-bytes a count of bytes; got '"
+                << text << "'\n";
+      return 2;
+    }
+    o.snapshot_limits = {std::size_t(o.max_snapshots), std::size_t(bytes)};
+  }
   if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1) {
     std::cerr << "macsim: --max-objects, --max-import-depth and --max-imported-files must be at "
                  "least 1\n";
@@ -305,7 +335,8 @@ int serve(macsim::Runner& runner, const Options& o) {
         return 2;
       }
     }
-    macsim::PictureServer pictures(dds, runner, o.pictures, picture_size);
+    macsim::PictureServer pictures(dds, runner, o.pictures, picture_size,
+                                   std::size_t(o.max_pictures));
     std::cout << "macsim: serving on DDS domain " << o.participant.domain << ":\n";
     for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
     for (const auto& topic : macsim::SupervisorServer::topic_names())
@@ -427,6 +458,7 @@ int main(int argc, char** argv) {
     std::cerr << "macsim: " << e.what() << std::endl;
     return 1;
   }
+  runner->snapshots().set_limits(o.snapshot_limits);
   if (o.validate) return 0;
   if (!o.snapshots.empty()) return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
 

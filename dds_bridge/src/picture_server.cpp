@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 
 #include "macsim/dds/topics.h"
@@ -24,10 +25,11 @@ bool safe_name(const std::string& name) {
 }  // namespace
 
 PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std::string folder,
-                             render::CameraIntrinsics size)
+                             render::CameraIntrinsics size, std::size_t max_files)
     : runner_(runner),
       folder_(std::move(folder)),
       size_(size),
+      admission_(kMaxInFlight, max_files),
       replies_(participant, dds::topics::kPictureReply, dds::QosFamily::Command) {
   if (!folder_.empty()) renderer_ = std::thread([this] { render_loop(); });
   requests_ = std::make_unique<dds::Reader<mm::PictureRequest_PubSubType>>(
@@ -88,6 +90,15 @@ void PictureServer::accept(const Request& r) {
          "");
     return;
   }
+  std::optional<std::string> refused;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    refused = admission_.admit(r.name());
+  }
+  if (refused) {
+    send(r, mm::ERR_LIMIT_REACHED, *refused, 0, "");
+    return;
+  }
   // The scene is taken between two steps, on the simulation thread.
   runner_.push([this, r](World& world) {
     {
@@ -114,19 +125,25 @@ void PictureServer::render_loop() {
                           job.request.camera_mode().empty() ? "Follow" : job.request.camera_mode())
                           .value_or(render::CameraMode::Follow);
     const std::string file = folder_ + "/" + job.request.name() + ".png";
+    int code = mm::ERR_OK;
+    std::string message;
     try {
       if (!renderer) renderer = std::make_unique<render::OffscreenRenderer>(size_.width, size_.height);
       const cv::Mat image = renderer->render(job.scene, render::camera_pose(mode, job.scene), size_);
       if (!cv::imwrite(file, image)) {
-        send(job.request, mm::ERR_BAD_FILE, "cannot write '" + file + "'", job.time, "");
-        continue;
+        code = mm::ERR_BAD_FILE;
+        message = "cannot write '" + file + "'";
       }
     } catch (const render::RenderError& e) {
-      send(job.request, mm::ERR_NOT_APPLICABLE, std::string("cannot render: ") + e.what(), job.time,
-           "");
-      continue;
+      code = mm::ERR_NOT_APPLICABLE;
+      message = std::string("cannot render: ") + e.what();
     }
-    send(job.request, mm::ERR_OK, "", job.time, file);
+    job.scene = Scene{};  // its place is free before the reply goes out
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      admission_.done();
+    }
+    send(job.request, code, message, job.time, code == mm::ERR_OK ? file : "");
   }
 }
 

@@ -15,6 +15,7 @@
 #include "macsim/render/renderer.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/scene.h"
+#include "picture_admission.h"
 #include "reply_cache.h"
 
 namespace macsim {
@@ -22,8 +23,13 @@ namespace macsim {
 /// Serves PictureRequests; with an empty `folder` every request is refused (pictures off).
 class PictureServer {
  public:
+  /// Pictures waiting to be taken or rendered at most (each holds a captured scene).
+  static constexpr std::size_t kMaxInFlight = 8;
+  /// Distinct files written per run at most, by default (macsim --max-pictures).
+  static constexpr std::size_t kDefaultMaxFiles = 1000;
+
   PictureServer(dds::Participant& participant, Runner& runner, std::string folder,
-                render::CameraIntrinsics size);
+                render::CameraIntrinsics size, std::size_t max_files = kDefaultMaxFiles);
   ~PictureServer();
   PictureServer(const PictureServer&) = delete;
   PictureServer& operator=(const PictureServer&) = delete;
@@ -48,6 +54,7 @@ class PictureServer {
   std::mutex mutex_;
   std::condition_variable queued_;
   std::deque<Job> jobs_;
+  PictureAdmission admission_;  // guarded by mutex_
   bool stopping_ = false;
   ReplyCache<Reply> replied_;
   dds::Writer<macsim_msgs::msg::dds_::PictureReply_PubSubType> replies_;

@@ -13,6 +13,7 @@ static_assert(static_cast<int>(ErrorCode::NotApplicable) == mm::ERR_NOT_APPLICAB
 static_assert(static_cast<int>(ErrorCode::Penetration) == mm::ERR_PENETRATION);
 static_assert(static_cast<int>(ErrorCode::BadTexture) == mm::ERR_BAD_TEXTURE);
 static_assert(static_cast<int>(ErrorCode::BadFile) == mm::ERR_BAD_FILE);
+static_assert(static_cast<int>(ErrorCode::LimitReached) == mm::ERR_LIMIT_REACHED);
 static_assert(static_cast<int>(Shape::Box) == mm::SHAPE_BOX);
 static_assert(static_cast<int>(Shape::Cylinder) == mm::SHAPE_CYLINDER);
 static_assert(static_cast<int>(Shape::Sphere) == mm::SHAPE_SPHERE);

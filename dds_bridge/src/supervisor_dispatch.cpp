@@ -188,16 +188,21 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world,
       return Status{};
     }
     case mm::OP_SAVE_SNAPSHOT:
-      snapshots[op.snapshot().name()] = world.snapshot();
-      return Status{};
+      return snapshots.save(op.snapshot().name(), world.snapshot());
     case mm::OP_RESTORE_SNAPSHOT: {
-      const auto found = snapshots.find(op.snapshot().name());
-      if (found == snapshots.end()) {
+      const WorldSnapshot* found = snapshots.find(op.snapshot().name());
+      if (!found) {
         return Status::error(ErrorCode::InvalidArgument,
                              "no snapshot named '" + op.snapshot().name() + "' of this world");
       }
-      return world.restore(found->second);
+      return world.restore(*found);
     }
+    case mm::OP_DELETE_SNAPSHOT:
+      return snapshots.remove(op.snapshot().name());
+    case mm::OP_LIST_SNAPSHOTS:
+      reply.names(snapshots.names());
+      reply.count(static_cast<int32_t>(snapshots.size()));
+      return Status{};
     case mm::OP_STATE_HASH:
       reply.hash(world.state_hash());
       return Status{};

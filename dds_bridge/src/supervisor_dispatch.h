@@ -2,16 +2,11 @@
 // No DDS here: SupervisorServer calls it on the simulation thread, unit tests call it directly.
 #pragma once
 
-#include <map>
-#include <string>
-
 #include "macsim/msg/macsim_msgs.h"
+#include "macsim/sim_core/snapshot_store.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim {
-
-/// The named snapshots of the world a request runs on.
-using SnapshotStore = std::map<std::string, WorldSnapshot>;
 
 /// Runs the request's operation; the reply echoes client and sequence number and carries the
 /// result, or an ERR_* code with a message (the world then unchanged).

@@ -31,7 +31,7 @@ void apply_until(Runner& runner, const std::function<bool()>& done) {
 TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
   Runner runner(shipped_world("DemoWorld_v1.xml"));
   run_for(runner.world(), 0.05);
-  runner.snapshots()["before"] = runner.world().snapshot();
+  ASSERT_TRUE(runner.snapshots().save("before", runner.world().snapshot()).ok());
   const ObjectId box = id_of(runner.world(), "environment_01/box_red_small");
   auto supervise = [&runner](mm::SupervisorRequest_ request, mm::SupervisorReply_* reply) {
     runner.push([&runner, request, reply](World& world) {

@@ -299,8 +299,8 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_SAVE_SNAPSHOT, "save snapshot",
        [](Fixture& f) {
          f.ok(rq::save_snapshot("start"));
-         ASSERT_EQ(f.snapshots.count("start"), 1u);
-         EXPECT_EQ(f.snapshots["start"].bytes, f.world.snapshot().bytes);
+         ASSERT_NE(f.snapshots.find("start"), nullptr);
+         EXPECT_EQ(f.snapshots.find("start")->bytes, f.world.snapshot().bytes);
        }},
       {mm::OP_RESTORE_SNAPSHOT, "restore snapshot",
        [](Fixture& f) {
@@ -310,6 +310,24 @@ std::vector<OperationCase> operation_cases() {
          f.ok(rq::destroy_object(f.id(kBox)));
          f.ok(rq::restore_snapshot("start"));
          EXPECT_EQ(f.world.state_hash(), saved);
+       }},
+      {mm::OP_DELETE_SNAPSHOT, "delete snapshot",
+       [](Fixture& f) {
+         f.ok(rq::save_snapshot("a"));
+         f.ok(rq::save_snapshot("b"));
+         f.ok(rq::delete_snapshot("a"));
+         EXPECT_EQ(f.snapshots.find("a"), nullptr);
+         EXPECT_NE(f.snapshots.find("b"), nullptr);
+         EXPECT_EQ(f.call(rq::restore_snapshot("a")).code(), mm::ERR_INVALID_ARGUMENT);
+       }},
+      {mm::OP_LIST_SNAPSHOTS, "list snapshots",
+       [](Fixture& f) {
+         EXPECT_TRUE(f.ok(rq::list_snapshots()).names().empty());
+         f.ok(rq::save_snapshot("b"));
+         f.ok(rq::save_snapshot("a"));
+         const Reply r = f.ok(rq::list_snapshots());
+         EXPECT_EQ(r.names(), (std::vector<std::string>{"a", "b"}));
+         EXPECT_EQ(r.count(), 2);
        }},
       {mm::OP_STATE_HASH, "state hash",
        [](Fixture& f) { EXPECT_EQ(f.ok(rq::state_hash()).hash(), f.world.state_hash()); }},
@@ -400,6 +418,22 @@ std::vector<ErrorCase> error_cases() {
          return rq::import_environment("/nonexistent/env.xml", "x", {0, 0, 0});
        },
        "env.xml"},
+      {mm::ERR_INVALID_ARGUMENT, "delete of an unknown snapshot",
+       [](Fixture&) { return rq::delete_snapshot("nope"); }, "nope"},
+      {mm::ERR_LIMIT_REACHED, "one snapshot more than the cap",
+       [](Fixture& f) {
+         f.snapshots.set_limits({2, SnapshotLimits{}.max_bytes});
+         f.ok(rq::save_snapshot("a"));
+         f.ok(rq::save_snapshot("b"));
+         return rq::save_snapshot("c");
+       },
+       "--max-snapshots"},
+      {mm::ERR_LIMIT_REACHED, "a snapshot over the byte cap",
+       [](Fixture& f) {
+         f.snapshots.set_limits({256, 1000});
+         return rq::save_snapshot("big");
+       },
+       "--max-snapshot-bytes"},
       {mm::ERR_UNKNOWN_OPERATION, "unknown operation",
        [](Fixture&) {
          auto r = rq::list_objects();
@@ -450,7 +484,7 @@ TEST(SupervisorDispatch, EveryOperationAndErrorCodeOfTheIdlHasItsTest) {
   for (const auto& c : operation_cases()) operations.insert(c.op);
   for (const auto& c : error_cases()) errors.insert(c.code);
   EXPECT_EQ(operations, idl_codes("OP_"));
-  EXPECT_EQ(operations.size(), 37u);
+  EXPECT_EQ(operations.size(), 39u);
   EXPECT_EQ(errors, idl_codes("ERR_"));
 }
 
@@ -480,12 +514,33 @@ TEST(SupervisorDispatch, PenetrationWhenAllowedIsAppliedAndReported) {
 TEST(SupervisorDispatch, ASnapshotOfAnotherWorldIsRefused) {
   Fixture demo;
   World small(shipped_world("small_room.xml"));
-  demo.snapshots["small"] = small.snapshot();
+  ASSERT_TRUE(demo.snapshots.save("small", small.snapshot()).ok());
   const uint64_t hash = demo.world.state_hash();
   const Reply r = demo.call(rq::restore_snapshot("small"));
   EXPECT_EQ(r.code(), mm::ERR_INVALID_ARGUMENT);
   EXPECT_NE(r.message().find("fingerprint"), std::string::npos) << r.message();
   EXPECT_EQ(demo.world.state_hash(), hash);
+}
+
+TEST(SupervisorDispatch, AFullSnapshotStoreReplacesByNameAndADeleteFreesAPlace) {
+  Fixture f;
+  f.snapshots.set_limits({2, SnapshotLimits{}.max_bytes});
+  f.ok(rq::save_snapshot("a"));
+  f.ok(rq::save_snapshot("b"));
+  const Reply full = f.call(rq::save_snapshot("c"));
+  EXPECT_EQ(full.code(), mm::ERR_LIMIT_REACHED);
+  EXPECT_NE(full.message().find("2"), std::string::npos) << full.message();
+  EXPECT_NE(full.message().find("delete"), std::string::npos) << full.message();
+  EXPECT_EQ(f.snapshots.find("c"), nullptr);
+  run_for(f.world, 0.05);
+  const uint64_t later = f.world.state_hash();
+  f.ok(rq::save_snapshot("b"));  // replaced while full
+  f.ok(rq::delete_snapshot("a"));
+  f.ok(rq::save_snapshot("c"));
+  EXPECT_EQ(f.ok(rq::list_snapshots()).names(), (std::vector<std::string>{"b", "c"}));
+  run_for(f.world, 0.05);
+  f.ok(rq::restore_snapshot("b"));
+  EXPECT_EQ(f.world.state_hash(), later);
 }
 
 }  // namespace

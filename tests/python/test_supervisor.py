@@ -3,11 +3,13 @@ unless stepped), and the errors: refusals as SupervisorError with their code, ho
 refused, a silent simulator a TimeoutError."""
 
 import math
+import re
+import time
 
 import pytest
 
 import macsim
-from conftest import source, start_macsim
+from conftest import binary, source, start_macsim
 
 
 @pytest.fixture
@@ -215,3 +217,110 @@ def test_a_missing_simulator_is_a_timeout_not_a_hang(domain):
         macsim.Simulation(participant, timeout=0.3).step(1)
     with pytest.raises(ValueError):
         macsim.Participant(domain=233)
+
+
+def rss_kib(process):
+    """The resident memory of a started process (VmRSS), KiB."""
+    with open(f"/proc/{process.proc.pid}/status") as status:
+        for line in status:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    raise AssertionError("no VmRSS")
+
+
+def demo_world(domain, spawn, *options):
+    """macsim on the demo world after 4 s of its laser turning: its state holds a 3D sweep."""
+    process = start_macsim(spawn, domain, "worlds/DemoWorld_v1.xml", "--lockstep", "--cameras",
+                           "off", *options)
+    participant = macsim.Participant(domain=domain, name="snapshot_cap_test")
+    robot, simulation = macsim.Robot(participant), macsim.Simulation(participant)
+    for _ in range(40):  # repeated: a command sent before the robot's reader matched is lost
+        robot.rotate_laser(1.0)
+        robot.wait_delivered()
+        simulation.step(500)
+        try:
+            robot.points(timeout=0.5)
+            break
+        except TimeoutError:
+            pass
+    else:
+        raise AssertionError("the laser never turned")
+    simulation.step(4000)
+    return process, macsim.Supervisor(participant), participant
+
+
+# A snapshot of the demo world with a laser sweep is about 540 KB; macsim's resident memory may
+# move by this much besides what it keeps of them (allocator, DDS buffers of the requests).
+SNAPSHOT_KIB = 600
+MARGIN_KIB = 24 * 1024
+
+
+def test_snapshots_past_the_cap_are_refused_and_keep_memory_within_the_budget(domain, spawn):
+    cap = 10
+    process, s, _ = demo_world(domain, spawn, "--max-snapshots", str(cap))
+    s.save_snapshot("warm_up")  # the first reply's buffers are not the snapshots' doing
+    s.delete_snapshot("warm_up")
+    before = rss_kib(process)
+    refused = []
+    for i in range(cap + 100):
+        try:
+            s.save_snapshot(f"client_{i}")
+        except macsim.SupervisorError as error:
+            refused.append((i, error))
+    assert [i for i, _ in refused] == list(range(cap, cap + 100))
+    code, message = refused[0][1].code, refused[0][1].message
+    assert code == macsim.ERR_LIMIT_REACHED
+    assert "--max-snapshots" in message and str(cap) in message and "delete" in message, message
+    # Without the cap the 110 snapshots would take some 60 MB.
+    grown = rss_kib(process) - before
+    print(f"macsim grew {grown} KiB for {cap} snapshots kept and 100 refused")
+    assert grown <= cap * SNAPSHOT_KIB + MARGIN_KIB, f"grew {grown} KiB"
+    assert s.list_snapshots() == sorted(f"client_{i}" for i in range(cap))
+
+    # Full: a name already kept is replaced; a delete frees a place; an unknown name is refused.
+    red = s.find_object("environment_01/box_red_small")
+    s.set_position(red, (0.4, 0.0, 0.05))
+    moved = s.state_hash()
+    s.save_snapshot("client_3")
+    s.reset(macsim.RESET_EVERYTHING)
+    s.restore_snapshot("client_3")
+    assert s.state_hash() == moved
+    s.delete_snapshot("client_0")
+    s.save_snapshot("newcomer")
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.save_snapshot("one_too_many")
+    assert error.value.code == macsim.ERR_LIMIT_REACHED
+    with pytest.raises(macsim.SupervisorError) as error:
+        s.delete_snapshot("client_0")
+    assert error.value.code == macsim.ERR_INVALID_ARGUMENT and "client_0" in error.value.message
+    assert len(s.list_snapshots()) == cap
+
+
+def test_the_byte_budget_refuses_a_snapshot_that_would_pass_it(domain, spawn):
+    budget = 2_000_000  # a few snapshots of the demo world after a sweep
+    process, s, _ = demo_world(domain, spawn, "--max-snapshot-bytes", str(budget))
+    before = rss_kib(process)
+    kept = 0
+    with pytest.raises(macsim.SupervisorError) as error:
+        for i in range(100):
+            s.save_snapshot(f"s{i}")
+            kept += 1
+    assert error.value.code == macsim.ERR_LIMIT_REACHED
+    assert "--max-snapshot-bytes" in error.value.message and str(budget) in error.value.message
+    size = int(re.search(r"of ([0-9]+) bytes", error.value.message).group(1))
+    assert size > 100_000  # the sweep is in it
+    assert kept * size <= budget < (kept + 1) * size, (kept, size)
+    assert rss_kib(process) - before <= budget // 1024 + MARGIN_KIB
+    s.save_snapshot("s0")  # a replacement of the same size fits once the old one is gone
+    s.delete_snapshot("s1")
+    s.save_snapshot("after_delete")
+    assert len(s.list_snapshots()) == kept
+
+
+def test_bad_snapshot_caps_are_refused_at_the_command_line(domain, spawn):
+    for option in (("--max-snapshots", "0"), ("--max-snapshot-bytes", "12abc"),
+                   ("--max-pictures", "0")):
+        process = spawn([binary("macsim"), "--world", source("worlds/small_room.xml"),
+                         "--domain", domain, *option])
+        assert process.wait(30) == 2, option
+        assert option[0] in process.output(), process.output()

@@ -165,7 +165,7 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
 
 TEST(Runner, NamedSnapshotsBelongToOneWorld) {
   Runner runner(small_room());
-  runner.snapshots()["start"] = runner.world().snapshot();
+  ASSERT_TRUE(runner.snapshots().save("start", runner.world().snapshot()).ok());
   const WorldSnapshot kept = runner.world().snapshot();
   bool loaded = false;
   runner.load([] { return small_room(); }, [&](const LoadOutcome& o) { loaded = o.ok; });

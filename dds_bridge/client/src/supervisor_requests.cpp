@@ -329,5 +329,9 @@ Request save_snapshot(const std::string& name) { return snapshot(mm::OP_SAVE_SNA
 Request restore_snapshot(const std::string& name) {
   return snapshot(mm::OP_RESTORE_SNAPSHOT, name);
 }
+Request delete_snapshot(const std::string& name) {
+  return snapshot(mm::OP_DELETE_SNAPSHOT, name);
+}
+Request list_snapshots() { return no_arguments(mm::OP_LIST_SNAPSHOTS); }
 
 }  // namespace macsim::client::supervisor

@@ -373,6 +373,14 @@ void bind_supervisor(py::module_& m) {
           [](S& s, const std::string& name) { s.call(sv::restore_snapshot(name)); },
           py::arg("name"))
       .def(
+          "delete_snapshot",
+          [](S& s, const std::string& name) { s.call(sv::delete_snapshot(name)); },
+          py::arg("name"),
+          "Frees the place of the snapshot `name` (macsim keeps --max-snapshots of them).")
+      .def(
+          "list_snapshots", [](S& s) { return s.call(sv::list_snapshots()).names(); },
+          "The names of the snapshots kept, in order.")
+      .def(
           "state_hash", [](S& s) { return s.call(sv::state_hash()).hash(); },
           "The hash of the world's whole state: equal states, equal hashes.");
 

@@ -119,6 +119,7 @@ void bind_wire_types(py::module_& m) {
   m.attr("ERR_PENETRATION") = mm::ERR_PENETRATION;
   m.attr("ERR_BAD_TEXTURE") = mm::ERR_BAD_TEXTURE;
   m.attr("ERR_BAD_FILE") = mm::ERR_BAD_FILE;
+  m.attr("ERR_LIMIT_REACHED") = mm::ERR_LIMIT_REACHED;
   m.attr("ERR_UNKNOWN_OPERATION") = mm::ERR_UNKNOWN_OPERATION;
 
   py::class_<mm::Component_>(m, "Component", "One shape of an object, in the object's frame.")

@@ -19,6 +19,7 @@
 #include <variant>
 #include <vector>
 
+#include "macsim/sim_core/snapshot_store.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim {
@@ -123,8 +124,8 @@ class Runner {
   const World& world() const { return *world_; }
   /// Counts world replacements: ids, snapshots and schedules of an older generation are void.
   uint64_t generation() const { return generation_; }
-  /// The named snapshots of the current world (emptied when it is replaced).
-  std::map<std::string, WorldSnapshot>& snapshots() { return snapshots_; }
+  /// The named snapshots of the current world, within their caps (emptied when it is replaced).
+  SnapshotStore& snapshots() { return snapshots_; }
 
  private:
   struct Load {
@@ -144,7 +145,7 @@ class Runner {
 
   std::unique_ptr<World> world_;
   uint64_t generation_ = 0;
-  std::map<std::string, WorldSnapshot> snapshots_;
+  SnapshotStore snapshots_;
   RunSettings settings_;
   uint64_t requested_steps_ = 0;  // left of request_
   uint64_t steps_since_check_ = 0;

@@ -35,6 +35,7 @@ enum class ErrorCode {
   Penetration,      ///< the change would put the object inside another (refused)
   BadTexture,       ///< not a BMP of 2^n x 2^n pixels with n < 11
   BadFile,          ///< an environment file that cannot be loaded
+  LimitReached,     ///< a cap on what requests may make the simulator keep (e.g. snapshots)
 };
 
 /// Outcome of a supervisor operation. On error the world is unchanged.

@@ -67,6 +67,10 @@ Request set_switch_position(int32_t door, const Vec3& position);
 Request reset(int32_t scope);
 Request save_snapshot(const std::string& name);
 Request restore_snapshot(const std::string& name);
+/// Frees the place of the snapshot of that name (macsim keeps --max-snapshots of them).
+Request delete_snapshot(const std::string& name);
+/// The reply's names: the snapshots kept, in order.
+Request list_snapshots();
 Request state_hash();
 
 }  // namespace macsim::client::supervisor
