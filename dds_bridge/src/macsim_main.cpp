@@ -129,6 +129,7 @@ struct Options {
   bool as_fast_as_possible = false;
   bool realtime = false;
   bool validate = false;
+  bool strict = false;
   bool paused = false;
   bool lockstep = false;
   double status_period = 0.0;
@@ -210,6 +211,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
              &o.viewer_screenshot);
   cli.flag("validate", "load the world, print a summary and exit", &o.validate);
+  cli.flag("strict",
+           "refuse a world whose objects start inside each other (exit 1), also when a request "
+           "loads it; without it they are warnings",
+           &o.strict);
   cli.option("seed", "N",
              "vary the world's layout by this seed (0 or more) as its <VARIATION> says: the "
              "same seed, the same layout (default: as written)",
@@ -451,9 +456,17 @@ int main(int argc, char** argv) {
       std::cout << "macsim: layout of seed " << o.seed << ":\n";
       for (const auto& line : moved) std::cout << "  " << line << "\n";
     }
-    runner = std::make_unique<macsim::Runner>(
-        std::move(spec),
-        macsim::RunSettings{o.paused || o.lockstep, o.as_fast_as_possible ? 0.0 : o.rtf});
+    macsim::RunSettings settings{o.paused || o.lockstep, o.as_fast_as_possible ? 0.0 : o.rtf};
+    settings.refuse_overlaps = o.strict;  // for worlds loaded later by a request
+    settings.warn = load.warn;
+    runner = std::make_unique<macsim::Runner>(std::move(spec), settings);
+    const auto overlaps = macsim::admit_overlaps(runner->world(), o.strict, load.warn);
+    if (o.validate) {
+      std::cout << "macsim: "
+                << (overlaps.empty() ? "no objects start inside each other"
+                                     : macsim::overlap_error(overlaps, 0) + " (warnings above)")
+                << std::endl;
+    }
   } catch (const macsim::WorldFileError& e) {
     std::cerr << "macsim: " << e.what() << std::endl;
     return 1;

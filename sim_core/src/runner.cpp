@@ -119,6 +119,7 @@ void Runner::replace_world(Load& load) {
       outcome.error = "the new world must have the same robots (names and types) as this one";
     } else {
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
+      admit_overlaps(*world, settings_.refuse_overlaps, settings_.warn);
       world_ = std::move(world);
       ++generation_;
       snapshots_.clear();

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "macsim/sim_core/world.h"
+#include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
 
 namespace macsim {
@@ -189,10 +190,12 @@ std::vector<std::string> overlap_warnings(const OverlapReport& report, std::size
                     "' start inside each other, " + depth_text(o.depth) + " deep");
   }
   if (shown < report.pairs.size() || report.truncated) {
-    lines.push_back("warning: ... and " + std::to_string(report.pairs.size() - shown) +
-                    (report.truncated ? " more pairs at least (the search stopped at " +
-                                            std::to_string(kMaxOverlapPairs) + ")"
-                                      : " more pairs of objects inside each other"));
+    lines.push_back("warning: ... and " + std::string(report.truncated ? "at least " : "") +
+                    std::to_string(report.pairs.size() - shown) +
+                    " more pairs of objects inside each other" +
+                    (report.truncated ? " (the search stops at " +
+                                            std::to_string(kMaxOverlapPairs) + " pairs)"
+                                      : ""));
   }
   return lines;
 }
@@ -200,14 +203,28 @@ std::vector<std::string> overlap_warnings(const OverlapReport& report, std::size
 std::string overlap_error(const OverlapReport& report, std::size_t named) {
   const std::size_t count = report.pairs.size();
   std::string text = (report.truncated ? "at least " : "") + std::to_string(count) +
-                     (count == 1 ? " pair" : " pairs") + " of objects start inside each other:";
+                     (count == 1 ? " pair" : " pairs") + " of objects start inside each other";
   for (std::size_t i = 0; i < std::min(named, count); ++i) {
     const Overlap& o = report.pairs[i];
-    text += (i == 0 ? " '" : "; '") + o.first + "' and '" + o.second + "' " +
+    text += (i == 0 ? ": '" : "; '") + o.first + "' and '" + o.second + "' " +
             depth_text(o.depth) + " deep";
   }
-  if (count > named) text += "; ...";
+  if (count > named && named > 0) text += "; ...";
   return text;
+}
+
+OverlapReport admit_overlaps(const World& world, bool refuse,
+                             const std::function<void(const std::string&)>& warn) {
+  OverlapReport report = world.overlaps();
+  if (warn) {
+    for (const auto& line : overlap_warnings(report)) warn(line);
+  }
+  if (refuse && !report.empty()) {
+    const SourceLocation& at = report.pairs.front().source;
+    throw WorldFileError(at.file.empty() ? world.spec().file : at.file, at.line,
+                         "refused: " + overlap_error(report));
+  }
+  return report;
 }
 
 }  // namespace macsim

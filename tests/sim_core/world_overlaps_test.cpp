@@ -4,8 +4,10 @@
 
 #include <chrono>
 #include <filesystem>
+#include <future>
 #include <optional>
 
+#include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_variation.h"
 #include "support/world_helpers.h"
 
@@ -216,6 +218,45 @@ TEST(WorldOverlaps, ManyObjectsAtOnePointAreCappedAndQuick) {
   const World spread(world_of(grid));
   const OverlapReport apart = spread.overlaps();
   EXPECT_TRUE(apart.empty()) << listed(apart);
+}
+
+// A world loaded later (a request's load) is checked as the first one is: warnings into the
+// log, or refused (the old world runs on) when the settings say so.
+TEST(WorldOverlaps, ARunnerWarnsOfOrRefusesALoadedWorldWithOverlaps) {
+  const std::string file = source("tests/worlds/overlapping_objects.xml");
+  for (const bool refuse : {false, true}) {
+    std::vector<std::string> log;
+    RunSettings settings;
+    settings.paused = true;
+    settings.refuse_overlaps = refuse;
+    settings.warn = [&log](const std::string& line) { log.push_back(line); };
+    Runner runner(shipped_world("small_room.xml"), settings);
+    const World* before = &runner.world();
+    std::promise<LoadOutcome> outcome;
+    ASSERT_TRUE(runner.load([file] { return load_world_file(file); },
+                            [&outcome](const LoadOutcome& o) { outcome.set_value(o); }));
+    auto done = outcome.get_future();
+    while (done.wait_for(std::chrono::milliseconds(0)) != std::future_status::ready) {
+      runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
+      runner.apply_commands();
+    }
+    const LoadOutcome o = done.get();
+    ASSERT_EQ(log.size(), 3u) << refuse;
+    EXPECT_NE(log[1].find("'box_a' and 'box_b' start inside each other"), std::string::npos);
+    if (refuse) {
+      EXPECT_FALSE(o.ok);
+      EXPECT_EQ(o.code, ErrorCode::BadFile);
+      EXPECT_EQ(o.error.rfind(file + ":22: refused: 3 pairs of objects start inside each other: "
+                                     "'box_in_kurt' and 'kurt' 0.155 m deep",
+                              0),
+                0u)
+          << o.error;
+      EXPECT_EQ(&runner.world(), before);  // the old world runs on
+    } else {
+      EXPECT_TRUE(o.ok) << o.error;
+      EXPECT_EQ(runner.world().spec().name, "overlapping_objects");
+    }
+  }
 }
 
 }  // namespace

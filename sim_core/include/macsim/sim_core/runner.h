@@ -43,6 +43,10 @@ struct RunSettings {
   bool paused = false;               ///< no stepping but on request
   double real_time_factor = 1.0;     ///< sim seconds per wall second; 0: as fast as possible
   bool pause_on_instability = true;  ///< pause when a step had to put a body back
+  /// A world swapped in by load() whose objects start inside each other (World::overlaps()):
+  /// refused (BadFile, naming them) when true; either way `warn` gets one line per pair.
+  bool refuse_overlaps = false;
+  std::function<void(const std::string&)> warn;  ///< warnings about a loaded world (a log)
 };
 
 /// What run() calls around each step.

@@ -2,12 +2,15 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "macsim/sim_core/world_spec.h"
 
 namespace macsim {
+
+class World;
 
 /// Depth (m) up to which two things touch (rest on each other) rather than overlap: objects
 /// placed on the floor or on each other touch at depth 0 and sink about 1 mm once they rest.
@@ -36,5 +39,11 @@ std::vector<std::string> overlap_warnings(const OverlapReport& report, std::size
 
 /// One line refusing a world for its overlaps: how many pairs, the deepest `named` of them.
 std::string overlap_error(const OverlapReport& report, std::size_t named = 3);
+
+/// Checks a world just built: its overlap_warnings() go to `warn` (if set); then, if `refuse`
+/// and there are any, throws WorldFileError at the deepest pair's file and line with
+/// overlap_error(). Returns the report.
+OverlapReport admit_overlaps(const World& world, bool refuse,
+                             const std::function<void(const std::string&)>& warn);
 
 }  // namespace macsim
