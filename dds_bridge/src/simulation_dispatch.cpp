@@ -20,14 +20,16 @@ mm::SimulationReply_ simulation_reply(const mm::SimulationRequest_& q, const Run
   r.paused(runner.settings().paused);
   r.real_time_factor(runner.settings().real_time_factor);
   r.ended_by(-1);
+  r.steps_asked(q.command() == mm::SIM_STEP ? q.steps() : 0);
   r.features(
-      "simulator,supervisor,lockstep,step_until,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
+      "simulator,supervisor,lockstep,step_until,cancel,progress,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
   return r;
 }
 
 std::optional<mm::SimulationReply_> dispatch_simulation(
     const mm::SimulationRequest_& q, Runner& runner,
-    std::function<void(const mm::SimulationReply_&)> stepped, const LatestReadings& readings) {
+    std::function<void(const mm::SimulationReply_&)> stepped, const LatestReadings& readings,
+    std::shared_ptr<std::atomic<uint64_t>> steps_done) {
   switch (q.command()) {
     case mm::SIM_PAUSE:
       runner.pause();
@@ -62,19 +64,26 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       if (!conditions->empty()) {
         request.until = [conditions](const World& world) { return conditions->check(world); };
       }
-      if (q.step_options() & mm::STEP_TRACE_HASH) {
-        request.each_step = [conditions](const World& world) { conditions->trace(world); };
-      }
+      if (!steps_done) steps_done = std::make_shared<std::atomic<uint64_t>>(0);
+      steps_done->store(0, std::memory_order_relaxed);
+      const bool trace = q.step_options() & mm::STEP_TRACE_HASH;
+      request.each_step = [conditions, steps_done, trace](const World& world) {
+        steps_done->store(steps_done->load(std::memory_order_relaxed) + 1,
+                          std::memory_order_relaxed);  // written here only
+        if (trace) conditions->trace(world);
+      };
       request.hold_commands = q.step_options() & mm::STEP_HOLD_COMMANDS;
       request.publish_at_end = q.step_options() & mm::STEP_PUBLISH_AT_END;
       request.cameras = !(q.step_options() & mm::STEP_NO_CAMERAS);
-      request.done = [&runner, q, conditions, stepped = std::move(stepped)](bool done) {
+      request.done = [&runner, q, conditions, steps_done,
+                      stepped = std::move(stepped)](bool done) {
         auto reply = done ? simulation_reply(q, runner, mm::ERR_OK, "")
                           : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
                                              "cancelled: paused (SIM_PAUSE, or a body that "
                                              "went unstable: see the events), or the world was "
                                              "reset or replaced");
-        reply.ended_by(conditions->ended_by());
+        reply.ended_by(done ? conditions->ended_by() : mm::STEP_CANCELLED);
+        reply.steps_done(steps_done->load(std::memory_order_relaxed));
         reply.samples(conditions->samples());
         reply.step_trace(conditions->step_trace());
         stepped(reply);
@@ -82,13 +91,17 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       const bool taken = runner.request_steps(std::move(request));
       if (!taken) {
         return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT,
-                                "a step request is still running");
+                                "a step request is still running (its client's SIM_CANCEL, or "
+                                "SIM_PAUSE, ends it)");
       }
       return std::nullopt;  // answered when its last step's data is out
     }
     case mm::SIM_FEATURES:
     case mm::SIM_STATUS:
       break;
+    case mm::SIM_CANCEL:  // the server cancels its clients' requests; here there are none
+      return simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
+                              "no step request of this client is running");
     default:
       return simulation_reply(q, runner, mm::ERR_UNKNOWN_OPERATION,
                               "unknown simulation command " + std::to_string(q.command()));

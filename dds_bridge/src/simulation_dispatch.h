@@ -3,7 +3,10 @@
 // loads itself), unit tests and the fuzzer call it directly.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -21,10 +24,12 @@ macsim_msgs::msg::dds_::SimulationReply_ simulation_reply(
 
 /// Applies the request to the runner. The reply now, or nothing for a step request that was
 /// taken: `stepped` receives its reply once the last step is done (or a pause cancelled it).
-/// A step request's robot conditions read `readings` (none: they are refused).
+/// A step request's robot conditions read `readings` (none: they are refused); its steps done
+/// are counted in `steps_done` (if given), which other threads may read while it runs.
 std::optional<macsim_msgs::msg::dds_::SimulationReply_> dispatch_simulation(
     const macsim_msgs::msg::dds_::SimulationRequest_& request, Runner& runner,
     std::function<void(const macsim_msgs::msg::dds_::SimulationReply_&)> stepped,
-    const LatestReadings& readings = {});
+    const LatestReadings& readings = {},
+    std::shared_ptr<std::atomic<uint64_t>> steps_done = nullptr);
 
 }  // namespace macsim

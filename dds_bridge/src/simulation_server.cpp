@@ -1,5 +1,7 @@
 #include "simulation_server.h"
 
+#include <algorithm>
+
 #include "macsim/dds/topics.h"
 #include "macsim/sim_core/world_loader.h"
 #include "simulation_dispatch.h"
@@ -9,30 +11,41 @@ namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
 
+namespace {
+
+/// What a request waits for before the simulation thread takes it.
+std::string waiting_text(const mm::SimulationRequest_& r) {
+  if (r.command() == mm::SIM_LOAD_WORLD) return "loading the world '" + r.world_file() + "'";
+  return "waiting for the simulation thread (a step or a world load before it)";
+}
+
+}  // namespace
+
 SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits,
                                    LatestReadings readings)
     : runner_(runner),
       limits_(limits),
       readings_(std::move(readings)),
-      replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command) {
+      replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command),
+      progress_([this](const Reply& reply) { replies_.write(reply); }) {
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
-  // as a load, so that its file is parsed at once, off the simulation thread.
+  // as a load, so that its file is parsed at once, off the simulation thread. A repeat of a
+  // request still running gets its progress at once and is not queued again.
   requests_ = std::make_unique<dds::Reader<mm::SimulationRequest_PubSubType>>(
       participant, dds::topics::kSimulationRequest, dds::QosFamily::Command,
       [this](const Request& r) {
+        if (!progress_.begin(r, waiting_text(r))) return;
         if (r.command() != mm::SIM_LOAD_WORLD) {
           runner_.push([this, r](World&) { execute(r); });
           return;
         }
-        {
-          std::lock_guard<std::mutex> lock(loads_mutex_);
-          auto [last, fresh] = last_load_.try_emplace(r.client_id(), r.sequence_number());
-          if (!fresh && last->second == r.sequence_number()) {
-            // Sent again: never load twice; answer again once the first load is answered.
-            runner_.push([this, r](World&) { repeated(r); });
-            return;
-          }
-          last->second = r.sequence_number();
+        if (load_seen(r)) {
+          // Sent again: never load twice; answer again if the load was answered.
+          runner_.push([this, r](World&) {
+            progress_.end(r.client_id(), r.sequence_number());
+            repeated(r);
+          });
+          return;
         }
         const bool queued = runner_.load(
             [file = r.world_file(), this] {
@@ -51,6 +64,25 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
       });
 }
 
+bool SimulationServer::load_seen(const Request& r) {
+  std::lock_guard<std::mutex> lock(loads_mutex_);
+  const uint64_t use = ++load_uses_;
+  if (auto last = last_load_.find(r.client_id()); last != last_load_.end()) {
+    last->second.use = use;
+    if (last->second.sequence_number == r.sequence_number()) return true;
+    last->second.sequence_number = r.sequence_number();
+    return false;
+  }
+  if (last_load_.size() >= kMaxLoadClients) {
+    const auto oldest = std::min_element(
+        last_load_.begin(), last_load_.end(),
+        [](const auto& a, const auto& b) { return a.second.use < b.second.use; });
+    last_load_.erase(oldest);
+  }
+  last_load_.emplace(r.client_id(), LastLoad{r.sequence_number(), use});
+  return false;
+}
+
 SimulationServer::~SimulationServer() { requests_.reset(); }
 
 SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
@@ -65,6 +97,7 @@ bool SimulationServer::repeated(const Request& q) {
     return true;  // still stepping for it: the reply comes when the steps are done
   }
   if (const Reply* again = replied_.find(q)) {
+    progress_.end(q.client_id(), q.sequence_number());
     replies_.write(*again);
     return true;
   }
@@ -73,21 +106,71 @@ bool SimulationServer::repeated(const Request& q) {
 
 void SimulationServer::execute(const Request& q) {
   if (repeated(q)) return;
+  if (q.command() == mm::SIM_CANCEL) {
+    send(cancel(q));
+    return;
+  }
+  auto steps_done = std::make_shared<std::atomic<uint64_t>>(0);
   auto reply = dispatch_simulation(
       q, runner_,
       [this](const Reply& stepped) {
         stepping_.reset();
-        send(stepped);
+        if (!cancelling_) {
+          send(stepped);
+          return;
+        }
+        Reply cancelled = stepped;
+        cancelled.message("cancelled by its client (SIM_CANCEL) after " +
+                          std::to_string(stepped.steps_done()) + " of " +
+                          std::to_string(stepped.steps_asked()) + " steps");
+        cancelled_ = cancelled;
+        send(cancelled);
       },
-      readings_);
+      readings_, steps_done);
   if (reply) {
     send(*reply);
-  } else {
-    stepping_ = q;
+    return;
   }
+  stepping_ = q;
+  progress_.update(q.client_id(), q.sequence_number(),
+                   "stepping " + std::to_string(q.steps()) + " steps",
+                   [steps_done, asked = q.steps()](Reply& progress) {
+                     progress.steps_done(steps_done->load(std::memory_order_relaxed));
+                     progress.steps_asked(asked);
+                   });
+}
+
+SimulationServer::Reply SimulationServer::cancel(const Request& q) {
+  const uint64_t named = q.cancel_sequence_number();
+  if (!stepping_ || stepping_->client_id() != q.client_id() ||
+      (named != 0 && stepping_->sequence_number() != named)) {
+    return reply_to(q, mm::ERR_NOT_APPLICABLE,
+                    named == 0 ? "no step request of this client is running"
+                               : "request " + std::to_string(named) +
+                                     " of this client is no step request running");
+  }
+  const uint64_t ended = stepping_->sequence_number();
+  // A pause cancels the request; the simulation then goes on as it did.
+  const bool paused = runner_.settings().paused;
+  cancelling_ = true;
+  runner_.pause();
+  cancelling_ = false;
+  if (!paused) runner_.resume();
+  Reply reply = reply_to(q, mm::ERR_OK, "");
+  if (cancelled_) {
+    reply.message("cancelled request " + std::to_string(ended) + " after " +
+                  std::to_string(cancelled_->steps_done()) + " of " +
+                  std::to_string(cancelled_->steps_asked()) + " steps");
+    reply.steps_done(cancelled_->steps_done());
+    reply.steps_asked(cancelled_->steps_asked());
+    reply.ended_by(mm::STEP_CANCELLED);
+    cancelled_.reset();
+  }
+  return reply;
 }
 
 void SimulationServer::send(const Reply& reply) {
+  progress_.end(reply.client_id(), reply.sequence_number());
   replied_.remember(reply);
   replies_.write(reply);
 }

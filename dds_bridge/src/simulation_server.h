@@ -1,6 +1,7 @@
 // Simulation control over DDS: pause, run, real-time factor, lock-step, load world, features.
 #pragma once
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -12,14 +13,21 @@
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 #include "reply_cache.h"
+#include "request_progress.h"
 #include "step_conditions.h"
 
 namespace macsim {
 
 /// Serves SimulationRequests by queueing them to the runner; a SIM_STEP request is answered
 /// once its last step's data is out, a SIM_LOAD_WORLD once the new world runs (or was refused).
+/// Until then its client gets progress replies (ERR_IN_PROGRESS, with a step request's steps
+/// done); SIM_CANCEL from the same client ends its step request.
 class SimulationServer {
  public:
+  /// At most this many clients' last load request numbers are kept (the least recently used
+  /// goes): a very late repeat of an evicted client's load could load it again.
+  static constexpr std::size_t kMaxLoadClients = 1024;
+
   /// Worlds loaded on request are held to `limits`; step conditions read `readings`.
   SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
                    LatestReadings readings = {});
@@ -30,6 +38,10 @@ class SimulationServer {
   using Reply = macsim_msgs::msg::dds_::SimulationReply_;
 
   void execute(const Request& request);
+  /// SIM_CANCEL: ends the client's step request it names, if that is the one running.
+  Reply cancel(const Request& request);
+  /// True if this client's load request was seen before (and remembers it if not).
+  bool load_seen(const Request& request);
   Reply reply_to(const Request& request, int code, const std::string& message) const;
   void send(const Reply& reply);
   /// True (and answered again) if the client sent this request before.
@@ -39,10 +51,18 @@ class SimulationServer {
   const LoadLimits limits_;
   const LatestReadings readings_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
+  bool cancelling_ = false;           // a SIM_CANCEL is ending stepping_
+  std::optional<Reply> cancelled_;    // the reply of the request it ended
   ReplyCache<Reply> replied_;
-  std::mutex loads_mutex_;                     // guards last_load_ (Fast DDS's threads)
-  std::map<std::string, uint64_t> last_load_;  // by client: the last load request's number
+  std::mutex loads_mutex_;  // guards last_load_ and load_uses_ (Fast DDS's threads)
+  struct LastLoad {
+    uint64_t sequence_number;
+    uint64_t use;  // load_uses_ when last seen
+  };
+  std::map<std::string, LastLoad> last_load_;  // by client, at most kMaxLoadClients
+  uint64_t load_uses_ = 0;
   dds::Writer<macsim_msgs::msg::dds_::SimulationReply_PubSubType> replies_;
+  RequestProgress<Reply> progress_;  // after replies_, which it writes to
   std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SimulationRequest_PubSubType>> requests_;
 };
 

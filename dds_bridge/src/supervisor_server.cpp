@@ -18,21 +18,30 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
       events_(participant, dds::topics::kWorldEvents, QosFamily::Command),
       object_list_(participant, dds::topics::kWorldObjectList, QosFamily::Latched),
       door_list_(participant, dds::topics::kWorldDoorList, QosFamily::Latched),
-      events_stamped_(participant, dds::topics::kWorldEventsStamped, QosFamily::Command) {
-  // On Fast DDS's thread: copy the request and queue it; the world is touched only later.
+      events_stamped_(participant, dds::topics::kWorldEventsStamped, QosFamily::Command),
+      progress_([this](const Reply& reply) { replies_.write(reply); }) {
+  // On Fast DDS's thread: copy the request and queue it; the world is touched only later. A
+  // repeat of a request still waiting gets its progress and is not queued again.
   requests_ = std::make_unique<dds::Reader<mm::SupervisorRequest_PubSubType>>(
-      participant, dds::topics::kSupervisorRequest, QosFamily::Command,
-      [this](const Request& r) { runner_.push([this, r](World& world) { execute(r, world); }); });
+      participant, dds::topics::kSupervisorRequest, QosFamily::Command, [this](const Request& r) {
+        if (!progress_.begin(r, "waiting for the simulation thread (a step or a world load "
+                                "before it)")) {
+          return;
+        }
+        runner_.push([this, r](World& world) { execute(r, world); });
+      });
 }
 
 SupervisorServer::~SupervisorServer() { requests_.reset(); }
 
 void SupervisorServer::execute(const Request& q, World& world) {
   if (const Reply* again = replied_.find(q)) {  // sent again: answer, do not redo
+    progress_.end(q.client_id(), q.sequence_number());
     replies_.write(*again);
     return;
   }
   const Reply reply = dispatch(q, world, runner_.snapshots());
+  progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);
   replies_.write(reply);
 }

@@ -12,11 +12,13 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
 #include "reply_cache.h"
+#include "request_progress.h"
 
 namespace macsim {
 
 /// Serves sim_core's supervisor operations. Requests are executed on the simulation thread,
-/// between two steps, in arrival order; each gets exactly one reply.
+/// between two steps, in arrival order; each gets exactly one reply (and progress replies,
+/// ERR_IN_PROGRESS, while it waits behind a long step or a world load).
 class SupervisorServer {
  public:
   SupervisorServer(dds::Participant& participant, Runner& runner);
@@ -53,6 +55,7 @@ class SupervisorServer {
   dds::Writer<macsim_msgs::msg::dds_::ObjectList_PubSubType> object_list_;
   dds::Writer<macsim_msgs::msg::dds_::DoorList_PubSubType> door_list_;
   dds::Writer<macsim_msgs::msg::dds_::Event_PubSubType> events_stamped_;
+  RequestProgress<Reply> progress_;  // after replies_, which it writes to
   std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>> requests_;
 };
 

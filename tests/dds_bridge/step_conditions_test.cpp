@@ -9,6 +9,8 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 
 #include "macsim/client/supervisor_client.h"
 #include "macsim/sim_core/world_loader.h"
@@ -186,6 +188,31 @@ TEST(StepConditions, TheStepTraceCoversEveryStepAndRepeats) {
   EXPECT_EQ(trace(40), trace(40));
   EXPECT_NE(trace(40), trace(41));
   EXPECT_NE(trace(40), 0u);
+}
+
+TEST(StepConditions, ARequestCountsItsStepsForOtherThreadsAndACancelSaysSo) {
+  Stepper s;
+  const auto ended = s.serve(steps(300, 10, until::above(mm::STEP_READ_SIM_TIME, 0.1)));
+  EXPECT_EQ(ended.ended_by(), 0);
+  EXPECT_EQ(ended.steps_asked(), 300u);
+  EXPECT_EQ(ended.steps_done(), ended.steps());  // ended early, at its first check past 0.1 s
+
+  // Counted where another thread can read it; a pause cancels the request after 25 steps.
+  auto counted = std::make_shared<std::atomic<uint64_t>>(0);
+  std::optional<mm::SimulationReply_> cancelled;
+  ASSERT_FALSE(dispatch_simulation(
+      until::request(1000, 1), s.runner,
+      [&](const mm::SimulationReply_& r) { cancelled = r; }, {}, counted));
+  StepHooks hooks;
+  for (int i = 0; i < 25; ++i) s.runner.step(hooks);
+  EXPECT_EQ(counted->load(), 25u);
+  s.runner.pause();
+  ASSERT_TRUE(cancelled);
+  EXPECT_EQ(cancelled->code(), mm::ERR_NOT_APPLICABLE);
+  EXPECT_EQ(cancelled->ended_by(), mm::STEP_CANCELLED);
+  EXPECT_EQ(cancelled->steps_done(), 25u);
+  EXPECT_EQ(cancelled->steps_asked(), 1000u);
+  EXPECT_FALSE(s.runner.stepping_on_request());
 }
 
 }  // namespace

@@ -1,7 +1,11 @@
 """macsim.Simulation against real macsim processes: lock-step steps and their hashes (two runs,
 the same hashes), pause / run / real-time factor, reset, load, features; blocking calls release
-the GIL and hear Ctrl-C."""
+the GIL and hear Ctrl-C; a timeout says whether the simulator is missing, busy or gone, and a
+long step is cancelled by its requester."""
 
+import os
+import re
+import signal
 import subprocess
 import sys
 import threading
@@ -181,3 +185,82 @@ def test_step_until_ends_on_the_published_odometry_and_reads_samples(domain, spa
         simulation.step_until(10, until=[macsim.StepCondition(
             macsim.STEP_READ_OBJECT_Z, macsim.STEP_TEST_ABOVE, 1.0, object_id=424242)])
     assert simulation.status().steps == status.steps
+
+
+LONG = 2**31  # steps no test waits for
+
+
+def test_a_busy_simulator_says_so_and_its_requester_cancels_the_step(domain, spawn):
+    start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
+    simulation = macsim.Simulation(macsim.Participant(domain=domain))
+    assert simulation.status().steps == 0
+    with pytest.raises(TimeoutError) as busy:
+        simulation.step(LONG, timeout=2)
+    said = str(busy.value)
+    assert "the simulator is busy with this request: " in said
+    assert " of 2,147,483,648 steps done after 2 s; pass a longer timeout or cancel it" in said
+    done = int(re.search(r"request: ([\d,]+) of", said).group(1).replace(",", ""))
+    assert done > 0
+    cancelled = simulation.cancel()
+    assert cancelled.ended_by == macsim.STEP_CANCELLED
+    assert cancelled.steps_asked == LONG
+    assert cancelled.steps_done >= done
+    assert cancelled.steps == cancelled.steps_done and cancelled.paused
+    assert "cancelled request" in cancelled.message
+    with pytest.raises(macsim.SupervisorError) as nothing:
+        simulation.cancel()
+    assert nothing.value.code == macsim.ERR_NOT_APPLICABLE
+    assert simulation.step(5).steps == cancelled.steps + 5  # answered again
+
+    # A step another thread waits on ends with its cancelled reply.
+    ended = []
+
+    def wait_on_step():
+        try:
+            simulation.step(LONG, timeout=60)
+        except macsim.SupervisorError as error:
+            ended.append(error)
+
+    thread = threading.Thread(target=wait_on_step)
+    thread.start()
+    time.sleep(1)
+    stopped = simulation.cancel()
+    thread.join(timeout=10)
+    assert not thread.is_alive()
+    assert len(ended) == 1
+    assert ended[0].code == macsim.ERR_NOT_APPLICABLE
+    assert "cancelled by its client" in ended[0].message
+    assert stopped.steps_done > 0 and stopped.steps == cancelled.steps + 5 + stopped.steps_done
+
+
+def test_a_simulator_killed_during_a_step_is_reported_gone(domain, spawn):
+    process = start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
+    simulation = macsim.Simulation(macsim.Participant(domain=domain))
+    simulation.status()
+    killed = []
+
+    def kill():
+        time.sleep(1.5)  # the step request was acknowledged by then
+        os.killpg(process.proc.pid, signal.SIGKILL)
+        killed.append(time.monotonic())
+
+    killer = threading.Thread(target=kill)
+    killer.start()
+    try:
+        with pytest.raises(TimeoutError) as gone:
+            simulation.step(LONG, timeout=60)
+    finally:
+        killer.join()
+    assert time.monotonic() - killed[0] < 10, "waited out the timeout"
+    said = str(gone.value)
+    assert "the simulator acknowledged this simulation control request" in said
+    assert "stopped answering" in said and "killed or hung?" in said
+
+
+def test_no_simulator_is_reported_not_found(domain):
+    simulation = macsim.Simulation(macsim.Participant(domain=domain), timeout=1)
+    with pytest.raises(TimeoutError) as none:
+        simulation.status()
+    assert str(none.value) == (
+        f"no simulator answered the simulation control on DDS domain {domain} within 1 s: "
+        "is macsim running with the same --domain and DDS profile?")

@@ -47,6 +47,7 @@ STEP_TEST_ABOVE: int
 STEP_TEST_BELOW: int
 STEP_TEST_NEAR: int
 STEP_TEST_STALLED: int
+STEP_CANCELLED: int
 ERR_OK: int
 ERR_UNKNOWN_OBJECT: int
 ERR_WRONG_GEOMETRY: int
@@ -56,6 +57,7 @@ ERR_PENETRATION: int
 ERR_BAD_TEXTURE: int
 ERR_BAD_FILE: int
 ERR_LIMIT_REACHED: int
+ERR_IN_PROGRESS: int
 ERR_UNKNOWN_OPERATION: int
 
 class SupervisorError(RuntimeError):
@@ -233,13 +235,23 @@ class SimulationStatus:
     def real_time_factor(self) -> float: ...
     @property
     def ended_by(self) -> int:
-        """step_until: the group of conditions that ended it, or -1."""
+        """step_until: the group of conditions that ended it, -1 (the steps ran out) or
+        STEP_CANCELLED."""
     @property
     def samples(self) -> list[float]:
         """step_until: the samples' readings at every check, in order."""
     @property
     def step_trace(self) -> int:
         """step_until(trace_hash=True): every step's state hash mixed in order."""
+    @property
+    def steps_done(self) -> int:
+        """step, step_until, cancel: the steps of the (cancelled) request done."""
+    @property
+    def steps_asked(self) -> int:
+        """step, step_until, cancel: the steps the (cancelled) request asked for."""
+    @property
+    def message(self) -> str:
+        """What the simulator said, e.g. of a cancel."""
 
 class StepCondition:
     """A reading of a step request (STEP_READ_*) and, as a condition, its test (STEP_TEST_*)."""
@@ -373,6 +385,11 @@ class Simulation:
                    timeout: Optional[float] = None) -> SimulationStatus:
         """Lock-step until a group of conditions holds at a check (or `steps` ran out)."""
     def status(self) -> SimulationStatus: ...
+    def cancel(self, sequence_number: int = 0) -> SimulationStatus:
+        """Ends this Simulation's step request still running (one a TimeoutError left behind,
+        or one another thread waits on); its reply says STEP_CANCELLED. This reply's
+        steps_done and steps_asked are the cancelled request's; SupervisorError
+        (ERR_NOT_APPLICABLE) if none runs."""
     def reset(self, scope: int = ...) -> SimulationStatus: ...
     def load_world(self, file: str, timeout: float = 60.0) -> SimulationStatus: ...
     def features(self) -> list[str]: ...

@@ -31,8 +31,9 @@ std::string seconds_text(double s) {
   return text;
 }
 
-/// Calls over one request/reply pair: the GIL released while waiting, Ctrl-C heard, a silent
-/// simulator a TimeoutError, an error code a SupervisorError.
+/// Calls over one request/reply pair: the GIL released while waiting, Ctrl-C heard, no answer a
+/// TimeoutError saying why (no simulator, busy with the request, gone), an error code a
+/// SupervisorError.
 template <class Client>
 struct PythonCaller {
   PythonCaller(PythonParticipant& p, double seconds, const char* name)
@@ -44,15 +45,16 @@ struct PythonCaller {
     const double seconds = wait.value_or(timeout);
     const auto limit = to_milliseconds(seconds);
     std::optional<typename Client::Reply> reply;
+    client::CallOutcome outcome;
     {
       py::gil_scoped_release release;
-      reply = client.call(std::move(request), limit, [] { return python_interrupted(); });
+      reply = client.call(std::move(request), limit, [] { return python_interrupted(); },
+                          &outcome);
     }
     if (PyErr_Occurred()) raise_pending();
     if (!reply) {
-      raise_timeout("no simulator answered the " + std::string(service) + " on DDS domain " +
-                    std::to_string(domain) + " within " + seconds_text(seconds) +
-                    " s: is macsim running with the same --domain and DDS profile?");
+      if (outcome.kind == client::CallOutcome::Kind::NoServer) outcome.waited = seconds;
+      raise_timeout(client::describe(outcome, service, domain));
     }
     if (reply->code() != mm::ERR_OK)
       throw SupervisorFailure{reply->code(), reply->message(), names(*reply)};
@@ -450,6 +452,18 @@ void bind_supervisor(py::module_& m) {
       .def(
           "status", [](Sim& s) { return s.command(mm::SIM_STATUS); },
           "Time, steps, state hash, paused, real-time factor.")
+      .def(
+          "cancel",
+          [](Sim& s, uint64_t sequence_number) {
+            auto request = client::SimulationClient::request(mm::SIM_CANCEL);
+            request.cancel_sequence_number(sequence_number);
+            return s.control.call(request);
+          },
+          py::arg("sequence_number") = 0,
+          "Ends this Simulation's step request still running (one a TimeoutError left behind, "
+          "or one another thread waits on); its reply says STEP_CANCELLED. This reply's "
+          "steps_done and steps_asked are the cancelled request's; SupervisorError "
+          "(ERR_NOT_APPLICABLE) if none runs.")
       .def(
           "reset",
           [](Sim& s, int scope) {

@@ -85,7 +85,8 @@ void bind_wire_types(py::module_& m) {
            {"STEP_TEST_ABOVE", mm::STEP_TEST_ABOVE},
            {"STEP_TEST_BELOW", mm::STEP_TEST_BELOW},
            {"STEP_TEST_NEAR", mm::STEP_TEST_NEAR},
-           {"STEP_TEST_STALLED", mm::STEP_TEST_STALLED}}) {
+           {"STEP_TEST_STALLED", mm::STEP_TEST_STALLED},
+           {"STEP_CANCELLED", mm::STEP_CANCELLED}}) {
     m.attr(name) = value;
   }
   py::class_<mm::StepCondition_>(
@@ -120,6 +121,7 @@ void bind_wire_types(py::module_& m) {
   m.attr("ERR_BAD_TEXTURE") = mm::ERR_BAD_TEXTURE;
   m.attr("ERR_BAD_FILE") = mm::ERR_BAD_FILE;
   m.attr("ERR_LIMIT_REACHED") = mm::ERR_LIMIT_REACHED;
+  m.attr("ERR_IN_PROGRESS") = mm::ERR_IN_PROGRESS;
   m.attr("ERR_UNKNOWN_OPERATION") = mm::ERR_UNKNOWN_OPERATION;
 
   py::class_<mm::Component_>(m, "Component", "One shape of an object, in the object's frame.")
@@ -296,13 +298,23 @@ void bind_wire_types(py::module_& m) {
                              [](const mm::SimulationReply_& r) { return r.real_time_factor(); })
       .def_property_readonly(
           "ended_by", [](const mm::SimulationReply_& r) { return r.ended_by(); },
-          "step_until: the group of conditions that ended it, or -1")
+          "step_until: the group of conditions that ended it, -1 (the steps ran out) or "
+          "STEP_CANCELLED")
       .def_property_readonly(
           "samples", [](const mm::SimulationReply_& r) { return r.samples(); },
           "step_until: the samples' readings at every check, in order")
       .def_property_readonly(
           "step_trace", [](const mm::SimulationReply_& r) { return r.step_trace(); },
           "step_until(trace_hash=True): every step's state hash mixed in order")
+      .def_property_readonly(
+          "steps_done", [](const mm::SimulationReply_& r) { return r.steps_done(); },
+          "step, step_until, cancel: the steps of the (cancelled) request done")
+      .def_property_readonly(
+          "steps_asked", [](const mm::SimulationReply_& r) { return r.steps_asked(); },
+          "step, step_until, cancel: the steps the (cancelled) request asked for")
+      .def_property_readonly(
+          "message", [](const mm::SimulationReply_& r) { return r.message(); },
+          "what the simulator said, e.g. of a cancel")
       .def("__repr__", [](const mm::SimulationReply_& r) {
         return "<macsim.SimulationStatus t=" + std::to_string(r.sim_time()) +
                " steps=" + std::to_string(r.steps()) + " hash=" + std::to_string(r.state_hash()) +

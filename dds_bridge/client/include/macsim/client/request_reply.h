@@ -7,23 +7,101 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 
 #include "macsim/dds/participant.h"
+#include "macsim/msg/macsim_msgs.h"
 
 namespace macsim::client {
 
+/// How a call ended, and why there was no reply when there was none.
+struct CallOutcome {
+  enum class Kind {
+    Replied,      ///< the final reply came
+    NoServer,     ///< no server was matched within the timeout
+    Busy,         ///< the server acknowledged the request and was still working on it
+    Gone,         ///< a server was matched (or acknowledged) and then stopped answering
+    Interrupted,  ///< the call was told to give up
+  };
+  Kind kind = Kind::Replied;
+  bool acknowledged = false;  ///< a progress reply (ERR_IN_PROGRESS) came for the request
+  bool unmatched = false;     ///< Gone: the server's reader or writer went away
+  std::string progress;       ///< the last progress reply's message
+  uint64_t steps_done = 0;    ///< the last progress of a step request: its steps done
+  uint64_t steps_asked = 0;   ///< and the steps it asked for (0: no step request)
+  double waited = 0;          ///< s the call waited
+  double since_heard = 0;     ///< s since the server was last heard of (acknowledged: progress)
+};
+
+/// `n` with thousands separated by commas: 2,147,483,648.
+inline std::string with_commas(uint64_t n) {
+  std::string digits = std::to_string(n);
+  for (int at = static_cast<int>(digits.size()) - 3; at > 0; at -= 3) digits.insert(at, ",");
+  return digits;
+}
+
+/// One sentence saying why a call of `service` (e.g. "simulation control") got no reply; the
+/// domain is named when `domain` >= 0.
+inline std::string describe(const CallOutcome& o, const std::string& service, int domain = -1) {
+  const auto seconds = [](double s) {
+    std::string text = std::to_string(static_cast<long long>(s * 10 + 0.5) / 10);
+    const long long tenth = static_cast<long long>(s * 10 + 0.5) % 10;
+    return tenth ? text + "." + std::to_string(tenth) : text;
+  };
+  const std::string on = domain >= 0 ? " on DDS domain " + std::to_string(domain) : "";
+  switch (o.kind) {
+    case CallOutcome::Kind::Replied:
+      return "the simulator answered the " + service;
+    case CallOutcome::Kind::NoServer:
+      return "no simulator answered the " + service + on + " within " + seconds(o.waited) +
+             " s: is macsim running with the same --domain and DDS profile?";
+    case CallOutcome::Kind::Busy:
+      if (!o.acknowledged) {
+        return "the simulator did not answer this " + service + " request within " +
+               seconds(o.waited) + " s (too short to hear its progress); pass a longer timeout";
+      }
+      if (o.steps_asked > 0) {
+        return "the simulator is busy with this request: " + with_commas(o.steps_done) + " of " +
+               with_commas(o.steps_asked) + " steps done after " + seconds(o.waited) +
+               " s; pass a longer timeout or cancel it";
+      }
+      return "the simulator is busy with this request after " + seconds(o.waited) + " s (" +
+             o.progress + "); pass a longer timeout";
+    case CallOutcome::Kind::Gone:
+      if (o.acknowledged) {
+        return "the simulator acknowledged this " + service + " request" + on +
+               " and stopped answering " + seconds(o.since_heard) + " s ago (" +
+               (o.unmatched ? "its participant left: killed or stopped?" : "killed or hung?") + ")";
+      }
+      return "a simulator" + on + " was found but " +
+             (o.unmatched ? "left before answering this " + service + " request"
+                          : "did not answer this " + service + " request in " +
+                                seconds(o.waited) + " s (hung, or a version without progress "
+                                "replies?)");
+    case CallOutcome::Kind::Interrupted:
+      return "the " + service + " call was interrupted";
+  }
+  return {};
+}
+
 /// Sends requests with this client's id and the next sequence number, waits for the reply that
-/// echoes both; resends every second until answered (servers answer a repeat without redoing).
+/// echoes both; resends every second until the server acknowledges it (servers answer a repeat
+/// without redoing). Replies with code ERR_IN_PROGRESS are progress, never the final reply.
+/// Calls may run on several threads at once (e.g. one waits on a step, another cancels it).
 template <class RequestPubSub, class ReplyPubSub>
 class RequestReply {
  public:
   using Request = typename RequestPubSub::type;
   using Reply = typename ReplyPubSub::type;
+
+  /// An acknowledged request whose server is silent this long is given up as gone.
+  static constexpr std::chrono::milliseconds kSilence{2500};
 
   RequestReply(dds::Participant& participant, const std::string& request_topic,
                const std::string& reply_topic, std::string client_id)
@@ -32,71 +110,160 @@ class RequestReply {
                              std::to_string(reinterpret_cast<uintptr_t>(this) % 100000)
                        : std::move(client_id)),
         requests_(participant, request_topic, dds::QosFamily::Command),
-        replies_(participant, reply_topic, dds::QosFamily::Command, [this](const Reply& r) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          if (r.client_id() != client_id_ || r.sequence_number() != waiting_for_) return;
-          reply_ = r;
-          replied_.notify_all();
-        }) {}
+        replies_(participant, reply_topic, dds::QosFamily::Command,
+                 [this](const Reply& r) { heard(r); }) {}
 
   /// Asked at least every 100 ms while a call waits: true gives up at once (a Ctrl-C).
   using Interrupted = std::function<bool()>;
 
   /// Sends `request` and waits for its reply; nullopt if none came within `timeout` (or
-  /// `interrupted` said so).
+  /// `interrupted` said so, or the server stopped answering); `outcome` (and last_outcome())
+  /// then says why.
   std::optional<Reply> call(Request request,
                             std::chrono::milliseconds timeout = std::chrono::seconds(10),
-                            const Interrupted& interrupted = {}) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    if (!wait_for_server(timeout, interrupted)) return std::nullopt;
+                            const Interrupted& interrupted = {}, CallOutcome* outcome = nullptr) {
+    const auto start = Clock::now();
+    const auto deadline = start + timeout;
+    CallOutcome result;
+    const auto finish = [&](CallOutcome::Kind kind) {
+      result.kind = kind;
+      result.waited = seconds(Clock::now() - start);
+      std::lock_guard<std::mutex> lock(mutex_);
+      last_outcome_ = result;
+      if (outcome) *outcome = result;
+    };
+    bool stopped = false;
+    const Interrupted watched = [&] { return stopped = interrupted && interrupted(); };
+    if (!wait_for_server(timeout, watched)) {
+      finish(stopped ? CallOutcome::Kind::Interrupted : CallOutcome::Kind::NoServer);
+      return std::nullopt;
+    }
     request.client_id(client_id_);
-    request.sequence_number(next_sequence_++);
     std::unique_lock<std::mutex> lock(mutex_);
-    waiting_for_ = request.sequence_number();
-    reply_.reset();
-    while (std::chrono::steady_clock::now() < deadline) {
-      lock.unlock();
-      requests_.write(request);
-      lock.lock();
-      const auto retry =
-          std::min(deadline, std::chrono::steady_clock::now() + std::chrono::seconds(1));
-      // Without an interruption to look for, one wait to the retry; with one, slices of it.
-      while (std::chrono::steady_clock::now() < retry) {
-        const auto until =
-            interrupted ? std::min(retry, std::chrono::steady_clock::now() + kSlice) : retry;
-        if (replied_.wait_until(lock, until, [this] { return reply_.has_value(); })) return reply_;
-        if (interrupted) {
+    const uint64_t sequence = next_sequence_++;
+    request.sequence_number(sequence);
+    Pending& pending = pending_[sequence];
+    pending.heard = Clock::now();
+    struct Forget {  // the pending entry goes however the call ends
+      RequestReply* self;
+      uint64_t sequence;
+      ~Forget() { self->pending_.erase(sequence); }  // under mutex_: destroyed before `lock`
+    };
+    std::optional<Reply> reply;
+    auto resend = Clock::now();
+    CallOutcome::Kind kind = CallOutcome::Kind::Replied;
+    {
+      const Forget forget{this, sequence};
+      while (true) {
+        const auto now = Clock::now();
+        if (pending.reply) {
+          reply = std::move(pending.reply);
+          break;
+        }
+        if (now >= deadline) {
+          // Silent for long without a progress reply: hung, or a server without them.
+          kind = pending.acknowledged || now - pending.heard < kSilence ? CallOutcome::Kind::Busy
+                                                                        : CallOutcome::Kind::Gone;
+          break;
+        }
+        if (pending.acknowledged && now - pending.heard > kSilence) {
+          kind = CallOutcome::Kind::Gone;
+          break;
+        }
+        if (!pending.acknowledged && now >= resend) {
           lock.unlock();
-          const bool stop = interrupted();
+          requests_.write(request);
           lock.lock();
-          if (stop) return std::nullopt;
+          resend = Clock::now() + std::chrono::seconds(1);
+          continue;
+        }
+        replied_.wait_until(lock, std::min(deadline, now + kSlice));
+        if (pending.reply) continue;
+        lock.unlock();
+        const bool stop = interrupted && interrupted();
+        const bool unmatched = requests_.matched() == 0 || replies_.matched() == 0;
+        lock.lock();
+        if (stop) {
+          kind = CallOutcome::Kind::Interrupted;
+          break;
+        }
+        if (unmatched && !pending.reply) {
+          result.unmatched = true;
+          kind = CallOutcome::Kind::Gone;
+          break;
         }
       }
+      result.acknowledged = pending.acknowledged;
+      result.progress = pending.progress;
+      result.steps_done = pending.steps_done;
+      result.steps_asked = pending.steps_asked;
+      result.since_heard = seconds(Clock::now() - pending.heard);
     }
-    return std::nullopt;
+    lock.unlock();
+    finish(kind);
+    return reply;
   }
 
   /// Waits until a server is matched both ways.
   bool wait_for_server(std::chrono::milliseconds timeout, const Interrupted& interrupted = {}) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    const auto deadline = Clock::now() + timeout;
     for (int polls = 1; requests_.matched() == 0 || replies_.matched() == 0; ++polls) {
-      if (std::chrono::steady_clock::now() > deadline) return false;
+      if (Clock::now() > deadline) return false;
       if (interrupted && polls % 5 == 0 && interrupted()) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return true;
   }
 
+  /// How the last call that ended (on any thread) ended.
+  CallOutcome last_outcome() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_outcome_;
+  }
+
   const std::string& client_id() const { return client_id_; }
 
  private:
+  using Clock = std::chrono::steady_clock;
   static constexpr std::chrono::milliseconds kSlice{100};
+  struct Pending {
+    std::optional<Reply> reply;
+    bool acknowledged = false;
+    Clock::time_point heard;  // the last progress, or the call's start
+    std::string progress;
+    uint64_t steps_done = 0;
+    uint64_t steps_asked = 0;
+  };
+
+  static double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+  /// On Fast DDS's thread: a reply or progress of one of this client's calls.
+  void heard(const Reply& r) {
+    if (r.client_id() != client_id_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto pending = pending_.find(r.sequence_number());
+    if (pending == pending_.end()) return;
+    Pending& p = pending->second;
+    if (r.code() == macsim_msgs::msg::dds_::ERR_IN_PROGRESS) {
+      p.acknowledged = true;
+      p.heard = Clock::now();
+      p.progress = r.message();
+      if constexpr (requires { r.steps_done(); r.steps_asked(); }) {
+        p.steps_done = r.steps_done();
+        p.steps_asked = r.steps_asked();
+      }
+    } else {
+      p.reply = r;
+    }
+    replied_.notify_all();
+  }
+
   std::string client_id_;
+  mutable std::mutex mutex_;
   uint64_t next_sequence_ = 1;
-  std::mutex mutex_;
+  std::map<uint64_t, Pending> pending_;  // by sequence number: the calls waiting
+  CallOutcome last_outcome_;
   std::condition_variable replied_;
-  std::optional<Reply> reply_;
-  uint64_t waiting_for_ = 0;
   dds::Writer<RequestPubSub> requests_;
   dds::Reader<ReplyPubSub> replies_;
 };

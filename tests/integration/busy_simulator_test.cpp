@@ -1,0 +1,227 @@
+// A busy simulator says it is busy: a request not answered at once gets progress replies
+// (ERR_IN_PROGRESS, with a step request's steps done), so a client's timeout tells apart no
+// simulator, a simulator still working on the request, and one that stopped answering; the
+// requester of a long step request cancels it (SIM_CANCEL). Against real macsim processes.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <future>
+#include <mutex>
+#include <vector>
+
+#include "macsim/client/supervisor_client.h"
+#include "macsim/dds/topics.h"
+#include "support/child_process.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace mm = macsim_msgs::msg::dds_;
+using client::CallOutcome;
+
+constexpr uint64_t kLong = uint64_t{1} << 31;  // steps no test waits for
+
+std::vector<std::string> lockstep_macsim(int domain) {
+  return {bin("macsim"), "--world",    source("worlds/small_room.xml"), "--domain",
+          std::to_string(domain),      "--lockstep", "--cameras", "off"};
+}
+
+TEST(BusySimulator, ALongStepIsReportedBusyWithItsProgressAndItsRequesterCancelsIt) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim(lockstep_macsim(domain));
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "busy_simulator_test"});
+  client::SimulationClient sim(p);
+  client::SupervisorClient supervisor(p);
+  ASSERT_TRUE(sim.wait_for_server(20s));
+  ASSERT_TRUE(supervisor.wait_for_server(20s));
+
+  // A short timeout on a long step: busy, with its progress.
+  CallOutcome outcome;
+  EXPECT_FALSE(sim.call(client::step_until::request(kLong, 1), 2s, {}, &outcome));
+  EXPECT_EQ(outcome.kind, CallOutcome::Kind::Busy);
+  EXPECT_TRUE(outcome.acknowledged);
+  EXPECT_EQ(outcome.steps_asked, kLong);
+  EXPECT_GT(outcome.steps_done, 0u);
+  EXPECT_LT(outcome.since_heard, 1.0);
+  const std::string said = client::describe(outcome, "simulation control");
+  EXPECT_NE(said.find("busy with this request"), std::string::npos) << said;
+  EXPECT_NE(said.find("of 2,147,483,648 steps done"), std::string::npos) << said;
+  EXPECT_EQ(sim.last_outcome().kind, CallOutcome::Kind::Busy);
+
+  // Another step request is refused while it runs; the supervisor is served between steps.
+  auto refused = sim.step(1, 5s);
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->code(), mm::ERR_INVALID_ARGUMENT);
+  EXPECT_NE(refused->message().find("SIM_CANCEL"), std::string::npos) << refused->message();
+  auto hash = supervisor.call(client::supervisor::state_hash(), 5s);
+  ASSERT_TRUE(hash);
+  EXPECT_EQ(hash->code(), mm::ERR_OK);
+
+  // Its requester cancels it: the cancel's reply names how far it got.
+  auto cancelled = sim.call(client::SimulationClient::request(mm::SIM_CANCEL), 5s);
+  ASSERT_TRUE(cancelled);
+  EXPECT_EQ(cancelled->code(), mm::ERR_OK) << cancelled->message();
+  EXPECT_EQ(cancelled->ended_by(), mm::STEP_CANCELLED);
+  EXPECT_EQ(cancelled->steps_asked(), kLong);
+  EXPECT_GT(cancelled->steps_done(), outcome.steps_done);
+  EXPECT_EQ(cancelled->steps(), cancelled->steps_done());  // the world's steps: all of it
+  EXPECT_TRUE(cancelled->paused());  // lock-step stays paused
+
+  // Nothing is left to cancel, and the simulator answers the next request.
+  auto nothing = sim.call(client::SimulationClient::request(mm::SIM_CANCEL), 5s);
+  ASSERT_TRUE(nothing);
+  EXPECT_EQ(nothing->code(), mm::ERR_NOT_APPLICABLE);
+  auto next = sim.step(10, 5s);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->code(), mm::ERR_OK);
+  EXPECT_EQ(next->steps(), cancelled->steps() + 10);
+  EXPECT_EQ(next->steps_done(), 10u);
+
+  // A step another thread waits on ends with a cancelled reply when its client cancels it by
+  // its sequence number (0: whichever runs).
+  auto waiting = std::async(std::launch::async, [&] {
+    CallOutcome o;
+    auto r = sim.call(client::step_until::request(kLong, 1), 60s, {}, &o);
+    return std::make_pair(r, o);
+  });
+  std::this_thread::sleep_for(1s);
+  auto stop = client::SimulationClient::request(mm::SIM_CANCEL);
+  stop.cancel_sequence_number(1000);  // no such request
+  auto wrong = sim.call(stop, 5s);
+  ASSERT_TRUE(wrong);
+  EXPECT_EQ(wrong->code(), mm::ERR_NOT_APPLICABLE);
+  stop.cancel_sequence_number(0);
+  auto stopped = sim.call(stop, 5s);
+  ASSERT_TRUE(stopped);
+  EXPECT_EQ(stopped->code(), mm::ERR_OK) << stopped->message();
+  ASSERT_EQ(waiting.wait_for(5s), std::future_status::ready);
+  const auto [ended, how] = waiting.get();
+  ASSERT_TRUE(ended) << client::describe(how, "simulation control");
+  EXPECT_EQ(ended->code(), mm::ERR_NOT_APPLICABLE);
+  EXPECT_EQ(ended->ended_by(), mm::STEP_CANCELLED);
+  EXPECT_NE(ended->message().find("cancelled by its client"), std::string::npos)
+      << ended->message();
+  EXPECT_GT(ended->steps_done(), 0u);
+  EXPECT_EQ(ended->steps_done(), stopped->steps_done());
+  EXPECT_EQ(ended->steps(), next->steps() + ended->steps_done());
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0);
+}
+
+TEST(BusySimulator, ARepeatOfARequestStillRunningGetsItsProgressAndRunsOnce) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim(lockstep_macsim(domain));
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "busy_simulator_test"});
+  std::mutex mutex;
+  std::vector<mm::SimulationReply_> heard;
+  dds::Writer<mm::SimulationRequest_PubSubType> requests(p, dds::topics::kSimulationRequest,
+                                                         dds::QosFamily::Command);
+  dds::Reader<mm::SimulationReply_PubSubType> replies(
+      p, dds::topics::kSimulationReply, dds::QosFamily::Command,
+      [&](const mm::SimulationReply_& r) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (r.client_id() == "repeater") heard.push_back(r);
+      });
+  for (int i = 0; i < 200 && (requests.matched() == 0 || replies.matched() == 0); ++i) {
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_GT(requests.matched(), 0);
+  const auto count = [&](int code) {
+    std::lock_guard<std::mutex> lock(mutex);
+    return std::count_if(heard.begin(), heard.end(), [&](const auto& r) {
+      return r.sequence_number() == 1 && r.code() == code;
+    });
+  };
+  auto step = client::step_until::request(kLong, 1);
+  step.client_id("repeater");
+  step.sequence_number(1);
+  requests.write(step);
+  for (int i = 0; i < 100 && count(mm::ERR_IN_PROGRESS) == 0; ++i) {
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_GT(count(mm::ERR_IN_PROGRESS), 0);
+  for (int i = 0; i < 3; ++i) requests.write(step);  // sent again, as a client that heard nothing
+  std::this_thread::sleep_for(1s);
+  // Only progress, with steps counting up: no refusal of a second run, no final reply.
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    uint64_t last = 0;
+    for (const auto& r : heard) {
+      EXPECT_EQ(r.code(), mm::ERR_IN_PROGRESS) << r.message();
+      EXPECT_EQ(r.steps_asked(), kLong);
+      EXPECT_GE(r.steps_done(), last);
+      last = r.steps_done();
+    }
+    EXPECT_GT(last, 0u);
+  }
+  auto cancel = client::SimulationClient::request(mm::SIM_CANCEL);
+  cancel.client_id("repeater");
+  cancel.sequence_number(2);
+  cancel.cancel_sequence_number(1);
+  requests.write(cancel);
+  for (int i = 0; i < 100 && count(mm::ERR_NOT_APPLICABLE) == 0; ++i) {
+    std::this_thread::sleep_for(50ms);
+  }
+  std::this_thread::sleep_for(700ms);  // a progress reply after the final one would show now
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_FALSE(heard.empty());
+  std::size_t finals = 0;
+  for (std::size_t i = 0; i < heard.size(); ++i) {
+    if (heard[i].sequence_number() != 1 || heard[i].code() == mm::ERR_IN_PROGRESS) continue;
+    ++finals;
+    EXPECT_EQ(heard[i].ended_by(), mm::STEP_CANCELLED);
+    for (std::size_t j = i + 1; j < heard.size(); ++j) {
+      EXPECT_NE(heard[j].sequence_number(), 1u) << "progress after the final reply";
+    }
+  }
+  EXPECT_EQ(finals, 1u);
+}
+
+TEST(BusySimulator, ASimulatorKilledDuringALongStepIsReportedGoneWithinSeconds) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim(lockstep_macsim(domain));
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "busy_simulator_test"});
+  client::SimulationClient sim(p);
+  ASSERT_TRUE(sim.wait_for_server(20s));
+  auto waiting = std::async(std::launch::async, [&] {
+    CallOutcome o;
+    auto r = sim.call(client::step_until::request(kLong, 1), 60s, {}, &o);
+    return std::make_pair(r.has_value(), o);
+  });
+  std::this_thread::sleep_for(1500ms);  // acknowledged by now (progress after 0.2 s)
+  macsim.signal(SIGKILL);
+  const auto killed = std::chrono::steady_clock::now();
+  ASSERT_EQ(waiting.wait_for(15s), std::future_status::ready) << "waited out the timeout";
+  const double after = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  const auto [replied, outcome] = waiting.get();
+  EXPECT_FALSE(replied);
+  EXPECT_EQ(outcome.kind, CallOutcome::Kind::Gone);
+  EXPECT_TRUE(outcome.acknowledged);
+  EXPECT_GT(outcome.steps_done, 0u);
+  EXPECT_LT(after, 10.0);
+  EXPECT_LT(outcome.waited, 20.0);
+  const std::string said = client::describe(outcome, "simulation control", domain);
+  EXPECT_NE(said.find("stopped answering"), std::string::npos) << said;
+  EXPECT_EQ(macsim.wait_for_exit(5s), 128 + SIGKILL);
+}
+
+TEST(BusySimulator, NoSimulatorIsReportedNotFound) {
+  const int domain = unique_test_domain();
+  dds::Participant p({domain, "", "busy_simulator_test"});
+  client::SimulationClient sim(p);
+  CallOutcome outcome;
+  EXPECT_FALSE(sim.call(client::SimulationClient::request(mm::SIM_STATUS), 1s, {}, &outcome));
+  EXPECT_EQ(outcome.kind, CallOutcome::Kind::NoServer);
+  EXPECT_FALSE(outcome.acknowledged);
+  const std::string said = client::describe(outcome, "simulation control", domain);
+  EXPECT_NE(said.find("is macsim running with the same --domain"), std::string::npos) << said;
+  EXPECT_NE(said.find("domain " + std::to_string(domain)), std::string::npos) << said;
+}
+
+}  // namespace
+}  // namespace macsim::test
