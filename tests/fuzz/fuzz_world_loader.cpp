@@ -1,8 +1,10 @@
 // Fuzzes the world loader from bytes: a bundle of files held in memory (the root world, its
 // imports and textures), so IMPORT chains, cycles, fan-outs and BMP decoding are all reached.
-// A world that loads is built and stepped; what must hold of any world is checked after each
-// step. A WorldFileError is the expected answer to bad input; anything else escaping, an
+// A world that loads is built, checked for objects that start inside each other (the check
+// macsim runs on every world it loads) and stepped; what must hold of any world is checked after
+// each step. A WorldFileError is the expected answer to bad input; anything else escaping, an
 // abort inside ODE, a sanitizer report or a broken invariant is a finding.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -28,6 +30,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     return 0;  // refused with a file and a line: the answer bad input should get
   }
   World world(std::move(spec));  // a loaded world must build: anything thrown is a finding
+  // Whatever the sizes and poses, the overlap check finishes with pairs it can report.
+  const OverlapReport overlaps = world.overlaps();
+  for (const auto& pair : overlaps.pairs) {
+    if (!(pair.depth > kOverlapTolerance) || !std::isfinite(pair.depth) || pair.first.empty() ||
+        pair.second.empty()) {
+      std::fprintf(stderr, "overlap report broken: '%s' and '%s' at %g m\n", pair.first.c_str(),
+                   pair.second.c_str(), pair.depth);
+      std::abort();
+    }
+  }
+  if (overlaps.pairs.size() > kMaxOverlapPairs || overlap_warnings(overlaps).size() > 21) {
+    std::fprintf(stderr, "overlap report not capped: %zu pairs\n", overlaps.pairs.size());
+    std::abort();
+  }
   for (int i = 0; i < 10; ++i) {
     world.step();
     if (auto broken = test::invariant_violation(world)) {

@@ -272,6 +272,94 @@ TEST(MacsimCli, ValidatePrintsASummaryAndExitsZero) {
       << p.output();
 }
 
+// Objects that start inside each other: named with file, line and depth by --validate (exit 0),
+// refused by --strict with the exit code of a bad world file; shipped worlds are clean.
+TEST(MacsimCli, ValidateNamesObjectsThatStartInsideEachOtherAndStrictRefusesThem) {
+  const std::string world = source("tests/worlds/overlapping_objects.xml");
+  ChildProcess validate({bin("macsim"), "--world", world, "--validate"});
+  ASSERT_EQ(validate.wait_for_exit(20s), 0) << validate.output();
+  const std::string out = validate.output();
+  for (const std::string line :
+       {world + ":14: warning: 'box_a' and 'box_b' start inside each other, 0.100 m deep",
+        world + ":22: warning: 'box_in_kurt' and 'kurt' start inside each other, 0.155 m deep",
+        world + ":26: warning: 'sunk_ball' and 'ground' start inside each other, 0.050 m deep",
+        std::string("macsim: 3 pairs of objects start inside each other (warnings above)")}) {
+    EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
+  }
+  for (const char* touching : {"floor_box", "can_on_box", "box_at_wall"}) {
+    EXPECT_EQ(out.find(touching), std::string::npos) << touching << "\n" << out;
+  }
+
+  ChildProcess strict({bin("macsim"), "--world", world, "--validate", "--strict"});
+  ASSERT_EQ(strict.wait_for_exit(20s), 1) << strict.output();
+  EXPECT_NE(strict.output().find("macsim: " + world +
+                                 ":22: refused: 3 pairs of objects start inside each other: "
+                                 "'box_in_kurt' and 'kurt' 0.155 m deep; 'box_a' and 'box_b'"),
+            std::string::npos)
+      << strict.output();
+  // Not only when validating: macsim refuses to serve it.
+  ChildProcess serve({bin("macsim"), "--world", world, "--strict", "--cameras", "off", "--domain",
+                      std::to_string(unique_test_domain())});
+  ASSERT_EQ(serve.wait_for_exit(20s), 1) << serve.output();
+  EXPECT_EQ(serve.output().find("serving on DDS"), std::string::npos) << serve.output();
+
+  for (const char* shipped : {"worlds/DemoWorld_v1.xml", "worlds/small_room.xml"}) {
+    ChildProcess clean({bin("macsim"), "--world", source(shipped), "--validate", "--strict"});
+    ASSERT_EQ(clean.wait_for_exit(20s), 0) << clean.output();
+    EXPECT_NE(clean.output().find("macsim: no objects start inside each other"),
+              std::string::npos)
+        << clean.output();
+    EXPECT_EQ(clean.output().find("warning"), std::string::npos) << clean.output();
+  }
+}
+
+TEST(MacsimCli, OverlapWarningsAreCappedWithACountOfTheRest) {
+  const std::string path = ::testing::TempDir() + "boxes_at_one_point.xml";
+  {
+    std::ofstream file(path);
+    file << "<WORLD><NAME>pile</NAME>\n";
+    for (int i = 0; i < 30; ++i) {
+      file << "<OBJECT><ID>box_" << i << "</ID><TYPE>PORTABLE</TYPE><SHAPE>BOX</SHAPE>"
+           << "<DIMS>0.2,0.2,0.2</DIMS><POS>0,0,0.1</POS></OBJECT>\n";
+    }
+    file << "</WORLD>\n";
+  }
+  ChildProcess p({bin("macsim"), "--world", path, "--validate"});
+  ASSERT_EQ(p.wait_for_exit(20s), 0) << p.output();
+  std::istringstream lines(p.output());
+  int named = 0;
+  for (std::string line; std::getline(lines, line);) {
+    named += line.find("' start inside each other, 0.200 m deep") != std::string::npos;
+  }
+  EXPECT_EQ(named, 20) << p.output();  // of 435 pairs
+  EXPECT_NE(p.output().find("warning: ... and 415 more pairs of objects inside each other"),
+            std::string::npos)
+      << p.output();
+  EXPECT_NE(p.output().find("macsim: 435 pairs of objects start inside each other"),
+            std::string::npos)
+      << p.output();
+}
+
+// A world a request loads is checked too: its pairs are warned of in macsim's log and, under
+// --strict, the load is refused with the same message while the old world runs on.
+TEST(MacsimCli, StrictRefusesARequestToLoadAWorldWhoseObjectsStartInsideEachOther) {
+  const std::string domain = std::to_string(unique_test_domain());
+  ChildProcess macsim({bin("macsim"), "--world", source("tests/worlds/DemoWorld_stiff_switch.xml"),
+                       "--strict", "--domain", domain, "--cameras", "off"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
+  const std::string world = source("tests/worlds/overlapping_objects.xml");
+  ChildProcess load({bin("interfaceTest"), "-load", world, "--domain", domain});
+  EXPECT_EQ(load.wait_for_exit(60s), 1) << load.output();
+  EXPECT_NE(load.output().find(world + ":22: refused: 3 pairs of objects start inside each other"),
+            std::string::npos)
+      << load.output();
+  EXPECT_TRUE(macsim.wait_for_output("'box_a' and 'box_b' start inside each other", 10s))
+      << macsim.output();
+  EXPECT_TRUE(macsim.running());
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
+}
+
 TEST(MacsimCli, AWorldNamedAloneIsFoundAmongTheSharedWorlds) {
   // No small_room.xml where the test runs: the one in share/macsim/worlds beside bin/ is loaded.
   ASSERT_FALSE(std::filesystem::exists("small_room.xml"));

@@ -128,6 +128,8 @@ class Runner {
   const World& world() const { return *world_; }
   /// Counts world replacements: ids, snapshots and schedules of an older generation are void.
   uint64_t generation() const { return generation_; }
+  /// Objects this world and every later one may hold at most (World::set_max_objects).
+  void set_max_objects(std::size_t max_objects);
   /// The named snapshots of the current world, within their caps (emptied when it is replaced).
   SnapshotStore& snapshots() { return snapshots_; }
 
@@ -150,6 +152,7 @@ class Runner {
   std::unique_ptr<World> world_;
   uint64_t generation_ = 0;
   SnapshotStore snapshots_;
+  std::size_t max_objects_ = bounds::kMaxObjects;
   RunSettings settings_;
   uint64_t requested_steps_ = 0;  // left of request_
   uint64_t steps_since_check_ = 0;
