@@ -472,6 +472,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   runner->snapshots().set_limits(o.snapshot_limits);
+  runner->set_max_objects(std::size_t(o.max_objects));
   if (o.validate) return 0;
   if (!o.snapshots.empty()) return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
 

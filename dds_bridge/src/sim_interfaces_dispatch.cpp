@@ -542,7 +542,11 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
       environment.objects.size() == 1 && environment.joints.empty() && environment.doors.empty();
   if (single) environment.objects.front().name = name;  // one object: the entity itself
   const auto added = world.add_environment(std::move(environment), pose);
-  if (!added.ok()) return fail(sc::INVALID_POSE, added.status.message);
+  if (!added.ok()) {
+    return fail(added.status.code == ErrorCode::LimitReached ? rc::RESULT_OPERATION_FAILED
+                                                             : sc::INVALID_POSE,
+                added.status.message);
+  }
   r.entity_name(name);
   r.result(result(rc::RESULT_OK));
   return r;

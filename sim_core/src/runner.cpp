@@ -13,6 +13,11 @@ using Clock = std::chrono::steady_clock;
 Runner::Runner(WorldSpec spec, RunSettings settings)
     : world_(std::make_unique<World>(std::move(spec))), settings_(settings) {}
 
+void Runner::set_max_objects(std::size_t max_objects) {
+  max_objects_ = max_objects;
+  world_->set_max_objects(max_objects);
+}
+
 Runner::~Runner() {
   std::vector<std::future<void>> loaders;
   {
@@ -120,6 +125,7 @@ void Runner::replace_world(Load& load) {
     } else {
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
       admit_overlaps(*world, settings_.refuse_overlaps, settings_.warn);
+      world->set_max_objects(max_objects_);
       world_ = std::move(world);
       ++generation_;
       snapshots_.clear();

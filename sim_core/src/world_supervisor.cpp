@@ -154,7 +154,21 @@ Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> World::object_wrench(ObjectI
 
 // ---- creating and destroying -------------------------------------------------------------
 
+namespace {
+
+/// LimitReached: `adding` more objects would pass the world's cap.
+Status objects_capped(std::size_t count, std::size_t adding, std::size_t cap) {
+  return Status::error(ErrorCode::LimitReached,
+                       "the world holds " + std::to_string(count) + " objects and may hold " +
+                           std::to_string(cap) + " (macsim --max-objects); " +
+                           std::to_string(adding) +
+                           " more would pass the cap: destroy some first, or raise the cap");
+}
+
+}  // namespace
+
 Status World::validate_new_object(ObjectSpec& spec) const {
+  if (objects_.size() >= max_objects_) return objects_capped(objects_.size(), 1, max_objects_);
   if (spec.kind != ObjectKind::Object && spec.kind != ObjectKind::Wall &&
       spec.kind != ObjectKind::Ramp) {
     return invalid("door and switch parts are created with import_environment(), not alone");
@@ -214,6 +228,9 @@ Result<ObjectId> World::create_object(ObjectSpec spec, PenetrationPolicy policy)
 
 Status World::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
   if (!fragment.robots.empty()) return invalid("robots cannot be added to a running world");
+  if (objects_.size() + fragment.objects.size() > max_objects_) {
+    return objects_capped(objects_.size(), fragment.objects.size(), max_objects_);
+  }
   for (const auto& object : fragment.objects) {
     if (find_object(object.name))
       return invalid("an object named '" + object.name + "' exists already");

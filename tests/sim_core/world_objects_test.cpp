@@ -29,6 +29,26 @@ TEST_F(WorldObjects, IdsStayStableWhileIndicesShift) {
   EXPECT_GT(created.value, third);  // ids are never reused
 }
 
+TEST_F(WorldObjects, CreatingAndImportingStopAtTheCapOnObjects) {
+  EXPECT_EQ(world.max_objects(), bounds::kMaxObjects);
+  const auto count = static_cast<std::size_t>(world.object_count());
+  world.set_max_objects(count + 1);
+  ASSERT_TRUE(world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5})).ok());
+  const uint64_t hash = world.state_hash();
+  const auto refused =
+      world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, -0.3, 0.5}));
+  EXPECT_EQ(refused.status.code, ErrorCode::LimitReached);
+  EXPECT_NE(refused.status.message.find("--max-objects"), std::string::npos)
+      << refused.status.message;
+  EXPECT_NE(refused.status.message.find(std::to_string(count + 1)), std::string::npos);
+  const auto imported = world.import_environment(
+      source("worlds/DemoEnvironment_v1/objects/blocks.xml"), "more", Pose{});
+  EXPECT_EQ(imported.status.code, ErrorCode::LimitReached) << imported.status.message;
+  EXPECT_EQ(world.state_hash(), hash);  // nothing changed
+  ASSERT_TRUE(world.destroy_object(*world.object_at(0)).ok());  // a place freed
+  EXPECT_TRUE(world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, -0.3, 0.5})).ok());
+}
+
 TEST_F(WorldObjects, LooksUpByUserDataAndDestroysGroups) {
   const auto cans = world.find_by_user_data("can");
   EXPECT_EQ(cans.size(), 5u);

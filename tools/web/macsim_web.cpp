@@ -101,12 +101,19 @@ int main(int argc, char** argv) {
   cli.option("robot", "NAME", "the robot to show (default kurt)", &robot);
   cli.option("root", "DIR", "the page's files (default: share/macsim/web beside this program's bin/)",
              &server.root);
+  int max_clients = int(server.max_clients);
+  cli.option("max-clients", "N",
+             "browsers connected at once at most; more get HTTP 503 (default " +
+                 std::to_string(max_clients) + ")",
+             &max_clients);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(rate > 0 && rate <= 240) || !(image_rate >= 0 && image_rate <= 60) || server.port < 0 ||
-      server.port > 65535) {
-    std::cerr << "macsim_web: --rate is 0..240 Hz, --image-rate 0..60 Hz, --port 0..65535\n";
+      server.port > 65535 || max_clients < 1) {
+    std::cerr << "macsim_web: --rate is 0..240 Hz, --image-rate 0..60 Hz, --port 0..65535, "
+                 "--max-clients at least 1\n";
     return 2;
   }
+  server.max_clients = std::size_t(max_clients);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 

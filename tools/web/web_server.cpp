@@ -62,6 +62,8 @@ struct WebServer::Impl {
   std::set<Handle, std::owner_less<Handle>> connections;  // touched on the server's thread only
   std::atomic<std::size_t> count{0};
   std::size_t max_buffered = 0;
+  std::size_t max_clients = 0;
+  std::atomic<std::size_t> refused{0};
   OnOpen on_open;
   OnMessage on_message;
   std::thread thread;
@@ -88,6 +90,7 @@ WebServer::WebServer(const Options& options, OnOpen on_open, OnMessage on_messag
   Impl& s = *impl_;
   s.files = read_files(options.root);
   s.max_buffered = options.max_buffered;
+  s.max_clients = options.max_clients;
   s.on_open = std::move(on_open);
   s.on_message = std::move(on_message);
   s.server.clear_access_channels(websocketpp::log::alevel::all);
@@ -113,6 +116,17 @@ WebServer::WebServer(const Options& options, OnOpen on_open, OnMessage on_messag
     connection->append_header("Content-Type", content_type(path));
     connection->append_header("Cache-Control", "no-cache");
     connection->set_body(file->second);
+  });
+  s.server.set_validate_handler([&s](Handle handle) {  // a WebSocket handshake, before open
+    if (s.connections.size() < s.max_clients) return true;
+    ++s.refused;
+    auto connection = s.server.get_con_from_hdl(handle);
+    connection->set_status(websocketpp::http::status_code::service_unavailable);
+    connection->append_header("Content-Type", "text/plain; charset=utf-8");
+    connection->set_body(std::to_string(s.max_clients) +
+                         " browsers are connected, the cap (macsim_web --max-clients); close one "
+                         "and reload\n");
+    return false;
   });
   s.server.set_open_handler([&s](Handle handle) {
     s.connections.insert(handle);
@@ -173,6 +187,8 @@ WebServer::~WebServer() {
 int WebServer::port() const { return impl_->port; }
 
 std::size_t WebServer::clients() const { return impl_->count; }
+
+std::size_t WebServer::clients_refused() const { return impl_->refused; }
 
 void WebServer::broadcast_text(std::string text) {
   Impl& s = *impl_;

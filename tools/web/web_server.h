@@ -19,6 +19,7 @@ class WebServer {
     int port = 8080;                      ///< 0: any free port (port() says which)
     std::string root;                     ///< directory whose files are served (read at start)
     std::size_t max_buffered = 2u << 20;  ///< bytes queued to a client before frames skip it
+    std::size_t max_clients = 16;  ///< WebSocket clients at once; more get HTTP 503 (--max-clients)
   };
   /// A new client: the frames it gets first (text), e.g. the whole scene.
   using OnOpen = std::function<std::vector<std::string>()>;
@@ -41,6 +42,8 @@ class WebServer {
   void broadcast_binary(std::string bytes);
   /// Frames a client missed so far because it was still busy with earlier ones.
   std::size_t frames_skipped() const;
+  /// WebSocket clients refused so far because max_clients were connected.
+  std::size_t clients_refused() const;
 
  private:
   struct Impl;

@@ -12,6 +12,7 @@
 #include "macsim/sim_core/data_roots.h"
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/ode_handles.h"
+#include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_overlaps.h"
 #include "macsim/sim_core/world_spec.h"
 #include "macsim/sim_core/world_state.h"
@@ -276,6 +277,12 @@ class World {
   void set_data_roots(std::shared_ptr<const DataRoots> roots);
   const DataRoots& data_roots() const { return *files_; }
 
+  // ---- caps --------------------------------------------------------------------------------
+  /// Objects the world may hold at most (created and imported ones included): an operation that
+  /// would pass it is refused with LimitReached. Default bounds::kMaxObjects (macsim --max-objects).
+  void set_max_objects(std::size_t max_objects) { max_objects_ = max_objects; }
+  std::size_t max_objects() const { return max_objects_; }
+
  private:
   struct Object;
   struct Joint;
@@ -345,6 +352,7 @@ class World {
   std::vector<WorldEvent> events_;
   mutable std::vector<std::string> textures_;  // texture id - 1 -> file
   std::shared_ptr<const DataRoots> files_ = DataRoots::anywhere();
+  std::size_t max_objects_ = bounds::kMaxObjects;
   WorldState initial_;
   uint64_t fingerprint_ = 0;
   unsigned long random_seed_ = 0;  // this world's dRand state

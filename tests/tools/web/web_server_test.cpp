@@ -1,0 +1,97 @@
+// macsim_web's server without a browser: WebSocket handshakes over a plain socket; at most
+// max_clients at once, the next refused with HTTP 503 naming the cap, a closed one's place free.
+#include "web_server.h"
+
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <functional>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+
+namespace macsim::web {
+namespace {
+
+/// A socket that asked `port` for a WebSocket; what the server answered (up to the body's start).
+struct Handshake {
+  int fd = -1;
+  std::string answer;
+  explicit Handshake(int port) {
+    fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) return;
+    const std::string request =
+        "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+        "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
+    if (::send(fd, request.data(), request.size(), 0) < 0) return;
+    timeval limit{5, 0};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+    char buffer[4096];
+    while (answer.find("\r\n\r\n") == std::string::npos) {
+      const ssize_t got = ::recv(fd, buffer, sizeof buffer, 0);
+      if (got <= 0) break;
+      answer.append(buffer, static_cast<std::size_t>(got));
+    }
+    // A refusal's body may come in the next segment.
+    if (answer.find(" 503 ") != std::string::npos) {
+      const ssize_t got = ::recv(fd, buffer, sizeof buffer, 0);
+      if (got > 0) answer.append(buffer, static_cast<std::size_t>(got));
+    }
+  }
+  ~Handshake() { close(); }
+  void close() {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+  }
+  bool accepted() const { return answer.rfind("HTTP/1.1 101", 0) == 0; }
+};
+
+bool wait_until(const std::function<bool()>& done) {
+  for (int i = 0; i < 500; ++i) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return done();
+}
+
+TEST(WebServer, AtMostMaxClientsBrowsersAtOnceTheNextIsRefusedWith503) {
+  const std::filesystem::path root =
+      std::filesystem::temp_directory_path() / ("macsim_web_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(root);
+  std::ofstream(root / "index.html") << "<html></html>";
+  WebServer::Options options;
+  options.port = 0;
+  options.root = root.string();
+  options.max_clients = 2;
+  WebServer server(options, nullptr, nullptr);
+
+  Handshake first(server.port()), second(server.port());
+  EXPECT_TRUE(first.accepted()) << first.answer;
+  EXPECT_TRUE(second.accepted()) << second.answer;
+  ASSERT_TRUE(wait_until([&] { return server.clients() == 2; }));
+  Handshake third(server.port());
+  EXPECT_FALSE(third.accepted());
+  EXPECT_EQ(third.answer.rfind("HTTP/1.1 503", 0), 0u) << third.answer;
+  EXPECT_NE(third.answer.find("--max-clients"), std::string::npos) << third.answer;
+  EXPECT_EQ(server.clients_refused(), 1u);
+  EXPECT_EQ(server.clients(), 2u);
+
+  first.close();
+  ASSERT_TRUE(wait_until([&] { return server.clients() == 1; }));
+  Handshake fourth(server.port());
+  EXPECT_TRUE(fourth.accepted()) << fourth.answer;
+  std::filesystem::remove_all(root);
+}
+
+}  // namespace
+}  // namespace macsim::web
