@@ -1,5 +1,6 @@
 // sim_core step rate against raw ODE on the same bodies and geoms, step rate for 10 / 100 /
-// 1000 portable objects, and the cost of snapshot, restore and reset. Prints `name value unit`.
+// 1000 portable objects, the overlap check's cost, and the cost of snapshot, restore and reset.
+// Prints `name value unit`.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -79,9 +80,22 @@ int main(int argc, char** argv) {
 
   // 2b. Scale: grids of boxes resting on the floor (asleep once settled); the cost should grow
   // about linearly with their number.
-  std::map<int, double> resting;
+  std::map<int, double> resting, overlap_check;
+  auto check_time = [](const macsim::World& world) {  // World::overlaps(), median of 5
+    std::vector<double> times;
+    for (int i = 0; i < 5; ++i) {
+      const auto start = Clock::now();
+      const auto report = world.overlaps();
+      times.push_back(seconds_since(start));
+      if (report.truncated) std::printf("#\n");  // keep the report
+    }
+    return median(times);
+  };
   for (int n : {1000, 5000, 20000}) {
     macsim::World world(macsim::bench::resting_boxes(n));
+    // 2c. The overlap check macsim runs on a world it loads: each box touches the floor.
+    overlap_check[n] = check_time(world);
+    std::printf("overlaps.resting_boxes_%d %.2f ms\n", n, overlap_check[n] * 1e3);
     for (int i = 0; i < 200; ++i) world.step();  // settle: they fall asleep
     const auto start = Clock::now();
     int steps = 0;
@@ -94,6 +108,14 @@ int main(int argc, char** argv) {
   }
   std::printf("scale.resting_boxes_20000_over_5000 %.3f x (linear: 0.25)\n",
               resting[20000] / resting[5000]);
+  std::printf("scale.overlaps_20000_over_5000 %.2f x (linear: 4)\n",
+              overlap_check[20000] / overlap_check[5000]);
+  {  // the degenerate case: 200 boxes at one point, 19,900 pairs (examined up to the cap)
+    macsim::WorldSpec point = macsim::bench::resting_boxes(200);
+    for (auto& box : point.objects) box.pose.position = {0, 0, 0.05};
+    const macsim::World world(point);
+    std::printf("overlaps.boxes_at_one_point_200 %.2f ms\n", check_time(world) * 1e3);
+  }
 
   // 3. Trials: snapshot, restore, reset.
   macsim::World world(spec);
