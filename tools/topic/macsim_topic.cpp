@@ -476,6 +476,10 @@ int run_pub(int argc, char** argv) {
 /// Receives samples on DDS threads and stores them from the recording thread.
 class Recorder {
  public:
+  /// Bytes received and not yet stored at most: a disk slower than the topics drops samples
+  /// (counted as lost) instead of filling memory.
+  static constexpr std::size_t kMaxQueuedBytes = std::size_t{256} << 20;
+
   explicit Recorder(topic::BagWriter& bag) : bag_(bag) {}
   void add(dds::Participant& participant, const topic::TopicSummary& t) {
     const std::string ros_name = dds::ros_topic_name(t.name);
@@ -490,6 +494,10 @@ class Recorder {
     readers_.push_back(std::make_unique<topic::RawReader>(
         participant, t.name, dds_type, qos_for(t, 0), [this, id, count](topic::ReceivedSample&& s) {
           std::lock_guard<std::mutex> lock(mutex_);
+          if (queued_bytes_ + s.bytes.size() > kMaxQueuedBytes) {
+            ++dropped_;
+            return;
+          }
           ++*count;
           queued_bytes_ += s.bytes.size();
           queue_.push_back({id, std::move(s)});
@@ -516,7 +524,7 @@ class Recorder {
   }
   bool has(const std::string& topic) const { return counts_.count(topic) != 0; }
   std::uint64_t lost() const {
-    std::uint64_t n = lost_;
+    std::uint64_t n = lost_ + dropped_;
     for (const auto& r : readers_) n += r->lost();
     return n;
   }
@@ -530,6 +538,7 @@ class Recorder {
   std::size_t queued_bytes_ = 0;
   std::map<std::string, std::uint64_t> counts_;
   std::uint64_t lost_ = 0;
+  std::uint64_t dropped_ = 0;  // over kMaxQueuedBytes
   std::vector<std::unique_ptr<topic::RawReader>> readers_;
 };
 
