@@ -30,7 +30,8 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
       folder_(std::move(folder)),
       size_(size),
       admission_(kMaxInFlight, max_files),
-      replies_(participant, dds::topics::kPictureReply, dds::QosFamily::Command) {
+      replies_(participant, dds::topics::kPictureReply, dds::QosFamily::Command),
+      progress_([this](const Reply& reply) { replies_.write(reply); }) {
   if (!folder_.empty()) renderer_ = std::thread([this] { render_loop(); });
   requests_ = std::make_unique<dds::Reader<mm::PictureRequest_PubSubType>>(
       participant, dds::topics::kPictureRequest, dds::QosFamily::Command,
@@ -60,13 +61,17 @@ void PictureServer::send(const Request& request, int code, const std::string& me
     std::lock_guard<std::mutex> lock(mutex_);
     replied_.remember(reply);
   }
+  progress_.end(reply.client_id(), reply.sequence_number());
   replies_.write(reply);
 }
 
 void PictureServer::accept(const Request& r) {
+  // A repeat of a request still waiting gets its progress (ERR_IN_PROGRESS) instead.
+  if (!progress_.begin(r, "taking and rendering the picture '" + r.name() + "'")) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (const Reply* again = replied_.find(r)) {
+      progress_.end(r.client_id(), r.sequence_number());
       replies_.write(*again);
       return;
     }

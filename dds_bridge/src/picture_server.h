@@ -17,6 +17,7 @@
 #include "macsim/sim_core/scene.h"
 #include "picture_admission.h"
 #include "reply_cache.h"
+#include "request_progress.h"
 
 namespace macsim {
 
@@ -58,6 +59,7 @@ class PictureServer {
   bool stopping_ = false;
   ReplyCache<Reply> replied_;
   dds::Writer<macsim_msgs::msg::dds_::PictureReply_PubSubType> replies_;
+  RequestProgress<Reply> progress_;  // after replies_, which it writes to
   std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::PictureRequest_PubSubType>> requests_;
   std::thread renderer_;
 };

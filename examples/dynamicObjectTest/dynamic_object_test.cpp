@@ -31,7 +31,8 @@ struct Context {
 mm::SupervisorReply_ call(Context& c, const std::string& what, const SupervisorClient::Request& r) {
   const auto reply = c.supervisor.call(r);
   if (!reply) {
-    std::printf("  %-48s no reply\n", what.c_str());
+    std::printf("  %-48s no reply: %s\n", what.c_str(),
+                macsim::client::describe(c.supervisor.last_outcome(), "supervisor").c_str());
     ++c.failures;
     return {};
   }

@@ -36,7 +36,11 @@ int main(int argc, char** argv) {
       const auto reply = simulation.call(load);
       if (!reply || reply->code() != mm::ERR_OK) {
         std::cerr << "interfaceTest: the simulator did not load '" << world
-                  << "': " << (reply ? reply->message() : "no reply") << "\n";
+                  << "': "
+                  << (reply ? reply->message()
+                            : macsim::client::describe(simulation.last_outcome(),
+                                                       "simulation control", participant.domain))
+                  << "\n";
         return 1;
       }
       std::printf("interfaceTest: loaded %s\n", world.c_str());

@@ -134,7 +134,10 @@ void DemoController::tick(double seconds) {
     laser_.wait_delivered();
     const auto steps = static_cast<uint64_t>(std::max(1L, std::lround(seconds / step_size_)));
     auto reply = simulation_->step(steps);
-    if (!reply) throw Failure{kNoRobot, "the simulator stopped answering step requests"};
+    if (!reply) {
+      throw Failure{kNoRobot, macsim::client::describe(simulation_->last_outcome(),
+                                                       "simulation control")};
+    }
   }
   std::optional<macsim::client::RobotClient::Odometry> odometry;
   const auto deadline = std::chrono::steady_clock::now() + 10s;

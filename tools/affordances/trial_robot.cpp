@@ -137,7 +137,11 @@ struct TrialRobot::Impl {
 
   mm::SupervisorReply_ call(const sv::Request& request, const char* what) {
     auto reply = supervisor.call(request, o.timeout);
-    if (!reply) throw InstanceLost(std::string("no supervisor reply to ") + what);
+    if (!reply) {
+      throw InstanceLost(std::string("no supervisor reply to ") + what + ": " +
+                         macsim::client::describe(supervisor.last_outcome(), "supervisor",
+                                                  o.domain));
+    }
     if (reply->code() != 0)
       throw std::runtime_error(std::string(what) + " refused: " + reply->message());
     return *reply;
@@ -173,7 +177,11 @@ struct TrialRobot::Impl {
     const auto timeout =
         o.timeout + std::chrono::milliseconds(static_cast<int64_t>(std::ceil(n * dt * 1000)));
     auto reply = simulation.call(request, timeout);
-    if (!reply) throw InstanceLost("no step reply");
+    if (!reply) {
+      throw InstanceLost("no step reply: " + macsim::client::describe(simulation.last_outcome(),
+                                                                      "simulation control",
+                                                                      o.domain));
+    }
     if (reply->code() == mm::ERR_NOT_APPLICABLE)  // cancelled: paused, reset or replaced
       throw InstanceLost("step cancelled: " + reply->message());
     if (reply->code() != 0) throw std::runtime_error("step refused: " + reply->message());
@@ -431,7 +439,10 @@ void TrialRobot::connect(std::chrono::milliseconds timeout) {
   if (!m.simulation.wait_for_server(left())) throw InstanceLost("no simulation control" + where);
   auto features = m.simulation.call(macsim::client::SimulationClient::request(mm::SIM_FEATURES),
                                     std::max(left(), std::chrono::milliseconds(1000)));
-  if (!features) throw InstanceLost("no answer to SIM_FEATURES" + where);
+  if (!features) {
+    throw InstanceLost("no answer to SIM_FEATURES" + where + ": " +
+                       macsim::client::describe(m.simulation.last_outcome(), "simulation control"));
+  }
   if (features->features().find("lockstep") == std::string::npos ||
       features->features().find("supervisor") == std::string::npos)
     throw InstanceLost("the participant" + where +

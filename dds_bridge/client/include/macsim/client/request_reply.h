@@ -41,9 +41,13 @@ struct CallOutcome {
 
 /// `n` with thousands separated by commas: 2,147,483,648.
 inline std::string with_commas(uint64_t n) {
-  std::string digits = std::to_string(n);
-  for (int at = static_cast<int>(digits.size()) - 3; at > 0; at -= 3) digits.insert(at, ",");
-  return digits;
+  const std::string digits = std::to_string(n);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
 }
 
 /// One sentence saying why a call of `service` (e.g. "simulation control") got no reply; the
