@@ -152,6 +152,7 @@ struct Options {
   std::string max_snapshot_bytes = std::to_string(macsim::SnapshotLimits{}.max_bytes);
   int max_pictures = int(macsim::PictureServer::kDefaultMaxFiles);
   macsim::SnapshotLimits snapshot_limits;  // from the two above, once parsed
+  std::vector<std::string> data_paths;
 
   macsim::LoadLimits limits() const {
     return {std::size_t(max_import_depth), std::size_t(max_imported_files),
@@ -229,6 +230,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "refuse a world importing more files in all (default " +
                  std::to_string(o.max_imported_files) + ")",
              &o.max_imported_files);
+  cli.repeated_option(
+      "data-path", "DIR",
+      "let requests name files (worlds, imports, textures, spawns) under DIR too; without it "
+      "only the world's folder and the shipped worlds are read (repeatable)",
+      &o.data_paths);
   cli.option("max-snapshots", "N",
              "keep at most N named snapshots; saving a new name beyond is refused "
              "(ERR_LIMIT_REACHED) (default " + std::to_string(o.max_snapshots) + ")",
@@ -282,6 +288,19 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   if (o.realtime) o.rtf = 1.0;
 
   return std::nullopt;
+}
+
+/// The folders requests may name files in: the world's, the shipped worlds, each --data-path.
+std::shared_ptr<const macsim::DataRoots> data_roots(const Options& o) {
+  std::vector<std::string> folders;
+  std::error_code error;
+  folders.push_back(std::filesystem::absolute(o.world_file, error).parent_path().string());
+  if (const auto shipped = macsim::dds::data_file("worlds");
+      std::filesystem::is_directory(shipped, error)) {
+    folders.push_back(shipped);
+  }
+  folders.insert(folders.end(), o.data_paths.begin(), o.data_paths.end());
+  return std::make_shared<const macsim::DataRoots>(folders);
 }
 
 /// Serves the runner's world over DDS until SIGINT/SIGTERM or --duration; the exit code.
@@ -354,6 +373,9 @@ int serve(macsim::Runner& runner, const Options& o) {
               << "\n";
     for (const auto& service : macsim::SimInterfacesServer::service_names())
       std::cout << "  " << service << "\n";
+    std::cout << "macsim: requests may name files under:";
+    for (const auto& folder : runner.data_roots().folders()) std::cout << " " << folder.string();
+    std::cout << "\n";
     if (o.lockstep) {
       std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
     } else if (o.paused) {
@@ -470,6 +492,12 @@ int main(int argc, char** argv) {
   } catch (const macsim::WorldFileError& e) {
     std::cerr << "macsim: " << e.what() << std::endl;
     return 1;
+  }
+  try {
+    runner->set_data_roots(data_roots(o));
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "macsim: --data-path: " << e.what() << std::endl;
+    return 2;
   }
   runner->snapshots().set_limits(o.snapshot_limits);
   runner->set_max_objects(std::size_t(o.max_objects));

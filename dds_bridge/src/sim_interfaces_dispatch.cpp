@@ -10,6 +10,7 @@
 #include <set>
 
 #include "macsim/dds/convert.h"
+#include "macsim/sim_core/data_roots.h"
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
@@ -254,14 +255,21 @@ std::optional<si::Result_> select(const si::EntityFilters_& f, const World& worl
   return std::nullopt;
 }
 
-/// World or environment files (by their root element) in a folder, sorted.
-std::vector<fs::path> xml_files(const fs::path& folder, const char* root) {
+/// World or environment files (by their root element) in a folder, sorted; only files `roots`
+/// let be read are opened.
+std::vector<fs::path> xml_files(const fs::path& folder, const char* root, const DataRoots& roots) {
   std::vector<fs::path> found;
   std::error_code error;
   for (const auto& entry : fs::directory_iterator(folder, error)) {
     if (!entry.is_regular_file(error) || entry.path().extension() != ".xml") continue;
+    std::optional<std::string> bytes;
+    try {
+      bytes = roots.read(entry.path().string());
+    } catch (const FileRefused&) {
+      continue;  // e.g. a link out of the roots
+    }
     tinyxml2::XMLDocument doc;
-    if (doc.LoadFile(entry.path().c_str()) != tinyxml2::XML_SUCCESS) continue;
+    if (!bytes || doc.Parse(bytes->data(), bytes->size()) != tinyxml2::XML_SUCCESS) continue;
     if (doc.RootElement() && std::string(doc.RootElement()->Name()) == root) {
       found.push_back(entry.path());
     }
@@ -270,25 +278,39 @@ std::vector<fs::path> xml_files(const fs::path& folder, const char* root) {
   return found;
 }
 
-/// The folders to search: the one holding the world's file and its subfolders (two levels
-/// down), and the sources given (those that are no folder are named in `unknown`).
+/// The folders to search, each with its subfolders two levels down: the one holding the world's
+/// file, the data roots, and the sources given inside them (those outside the roots or that are
+/// no folder are named in `unknown`).
 std::vector<fs::path> search_folders(const World& world, const std::vector<std::string>& sources,
                                      std::string& unknown) {
-  std::vector<fs::path> folders;
+  const DataRoots& roots = world.data_roots();
+  std::vector<fs::path> starts;
   std::error_code error;
   if (!world.spec().file.empty()) {
     const fs::path home = fs::absolute(world.spec().file, error).parent_path();
-    folders.push_back(home);
-    for (auto it = fs::recursive_directory_iterator(home, error);
+    if (roots.contains(home.string())) starts.push_back(home.lexically_normal());
+  }
+  starts.insert(starts.end(), roots.folders().begin(), roots.folders().end());
+  std::vector<fs::path> folders;
+  const auto add = [&folders](const fs::path& folder) {
+    if (std::find(folders.begin(), folders.end(), folder) == folders.end()) {
+      folders.push_back(folder);
+    }
+  };
+  for (const fs::path& start : starts) {
+    add(start);
+    for (auto it = fs::recursive_directory_iterator(start, error);
          !error && it != fs::recursive_directory_iterator(); it.increment(error)) {
       if (it.depth() >= 1) it.disable_recursion_pending();
-      if (it->is_directory(error)) folders.push_back(it->path());
+      if (it->is_directory(error)) add(it->path());
     }
   }
   for (const std::string& s : sources) {
     const fs::path folder = uri_path(s);
-    if (fs::is_directory(folder, error)) {
-      folders.push_back(folder);
+    if (!roots.contains(folder.string())) {  // said before looking: no hint of what is there
+      unknown += (unknown.empty() ? "" : ", ") + s + " (outside the data roots)";
+    } else if (fs::is_directory(folder, error)) {
+      add(folder);
     } else {
       unknown += (unknown.empty() ? "" : ", ") + s;
     }
@@ -500,6 +522,9 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
                 "entity namespaces are not supported: the KURT's topics are named by the world");
   }
   const std::string file = uri_path(q.uri());
+  if (!file.empty() && !world.data_roots().contains(file)) {  // said before anything else
+    return fail(sc::RESOURCE_PARSE_ERROR, DataRoots::outside_message(file));
+  }
   if (!file.empty() && fs::path(file).extension() != ".xml") {
     return fail(sc::UNSUPPORTED_FORMAT, "'" + q.uri() + "' is no macsim_xml file (.xml)");
   }
@@ -529,10 +554,10 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
     environment = file.empty()
                       ? load_environment_string(q.resource_string(), name, world.spec().materials,
                                                 "resource_string.xml")
-                      : load_environment_file(file, name, world.spec().materials);
-  } catch (const std::exception& e) {
-    const bool missing = !file.empty() && !fs::exists(file);
-    return fail(sc::RESOURCE_PARSE_ERROR, missing ? "no file '" + file + "'" : e.what());
+                      : load_environment_file(file, name, world.spec().materials, {},
+                                              world.data_roots());
+  } catch (const std::exception& e) {  // missing, refused (outside the roots) or malformed
+    return fail(sc::RESOURCE_PARSE_ERROR, e.what());
   }
   if (environment.objects.empty()) return fail(sc::RESOURCE_PARSE_ERROR, "it holds no object");
   if (!environment.robots.empty()) {
@@ -605,7 +630,7 @@ ss::GetSpawnables_Response_ get_spawnables(const ss::GetSpawnables_Request_& q,
   ss::GetSpawnables_Response_ r;
   std::string unknown;
   for (const fs::path& folder : search_folders(world, q.sources(), unknown)) {
-    for (const fs::path& file : xml_files(folder, "ENVIRONMENT")) {
+    for (const fs::path& file : xml_files(folder, "ENVIRONMENT", world.data_roots())) {
       si::Spawnable_ s;
       s.uri("file://" + file.string());
       s.description("macsim_xml environment " + file.filename().string());
@@ -639,7 +664,7 @@ ss::GetAvailableWorlds_Response_ get_available_worlds(const ss::GetAvailableWorl
   }
   std::string unknown;
   for (const fs::path& folder : search_folders(world, q.additional_sources(), unknown)) {
-    for (const fs::path& file : xml_files(folder, "WORLD")) {
+    for (const fs::path& file : xml_files(folder, "WORLD", world.data_roots())) {
       si::WorldResource_ w;
       w.name(file.stem().string());
       w.world_resource().uri("file://" + file.string());

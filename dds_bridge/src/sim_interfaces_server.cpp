@@ -176,14 +176,18 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
         if (file.empty() && q.resource_string().empty()) {
           return refuse_now(lc::NO_RESOURCE, "give uri (a <WORLD> file) or resource_string");
         }
+        if (!file.empty() && !runner_.data_roots().contains(file)) {  // said before anything else
+          return refuse_now(lc::RESOURCE_PARSE_ERROR, DataRoots::outside_message(file));
+        }
         if (!file.empty() && std::filesystem::path(file).extension() != ".xml") {
           return refuse_now(lc::UNSUPPORTED_FORMAT, "'" + q.uri() + "' is no macsim_xml file");
         }
         // Parsed off the simulation thread; answered once the new world runs (or was refused).
         const bool queued = runner_.load(
-            [file, xml = q.resource_string(), limits = limits_] {
+            [file, xml = q.resource_string(), limits = limits_, this] {
               LoadOptions options;
               options.limits = limits;
+              options.files = &runner_.data_roots();
               return file.empty() ? load_world_string(xml, "resource_string.xml", options)
                                   : load_world_file(file, options);
             },

@@ -51,6 +51,7 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
             [file = r.world_file(), this] {
               LoadOptions options;
               options.limits = limits_;
+              options.files = &runner_.data_roots();
               return load_world_file(file, options);
             },
             [this, r](const LoadOutcome& outcome) {

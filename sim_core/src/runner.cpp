@@ -13,6 +13,11 @@ using Clock = std::chrono::steady_clock;
 Runner::Runner(WorldSpec spec, RunSettings settings)
     : world_(std::make_unique<World>(std::move(spec))), settings_(settings) {}
 
+void Runner::set_data_roots(std::shared_ptr<const DataRoots> roots) {
+  data_roots_ = roots ? std::move(roots) : DataRoots::anywhere();
+  world_->set_data_roots(data_roots_);
+}
+
 void Runner::set_max_objects(std::size_t max_objects) {
   max_objects_ = max_objects;
   world_->set_max_objects(max_objects);
@@ -125,6 +130,7 @@ void Runner::replace_world(Load& load) {
     } else {
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
       admit_overlaps(*world, settings_.refuse_overlaps, settings_.warn);
+      world->set_data_roots(data_roots_);
       world->set_max_objects(max_objects_);
       world_ = std::move(world);
       ++generation_;
@@ -132,6 +138,9 @@ void Runner::replace_world(Load& load) {
       outcome.ok = true;
     }
   } catch (const WorldFileError& e) {
+    outcome.code = ErrorCode::BadFile;
+    outcome.error = e.what();
+  } catch (const FileRefused& e) {
     outcome.code = ErrorCode::BadFile;
     outcome.error = e.what();
   } catch (const std::exception& e) {

@@ -128,6 +128,10 @@ class Runner {
   const World& world() const { return *world_; }
   /// Counts world replacements: ids, snapshots and schedules of an older generation are void.
   uint64_t generation() const { return generation_; }
+  /// Where this world and every later one read the files operations name (nullptr: anywhere).
+  void set_data_roots(std::shared_ptr<const DataRoots> roots);
+  /// Where requests may read files (anywhere until set); lives as long as the runner.
+  const DataRoots& data_roots() const { return *data_roots_; }
   /// Objects this world and every later one may hold at most (World::set_max_objects).
   void set_max_objects(std::size_t max_objects);
   /// The named snapshots of the current world, within their caps (emptied when it is replaced).
@@ -150,6 +154,7 @@ class Runner {
   void end_request(bool completed);
 
   std::unique_ptr<World> world_;
+  std::shared_ptr<const DataRoots> data_roots_ = DataRoots::anywhere();
   uint64_t generation_ = 0;
   SnapshotStore snapshots_;
   std::size_t max_objects_ = bounds::kMaxObjects;
