@@ -1,6 +1,7 @@
 // Overview pictures over DDS (macsim --pictures DIR): a request gives a PNG of the named camera
 // mode in DIR, also while paused in lock-step; names that are not plain file names and unknown
-// modes are refused; without --pictures every request is refused, saying so.
+// modes are refused; new names stop at --max-pictures; without --pictures every request is
+// refused, saying so.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -45,6 +46,35 @@ TEST(Pictures, ARequestWritesThePngOfTheCameraModeEvenWhilePaused) {
     EXPECT_EQ(refused->code(), mm::ERR_INVALID_ARGUMENT) << name << " " << mode;
   }
   EXPECT_FALSE(std::filesystem::exists(dir.path() + "/escape.png"));
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
+}
+
+TEST(Pictures, NewFileNamesStopAtTheCapANameUsedBeforeIsWrittenAgain) {
+  TempDir dir("macsim_pictures_");
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                       std::to_string(domain), "--lockstep", "--cameras", "off", "--pictures",
+                       dir.path(), "--snapshot-size", "64x48", "--max-pictures", "2"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "picture_test"});
+  client::PictureClient pictures(p);
+  for (const char* name : {"a", "b"}) {
+    const auto reply = pictures.take(name, "Follow", 20s);
+    ASSERT_TRUE(reply.has_value());
+    EXPECT_EQ(reply->code(), mm::ERR_OK) << reply->message();
+  }
+  const auto refused = pictures.take("c", "Follow", 20s);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->code(), mm::ERR_LIMIT_REACHED) << refused->message();
+  EXPECT_NE(refused->message().find("--max-pictures"), std::string::npos) << refused->message();
+  EXPECT_FALSE(std::filesystem::exists(dir.path() + "/c.png"));
+  const auto again = pictures.take("a", "Chase", 20s);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->code(), mm::ERR_OK) << again->message();
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
+                          std::filesystem::directory_iterator()),
+            2);
   macsim.signal(SIGTERM);
   EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
 }
