@@ -264,3 +264,38 @@ def test_no_simulator_is_reported_not_found(domain):
     assert str(none.value) == (
         f"no simulator answered the simulation control on DDS domain {domain} within 1 s: "
         "is macsim running with the same --domain and DDS profile?")
+
+
+CTRL_C_STEP_SCRIPT = """
+import sys, macsim
+simulation = macsim.Simulation(macsim.Participant(domain=int(sys.argv[1])))
+simulation.status()
+print("stepping", flush=True)
+try:
+    simulation.step(2**31, timeout=60)
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(130)
+"""
+
+
+def test_ctrl_c_during_a_step_cancels_it_on_the_simulator(domain, spawn):
+    start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
+    child = subprocess.Popen([sys.executable, "-c", CTRL_C_STEP_SCRIPT, str(domain)],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        assert child.stdout.readline().strip() == "stepping"
+        time.sleep(1.0)
+        child.send_signal(signal.SIGINT)
+        out, _ = child.communicate(timeout=10)
+        assert child.returncode == 130, out
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+    simulation = macsim.Simulation(macsim.Participant(domain=domain))
+    stopped = simulation.status().steps
+    assert stopped > 0
+    time.sleep(0.5)
+    assert simulation.status().steps == stopped  # no longer stepping
+    assert simulation.step(3).steps == stopped + 3  # and free for the next request

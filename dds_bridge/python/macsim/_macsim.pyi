@@ -377,7 +377,8 @@ class Simulation:
     def set_real_time_factor(self, factor: float) -> SimulationStatus:
         """> 0, or 0 for as fast as possible."""
     def step(self, steps: int = 1, timeout: Optional[float] = None) -> SimulationStatus:
-        """Lock-step: advances `steps` steps; answered once their data is out."""
+        """Lock-step: advances `steps` steps; answered once their data is out. Ctrl-C while it
+        waits cancels it on the simulator; a TimeoutError leaves it running (cancel() ends it)."""
     def step_until(self, steps: int, until: list[StepCondition] = ...,
                    samples: list[StepCondition] = ..., check_every: int = 1,
                    publish_at_end: bool = False, cameras: bool = True,

@@ -78,6 +78,19 @@ struct PythonSimulation {
   mm::SimulationReply_ command(int32_t command) {
     return control.call(client::SimulationClient::request(command));
   }
+  /// A step request; a Ctrl-C while it waits cancels it on the simulator too.
+  mm::SimulationReply_ step(const mm::SimulationRequest_& request, std::optional<double> wait) {
+    try {
+      return control.call(request, wait);
+    } catch (py::error_already_set& error) {
+      if (error.matches(PyExc_KeyboardInterrupt)) {
+        py::gil_scoped_release release;
+        control.client.call(client::SimulationClient::request(mm::SIM_CANCEL),
+                            std::chrono::seconds(2));
+      }
+      throw;
+    }
+  }
   PythonCaller<client::SimulationClient> control;
   PythonSupervisor supervisor;
 };
@@ -417,11 +430,12 @@ void bind_supervisor(py::module_& m) {
           [](Sim& s, uint64_t steps, std::optional<double> timeout) {
             auto request = client::SimulationClient::request(mm::SIM_STEP);
             request.steps(steps);
-            return s.control.call(request, timeout);
+            return s.step(request, timeout);
           },
           py::arg("steps") = 1, py::arg("timeout") = py::none(),
           "Lock-step: advances `steps` steps; answered once the steps' data is out, with the "
-          "new sim time and state hash.")
+          "new sim time and state hash. Ctrl-C while it waits cancels it on the simulator; a "
+          "TimeoutError leaves it running (cancel() ends it).")
       .def(
           "step_until",
           [](Sim& s, uint64_t steps, const std::vector<mm::StepCondition_>& until,
@@ -436,7 +450,7 @@ void bind_supervisor(py::module_& m) {
             auto request = client::step_until::request(steps, check_every, options);
             request.until(until);
             request.samples(samples);
-            return s.control.call(request, timeout);
+            return s.step(request, timeout);
           },
           py::arg("steps"), py::arg("until") = std::vector<mm::StepCondition_>{},
           py::arg("samples") = std::vector<mm::StepCondition_>{}, py::arg("check_every") = 1,
