@@ -46,7 +46,8 @@ TEST(InterfaceTest, LoadsAWorldIntoTheRunningSimulator) {
       {bin("interfaceTest"), "-load", source("worlds/DemoWorld_v1.xml"), "--domain", domain});
   ASSERT_EQ(load.wait_for_exit(60s), 0) << load.output();
   EXPECT_NE(load.output().find("24 objects, 1 doors"), std::string::npos) << load.output();
-  ChildProcess bad({bin("interfaceTest"), "-load", "no/such/world.xml", "--domain", domain});
+  ChildProcess bad(
+      {bin("interfaceTest"), "-load", source("worlds/no/such/world.xml"), "--domain", domain});
   EXPECT_EQ(bad.wait_for_exit(60s), 1) << bad.output();
   EXPECT_NE(bad.output().find("no such world file"), std::string::npos) << bad.output();
   EXPECT_TRUE(macsim.running());

@@ -350,7 +350,7 @@ TEST_F(SimulationInterfaces, WorldsAreListedAndLoadedAndBadOnesRefused) {
   EXPECT_EQ(state(), st::STATE_STOPPED);  // a loaded world waits to be played
   EXPECT_EQ(call<tag::GetCurrentWorld>("get_current_world", {}).world().name(), "small_room");
 
-  load.uri("file:///nowhere/world.sdf");
+  load.uri("file://" + source("worlds/world.sdf"));
   EXPECT_EQ(call<tag::LoadWorld>("load_world", load).result().result(),
             ss::LoadWorld_Response_Constants::UNSUPPORTED_FORMAT);
   load.uri("");

@@ -148,8 +148,10 @@ TEST_F(Supervisor, BadRequestsGetClearErrorsAndChangeNothing) {
   EXPECT_EQ(negative.code(), mm::ERR_INVALID_ARGUMENT);
   const auto wrong = call(supervisor::set_sphere_size(box, 0, 0.1));
   EXPECT_EQ(wrong.code(), mm::ERR_WRONG_GEOMETRY);
-  EXPECT_EQ(call(supervisor::set_texture(box, "/nonexistent/picture.bmp")).code(),
+  EXPECT_EQ(call(supervisor::set_texture(box, source("worlds/no_such_picture.bmp"))).code(),
             mm::ERR_BAD_TEXTURE);
+  EXPECT_EQ(call(supervisor::set_texture(box, "/nonexistent/picture.bmp")).code(),
+            mm::ERR_BAD_FILE);  // outside the data roots
   const auto penetrate = call(supervisor::set_position(box, {0.0, -0.3, 0.2}));
   EXPECT_EQ(penetrate.code(), mm::ERR_PENETRATION);
   auto unknown_operation = supervisor::list_objects();

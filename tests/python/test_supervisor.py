@@ -173,8 +173,13 @@ def test_refusals_carry_their_code_and_leave_the_world_as_it_was(world):
         s.find_object("no_such_object")
     assert error.value.code == macsim.ERR_UNKNOWN_OBJECT
     with pytest.raises(macsim.SupervisorError) as error:
-        s.set_texture(red, "/nonexistent/picture.bmp")
+        s.set_texture(red, source("worlds/no_such_picture.bmp"))
     assert error.value.code == macsim.ERR_BAD_TEXTURE
+    # Outside the data roots: refused as a file, whether it exists or not.
+    for outside in ("/nonexistent/picture.bmp", "/etc/hostname"):
+        with pytest.raises(macsim.SupervisorError, match="is outside the folders") as error:
+            s.set_texture(red, outside)
+        assert error.value.code == macsim.ERR_BAD_FILE
     with pytest.raises(macsim.SupervisorError) as error:
         s.get_door(7)
     assert s.state_hash() == before
