@@ -49,13 +49,15 @@ class RequestProgress {
   RequestProgress& operator=(const RequestProgress&) = delete;
 
   /// Follows a request that just came, described by `what` ("waiting for ..."); false if it is
-  /// a repeat of one still followed: its progress is sent now, and it must not run again.
+  /// a repeat of one still followed: it must not run again, and its progress is sent now (if
+  /// it came kFirst ago or more: a client resending at once hears its progress on schedule).
   template <class Request>
   bool begin(const Request& request, std::string what) {
     std::lock_guard<std::mutex> lock(mutex_);
     const Key key{request.client_id(), request.sequence_number()};
     if (const auto running = followed_.find(key); running != followed_.end()) {
-      send(key, running->second, Clock::now());
+      const auto now = Clock::now();
+      if (now - running->second.came >= kFirst) send(key, running->second, now);
       return false;
     }
     if (followed_.size() < kMaxFollowed) {

@@ -163,7 +163,8 @@ int main(int argc, char** argv) {
       for (int k = 0; k < got; ++k) {
         const macsim_msgs_msg_dds__SupervisorReply_* r = samples[k];
         if (!infos[k].valid_data || strcmp(r->client_id, request.client_id) != 0 ||
-            r->sequence_number != request.sequence_number) {
+            r->sequence_number != request.sequence_number ||
+            r->code == macsim_msgs_msg_dds__ERR_IN_PROGRESS) {  /* progress, not the reply */
           continue;
         }
         if (request.operation._d == macsim_msgs_msg_dds__OP_FIND_OBJECT) {
@@ -203,7 +204,10 @@ int main(int argc, char** argv) {
     while ((got = dds_take(sim_reply, samples, infos, 8, 8)) > 0) {
       for (int k = 0; k < got; ++k) {
         const macsim_msgs_msg_dds__SimulationReply_* r = samples[k];
-        if (!infos[k].valid_data || strcmp(r->client_id, sim.client_id) != 0) continue;
+        if (!infos[k].valid_data || strcmp(r->client_id, sim.client_id) != 0 ||
+            r->code == macsim_msgs_msg_dds__ERR_IN_PROGRESS) {
+          continue;
+        }
         printf("cyclone_listen: simulation FEATURES: code %d, features \"%s\"\n", r->code,
                r->features);
         got_features = r->code == macsim_msgs_msg_dds__ERR_OK && strstr(r->features, "supervisor");
