@@ -61,7 +61,7 @@ TEST(BusySimulator, ALongStepIsReportedBusyWithItsProgressAndItsRequesterCancels
   EXPECT_EQ(hash->code(), mm::ERR_OK);
 
   // Its requester cancels it: the cancel's reply names how far it got.
-  auto cancelled = sim.call(client::SimulationClient::request(mm::SIM_CANCEL), 5s);
+  auto cancelled = sim.cancel(0, 5s);
   ASSERT_TRUE(cancelled);
   EXPECT_EQ(cancelled->code(), mm::ERR_OK) << cancelled->message();
   EXPECT_EQ(cancelled->ended_by(), mm::STEP_CANCELLED);
@@ -71,7 +71,7 @@ TEST(BusySimulator, ALongStepIsReportedBusyWithItsProgressAndItsRequesterCancels
   EXPECT_TRUE(cancelled->paused());  // lock-step stays paused
 
   // Nothing is left to cancel, and the simulator answers the next request.
-  auto nothing = sim.call(client::SimulationClient::request(mm::SIM_CANCEL), 5s);
+  auto nothing = sim.cancel();
   ASSERT_TRUE(nothing);
   EXPECT_EQ(nothing->code(), mm::ERR_NOT_APPLICABLE);
   auto next = sim.step(10, 5s);

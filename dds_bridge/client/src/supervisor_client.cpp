@@ -15,6 +15,13 @@ std::optional<SimulationClient::Reply> SimulationClient::step(uint64_t steps,
   return call(r, timeout);
 }
 
+std::optional<SimulationClient::Reply> SimulationClient::cancel(uint64_t sequence_number,
+                                                                std::chrono::milliseconds timeout) {
+  Request r = request(macsim_msgs::msg::dds_::SIM_CANCEL);
+  r.cancel_sequence_number(sequence_number);
+  return call(r, timeout);
+}
+
 namespace step_until {
 
 namespace mm = macsim_msgs::msg::dds_;

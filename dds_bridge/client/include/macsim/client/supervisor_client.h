@@ -31,6 +31,11 @@ class SimulationClient : public RequestReply<macsim_msgs::msg::dds_::SimulationR
   /// Lock-step: advances `steps` steps; the reply carries the new sim time and state hash.
   std::optional<Reply> step(uint64_t steps = 1,
                             std::chrono::milliseconds timeout = std::chrono::seconds(10));
+  /// Ends this client's step request `sequence_number` (0: whichever runs), e.g. one a timeout
+  /// left running or one another thread waits on; the reply carries its steps done and asked
+  /// (ERR_NOT_APPLICABLE if none runs).
+  std::optional<Reply> cancel(uint64_t sequence_number = 0,
+                              std::chrono::milliseconds timeout = std::chrono::seconds(10));
   /// A request with just a command.
   static Request request(int32_t command);
 };
