@@ -52,7 +52,7 @@ class RequestProgress {
   /// a repeat of one still followed: it must not run again, and its progress is sent now (if
   /// it came kFirst ago or more: a client resending at once hears its progress on schedule).
   template <class Request>
-  bool begin(const Request& request, std::string what) {
+  bool begin(const Request& request, std::string what, Fill fill = {}) {
     std::lock_guard<std::mutex> lock(mutex_);
     const Key key{request.client_id(), request.sequence_number()};
     if (const auto running = followed_.find(key); running != followed_.end()) {
@@ -61,7 +61,7 @@ class RequestProgress {
       return false;
     }
     if (followed_.size() < kMaxFollowed) {
-      followed_.emplace(key, Followed{Clock::now(), {}, std::move(what), {}});
+      followed_.emplace(key, Followed{Clock::now(), {}, std::move(what), std::move(fill)});
     }
     return true;
   }

@@ -34,7 +34,10 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
   requests_ = std::make_unique<dds::Reader<mm::SimulationRequest_PubSubType>>(
       participant, dds::topics::kSimulationRequest, dds::QosFamily::Command,
       [this](const Request& r) {
-        if (!progress_.begin(r, waiting_text(r))) return;
+        const auto asked = [steps = r.command() == mm::SIM_STEP ? r.steps() : 0](Reply& p) {
+          p.steps_asked(steps);
+        };
+        if (!progress_.begin(r, waiting_text(r), asked)) return;
         if (r.command() != mm::SIM_LOAD_WORLD) {
           runner_.push([this, r](World&) { execute(r); });
           return;
