@@ -30,7 +30,7 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
       progress_([this](const Reply& reply) { replies_.write(reply); }) {
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread. A repeat of a
-  // request still running gets its progress at once and is not queued again.
+  // request still running gets its progress (RequestProgress) and is not queued again.
   requests_ = std::make_unique<dds::Reader<mm::SimulationRequest_PubSubType>>(
       participant, dds::topics::kSimulationRequest, dds::QosFamily::Command,
       [this](const Request& r) {
