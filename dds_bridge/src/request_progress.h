@@ -97,8 +97,8 @@ class RequestProgress {
     reply.sequence_number(key.second);
     reply.code(macsim_msgs::msg::dds_::ERR_IN_PROGRESS);
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now - f.came).count();
-    reply.message(f.what + " (" + std::to_string(ms / 1000) + "." + std::to_string(ms % 1000 / 100) +
-                  " s since the request came)");
+    reply.message(f.what + ", " + std::to_string(ms / 1000) + "." +
+                  std::to_string(ms % 1000 / 100) + " s after it came");
     if (f.fill) f.fill(reply);
     write_(reply);
     f.last_sent = now;

@@ -66,7 +66,8 @@ TEST(RequestProgress, AWaitingRequestGetsProgressWithWhatItDidAndNoneOnceAnswere
   for (const Reply& r : written.replies) {
     EXPECT_EQ(r.client_id(), "client");
     EXPECT_EQ(r.code(), mm::ERR_IN_PROGRESS);
-    EXPECT_EQ(r.message().rfind("stepping (", 0), 0u) << r.message();
+    EXPECT_EQ(r.message().rfind("stepping, ", 0), 0u) << r.message();
+    EXPECT_NE(r.message().find(" s after it came"), std::string::npos) << r.message();
     EXPECT_EQ(r.steps_done(), 7u);
     EXPECT_EQ(r.steps_asked(), 9u);
   }

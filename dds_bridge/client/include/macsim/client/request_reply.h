@@ -75,8 +75,7 @@ inline std::string describe(const CallOutcome& o, const std::string& service, in
                with_commas(o.steps_asked) + " steps done after " + seconds(o.waited) +
                " s; pass a longer timeout or cancel it";
       }
-      return "the simulator is busy with this request after " + seconds(o.waited) + " s (" +
-             o.progress + "); pass a longer timeout";
+      return "the simulator is busy with this request: " + o.progress + "; pass a longer timeout";
     case CallOutcome::Kind::Gone:
       if (o.acknowledged) {
         return "the simulator acknowledged this " + service + " request" + on +
