@@ -197,7 +197,8 @@ TEST(BusySimulator, ASimulatorKilledDuringALongStepIsReportedGoneWithinSeconds) 
   macsim.signal(SIGKILL);
   const auto killed = std::chrono::steady_clock::now();
   ASSERT_EQ(waiting.wait_for(15s), std::future_status::ready) << "waited out the timeout";
-  const double after = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+  const double after =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
   const auto [replied, outcome] = waiting.get();
   EXPECT_FALSE(replied);
   EXPECT_EQ(outcome.kind, CallOutcome::Kind::Gone);
