@@ -478,7 +478,9 @@ int main(int argc, char** argv) {
       std::cout << "macsim: layout of seed " << o.seed << ":\n";
       for (const auto& line : moved) std::cout << "  " << line << "\n";
     }
-    macsim::RunSettings settings{o.paused || o.lockstep, o.as_fast_as_possible ? 0.0 : o.rtf};
+    macsim::RunSettings settings;
+    settings.paused = o.paused || o.lockstep;
+    settings.real_time_factor = o.as_fast_as_possible ? 0.0 : o.rtf;
     settings.refuse_overlaps = o.strict;  // for worlds loaded later by a request
     settings.warn = load.warn;
     runner = std::make_unique<macsim::Runner>(std::move(spec), settings);

@@ -24,10 +24,17 @@ namespace {
 namespace mm = macsim_msgs::msg::dds_;
 namespace until = client::step_until;
 
+RunSettings lockstep() {
+  RunSettings settings;
+  settings.paused = true;
+  settings.real_time_factor = 0.0;
+  return settings;
+}
+
 /// A lock-step runner on the small room with the robot's newest readings kept as the robot node
 /// keeps them (merged after every step).
 struct Stepper {
-  Runner runner{load_world_file(test::source("worlds/small_room.xml")), RunSettings{true, 0.0}};
+  Runner runner{load_world_file(test::source("worlds/small_room.xml")), lockstep()};
   SimulatedKurt kurt{runner, "kurt"};
   robot::Readings latest;
 

@@ -46,7 +46,7 @@ struct RunSettings {
   /// A world swapped in by load() whose objects start inside each other (World::overlaps()):
   /// refused (BadFile, naming them) when true; either way `warn` gets one line per pair.
   bool refuse_overlaps = false;
-  std::function<void(const std::string&)> warn;  ///< warnings about a loaded world (a log)
+  std::function<void(const std::string&)> warn = nullptr;  ///< warnings about a loaded world
 };
 
 /// What run() calls around each step.
