@@ -53,41 +53,56 @@ DataRoots::DataRoots(const std::vector<std::string>& folders, std::size_t max_fi
     : restricted_(true), max_file_bytes_(max_file_bytes) {
   for (const std::string& folder : folders) {
     std::error_code error;
-    const auto canonical = resolve(folder);
-    if (!canonical || !fs::is_directory(*canonical, error)) {
+    const auto given = lexical(folder);
+    const fs::path canonical =
+        given ? fs::weakly_canonical(*given, error).lexically_normal() : fs::path();
+    if (!given || error || !fs::is_directory(canonical, error)) {
       throw std::invalid_argument("data root " + quoted(folder) + " is no folder");
     }
-    if (special(*canonical) || canonical->parent_path() == *canonical) {
+    if (special(canonical) || canonical.parent_path() == canonical) {
       throw std::invalid_argument("data root " + quoted(folder) +
                                   " would open the file system's root, /proc, /sys or /dev");
     }
-    if (std::find(folders_.begin(), folders_.end(), *canonical) == folders_.end()) {
-      folders_.push_back(*canonical);
+    for (const fs::path& spelling : {*given, canonical}) {
+      if (std::find(spellings_.begin(), spellings_.end(), spelling) == spellings_.end()) {
+        spellings_.push_back(spelling);
+      }
+    }
+    if (std::find(folders_.begin(), folders_.end(), canonical) == folders_.end()) {
+      folders_.push_back(canonical);
     }
   }
 }
 
-std::optional<fs::path> DataRoots::resolve(const std::string& path) {
+std::optional<fs::path> DataRoots::lexical(const std::string& path) {
   if (path.empty() || path.find('\0') != std::string::npos) return std::nullopt;
   std::error_code error;
-  const fs::path absolute = fs::absolute(path, error);
+  fs::path normal = fs::absolute(path, error).lexically_normal();
   if (error) return std::nullopt;
-  fs::path canonical = fs::weakly_canonical(absolute, error);
-  if (error) return std::nullopt;
-  return canonical.lexically_normal();
+  if (normal.filename().empty() && normal.has_parent_path() && normal != normal.root_path()) {
+    normal = normal.parent_path();  // "dir/" names dir
+  }
+  return normal;
 }
 
-bool DataRoots::under_root(const fs::path& canonical) const {
-  if (!restricted_) return true;
-  for (const fs::path& folder : folders_) {
-    if (is_under(canonical, folder)) return true;
-  }
-  return false;
+std::optional<fs::path> DataRoots::inside(const std::string& path) const {
+  const auto normal = lexical(path);
+  if (!normal) return std::nullopt;
+  const auto under_any = [](const fs::path& p, const std::vector<fs::path>& roots) {
+    return std::any_of(roots.begin(), roots.end(),
+                       [&p](const fs::path& root) { return is_under(p, root); });
+  };
+  if (restricted_ && !under_any(*normal, spellings_)) return std::nullopt;
+  std::error_code error;
+  const fs::path canonical = fs::weakly_canonical(*normal, error).lexically_normal();
+  if (error) return std::nullopt;
+  if (restricted_ && !under_any(canonical, folders_)) return std::nullopt;
+  return canonical;
 }
 
 bool DataRoots::contains(const std::string& path) const {
-  const auto canonical = resolve(path);
-  return canonical && under_root(*canonical) && !special(*canonical);
+  const auto canonical = inside(path);
+  return canonical && !special(*canonical);
 }
 
 std::string DataRoots::outside_message(const std::string& path) {
@@ -97,8 +112,8 @@ std::string DataRoots::outside_message(const std::string& path) {
 }
 
 std::optional<std::string> DataRoots::read(const std::string& path) const {
-  const auto canonical = resolve(path);
-  if (!canonical || !under_root(*canonical)) throw FileRefused(outside_message(path));
+  const auto canonical = inside(path);
+  if (!canonical) throw FileRefused(outside_message(path));
   if (special(*canonical)) {
     throw FileRefused(quoted(path) + " is a kernel or device file (/proc, /sys, /dev): not read");
   }
@@ -148,8 +163,9 @@ std::optional<std::string> DataRoots::read(const std::string& path) const {
 }
 
 std::string DataRoots::identity(const std::string& path) const {
-  const auto canonical = resolve(path);
-  return canonical ? canonical->string() : fs::path(path).lexically_normal().string();
+  if (const auto canonical = inside(path)) return canonical->string();
+  const auto normal = lexical(path);
+  return normal ? normal->string() : path;
 }
 
 }  // namespace macsim

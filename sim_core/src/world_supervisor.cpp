@@ -187,9 +187,10 @@ Status World::validate_new_object(ObjectSpec& spec) const {
   }
   if (auto p = bounds::object_problem(spec)) return invalid(*p);
   normalize_orientations(spec);
-  for (const auto& c : spec.components) {
+  for (auto& c : spec.components) {
     if (!c.texture.empty()) {
       if (Status s = texture_status(c.texture); !s.ok()) return s;
+      c.texture = files_->identity(c.texture);  // the file checked, in one spelling
     }
   }
   if (!spec_.material(spec.material)) return invalid("unknown material '" + spec.material + "'");
@@ -551,7 +552,7 @@ Status World::set_texture(ObjectId id, const std::string& path, int component) {
   std::string file;
   if (!path.empty()) {
     if (Status s = texture_status(path); !s.ok()) return s;
-    file = std::filesystem::absolute(path).lexically_normal().string();
+    file = files_->identity(path);  // the file checked, in one spelling
   }
   for (int i = 0; i < static_cast<int>(o.spec.components.size()); ++i) {
     if (component == -1 || component == i) o.spec.components[i].texture = file;

@@ -18,6 +18,7 @@
 #include "macsim/dds/ros2_service.h"
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
 #include "support/child_process.h"
+#include "support/open_watch.h"
 #include "support/test_domain.h"
 
 namespace macsim::test {
@@ -63,6 +64,9 @@ class DataRoots : public ::testing::Test {
     fs::create_symlink(outside_ / "checker.bmp", root_ / "link_checker.bmp");
     ASSERT_EQ(::mkfifo((root_ / "fifo.xml").c_str(), 0600), 0);
     ASSERT_EQ(::mkfifo((outside_ / "fifo.xml").c_str(), 0600), 0);
+    fifo_watch_ = std::make_unique<OpenWatch>(
+        std::vector<std::string>{(root_ / "fifo.xml").string(), (outside_ / "fifo.xml").string()});
+    ASSERT_TRUE(fifo_watch_->watching());
 
     domain_ = unique_test_domain();
     macsim_ = std::make_unique<ChildProcess>(std::vector<std::string>{
@@ -100,17 +104,8 @@ class DataRoots : public ::testing::Test {
             {"/proc", "/proc/self/environ"},
             {"a FIFO outside", (outside_ / "fifo.xml").string()}};
   }
-  /// True if a reader holds one of the FIFOs open (a writer's non-blocking open then succeeds).
-  bool fifo_opened() const {
-    for (const fs::path& fifo : {root_ / "fifo.xml", outside_ / "fifo.xml"}) {
-      const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
-      if (fd >= 0) {
-        ::close(fd);
-        return true;
-      }
-    }
-    return false;
-  }
+  /// True if anyone (macsim included) opened one of the FIFOs since the last look.
+  bool fifo_opened() { return fifo_watch_->opened(); }
   uint64_t state_hash() { return supervise(supervisor::state_hash()).hash(); }
   mm::SupervisorReply_ supervise(const mm::SupervisorRequest_& request) {
     auto reply = supervisor_->call(request, 20s);
@@ -188,6 +183,7 @@ class DataRoots : public ::testing::Test {
 
   std::unique_ptr<TempDir> dir_;
   fs::path root_, outside_;
+  std::unique_ptr<OpenWatch> fifo_watch_;
   int domain_ = 0;
   std::unique_ptr<ChildProcess> macsim_;
   std::unique_ptr<dds::Participant> participant_;

@@ -12,8 +12,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
+#include "support/open_watch.h"
 
 namespace macsim {
 namespace {
@@ -43,6 +46,8 @@ class DataRootsTest : public ::testing::Test {
     fs::create_symlink(outside_ / "gone.xml", root_ / "dangling.xml");
     ASSERT_EQ(::mkfifo((root_ / "fifo.xml").c_str(), 0600), 0);
     roots_ = std::make_shared<DataRoots>(std::vector<std::string>{root_.string()});
+    fifo_watch_ = std::make_unique<test::OpenWatch>(std::vector<std::string>{(root_ / "fifo.xml").string()});
+    ASSERT_TRUE(fifo_watch_->watching());
   }
   void TearDown() override { fs::remove_all(base_); }
 
@@ -57,15 +62,12 @@ class DataRootsTest : public ::testing::Test {
     }
     return "read";
   }
-  /// True if a reader holds the FIFO open (a writer's non-blocking open then succeeds).
-  bool fifo_opened() const {
-    const int fd = ::open((root_ / "fifo.xml").c_str(), O_WRONLY | O_NONBLOCK);
-    if (fd >= 0) ::close(fd);
-    return fd >= 0;
-  }
+  /// True if anyone opened the FIFO since the last look.
+  bool fifo_opened() { return fifo_watch_->opened(); }
 
   fs::path base_, root_, outside_;
   std::shared_ptr<DataRoots> roots_;
+  std::unique_ptr<test::OpenWatch> fifo_watch_;
 };
 
 TEST_F(DataRootsTest, ReadsFilesUnderARootAndSaysWhenOneIsMissing) {
@@ -110,6 +112,31 @@ TEST_F(DataRootsTest, SpecialFilesAreRefusedWithoutBeingOpened) {
   EXPECT_THROW(anywhere->read((root_ / "fifo.xml").string()), FileRefused);
   EXPECT_FALSE(fifo_opened());
   EXPECT_EQ(anywhere->read((outside_ / "secret.xml").string()), "secret");
+  // The watch does see an open (a non-blocking one, for the reader end).
+  const int fd = ::open((root_ / "fifo.xml").c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(fd, 0);
+  ::close(fd);
+  EXPECT_TRUE(fifo_opened());
+}
+
+TEST_F(DataRootsTest, DotDotIsAppliedOnPaperSoNothingOutsideIsLookedAt) {
+  // Through a folder outside, back into the root: the same answer whether that folder exists,
+  // since it is never looked at (the kernel would resolve it, and fail where it is missing).
+  write(outside_ / "existing" / "x", "");
+  for (const fs::path& via :
+       {outside_ / "existing", outside_ / "missing", base_ / "nowhere" / "deeper"}) {
+    EXPECT_EQ(roots_->read((via / ".." / ".." / "root" / "inside.xml").string()), "<ENVIRONMENT/>")
+        << via;
+  }
+  // Through a symbolic link inside the root, `..` does not follow the link: root/deep/.. is the
+  // root, wherever deep points, and two levels up is outside.
+  fs::create_directories(root_ / "a" / "b");
+  fs::create_symlink(root_ / "a" / "b", root_ / "deep");
+  EXPECT_EQ(roots_->read((root_ / "deep" / ".." / "inside.xml").string()), "<ENVIRONMENT/>");
+  EXPECT_EQ(refusal((root_ / "deep" / ".." / ".." / "outside" / "secret.xml").string()),
+            refusal((outside_ / "secret.xml").string()));
+  EXPECT_EQ(roots_->identity((root_ / "deep" / ".." / "inside.xml").string()),
+            (fs::canonical(root_) / "inside.xml").string());
 }
 
 TEST_F(DataRootsTest, FilesOverTheSizeCapAreRefused) {
@@ -169,8 +196,12 @@ TEST_F(DataRootsTest, TheLoaderAndTheWorldsOperationsAnswerWithTheRefusal) {
   }
   EXPECT_FALSE(fifo_opened());
   EXPECT_EQ(world.state_hash(), hash);
-  // Inside the roots the operations go on as before.
+  // Inside the roots the operations go on as before; a texture is kept as the file checked,
+  // in one spelling (what the renderer reads later is what was checked).
   EXPECT_TRUE(world.import_environment((root_ / "inside.xml").string(), "in", Pose{}).ok());
+  ASSERT_TRUE(cv::imwrite((root_ / "tex.bmp").string(), cv::Mat(4, 4, CV_8UC3, cv::Scalar(1, 2, 3))));
+  EXPECT_TRUE(world.set_texture(box, (root_ / "sub" / ".." / "." / "tex.bmp").string()).ok());
+  EXPECT_EQ(world.object_texture(box).value.second, (fs::canonical(root_) / "tex.bmp").string());
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <GL/gl.h>
 
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -133,7 +135,13 @@ unsigned SceneDrawer::upload(const cv::Mat& bgr) {
 unsigned SceneDrawer::texture(const std::string& path) {
   auto found = textures_.find(path);
   if (found != textures_.end()) return found->second;
-  const cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
+  // Checked when the world took it; looked at again, as it may have changed since: a regular
+  // file of a texture's size only (a FIFO would block the renderer).
+  constexpr std::uintmax_t kMaxTextureFileBytes = std::uintmax_t(16) << 20;
+  std::error_code error;
+  const bool readable = std::filesystem::is_regular_file(path, error) &&
+                        std::filesystem::file_size(path, error) <= kMaxTextureFileBytes && !error;
+  const cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
   const unsigned id = image.empty() ? 0 : upload(image);
   textures_[path] = id;
   return id;

@@ -38,8 +38,8 @@ class DataRoots : public WorldFiles {
   bool restricted() const { return restricted_; }
   /// The roots, canonical (symlinks resolved), in the order given, without repeats.
   const std::vector<std::filesystem::path>& folders() const { return folders_; }
-  /// True if `path` (relative to the working folder) lies under a root once `..` and symlinks
-  /// are resolved; says nothing about whether it exists.
+  /// True if `path` (relative to the working folder) lies under a root, both with `..` applied
+  /// on paper and with symbolic links resolved; says nothing about whether it exists.
   bool contains(const std::string& path) const;
   /// The file's bytes; nothing if it is missing under a root; throws FileRefused for a path
   /// outside the roots, anything but a regular file (devices, FIFOs, sockets, folders, /proc),
@@ -52,12 +52,15 @@ class DataRoots : public WorldFiles {
 
  private:
   DataRoots() = default;
-  /// The path made absolute and canonical as far as it exists, or nothing if it cannot be.
-  static std::optional<std::filesystem::path> resolve(const std::string& path);
-  bool under_root(const std::filesystem::path& canonical) const;
+  /// The path made absolute with `..` applied on paper (no system call looks at it).
+  static std::optional<std::filesystem::path> lexical(const std::string& path);
+  /// The canonical path of `path` if it lies under a root: first on paper, so that nothing on
+  /// disk outside the roots is ever looked at, then with symbolic links resolved.
+  std::optional<std::filesystem::path> inside(const std::string& path) const;
 
   bool restricted_ = false;
-  std::vector<std::filesystem::path> folders_;
+  std::vector<std::filesystem::path> folders_;    // canonical
+  std::vector<std::filesystem::path> spellings_;  // each root as given and canonical
   std::size_t max_file_bytes_ = kMaxDataFileBytes;
 };
 
