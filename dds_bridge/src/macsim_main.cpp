@@ -151,6 +151,7 @@ struct Options {
   int max_snapshots = int(macsim::SnapshotLimits{}.max_count);
   std::string max_snapshot_bytes = std::to_string(macsim::SnapshotLimits{}.max_bytes);
   int max_pictures = int(macsim::PictureServer::kDefaultMaxFiles);
+  int max_queued_commands = int(macsim::kDefaultMaxQueuedCommands);
   macsim::SnapshotLimits snapshot_limits;  // from the two above, once parsed
   std::vector<std::string> data_paths;
 
@@ -247,6 +248,12 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "write at most N distinct picture files per run (a name written before may be "
              "written again) (default " + std::to_string(o.max_pictures) + ")",
              &o.max_pictures);
+  cli.option("max-queued-commands", "N",
+             "hold at most N requests and robot commands waiting for the simulation thread; "
+             "a request beyond is refused (ERR_LIMIT_REACHED), a robot command dropped and "
+             "counted (default " +
+                 std::to_string(o.max_queued_commands) + ")",
+             &o.max_queued_commands);
   if (auto code = cli.parse(argc, argv)) return code;
   {
     unsigned long long bytes = 0;
@@ -261,9 +268,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     }
     o.snapshot_limits = {std::size_t(o.max_snapshots), std::size_t(bytes)};
   }
-  if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1) {
-    std::cerr << "macsim: --max-objects, --max-import-depth and --max-imported-files must be at "
-                 "least 1\n";
+  if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1 ||
+      o.max_queued_commands < 1) {
+    std::cerr << "macsim: --max-objects, --max-import-depth, --max-imported-files and "
+                 "--max-queued-commands must be at least 1\n";
     return 2;
   }
   if (o.world_file.empty()) {
@@ -454,6 +462,7 @@ int serve(macsim::Runner& runner, const Options& o) {
     // A frame still being rendered is counted once it is done, not whenever the summary comes.
     bridge.wait_for_cameras();
     std::printf("%s", bridge.camera_summary().c_str());
+    std::printf("%s", bridge.command_summary().c_str());
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "macsim: DDS error: " << e.what() << std::endl;
     return 3;
@@ -483,6 +492,7 @@ int main(int argc, char** argv) {
     settings.real_time_factor = o.as_fast_as_possible ? 0.0 : o.rtf;
     settings.refuse_overlaps = o.strict;  // for worlds loaded later by a request
     settings.warn = load.warn;
+    settings.max_queued_commands = std::size_t(o.max_queued_commands);
     runner = std::make_unique<macsim::Runner>(std::move(spec), settings);
     const auto overlaps = macsim::admit_overlaps(runner->world(), o.strict, load.warn);
     if (o.validate) {

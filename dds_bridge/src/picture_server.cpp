@@ -105,13 +105,20 @@ void PictureServer::accept(const Request& r) {
     return;
   }
   // The scene is taken between two steps, on the simulation thread.
-  runner_.push([this, r](World& world) {
+  const bool pushed = runner_.push([this, r](World& world) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       jobs_.push_back({r, capture_scene(world), world.time()});
     }
     queued_.notify_one();
   });
+  if (!pushed) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      admission_.done();
+    }
+    send(r, mm::ERR_LIMIT_REACHED, runner_.queue_full_message(), 0, "");
+  }
 }
 
 void PictureServer::render_loop() {

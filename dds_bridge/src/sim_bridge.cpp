@@ -1,6 +1,7 @@
 #include "sim_bridge.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -36,11 +37,19 @@ struct SimBridge::RobotTopics {
         node(
             p, kurt,
             [&runner, this](robot::RobotCommand command) {
-              runner.push([this, command = std::move(command)](World&) { command(kurt); });
+              if (runner.push([this, command = std::move(command)](World&) { command(kurt); })) {
+                return;
+              }
+              if (commands_dropped.fetch_add(1) == 0) {  // said once; counted in the summary
+                std::cerr << "macsim: " << name
+                          << "'s commands are being dropped: " << runner.queue_full_message()
+                          << std::endl;
+              }
             },
             node_options) {}
 
   std::string name;
+  std::atomic<uint64_t> commands_dropped{0};  // the runner's queue was full (before node)
   SimulatedKurt kurt;
   robot::RobotNode node;
   uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
@@ -225,6 +234,17 @@ std::string SimBridge::camera_summary() const {
                " stereo pairs rendered, " + std::to_string(t->stereo_skipped) +
                " skipped (a renderer was busy), " + std::to_string(t->stereo_waited) +
                " waited for (" + std::to_string(t->seconds_waited) + " s)\n";
+  }
+  return summary;
+}
+
+std::string SimBridge::command_summary() const {
+  std::string summary;
+  for (const auto& t : robots_) {
+    if (const uint64_t dropped = t->commands_dropped.load(); dropped > 0) {
+      summary += "macsim: " + t->name + ": " + std::to_string(dropped) +
+                 " commands dropped (the command queue was full)\n";
+    }
   }
   return summary;
 }

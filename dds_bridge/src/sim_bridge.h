@@ -47,6 +47,8 @@ class SimBridge {
   void wait_for_cameras();
   /// One line per robot with cameras: stereo frames rendered and dropped (renderer busy).
   std::string camera_summary() const;
+  /// One line per robot whose commands were dropped because the runner's queue was full.
+  std::string command_summary() const;
   /// Topic names this bridge serves, for the start-up banner.
   std::vector<std::string> topic_names() const;
 

@@ -36,8 +36,18 @@ template <class Req, class Resp, class Run>
 void SimInterfacesServer::serve_on_world(const std::string& name, Run run) {
   serve<Req, Resp>(name, [this, run](const typename Req::type& q, const dds::RequestId& id,
                                      dds::ServiceServer<Req, Resp>& server) {
-    runner_.push([q, id, &server, run](World& world) { server.reply(id, run(q, world)); });
+    if (!runner_.push([q, id, &server, run](World& world) { server.reply(id, run(q, world)); })) {
+      refuse_full(id, server);
+    }
   });
+}
+
+template <class Req, class Resp>
+void SimInterfacesServer::refuse_full(const dds::RequestId& id,
+                                      dds::ServiceServer<Req, Resp>& server) {
+  typename Resp::type response;
+  response.result(result(rc::RESULT_OPERATION_FAILED, runner_.queue_full_message()));
+  server.reply(id, response);
 }
 
 template <class Req, class Resp>
@@ -54,9 +64,13 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
                                          LoadLimits limits, std::function<void()> quit)
     : participant_(participant), runner_(runner), limits_(limits), quit_(std::move(quit)) {
   namespace sim = sim_interfaces;
-  serve_on_world<MACSIM_SERVICE(GetSimulatorFeatures)>(
+  // Constant, and its response has no result to say a full queue with: answered at once.
+  serve<MACSIM_SERVICE(GetSimulatorFeatures)>(
       "get_simulator_features",
-      [](const ss::GetSimulatorFeatures_Request_&, World&) { return sim::features(); });
+      [](const ss::GetSimulatorFeatures_Request_&, const dds::RequestId& id,
+         dds::ServiceServer<MACSIM_SERVICE(GetSimulatorFeatures)>& server) {
+        server.reply(id, sim::features());
+      });
   serve_on_world<MACSIM_SERVICE(GetEntities)>("get_entities", sim::get_entities);
   serve_on_world<MACSIM_SERVICE(GetEntitiesStates)>("get_entities_states",
                                                     sim::get_entities_states);
@@ -134,7 +148,7 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
   serve<MACSIM_SERVICE(StepSimulation)>(
       "step_simulation", [this](const ss::StepSimulation_Request_& q, const dds::RequestId& id,
                                 dds::ServiceServer<MACSIM_SERVICE(StepSimulation)>& server) {
-        runner_.push([this, q, id, &server](World&) {
+        const bool pushed = runner_.push([this, q, id, &server](World&) {
           ss::StepSimulation_Response_ r;
           if (!runner_.settings().paused) {
             r.result(result(rc::RESULT_OPERATION_FAILED,
@@ -161,6 +175,7 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
             server.reply(id, r);
           }
         });
+        if (!pushed) refuse_full(id, server);
       });
 
   serve<MACSIM_SERVICE(LoadWorld)>(
@@ -183,7 +198,7 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
           return refuse_now(lc::UNSUPPORTED_FORMAT, "'" + q.uri() + "' is no macsim_xml file");
         }
         // Parsed off the simulation thread; answered once the new world runs (or was refused).
-        const bool queued = runner_.load(
+        const LoadQueued queued = runner_.load(
             [file, xml = q.resource_string(), limits = limits_, this] {
               LoadOptions options;
               options.limits = limits;
@@ -205,7 +220,11 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
               }
               server.reply(id, r);
             });
-        if (!queued) refuse_now(rc::RESULT_OPERATION_FAILED, "a world load is still running");
+        if (queued == LoadQueued::LoadRunning) {
+          refuse_now(rc::RESULT_OPERATION_FAILED, "a world load is still running");
+        } else if (queued == LoadQueued::QueueFull) {
+          refuse_now(rc::RESULT_OPERATION_FAILED, runner_.queue_full_message());
+        }
       });
 
   refuse<MACSIM_SERVICE(UnloadWorld)>("unload_world",

@@ -42,6 +42,9 @@ class SimInterfacesServer {
   /// Serves one service with a refusal: RESULT_FEATURE_UNSUPPORTED and why.
   template <class Req, class Resp>
   void refuse(const std::string& name, const std::string& why);
+  /// Answers a request the runner's full queue refused: RESULT_OPERATION_FAILED, saying so.
+  template <class Req, class Resp>
+  void refuse_full(const dds::RequestId& id, dds::ServiceServer<Req, Resp>& server);
 
   dds::Participant& participant_;
   Runner& runner_;

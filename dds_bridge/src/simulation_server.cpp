@@ -39,18 +39,19 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
         };
         if (!progress_.begin(r, waiting_text(r), asked)) return;
         if (r.command() != mm::SIM_LOAD_WORLD) {
-          runner_.push([this, r](World&) { execute(r); });
+          if (!runner_.push([this, r](World&) { execute(r); })) refuse_full(r);
           return;
         }
         if (load_seen(r)) {
           // Sent again: never load twice; answer again if the load was answered.
-          runner_.push([this, r](World&) {
+          const bool pushed = runner_.push([this, r](World&) {
             progress_.end(r.client_id(), r.sequence_number());
             repeated(r);
           });
+          if (!pushed) refuse_full(r);
           return;
         }
-        const bool queued = runner_.load(
+        const LoadQueued queued = runner_.load(
             [file = r.world_file(), this] {
               LoadOptions options;
               options.limits = limits_;
@@ -60,12 +61,26 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
             [this, r](const LoadOutcome& outcome) {
               send(reply_to(r, codec::error_code(outcome.code), outcome.error));
             });
-        if (!queued) {
-          runner_.push([this, r](World&) {
+        if (queued == LoadQueued::QueueFull) {
+          forget_load(r);  // not loaded: a repeat may try again
+          refuse_full(r);
+        } else if (queued == LoadQueued::LoadRunning) {
+          const bool pushed = runner_.push([this, r](World&) {
             send(reply_to(r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
           });
+          if (!pushed) refuse_full(r);
         }
       });
+}
+
+void SimulationServer::refuse_full(const Request& q) {
+  Reply reply;  // nothing of the runner: it belongs to the simulation thread
+  reply.client_id(q.client_id());
+  reply.sequence_number(q.sequence_number());
+  reply.code(mm::ERR_LIMIT_REACHED);
+  reply.message(runner_.queue_full_message());
+  progress_.end(q.client_id(), q.sequence_number());
+  replies_.write(reply);
 }
 
 bool SimulationServer::load_seen(const Request& r) {
@@ -85,6 +100,14 @@ bool SimulationServer::load_seen(const Request& r) {
   }
   last_load_.emplace(r.client_id(), LastLoad{r.sequence_number(), use});
   return false;
+}
+
+void SimulationServer::forget_load(const Request& r) {
+  std::lock_guard<std::mutex> lock(loads_mutex_);
+  const auto last = last_load_.find(r.client_id());
+  if (last != last_load_.end() && last->second.sequence_number == r.sequence_number()) {
+    last_load_.erase(last);
+  }
 }
 
 SimulationServer::~SimulationServer() { requests_.reset(); }

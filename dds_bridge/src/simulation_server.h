@@ -42,8 +42,13 @@ class SimulationServer {
   Reply cancel(const Request& request);
   /// True if this client's load request was seen before (and remembers it if not).
   bool load_seen(const Request& request);
+  /// Forgets that this client's load request was seen (it was refused before it was queued).
+  void forget_load(const Request& request);
   Reply reply_to(const Request& request, int code, const std::string& message) const;
   void send(const Reply& reply);
+  /// Answers a request the runner's queue refused, from the listener: ERR_LIMIT_REACHED (not
+  /// kept for repeats: a repeat is tried again).
+  void refuse_full(const Request& request);
   /// True (and answered again) if the client sent this request before.
   bool repeated(const Request& request);
 

@@ -28,11 +28,23 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
                                 "before it)")) {
           return;
         }
-        runner_.push([this, r](World& world) { execute(r, world); });
+        if (!runner_.push([this, r](World& world) { execute(r, world); })) {
+          refuse(r, mm::ERR_LIMIT_REACHED, runner_.queue_full_message());
+        }
       });
 }
 
 SupervisorServer::~SupervisorServer() { requests_.reset(); }
+
+void SupervisorServer::refuse(const Request& q, int code, const std::string& message) {
+  Reply reply;
+  reply.client_id(q.client_id());
+  reply.sequence_number(q.sequence_number());
+  reply.code(code);
+  reply.message(message);
+  progress_.end(q.client_id(), q.sequence_number());
+  replies_.write(reply);
+}
 
 void SupervisorServer::execute(const Request& q, World& world) {
   if (const Reply* again = replied_.find(q)) {  // sent again: answer, do not redo

@@ -37,6 +37,9 @@ class SupervisorServer {
   using Reply = macsim_msgs::msg::dds_::SupervisorReply_;
 
   void execute(const Request& request, World& world);
+  /// Answers a request that was not queued, from the listener (nothing of the world read; not
+  /// kept for repeats: a repeat is tried again).
+  void refuse(const Request& request, int code, const std::string& message);
   void publish_world_state(World& world);
 
   Runner& runner_;

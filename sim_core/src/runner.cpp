@@ -11,7 +11,9 @@ namespace macsim {
 using Clock = std::chrono::steady_clock;
 
 Runner::Runner(WorldSpec spec, RunSettings settings)
-    : world_(std::make_unique<World>(std::move(spec))), settings_(settings) {}
+    : world_(std::make_unique<World>(std::move(spec))),
+      settings_(settings),
+      max_queued_(std::max<std::size_t>(settings.max_queued_commands, 1)) {}
 
 void Runner::set_data_roots(std::shared_ptr<const DataRoots> roots) {
   data_roots_ = roots ? std::move(roots) : DataRoots::anywhere();
@@ -32,20 +34,31 @@ Runner::~Runner() {
   for (auto& loader : loaders) loader.wait();  // a parse still running finishes first
 }
 
-void Runner::push(Command command) {
+bool Runner::push(Command command) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (queued_ >= max_queued_) return false;
     pending_.emplace_back(std::move(command));
+    ++queued_;
   }
   arrived_.notify_one();
+  return true;
 }
 
-bool Runner::load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done) {
+std::string Runner::queue_full_message() const {
+  return "the simulator's command queue is full: at most " + std::to_string(max_queued_) +
+         " requests and robot commands wait for the simulation thread (macsim "
+         "--max-queued-commands N); ask again once it has served them";
+}
+
+LoadQueued Runner::load(std::function<WorldSpec()> parse,
+                        std::function<void(const LoadOutcome&)> done) {
   auto promise = std::make_shared<std::promise<WorldSpec>>();
   std::shared_future<WorldSpec> spec = promise->get_future().share();
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (loading_) return false;
+    if (loading_) return LoadQueued::LoadRunning;
+    if (queued_ >= max_queued_) return LoadQueued::QueueFull;
     std::erase_if(loaders_, [](const std::future<void>& f) {
       return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
     });
@@ -61,13 +74,14 @@ bool Runner::load(std::function<WorldSpec()> parse, std::function<void(const Loa
         arrived_.notify_all();
       }));
     } catch (const std::system_error&) {
-      return false;  // no thread to be had: refused like a second load
+      return LoadQueued::LoadRunning;  // no thread to be had: refused like a second load
     }
     loading_ = true;
     pending_.emplace_back(Load{std::move(spec), std::move(done)});
+    ++queued_;
   }
   arrived_.notify_one();
-  return true;
+  return LoadQueued::Yes;
 }
 
 bool Runner::runnable(const Item& item) {
@@ -84,6 +98,7 @@ bool Runner::wait_for_commands(Clock::time_point deadline) {
 std::size_t Runner::apply_commands() {
   std::size_t ran = 0;
   for (;;) {  // one batch per pass: up to and including a parsed load
+    std::size_t ran_now = 0;
     std::deque<Item> batch;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -99,16 +114,18 @@ std::size_t Runner::apply_commands() {
         } catch (const std::exception& e) {  // a command's own errors are its replies
           std::cerr << "macsim: a command failed and was dropped: " << e.what() << std::endl;
         }
-        ++ran;
+        ++ran_now;
         continue;
       }
       replace_world(std::get<Load>(item));
-      ++ran;
+      ++ran_now;
       break;  // the world changed: the rest is the next batch
     }
+    ran += ran_now;
     const bool more = !batch.empty() && runnable(batch.front());
     {
       std::lock_guard<std::mutex> lock(mutex_);  // what was held back goes first again
+      queued_ -= ran_now;  // counted until now: a batch running holds its place in the queue
       pending_.insert(pending_.begin(), std::make_move_iterator(batch.begin()),
                       std::make_move_iterator(batch.end()));
     }

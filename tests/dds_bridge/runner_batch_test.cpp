@@ -34,19 +34,20 @@ TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
   ASSERT_TRUE(runner.snapshots().save("before", runner.world().snapshot()).ok());
   const ObjectId box = id_of(runner.world(), "environment_01/box_red_small");
   auto supervise = [&runner](mm::SupervisorRequest_ request, mm::SupervisorReply_* reply) {
-    runner.push([&runner, request, reply](World& world) {
+    EXPECT_TRUE(runner.push([&runner, request, reply](World& world) {
       *reply = dispatch(request, world, runner.snapshots());
-    });
+    }));
   };
 
   std::optional<LoadOutcome> loaded;
-  runner.load([] { return shipped_world("DemoWorld_v1.xml"); },
-              [&](const LoadOutcome& outcome) { loaded = outcome; });
+  EXPECT_EQ(runner.load([] { return shipped_world("DemoWorld_v1.xml"); },
+                        [&](const LoadOutcome& outcome) { loaded = outcome; }),
+            LoadQueued::Yes);
   mm::SupervisorReply_ destroyed, restored, hashed;
   supervise(rq::destroy_object(box), &destroyed);
   // As RobotNode posts a cmd_vel: a command calling the simulated KURT's interface.
   SimulatedKurt kurt(runner, "kurt");
-  runner.push([&kurt](World&) { kurt.command_twist(0.3, 0.0); });
+  EXPECT_TRUE(runner.push([&kurt](World&) { kurt.command_twist(0.3, 0.0); }));
   supervise(rq::restore_snapshot("before"), &restored);
   supervise(rq::state_hash(), &hashed);
   apply_until(runner, [&] { return hashed.sequence_number() == 0 && hashed.hash() != 0; });
@@ -69,13 +70,14 @@ TEST(RunnerBatch, ARefusedLoadLeavesLaterCommandsOnTheOldWorld) {
   Runner runner(shipped_world("DemoWorld_v1.xml"));
   const ObjectId box = id_of(runner.world(), "environment_01/box_red_small");
   std::optional<LoadOutcome> loaded;
-  runner.load([] { return load_world_file(source("worlds/no_such.xml")); },
-              [&](const LoadOutcome& outcome) { loaded = outcome; });
+  EXPECT_EQ(runner.load([] { return load_world_file(source("worlds/no_such.xml")); },
+                        [&](const LoadOutcome& outcome) { loaded = outcome; }),
+            LoadQueued::Yes);
   mm::SupervisorReply_ destroyed;
   destroyed.code(-1);
-  runner.push([&](World& world) {
+  EXPECT_TRUE(runner.push([&](World& world) {
     destroyed = dispatch(rq::destroy_object(box), world, runner.snapshots());
-  });
+  }));
   apply_until(runner, [&] { return destroyed.code() != -1; });
   ASSERT_TRUE(loaded.has_value());
   EXPECT_FALSE(loaded->ok);

@@ -61,8 +61,10 @@ TEST(SimulatedKurt, ActsOnTheRobotOfTheCurrentWorldAfterALoad) {
   for (int i = 0; i < 50; ++i) runner.step();
   kurt.read();
   bool loaded = false;
-  runner.load([] { return one_robot("kurt3d"); }, [&](const LoadOutcome& o) { loaded = o.ok; });
-  runner.push([&kurt](World&) { kurt.command_magnet(true); });
+  EXPECT_EQ(
+      runner.load([] { return one_robot("kurt3d"); }, [&](const LoadOutcome& o) { loaded = o.ok; }),
+      LoadQueued::Yes);
+  EXPECT_TRUE(runner.push([&kurt](World&) { kurt.command_magnet(true); }));
   for (int i = 0; i < 200 && !loaded; ++i) {
     runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(50));
     runner.apply_commands();

@@ -24,7 +24,7 @@ TEST(Runner, CommandsRunOnlyWhenTheRunnerSteps) {
   Runner runner(small_room());
   int applied = 0;
   std::thread producer([&] {
-    for (int i = 0; i < 100; ++i) runner.push([&applied](World&) { ++applied; });
+    for (int i = 0; i < 100; ++i) EXPECT_TRUE(runner.push([&applied](World&) { ++applied; }));
   });
   producer.join();
   EXPECT_EQ(applied, 0);  // nothing touched the world from the producer's thread
@@ -37,8 +37,8 @@ TEST(Runner, CommandsRunOnlyWhenTheRunnerSteps) {
 TEST(Runner, CommandsRunInArrivalOrderBeforeTheStep) {
   Runner runner(small_room());
   std::vector<uint64_t> seen_at_step;
-  runner.push([&](World& w) { seen_at_step.push_back(w.steps()); });
-  runner.push([&](World& w) { seen_at_step.push_back(w.steps() + 100); });
+  EXPECT_TRUE(runner.push([&](World& w) { seen_at_step.push_back(w.steps()); }));
+  EXPECT_TRUE(runner.push([&](World& w) { seen_at_step.push_back(w.steps() + 100); }));
   runner.step();
   ASSERT_EQ(seen_at_step.size(), 2u);
   EXPECT_EQ(seen_at_step[0], 0u);  // ran before the step advanced time
@@ -51,7 +51,8 @@ TEST(Runner, SameWorldAndCommandsGiveBitIdenticalStates) {
     Runner runner(small_room());
     for (int i = 0; i < 2000; ++i) {
       if (i % 100 == 0) {
-        runner.push([](World& w) { w.robot("kurt")->command_twist(0.3, 0.4, w.time()); });
+        EXPECT_TRUE(
+            runner.push([](World& w) { w.robot("kurt")->command_twist(0.3, 0.4, w.time()); }));
       }
       runner.step();
     }
@@ -66,19 +67,20 @@ TEST(Runner, CommandsAfterALoadInTheSameBatchActOnTheNewWorld) {
   for (int i = 0; i < 10; ++i) runner.step();
   std::vector<const World*> seen;
   LoadOutcome outcome;
-  runner.push([&](World& w) { seen.push_back(&w); });
+  EXPECT_TRUE(runner.push([&](World& w) { seen.push_back(&w); }));
   std::promise<void> parsed;
-  runner.load(
-      [&] {
-        WorldSpec spec = small_room();
-        parsed.set_value();
-        return spec;
-      },
-      [&](const LoadOutcome& o) { outcome = o; });
-  runner.push([&](World& w) {
+  EXPECT_EQ(runner.load(
+                [&] {
+                  WorldSpec spec = small_room();
+                  parsed.set_value();
+                  return spec;
+                },
+                [&](const LoadOutcome& o) { outcome = o; }),
+            LoadQueued::Yes);
+  EXPECT_TRUE(runner.push([&](World& w) {
     seen.push_back(&w);
     w.robot("kurt")->command_twist(0.3, 0.0, w.time());  // a cmd_vel right after the load
-  });
+  }));
   parsed.get_future().wait();
   std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the promise is set just after
   EXPECT_EQ(runner.apply_commands(), 3u);
@@ -98,17 +100,18 @@ TEST(Runner, ALoadStillParsingHoldsLaterCommandsWhileTheWorldRunsOn) {
   std::shared_future<void> released = release.get_future().share();
   LoadOutcome outcome;
   bool done = false;
-  runner.load(
-      [released] {
-        released.wait();
-        return small_room();
-      },
-      [&](const LoadOutcome& o) {
-        outcome = o;
-        done = true;
-      });
+  EXPECT_EQ(runner.load(
+                [released] {
+                  released.wait();
+                  return small_room();
+                },
+                [&](const LoadOutcome& o) {
+                  outcome = o;
+                  done = true;
+                }),
+            LoadQueued::Yes);
   int later = 0;
-  runner.push([&](World&) { ++later; });
+  EXPECT_TRUE(runner.push([&](World&) { ++later; }));
   for (int i = 0; i < 5; ++i) runner.step();  // the old world steps on; the command waits
   EXPECT_EQ(later, 0);
   EXPECT_FALSE(done);
@@ -131,8 +134,8 @@ TEST(Runner, ABadWorldIsRefusedAndTheOldOneRunsOn) {
   // One load at a time: each is answered before the next is asked.
   auto load = [&](std::function<WorldSpec()> parse) {
     const std::size_t before = outcomes.size();
-    ASSERT_TRUE(
-        runner.load(std::move(parse), [&](const LoadOutcome& o) { outcomes.push_back(o); }));
+    ASSERT_EQ(runner.load(std::move(parse), [&](const LoadOutcome& o) { outcomes.push_back(o); }),
+              LoadQueued::Yes);
     for (int i = 0; i < 100 && outcomes.size() == before; ++i) {
       runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
       runner.apply_commands();
@@ -168,7 +171,8 @@ TEST(Runner, NamedSnapshotsBelongToOneWorld) {
   ASSERT_TRUE(runner.snapshots().save("start", runner.world().snapshot()).ok());
   const WorldSnapshot kept = runner.world().snapshot();
   bool loaded = false;
-  runner.load([] { return small_room(); }, [&](const LoadOutcome& o) { loaded = o.ok; });
+  EXPECT_EQ(runner.load([] { return small_room(); }, [&](const LoadOutcome& o) { loaded = o.ok; }),
+            LoadQueued::Yes);
   for (int i = 0; i < 100 && !loaded; ++i) {
     runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
     runner.apply_commands();
@@ -193,7 +197,7 @@ TEST(Runner, StepRequestsRunWhilePausedAndAnswerAfterTheLastStep) {
   std::vector<uint64_t> published;
   StepHooks hooks;
   hooks.after_step = [&](World& w) { published.push_back(w.steps()); };
-  runner.push([&](World&) {
+  EXPECT_TRUE(runner.push([&](World&) {
     EXPECT_TRUE(runner.request_steps(3, [&](bool completed) {
       EXPECT_TRUE(completed);
       ++answered;
@@ -201,7 +205,7 @@ TEST(Runner, StepRequestsRunWhilePausedAndAnswerAfterTheLastStep) {
       stop = true;
     }));
     EXPECT_FALSE(runner.request_steps(1, nullptr));  // one request at a time
-  });
+  }));
   runner.run(stop, 100, hooks);
   EXPECT_EQ(answered, 1);
   EXPECT_EQ(answered_at, 3u);
@@ -235,7 +239,7 @@ TEST(Runner, AStepRequestEndsAtTheFirstCheckItsConditionHoldsAndFlushesBeforeIts
     EXPECT_TRUE(runner.step_request()->publish_at_end);  // the hooks see what the request wants
   };
   hooks.request_end = [&](World& w) { order.push_back("end at " + std::to_string(w.steps())); };
-  runner.push([&](World&) { EXPECT_TRUE(runner.request_steps(std::move(request))); });
+  EXPECT_TRUE(runner.push([&](World&) { EXPECT_TRUE(runner.request_steps(std::move(request))); }));
   runner.run(stop, 2000, hooks);
   EXPECT_TRUE(completed);
   EXPECT_EQ(runner.world().steps(), 40u);
@@ -258,7 +262,7 @@ TEST(Runner, AStepRequestThatHoldsCommandsKeepsTheRobotDrivingPastTheCommandTime
     request.steps = static_cast<uint64_t>(std::lround(2.0 / runner.world().step_size()));
     request.hold_commands = hold;
     request.done = [&](bool) { stop = true; };
-    runner.push([&](World&) { runner.request_steps(std::move(request)); });
+    EXPECT_TRUE(runner.push([&](World&) { runner.request_steps(std::move(request)); }));
     runner.run(stop, 100000, {});
     return robot.base_footprint_pose().position.x() - x0;
   };
@@ -278,10 +282,12 @@ TEST(Runner, AResetThatTakesTheTimeBackCancelsAStepRequestWithNoStepAfterIt) {
     completed = c;
     stop = true;
   };
-  runner.push([&](World&) { runner.request_steps(std::move(request)); });
+  EXPECT_TRUE(runner.push([&](World&) { runner.request_steps(std::move(request)); }));
   StepHooks hooks;
   hooks.after_step = [&](World& w) {
-    if (w.steps() == 5) runner.push([](World& world) { world.reset(ResetScope::Everything); });
+    if (w.steps() == 5) {
+      EXPECT_TRUE(runner.push([](World& world) { world.reset(ResetScope::Everything); }));
+    }
   };
   bool flushed_before_answer = false;  // what was held for the request's end goes out first
   hooks.request_end = [&](World&) { flushed_before_answer = !completed.has_value(); };
@@ -297,15 +303,17 @@ TEST(Runner, APauseCancelsAHugeStepRequest) {
   Runner runner(small_room(), RunSettings{true, 0.0});
   std::atomic<bool> stop{false};
   std::optional<bool> completed;
-  runner.push([&](World&) {
+  EXPECT_TRUE(runner.push([&](World&) {
     runner.request_steps(1'000'000'000'000'000'000ull, [&](bool c) {
       completed = c;
       stop = true;
     });
-  });
+  }));
   StepHooks hooks;
   hooks.after_step = [&](World& w) {
-    if (w.steps() == 5) runner.push([&](World&) { runner.pause(); });  // as SIM_PAUSE does
+    if (w.steps() == 5) {
+      EXPECT_TRUE(runner.push([&](World&) { runner.pause(); }));  // as SIM_PAUSE does
+    }
   };
   runner.run(stop, 1000, hooks);
   ASSERT_TRUE(completed.has_value());
@@ -323,10 +331,10 @@ TEST(Runner, AWorldGoneNonFiniteAtRunTimePausesWithAnEventNamingTheObject) {
     for (auto& e : w.take_events()) events.push_back(e);
     if (w.steps() == 10) {
       // The largest force a request may give, on a light ball: beyond 1000 m/s in one step.
-      runner.push([](World& world) {
+      EXPECT_TRUE(runner.push([](World& world) {
         const ObjectId ball = *world.find_object("green_ball");
         ASSERT_TRUE(world.add_force(ball, {0, 0, bounds::kMaxForce}).ok());
-      });
+      }));
     }
     if (w.steps() == 50) stop = true;  // reached only if the runner ran on
   };
@@ -363,20 +371,96 @@ TEST(Runner, OneLoadAtATime) {
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
   int done = 0;
-  EXPECT_TRUE(runner.load(
-      [released] {
-        released.wait();
-        return small_room();
-      },
-      [&](const LoadOutcome&) { ++done; }));
-  EXPECT_FALSE(runner.load([] { return small_room(); }, [&](const LoadOutcome&) { ++done; }));
+  EXPECT_EQ(runner.load(
+                [released] {
+                  released.wait();
+                  return small_room();
+                },
+                [&](const LoadOutcome&) { ++done; }),
+            LoadQueued::Yes);
+  EXPECT_EQ(runner.load([] { return small_room(); }, [&](const LoadOutcome&) { ++done; }),
+            LoadQueued::LoadRunning);
   release.set_value();
   for (int i = 0; i < 100 && done == 0; ++i) {
     runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
     runner.apply_commands();
   }
   EXPECT_EQ(done, 1);
-  EXPECT_TRUE(runner.load([] { return small_room(); }, nullptr));  // the next one is welcome
+  EXPECT_EQ(runner.load([] { return small_room(); }, nullptr),
+            LoadQueued::Yes);  // the next one is welcome
+}
+
+TEST(Runner, TheCommandQueueIsCappedAndTakesCommandsAgainOnceServed) {
+  RunSettings settings;
+  settings.max_queued_commands = 3;
+  Runner runner(small_room(), settings);
+  int ran = 0;
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(runner.push([&](World&) { ++ran; }));
+  EXPECT_FALSE(runner.push([&](World&) { ran += 100; }));  // refused: never runs
+  bool parsed = false;
+  EXPECT_EQ(runner.load(
+                [&] {
+                  parsed = true;
+                  return small_room();
+                },
+                nullptr),
+            LoadQueued::QueueFull);  // a load counts as a command
+  EXPECT_NE(runner.queue_full_message().find("--max-queued-commands"), std::string::npos);
+  EXPECT_NE(runner.queue_full_message().find("3"), std::string::npos);
+  EXPECT_EQ(runner.apply_commands(), 3u);
+  EXPECT_EQ(ran, 3);
+  EXPECT_FALSE(parsed);  // nothing of a refused load runs
+  // Served: the queue takes as many again.
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(runner.push([&](World&) { ++ran; }));
+  EXPECT_FALSE(runner.push([&](World&) { ran += 100; }));
+  runner.step();
+  EXPECT_EQ(ran, 6);
+  // A command running holds its place until its batch is done: a command it pushes counts too.
+  bool inner = false, third = true;
+  EXPECT_TRUE(runner.push([&](World&) {
+    inner = runner.push([&](World&) { ++ran; });
+    EXPECT_TRUE(runner.push([&](World&) { ++ran; }));
+    third = runner.push([&](World&) { ran += 100; });
+  }));
+  EXPECT_EQ(runner.apply_commands(), 1u);  // what it pushed runs with the next batch
+  EXPECT_TRUE(inner);
+  EXPECT_FALSE(third);
+  EXPECT_EQ(runner.apply_commands(), 2u);
+  EXPECT_EQ(ran, 8);
+}
+
+TEST(Runner, CommandsHeldBehindALoadStillParsingFillTheQueue) {
+  RunSettings settings;
+  settings.max_queued_commands = 3;
+  Runner runner(small_room(), settings);
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::optional<LoadOutcome> outcome;
+  EXPECT_EQ(runner.load(
+                [released] {
+                  released.wait();
+                  return small_room();
+                },
+                [&](const LoadOutcome& o) { outcome = o; }),
+            LoadQueued::Yes);
+  int ran = 0;
+  EXPECT_TRUE(runner.push([&](World&) { ++ran; }));
+  EXPECT_TRUE(runner.push([&](World&) { ++ran; }));
+  EXPECT_FALSE(runner.push([&](World&) { ran += 100; }));
+  for (int i = 0; i < 3; ++i) runner.step();  // the old world steps on; nothing is served
+  EXPECT_EQ(ran, 0);
+  EXPECT_FALSE(runner.push([&](World&) { ran += 100; }));  // still full while the load parses
+  release.set_value();
+  for (int i = 0; i < 100 && !outcome; ++i) {
+    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
+    runner.apply_commands();
+  }
+  ASSERT_TRUE(outcome.has_value());
+  EXPECT_TRUE(outcome->ok);
+  EXPECT_EQ(ran, 2);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(runner.push([&](World&) { ++ran; }));
+  runner.apply_commands();
+  EXPECT_EQ(ran, 5);
 }
 
 }  // namespace

@@ -233,8 +233,9 @@ TEST(WorldOverlaps, ARunnerWarnsOfOrRefusesALoadedWorldWithOverlaps) {
     Runner runner(shipped_world("small_room.xml"), settings);
     const World* before = &runner.world();
     std::promise<LoadOutcome> outcome;
-    ASSERT_TRUE(runner.load([file] { return load_world_file(file); },
-                            [&outcome](const LoadOutcome& o) { outcome.set_value(o); }));
+    ASSERT_EQ(runner.load([file] { return load_world_file(file); },
+                          [&outcome](const LoadOutcome& o) { outcome.set_value(o); }),
+              LoadQueued::Yes);
     auto done = outcome.get_future();
     while (done.wait_for(std::chrono::milliseconds(0)) != std::future_status::ready) {
       runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));

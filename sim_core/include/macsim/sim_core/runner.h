@@ -38,6 +38,9 @@ struct LoadOutcome {
 /// The slowest real-time factor the loop runs at: slower would mean waits too long to serve.
 inline constexpr double kMinRealTimeFactor = 1e-3;
 
+/// Commands and loads queued and not yet run, at most, by default (RunSettings).
+inline constexpr std::size_t kDefaultMaxQueuedCommands = 65536;
+
 /// How the loop steps.
 struct RunSettings {
   bool paused = false;               ///< no stepping but on request
@@ -47,6 +50,15 @@ struct RunSettings {
   /// refused (BadFile, naming them) when true; either way `warn` gets one line per pair.
   bool refuse_overlaps = false;
   std::function<void(const std::string&)> warn = nullptr;  ///< warnings about a loaded world
+  /// Commands and loads queued and not yet run at most: push() and load() refuse more.
+  std::size_t max_queued_commands = kDefaultMaxQueuedCommands;
+};
+
+/// What load() did with a world load.
+enum class LoadQueued {
+  Yes,          ///< queued: `done` runs once it ends
+  LoadRunning,  ///< refused: another load is still on its way (one at a time)
+  QueueFull,    ///< refused: the command queue is full (RunSettings::max_queued_commands)
 };
 
 /// What run() calls around each step.
@@ -82,13 +94,18 @@ class Runner {
   Runner& operator=(const Runner&) = delete;
 
   // ---- from any thread -------------------------------------------------------------------
-  /// Queues a command; it runs before the next step (or at once while paused).
-  void push(Command command);
+  /// Queues a command; it runs before the next step (or at once while paused). False (and
+  /// nothing queued) when the queue is full (RunSettings::max_queued_commands).
+  [[nodiscard]] bool push(Command command);
   /// Queues a world load: `parse` runs on a thread of its own while the current world runs on;
   /// commands queued after it wait and then run on the new world. The new world must have the
   /// same robots (names and types) as the current one. `done` runs on the simulation thread.
-  /// False (and nothing queued) while another load is still on its way: one at a time.
-  bool load(std::function<WorldSpec()> parse, std::function<void(const LoadOutcome&)> done);
+  /// Refused (nothing queued, nothing parsed) while another load is still on its way, or when
+  /// the queue is full; a load counts as one command.
+  [[nodiscard]] LoadQueued load(std::function<WorldSpec()> parse,
+                                std::function<void(const LoadOutcome&)> done);
+  /// What a request refused because the queue is full is told (names the cap and its flag).
+  std::string queue_full_message() const;
   /// Blocks until a command can run or `deadline` passes; true if one can.
   bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
 
@@ -167,6 +184,8 @@ class Runner {
   std::mutex mutex_;
   std::condition_variable arrived_;
   std::deque<Item> pending_;
+  std::size_t queued_ = 0;        // items queued and not yet run (in pending_ or a batch running)
+  const std::size_t max_queued_;  // settings_.max_queued_commands (at least 1), for any thread
   std::vector<std::future<void>> loaders_;  // parses running or done
   bool loading_ = false;                    // a load is queued or parsing (guarded by mutex_)
 };
