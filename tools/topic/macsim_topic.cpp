@@ -24,6 +24,7 @@
 #include "macsim/dds/participant.h"
 #include "macsim/msg/rosgraph_msgsPubSubTypes.h"
 #include "raw_endpoints.h"
+#include "sample_queue.h"
 #include "topic_graph.h"
 
 namespace {
@@ -476,11 +477,12 @@ int run_pub(int argc, char** argv) {
 /// Receives samples on DDS threads and stores them from the recording thread.
 class Recorder {
  public:
-  /// Bytes received and not yet stored at most: a disk slower than the topics drops samples
-  /// (counted as lost) instead of filling memory.
+  /// Bytes received and not yet stored at most (samples, their bookkeeping, the batch being
+  /// written: topic::SampleQueue::cost): a disk slower than the topics drops samples (counted
+  /// as lost) instead of filling memory.
   static constexpr std::size_t kMaxQueuedBytes = std::size_t{256} << 20;
 
-  explicit Recorder(topic::BagWriter& bag) : bag_(bag) {}
+  explicit Recorder(topic::BagWriter& bag) : bag_(bag), queue_(kMaxQueuedBytes) {}
   void add(dds::Participant& participant, const topic::TopicSummary& t) {
     const std::string ros_name = dds::ros_topic_name(t.name);
     const std::string dds_type = t.writers.front().type;
@@ -493,28 +495,19 @@ class Recorder {
     auto* count = &counts_[t.name];
     readers_.push_back(std::make_unique<topic::RawReader>(
         participant, t.name, dds_type, qos_for(t, 0), [this, id, count](topic::ReceivedSample&& s) {
+          if (!queue_.push(id, std::move(s))) return;  // counted as dropped
           std::lock_guard<std::mutex> lock(mutex_);
-          if (queued_bytes_ + s.bytes.size() > kMaxQueuedBytes) {
-            ++dropped_;
-            return;
-          }
           ++*count;
-          queued_bytes_ += s.bytes.size();
-          queue_.push_back({id, std::move(s)});
-          ready_.notify_one();
         }));
   }
   /// Stores what arrived; returns after `slice` with nothing new.
   void drain(std::chrono::milliseconds slice) {
-    std::deque<std::pair<int, topic::ReceivedSample>> batch;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      ready_.wait_for(lock, slice, [&] { return !queue_.empty(); });
-      batch.swap(queue_);
-      queued_bytes_ = 0;
+    topic::SampleQueue::Batch batch = queue_.take(slice);
+    for (const auto& [id, s] : batch) {
+      bag_.write(id, s.received_ns, s.bytes.data(), s.bytes.size());
     }
-    for (auto& [id, s] : batch) bag_.write(id, s.received_ns, s.bytes.data(), s.bytes.size());
     if (!batch.empty()) bag_.flush();
+    queue_.release(batch);  // counted until written: the batch is in memory until then
   }
   /// Stops receiving (the counts are final), then stores what is still queued.
   void finish() {
@@ -524,7 +517,7 @@ class Recorder {
   }
   bool has(const std::string& topic) const { return counts_.count(topic) != 0; }
   std::uint64_t lost() const {
-    std::uint64_t n = lost_ + dropped_;
+    std::uint64_t n = lost_ + queue_.dropped();
     for (const auto& r : readers_) n += r->lost();
     return n;
   }
@@ -532,13 +525,10 @@ class Recorder {
 
  private:
   topic::BagWriter& bag_;
-  std::mutex mutex_;
-  std::condition_variable ready_;
-  std::deque<std::pair<int, topic::ReceivedSample>> queue_;
-  std::size_t queued_bytes_ = 0;
+  topic::SampleQueue queue_;  // over kMaxQueuedBytes: dropped, counted as lost
+  std::mutex mutex_;          // guards the counts while readers run
   std::map<std::string, std::uint64_t> counts_;
   std::uint64_t lost_ = 0;
-  std::uint64_t dropped_ = 0;  // over kMaxQueuedBytes
   std::vector<std::unique_ptr<topic::RawReader>> readers_;
 };
 
