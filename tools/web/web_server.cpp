@@ -59,7 +59,11 @@ std::string content_type(const std::string& path) {
 struct WebServer::Impl {
   Server server;
   std::map<std::string, std::string> files;
-  std::set<Handle, std::owner_less<Handle>> connections;  // touched on the server's thread only
+  // Both touched on the server's thread only. A handshake takes its slot when validated (its
+  // 101 answer is written later, asynchronously) and gives it back on close or fail: the cap
+  // counts handshakes in flight too.
+  std::set<Handle, std::owner_less<Handle>> slots;
+  std::set<Handle, std::owner_less<Handle>> connections;  // open: the ones frames go to
   std::atomic<std::size_t> count{0};
   std::size_t max_buffered = 0;
   std::size_t max_clients = 0;
@@ -118,7 +122,10 @@ WebServer::WebServer(const Options& options, OnOpen on_open, OnMessage on_messag
     connection->set_body(file->second);
   });
   s.server.set_validate_handler([&s](Handle handle) {  // a WebSocket handshake, before open
-    if (s.connections.size() < s.max_clients) return true;
+    if (s.slots.size() < s.max_clients) {
+      s.slots.insert(handle);
+      return true;
+    }
     ++s.refused;
     auto connection = s.server.get_con_from_hdl(handle);
     connection->set_status(websocketpp::http::status_code::service_unavailable);
@@ -137,7 +144,10 @@ WebServer::WebServer(const Options& options, OnOpen on_open, OnMessage on_messag
       s.server.send(handle, frame, websocketpp::frame::opcode::text, error);
     }
   });
+  // Every handshake validated ends in exactly one of them (a refused one, or one failed before
+  // validation, holds no slot: erasing it changes nothing).
   auto forget = [&s](Handle handle) {
+    s.slots.erase(handle);
     s.connections.erase(handle);
     s.count = s.connections.size();
   };

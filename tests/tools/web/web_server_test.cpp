@@ -1,5 +1,6 @@
 // macsim_web's server without a browser: WebSocket handshakes over a plain socket; at most
-// max_clients at once, the next refused with HTTP 503 naming the cap, a closed one's place free.
+// max_clients at once, the next refused with HTTP 503 naming the cap, a closed one's place free,
+// handshakes in flight at once counted too.
 #include "web_server.h"
 
 #include <arpa/inet.h>
@@ -9,12 +10,13 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <functional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <string>
 #include <thread>
-
+#include <vector>
 
 namespace macsim::web {
 namespace {
@@ -23,7 +25,9 @@ namespace {
 struct Handshake {
   int fd = -1;
   std::string answer;
-  explicit Handshake(int port) {
+  bool sent = false;
+  /// Connects and asks; reads the answer now unless `read_later` (then call read()).
+  explicit Handshake(int port, bool read_later = false) {
     fd = ::socket(AF_INET, SOCK_STREAM, 0);
     sockaddr_in address{};
     address.sin_family = AF_INET;
@@ -33,7 +37,11 @@ struct Handshake {
     const std::string request =
         "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
         "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
-    if (::send(fd, request.data(), request.size(), 0) < 0) return;
+    sent = ::send(fd, request.data(), request.size(), 0) == static_cast<ssize_t>(request.size());
+    if (!read_later) read();
+  }
+  void read() {
+    if (!sent) return;
     timeval limit{5, 0};
     ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
     char buffer[4096];
@@ -90,6 +98,46 @@ TEST(WebServer, AtMostMaxClientsBrowsersAtOnceTheNextIsRefusedWith503) {
   ASSERT_TRUE(wait_until([&] { return server.clients() == 1; }));
   Handshake fourth(server.port());
   EXPECT_TRUE(fourth.accepted()) << fourth.answer;
+  std::filesystem::remove_all(root);
+}
+
+TEST(WebServer, HandshakesInFlightAtOnceCountAgainstTheCap) {
+  const std::filesystem::path root = std::filesystem::temp_directory_path() /
+                                     ("macsim_web_test_flight_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(root);
+  std::ofstream(root / "index.html") << "<html></html>";
+  WebServer::Options options;
+  options.port = 0;
+  options.root = root.string();
+  options.max_clients = 2;
+  WebServer server(options, nullptr, nullptr);
+
+  // Every request is out before any answer is read: the server validates them while the first
+  // ones' 101 answers are still being written, before any is open.
+  std::vector<std::unique_ptr<Handshake>> handshakes;
+  for (int i = 0; i < 12; ++i) {
+    handshakes.push_back(std::make_unique<Handshake>(server.port(), /*read_later=*/true));
+    ASSERT_TRUE(handshakes.back()->sent);
+  }
+  std::size_t accepted = 0, refused = 0;
+  for (auto& h : handshakes) {
+    h->read();
+    if (h->accepted()) ++accepted;
+    if (h->answer.rfind("HTTP/1.1 503", 0) == 0) ++refused;
+  }
+  EXPECT_EQ(accepted, 2u);
+  EXPECT_EQ(refused, 10u);
+  EXPECT_EQ(server.clients_refused(), 10u);
+  ASSERT_TRUE(wait_until([&] { return server.clients() == 2; }));
+
+  // Closed, the accepted ones give their places back, once each: two new ones fit, a third not.
+  for (auto& h : handshakes) h->close();
+  ASSERT_TRUE(wait_until([&] { return server.clients() == 0; }));
+  Handshake again1(server.port()), again2(server.port());
+  EXPECT_TRUE(again1.accepted()) << again1.answer;
+  EXPECT_TRUE(again2.accepted()) << again2.answer;
+  Handshake again3(server.port());
+  EXPECT_EQ(again3.answer.rfind("HTTP/1.1 503", 0), 0u) << again3.answer;
   std::filesystem::remove_all(root);
 }
 
