@@ -75,6 +75,11 @@ void PictureServer::accept(const Request& r) {
       replies_.write(*again);
       return;
     }
+    if (replied_.forgotten(r)) {  // answered long ago: its reply is gone, it must not run again
+      progress_.end(r.client_id(), r.sequence_number());
+      replies_.write(replied_.forgotten_reply(r));
+      return;
+    }
     const bool pending = std::any_of(jobs_.begin(), jobs_.end(), [&](const Job& j) {
       return j.request.client_id() == r.client_id() &&
              j.request.sequence_number() == r.sequence_number();

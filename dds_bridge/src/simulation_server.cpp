@@ -86,28 +86,26 @@ void SimulationServer::refuse_full(const Request& q) {
 bool SimulationServer::load_seen(const Request& r) {
   std::lock_guard<std::mutex> lock(loads_mutex_);
   const uint64_t use = ++load_uses_;
-  if (auto last = last_load_.find(r.client_id()); last != last_load_.end()) {
-    last->second.use = use;
-    if (last->second.sequence_number == r.sequence_number()) return true;
-    last->second.sequence_number = r.sequence_number();
-    return false;
+  auto seen = loads_seen_.find(r.client_id());
+  if (seen == loads_seen_.end()) {
+    if (loads_seen_.size() >= kMaxLoadClients) {
+      const auto oldest = std::min_element(
+          loads_seen_.begin(), loads_seen_.end(),
+          [](const auto& a, const auto& b) { return a.second.use < b.second.use; });
+      loads_seen_.erase(oldest);
+    }
+    seen = loads_seen_.emplace(r.client_id(), LoadsSeen{}).first;
   }
-  if (last_load_.size() >= kMaxLoadClients) {
-    const auto oldest = std::min_element(
-        last_load_.begin(), last_load_.end(),
-        [](const auto& a, const auto& b) { return a.second.use < b.second.use; });
-    last_load_.erase(oldest);
+  LoadsSeen& loads = seen->second;
+  loads.use = use;
+  const uint64_t sequence = r.sequence_number();
+  if (loads.recent.count(sequence) || sequence <= loads.forgotten_through) return true;
+  loads.recent.insert(sequence);
+  if (loads.recent.size() > kLoadWindow) {
+    loads.forgotten_through = std::max(loads.forgotten_through, *loads.recent.begin());
+    loads.recent.erase(loads.recent.begin());
   }
-  last_load_.emplace(r.client_id(), LastLoad{r.sequence_number(), use});
   return false;
-}
-
-void SimulationServer::forget_load(const Request& r) {
-  std::lock_guard<std::mutex> lock(loads_mutex_);
-  const auto last = last_load_.find(r.client_id());
-  if (last != last_load_.end() && last->second.sequence_number == r.sequence_number()) {
-    last_load_.erase(last);
-  }
 }
 
 SimulationServer::~SimulationServer() { requests_.reset(); }
@@ -126,6 +124,12 @@ bool SimulationServer::repeated(const Request& q) {
   if (const Reply* again = replied_.find(q)) {
     progress_.end(q.client_id(), q.sequence_number());
     replies_.write(*again);
+    return true;
+  }
+  if (replied_.forgotten(q)) {  // answered long ago: its reply is gone, it must not run again
+    progress_.end(q.client_id(), q.sequence_number());
+    replies_.write(
+        reply_to(q, mm::ERR_LIMIT_REACHED, replied_.forgotten_message(q.sequence_number())));
     return true;
   }
   return false;

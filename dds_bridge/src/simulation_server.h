@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "macsim/dds/participant.h"
@@ -24,9 +25,13 @@ namespace macsim {
 /// done); SIM_CANCEL from the same client ends its step request.
 class SimulationServer {
  public:
-  /// At most this many clients' last load request numbers are kept (the least recently used
-  /// goes): a very late repeat of an evicted client's load could load it again.
+  /// At most this many clients' load request numbers are kept (the least recently used goes):
+  /// a very late repeat of an evicted client's load could load it again.
   static constexpr std::size_t kMaxLoadClients = 1024;
+  /// Per client, its last this many load request numbers are kept; a repeat of an older one is
+  /// known as seen (its sequence number is below them) and never loads again.
+  static constexpr std::size_t kLoadWindow = 16;
+
 
   /// Worlds loaded on request are held to `limits`; step conditions read `readings`.
   SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
@@ -59,12 +64,13 @@ class SimulationServer {
   bool cancelling_ = false;           // a SIM_CANCEL is ending stepping_
   std::optional<Reply> cancelled_;    // the reply of the request it ended
   ReplyCache<Reply> replied_;
-  std::mutex loads_mutex_;  // guards last_load_ and load_uses_ (Fast DDS's threads)
-  struct LastLoad {
-    uint64_t sequence_number;
-    uint64_t use;  // load_uses_ when last seen
+  std::mutex loads_mutex_;  // guards loads_seen_ and load_uses_ (Fast DDS's threads)
+  struct LoadsSeen {
+    std::set<uint64_t> recent;       // the last kLoadWindow load request numbers
+    uint64_t forgotten_through = 0;  // every load request number up to this one was seen
+    uint64_t use = 0;                // load_uses_ when last seen
   };
-  std::map<std::string, LastLoad> last_load_;  // by client, at most kMaxLoadClients
+  std::map<std::string, LoadsSeen> loads_seen_;  // by client, at most kMaxLoadClients
   uint64_t load_uses_ = 0;
   dds::Writer<macsim_msgs::msg::dds_::SimulationReply_PubSubType> replies_;
   RequestProgress<Reply> progress_;  // after replies_, which it writes to

@@ -52,6 +52,11 @@ void SupervisorServer::execute(const Request& q, World& world) {
     replies_.write(*again);
     return;
   }
+  if (replied_.forgotten(q)) {  // answered long ago: its reply is gone, it must not run again
+    progress_.end(q.client_id(), q.sequence_number());
+    replies_.write(replied_.forgotten_reply(q));
+    return;
+  }
   const Reply reply = dispatch(q, world, runner_.snapshots());
   progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);
