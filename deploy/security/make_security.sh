@@ -83,6 +83,21 @@ for id in macsim operator controller; do
         </properties></propertiesPolicy>
       </rtps>
     </participant>
+    <!-- Commands, replies and progress: a lost one is sent again within ~0.1 s, not after Fast
+         DDS's default 3 s heartbeat (longer than a client waits on a silent server). -->
+    <data_writer profile_name="macsim_command">
+      <topic>
+        <historyQos><kind>KEEP_LAST</kind><depth>10</depth></historyQos>
+        <resourceLimitsQos><max_samples>100000</max_samples><max_instances>10000</max_instances>
+          <max_samples_per_instance>10</max_samples_per_instance></resourceLimitsQos>
+      </topic>
+      <qos><reliability><kind>RELIABLE</kind></reliability><durability><kind>VOLATILE</kind></durability></qos>
+      <times>
+        <initialHeartbeatDelay><sec>0</sec><nanosec>10000000</nanosec></initialHeartbeatDelay>
+        <heartbeatPeriod><sec>0</sec><nanosec>100000000</nanosec></heartbeatPeriod>
+        <nackResponseDelay><sec>0</sec><nanosec>5000000</nanosec></nackResponseDelay>
+      </times>
+    </data_writer>
   </profiles>
 </dds>
 XML

@@ -1,5 +1,7 @@
 #include "macsim/dds/qos.h"
 
+#include <type_traits>
+
 namespace macsim::dds {
 
 namespace fdds = eprosima::fastdds::dds;
@@ -10,12 +12,13 @@ struct Policies {
   fdds::ReliabilityQosPolicyKind reliability;
   fdds::DurabilityQosPolicyKind durability;
   int depth;
+  bool fast_repair = false;  // heartbeats every 0.1 s: a lost sample is sent again at once
 };
 
 Policies policies(QosFamily family) {
   switch (family) {
     case QosFamily::Command:
-      return {fdds::RELIABLE_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 10};
+      return {fdds::RELIABLE_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 10, true};
     case QosFamily::Sensor:
       return {fdds::BEST_EFFORT_RELIABILITY_QOS, fdds::VOLATILE_DURABILITY_QOS, 5};
     case QosFamily::State:
@@ -37,6 +40,17 @@ void apply(const Policies& p, Qos& qos) {
   qos.resource_limits().max_instances = kMaxInstances;
   qos.resource_limits().max_samples_per_instance = p.depth;
   qos.resource_limits().max_samples = kMaxInstances * p.depth;
+  if constexpr (std::is_same_v<Qos, fdds::DataWriterQos>) {
+    if (p.fast_repair) {
+      // As deploy/dds/network.xml: a lost command, reply or progress is sent again within
+      // ~0.1 s, not after Fast DDS's default 3 s heartbeat (longer than a client waits on a
+      // silent server before it calls it gone).
+      auto& times = qos.reliable_writer_qos().times;
+      times.initialHeartbeatDelay = {0, 10000000};
+      times.heartbeatPeriod = {0, 100000000};
+      times.nackResponseDelay = {0, 5000000};
+    }
+  }
 }
 
 }  // namespace

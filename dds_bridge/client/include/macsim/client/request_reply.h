@@ -5,13 +5,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <random>
 #include <string>
 #include <thread>
 
@@ -94,24 +97,31 @@ inline std::string describe(const CallOutcome& o, const std::string& service, in
 }
 
 /// Sends requests with this client's id and the next sequence number, waits for the reply that
-/// echoes both; resends every second until the server acknowledges it (servers answer a repeat
-/// without redoing). Replies with code ERR_IN_PROGRESS are progress, never the final reply.
-/// Calls may run on several threads at once (e.g. one waits on a step, another cancels it).
+/// echoes both; resends after every second without a word from the server, acknowledged or not
+/// (servers answer a repeat without redoing: with its progress, or the reply sent before).
+/// Replies with code ERR_IN_PROGRESS are progress, never the final reply. Calls may run on
+/// several threads at once (e.g. one waits on a step, another cancels it).
 template <class RequestPubSub, class ReplyPubSub>
 class RequestReply {
  public:
   using Request = typename RequestPubSub::type;
   using Reply = typename ReplyPubSub::type;
 
+  /// A request not heard of this long is sent again (a lost reply or progress is answered).
+  static constexpr std::chrono::milliseconds kResend{1000};
   /// An acknowledged request whose server is silent this long is given up as gone.
   static constexpr std::chrono::milliseconds kSilence{2500};
+  /// The servers' progress period, and the reliable writers' heartbeat period of the DDS
+  /// profiles (a lost sample is repaired within about one): silence must last several of each.
+  static constexpr std::chrono::milliseconds kProgressPeriod{300};
+  static constexpr std::chrono::milliseconds kHeartbeatPeriod{100};
+  static_assert(kSilence >= 2 * kResend, "a silent server gets two resends before it is gone");
+  static_assert(kSilence >= 5 * kProgressPeriod && kSilence >= 10 * kHeartbeatPeriod,
+                "one lost progress reply must not look like a server gone");
 
   RequestReply(dds::Participant& participant, const std::string& request_topic,
                const std::string& reply_topic, std::string client_id)
-      : client_id_(client_id.empty()
-                       ? "client-" + std::to_string(::getpid()) + "-" +
-                             std::to_string(reinterpret_cast<uintptr_t>(this) % 100000)
-                       : std::move(client_id)),
+      : client_id_(client_id.empty() ? unique_client_id() : std::move(client_id)),
         requests_(participant, request_topic, dds::QosFamily::Command),
         replies_(participant, reply_topic, dds::QosFamily::Command,
                  [this](const Reply& r) { heard(r); }) {}
@@ -173,11 +183,14 @@ class RequestReply {
           kind = CallOutcome::Kind::Gone;
           break;
         }
-        if (!pending.acknowledged && now >= resend) {
+        // Unacknowledged, or acknowledged and silent for a second (a progress or the final
+        // reply lost, or overwritten in the reply writer's history): sent again; the server
+        // answers the repeat with its progress or its reply, and never runs it twice.
+        if (now >= resend && (!pending.acknowledged || now - pending.heard >= kResend)) {
           lock.unlock();
           requests_.write(request);
           lock.lock();
-          resend = Clock::now() + std::chrono::seconds(1);
+          resend = Clock::now() + kResend;
           continue;
         }
         replied_.wait_until(lock, std::min(deadline, now + kSlice));
@@ -239,6 +252,20 @@ class RequestReply {
   };
 
   static double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+  /// An id no other client shares, also not a later one of this process at the same address or
+  /// one of a later process with the same pid: servers keep replies by id and sequence number.
+  static std::string unique_client_id() {
+    static std::atomic<uint64_t> made{0};
+    static const uint64_t salt = [] {
+      std::random_device random;
+      return (uint64_t{random()} << 32) ^ random() ^
+             static_cast<uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
+    }();
+    char tag[17];
+    std::snprintf(tag, sizeof tag, "%016llx", static_cast<unsigned long long>(salt));
+    return "client-" + std::to_string(::getpid()) + "-" + std::to_string(++made) + "-" + tag;
+  }
 
   /// On Fast DDS's thread: a reply or progress of one of this client's calls.
   void heard(const Reply& r) {
