@@ -108,6 +108,13 @@ bool SimulationServer::load_seen(const Request& r) {
   return false;
 }
 
+void SimulationServer::forget_load(const Request& r) {
+  std::lock_guard<std::mutex> lock(loads_mutex_);
+  if (auto seen = loads_seen_.find(r.client_id()); seen != loads_seen_.end()) {
+    seen->second.recent.erase(r.sequence_number());
+  }
+}
+
 SimulationServer::~SimulationServer() { requests_.reset(); }
 
 SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,

@@ -32,7 +32,6 @@ class SimulationServer {
   /// known as seen (its sequence number is below them) and never loads again.
   static constexpr std::size_t kLoadWindow = 16;
 
-
   /// Worlds loaded on request are held to `limits`; step conditions read `readings`.
   SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
                    LatestReadings readings = {});
