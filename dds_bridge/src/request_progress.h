@@ -5,6 +5,7 @@
 // answered with its progress, never run again.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -27,16 +28,19 @@ class RequestProgress {
   /// Fills a progress reply with what its request did so far (called on the progress thread).
   using Fill = std::function<void(Reply&)>;
 
-  /// The first progress reply goes out this long after the request came.
+  /// The first progress reply goes out this long after the request came, by default.
   static constexpr std::chrono::milliseconds kFirst{200};
-  /// Then one every this long.
+  /// Then one every this long, by default.
   static constexpr std::chrono::milliseconds kEvery{300};
   /// At most this many requests are followed; more are served without progress replies.
   static constexpr std::size_t kMaxFollowed = 1024;
 
-  /// `write` sends a reply (from the progress thread, or from begin()'s caller for a repeat).
-  explicit RequestProgress(std::function<void(const Reply&)> write)
-      : write_(std::move(write)), thread_([this] { loop(); }) {}
+  /// `write` sends a reply (from the progress thread, or from begin()'s caller for a repeat);
+  /// the first progress goes `first` after a request came, then one every `every`.
+  explicit RequestProgress(std::function<void(const Reply&)> write,
+                           std::chrono::milliseconds first = kFirst,
+                           std::chrono::milliseconds every = kEvery)
+      : write_(std::move(write)), first_(first), every_(every), thread_([this] { loop(); }) {}
   ~RequestProgress() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -50,14 +54,14 @@ class RequestProgress {
 
   /// Follows a request that just came, described by `what` ("waiting for ..."); false if it is
   /// a repeat of one still followed: it must not run again, and its progress is sent now (if
-  /// it came kFirst ago or more: a client resending at once hears its progress on schedule).
+  /// it came `first` ago or more: a client resending at once hears its progress on schedule).
   template <class Request>
   bool begin(const Request& request, std::string what, Fill fill = {}) {
     std::lock_guard<std::mutex> lock(mutex_);
     const Key key{request.client_id(), request.sequence_number()};
     if (const auto running = followed_.find(key); running != followed_.end()) {
       const auto now = Clock::now();
-      if (now - running->second.came >= kFirst) send(key, running->second, now);
+      if (now - running->second.came >= first_) send(key, running->second, now);
       return false;
     }
     if (followed_.size() < kMaxFollowed) {
@@ -107,17 +111,23 @@ class RequestProgress {
   void loop() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stop_) {
-      wake_.wait_for(lock, std::chrono::milliseconds(50));
+      wake_.wait_for(lock, std::clamp(every_, std::chrono::milliseconds(1),
+                                      std::chrono::milliseconds(50)));
       if (stop_) break;
       const auto now = Clock::now();
       // Written under the lock: once end() returned, no progress of that request goes out.
       for (auto& [key, f] : followed_) {
-        if (now - f.came >= kFirst && now - f.last_sent >= kEvery) send(key, f, now);
+        const bool none_yet = f.last_sent == Clock::time_point{};
+        if (now - f.came >= first_ && (none_yet || now - f.last_sent >= every_)) {
+          send(key, f, now);
+        }
       }
     }
   }
 
   std::function<void(const Reply&)> write_;
+  const std::chrono::milliseconds first_;
+  const std::chrono::milliseconds every_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "macsim/client/supervisor_client.h"
@@ -22,6 +24,17 @@ namespace mm = macsim_msgs::msg::dds_;
 using client::CallOutcome;
 
 constexpr uint64_t kLong = uint64_t{1} << 31;  // steps no test waits for
+
+/// Polls SIM_STATUS (up to 60 s: a bound, not an expectation) until the world has taken more
+/// than `steps` steps.
+bool steps_grow_past(client::SimulationClient& sim, uint64_t steps) {
+  for (int i = 0; i < 600; ++i) {
+    const auto status = sim.call(client::SimulationClient::request(mm::SIM_STATUS), 10s);
+    if (status && status->steps() > steps) return true;
+    std::this_thread::sleep_for(100ms);
+  }
+  return false;
+}
 
 std::vector<std::string> lockstep_macsim(int domain) {
   return {bin("macsim"), "--world",    source("worlds/small_room.xml"), "--domain",
@@ -87,7 +100,9 @@ TEST(BusySimulator, ALongStepIsReportedBusyWithItsProgressAndItsRequesterCancels
     auto r = sim.call(client::step_until::request(kLong, 1), 60s, {}, &o);
     return std::make_pair(r, o);
   });
-  std::this_thread::sleep_for(1s);
+  // The simulation thread has taken it once the world's step count grows (lock-step: nothing
+  // else steps it).
+  ASSERT_TRUE(steps_grow_past(sim, next->steps()));
   auto stop = client::SimulationClient::request(mm::SIM_CANCEL);
   stop.cancel_sequence_number(1000);  // no such request
   auto wrong = sim.call(stop, 5s);
@@ -139,13 +154,20 @@ TEST(BusySimulator, ARepeatOfARequestStillRunningGetsItsProgressAndRunsOnce) {
   auto step = client::step_until::request(kLong, 1);
   step.client_id("repeater");
   step.sequence_number(1);
-  requests.write(step);
-  for (int i = 0; i < 100 && count(mm::ERR_IN_PROGRESS) == 0; ++i) {
+  // Sent every second until its first progress is heard: a reader that matched our writer
+  // late loses the first sample (volatile), and a repeat runs nothing twice.
+  for (int i = 0; i < 1200 && count(mm::ERR_IN_PROGRESS) == 0; ++i) {
+    if (i % 20 == 0) requests.write(step);
     std::this_thread::sleep_for(50ms);
   }
   ASSERT_GT(count(mm::ERR_IN_PROGRESS), 0);
   for (int i = 0; i < 3; ++i) requests.write(step);  // sent again, as a client that heard nothing
-  std::this_thread::sleep_for(1s);
+  // Three more progress replies (whatever they take on this machine): still no second run.
+  const auto progressed = count(mm::ERR_IN_PROGRESS) + 3;
+  for (int i = 0; i < 1200 && count(mm::ERR_IN_PROGRESS) < progressed; ++i) {
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_GE(count(mm::ERR_IN_PROGRESS), progressed);
   // Only progress, with steps counting up: no refusal of a second run, no final reply.
   {
     std::lock_guard<std::mutex> lock(mutex);
@@ -162,23 +184,42 @@ TEST(BusySimulator, ARepeatOfARequestStillRunningGetsItsProgressAndRunsOnce) {
   cancel.client_id("repeater");
   cancel.sequence_number(2);
   cancel.cancel_sequence_number(1);
-  requests.write(cancel);
-  for (int i = 0; i < 100 && count(mm::ERR_NOT_APPLICABLE) == 0; ++i) {
+  const auto cancel_answered = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return std::any_of(heard.begin(), heard.end(),
+                       [](const auto& r) { return r.sequence_number() == 2; });
+  };
+  for (int i = 0; i < 1200 && !cancel_answered(); ++i) {
+    if (i % 20 == 0) requests.write(cancel);  // as a client does until it hears
     std::this_thread::sleep_for(50ms);
   }
+  ASSERT_TRUE(cancel_answered());
+  ASSERT_EQ(count(mm::ERR_NOT_APPLICABLE), 1);
+  // The step's reply was sent before the cancel's: a client that lost it sends the step again
+  // and hears the same reply, although a later request of its (the cancel) was answered since;
+  // the 2^31 steps do not start again.
+  requests.write(step);
+  for (int i = 0; i < 1200 && count(mm::ERR_NOT_APPLICABLE) < 2; ++i) {
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_EQ(count(mm::ERR_NOT_APPLICABLE), 2);
   std::this_thread::sleep_for(700ms);  // a progress reply after the final one would show now
   std::lock_guard<std::mutex> lock(mutex);
   ASSERT_FALSE(heard.empty());
   std::size_t finals = 0;
+  std::optional<mm::SimulationReply_> first_final;
   for (std::size_t i = 0; i < heard.size(); ++i) {
     if (heard[i].sequence_number() != 1 || heard[i].code() == mm::ERR_IN_PROGRESS) continue;
     ++finals;
     EXPECT_EQ(heard[i].ended_by(), mm::STEP_CANCELLED);
+    if (!first_final) first_final = heard[i];
+    EXPECT_EQ(heard[i].steps_done(), first_final->steps_done());  // the same reply again
     for (std::size_t j = i + 1; j < heard.size(); ++j) {
-      EXPECT_NE(heard[j].sequence_number(), 1u) << "progress after the final reply";
+      EXPECT_FALSE(heard[j].sequence_number() == 1 && heard[j].code() == mm::ERR_IN_PROGRESS)
+          << "progress after the final reply";
     }
   }
-  EXPECT_EQ(finals, 1u);
+  EXPECT_EQ(finals, 2u);
 }
 
 TEST(BusySimulator, ASimulatorKilledDuringALongStepIsReportedGoneWithinSeconds) {
@@ -187,13 +228,32 @@ TEST(BusySimulator, ASimulatorKilledDuringALongStepIsReportedGoneWithinSeconds) 
   ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
   dds::Participant p({domain, "", "busy_simulator_test"});
   client::SimulationClient sim(p);
+  // The replies as the client hears them: the same participant receives each sample once and
+  // hands it to both readers, so once two progress replies arrived here the client has heard
+  // at least the first (acknowledged).
+  std::mutex mutex;
+  int progress_heard = 0;
+  dds::Reader<mm::SimulationReply_PubSubType> replies(
+      p, dds::topics::kSimulationReply, dds::QosFamily::Command,
+      [&](const mm::SimulationReply_& r) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (r.client_id() == sim.client_id() && r.code() == mm::ERR_IN_PROGRESS &&
+            r.steps_done() > 0) {
+          ++progress_heard;
+        }
+      });
   ASSERT_TRUE(sim.wait_for_server(20s));
   auto waiting = std::async(std::launch::async, [&] {
     CallOutcome o;
     auto r = sim.call(client::step_until::request(kLong, 1), 60s, {}, &o);
     return std::make_pair(r.has_value(), o);
   });
-  std::this_thread::sleep_for(1500ms);  // acknowledged by now (progress after 0.2 s)
+  const auto heard = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return progress_heard;
+  };
+  for (int i = 0; i < 1200 && heard() < 2; ++i) std::this_thread::sleep_for(50ms);
+  ASSERT_GE(heard(), 2) << "no progress of the step request";
   macsim.signal(SIGKILL);
   const auto killed = std::chrono::steady_clock::now();
   ASSERT_EQ(waiting.wait_for(15s), std::future_status::ready) << "waited out the timeout";
