@@ -3,7 +3,9 @@
 #include "macsim/render/renderer.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
 #include "macsim/render/camera_modes.h"
@@ -65,6 +67,43 @@ TEST(Renderer, TexturesShowOnObjects) {
   }
   EXPECT_GT(red, 5);
   EXPECT_GT(white, 5);
+}
+
+TEST(Renderer, TexturesNotDrawnLatelyAreDroppedBeyondTheCapAndReadAgainWhenNeeded) {
+  OffscreenRenderer renderer(64, 48);
+  CameraIntrinsics in;
+  in.width = 64;
+  in.height = 48;
+  const std::string dir = ::testing::TempDir() + "texture_cap_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  auto solid = [&](const std::string& name, const cv::Scalar& bgr) {
+    const std::string file = dir + "/" + name + ".bmp";
+    EXPECT_TRUE(cv::imwrite(file, cv::Mat(8, 8, CV_8UC3, bgr)));
+    return file;
+  };
+  auto centre = [&](const std::string& texture) {
+    return renderer.render(box_ahead({1, 1, 1, 1}, texture), kCamera, in).at<cv::Vec3b>(24, 32);
+  };
+  const std::string first = solid("first", {0, 0, 255});  // red
+  const cv::Vec3b red = centre(first);
+  ASSERT_GT(red[2], 2 * red[0]);
+  // Kept while it is among the last drawn: the file changed on disk is not read again.
+  solid("first", {255, 0, 0});  // blue
+  EXPECT_GT(centre(first)[2], 2 * centre(first)[0]);
+  // 64 others drawn since (the cap; all in one scene, so none of them goes while drawn): the
+  // first is the least recently drawn and goes; drawn again, it is read again.
+  Scene many;
+  for (int i = 0; i < 64; ++i) {
+    many.shapes.push_back({Shape::Box,
+                           {0.1, 0.1, 0.1},
+                           at(3.0, -1.0 + i * 0.03, 1.0),
+                           {1, 1, 1, 1},
+                           solid("other" + std::to_string(i), {0, 255, 0})});
+  }
+  renderer.render(many, kCamera, in);
+  const cv::Vec3b blue = centre(first);
+  EXPECT_GT(blue[0], 2 * blue[2]);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Renderer, TheStereoPairSeesDisparity) {

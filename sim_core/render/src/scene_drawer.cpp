@@ -134,7 +134,10 @@ unsigned SceneDrawer::upload(const cv::Mat& bgr) {
 
 unsigned SceneDrawer::texture(const std::string& path) {
   auto found = textures_.find(path);
-  if (found != textures_.end()) return found->second;
+  if (found != textures_.end()) {
+    found->second.drawn = draws_;
+    return found->second.id;
+  }
   // Checked when the world took it; looked at again, as it may have changed since: a regular
   // file of a texture's size only (a FIFO would block the renderer).
   constexpr std::uintmax_t kMaxTextureFileBytes = std::uintmax_t(16) << 20;
@@ -143,11 +146,33 @@ unsigned SceneDrawer::texture(const std::string& path) {
                         std::filesystem::file_size(path, error) <= kMaxTextureFileBytes && !error;
   const cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
   const unsigned id = image.empty() ? 0 : upload(image);
-  textures_[path] = id;
+  const std::size_t bytes = image.empty() ? 0 : image.total() * image.elemSize();
+  textures_[path] = {id, bytes, draws_};
+  texture_bytes_ += bytes;
   return id;
 }
 
+void SceneDrawer::trim_textures() {
+  while (textures_.size() > kMaxTextures || texture_bytes_ > kMaxTextureBytes) {
+    auto oldest = textures_.end();
+    for (auto t = textures_.begin(); t != textures_.end(); ++t) {
+      if (t->second.drawn < draws_ &&
+          (oldest == textures_.end() || t->second.drawn < oldest->second.drawn)) {
+        oldest = t;
+      }
+    }
+    if (oldest == textures_.end()) return;  // all in the scene just drawn: kept until later
+    if (oldest->second.id != 0) {
+      const GLuint id = oldest->second.id;
+      glDeleteTextures(1, &id);
+    }
+    texture_bytes_ -= oldest->second.bytes;
+    textures_.erase(oldest);
+  }
+}
+
 void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntrinsics& intrinsics) {
+  ++draws_;
   glClearColor(0.72f, 0.8f, 0.9f, 1.0f);  // a pale sky
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
@@ -241,6 +266,7 @@ void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntri
   glVertex3d(-extent, extent, 0);
   glEnd();
   glDisable(GL_TEXTURE_2D);
+  trim_textures();
 }
 
 }  // namespace macsim::render::detail
