@@ -199,10 +199,11 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
         }
         // Parsed off the simulation thread; answered once the new world runs (or was refused).
         const LoadQueued queued = runner_.load(
-            [file, xml = q.resource_string(), limits = limits_, this] {
+            // On the runner's loader thread, which may outlive this server: nothing of it.
+            [file, xml = q.resource_string(), limits = limits_, files = &runner_.data_roots()] {
               LoadOptions options;
               options.limits = limits;
-              options.files = &runner_.data_roots();
+              options.files = files;
               return file.empty() ? load_world_string(xml, "resource_string.xml", options)
                                   : load_world_file(file, options);
             },

@@ -52,10 +52,11 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
           return;
         }
         const LoadQueued queued = runner_.load(
-            [file = r.world_file(), this] {
+            // On the runner's loader thread, which may outlive this server: nothing of it.
+            [file = r.world_file(), limits = limits_, files = &runner_.data_roots()] {
               LoadOptions options;
-              options.limits = limits_;
-              options.files = &runner_.data_roots();
+              options.limits = limits;
+              options.files = files;
               return load_world_file(file, options);
             },
             [this, r](const LoadOutcome& outcome) {
