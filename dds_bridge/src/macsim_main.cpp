@@ -384,6 +384,17 @@ int serve(macsim::Runner& runner, const Options& o) {
     std::cout << "macsim: requests may name files under:";
     for (const auto& folder : runner.data_roots().folders()) std::cout << " " << folder.string();
     std::cout << "\n";
+    for (const auto& folder : runner.data_roots().folders()) {
+      // Anyone who may write there may link anything of this user's into it for a request.
+      std::error_code error;
+      const auto permissions = std::filesystem::status(folder, error).permissions();
+      if (!error && (permissions & std::filesystem::perms::others_write) !=
+                        std::filesystem::perms::none) {
+        std::cerr << "macsim: warning: the data root " << folder.string()
+                  << " is writable by every user of this host, who can place links there for "
+                     "requests to read through; keep worlds in a folder of your own\n";
+      }
+    }
     if (o.lockstep) {
       std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
     } else if (o.paused) {
