@@ -2,6 +2,7 @@
 
 #include <condition_variable>
 #include <deque>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -12,6 +13,19 @@
 namespace affordances {
 
 namespace {
+
+/// The last `lines` lines of a text file (or what there is).
+std::string log_tail(const std::string& file, std::size_t lines) {
+  std::ifstream in(file);
+  std::deque<std::string> last;
+  for (std::string line; std::getline(in, line);) {
+    last.push_back(line);
+    if (last.size() > lines) last.pop_front();
+  }
+  std::string text;
+  for (const auto& line : last) text += "  | " + line + "\n";
+  return text;
+}
 
 /// The trials left, shared by the workers.
 class TrialQueue {
@@ -115,9 +129,14 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
         }
       }
     } catch (const std::exception& e) {
-      say(std::string("lost: ") + e.what() +
-          (simulator && !simulator->running() ? " (the simulator ended)" : "") +
-          "; its trials go to the other instances");
+      std::string ended;
+      if (simulator && !simulator->running()) {
+        // How it ended and its last words, so that a lost instance can be understood later.
+        ended = " (the simulator ended with exit code " +
+                std::to_string(simulator->wait(std::chrono::milliseconds(0)).value_or(-1)) +
+                "; the end of " + simulator->log() + ":\n" + log_tail(simulator->log(), 20) + ")";
+      }
+      say(std::string("lost: ") + e.what() + ended + "; its trials go to the other instances");
       std::lock_guard<std::mutex> lock(report);
       ++summary.lost_instances;
     }
