@@ -19,6 +19,7 @@
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/open_watch.h"
+#include "support/ros2_service_calls.h"
 #include "support/test_domain.h"
 
 namespace macsim::test {
@@ -77,11 +78,12 @@ class DataRoots : public ::testing::Test {
         std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "roots_test"});
     supervisor_ = std::make_unique<client::SupervisorClient>(*participant_);
     control_ = std::make_unique<client::SimulationClient>(*participant_);
+    services_ = std::make_unique<Ros2ServiceCalls>(*participant_);
   }
   void TearDown() override {
     control_.reset();
     supervisor_.reset();
-    services_.clear();
+    services_.reset();
     participant_.reset();
     if (!macsim_) return;
     macsim_->signal(SIGTERM);
@@ -119,19 +121,9 @@ class DataRoots : public ::testing::Test {
     EXPECT_TRUE(reply.has_value()) << "no simulation reply";
     return reply.value_or(mm::SimulationReply_{});
   }
-  /// Calls /macsim/<service> (one client per service, kept).
   template <class Req, class Resp>
   typename Resp::type service(const std::string& name, const typename Req::type& request) {
-    using Client = dds::ServiceClient<Req, Resp>;
-    auto& slot = services_[name];
-    if (!slot) {
-      auto made = std::make_shared<Client>(*participant_, "/macsim/" + name);
-      EXPECT_TRUE(made->wait_for_service(10s)) << name << " is not served";
-      slot = made;
-    }
-    auto reply = std::static_pointer_cast<Client>(slot)->call(request, 30s);
-    EXPECT_TRUE(reply.has_value()) << name << ": no reply";
-    return reply.value_or(typename Resp::type{});
+    return services_->call<Req, Resp>(name, request);
   }
   ss::LoadWorld_Response_ ros_load(const std::string& uri) {
     ss::LoadWorld_Request_ q;
@@ -189,7 +181,7 @@ class DataRoots : public ::testing::Test {
   std::unique_ptr<dds::Participant> participant_;
   std::unique_ptr<client::SupervisorClient> supervisor_;
   std::unique_ptr<client::SimulationClient> control_;
-  std::map<std::string, std::shared_ptr<void>> services_;
+  std::unique_ptr<Ros2ServiceCalls> services_;
 };
 
 TEST_F(DataRoots, TheSupervisorReadsNoFileOutsideTheRoots) {

@@ -16,6 +16,7 @@
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/latest_sample.h"
+#include "support/ros2_service_calls.h"
 #include "support/test_domain.h"
 
 namespace macsim::test {
@@ -113,9 +114,10 @@ class SimulationInterfaces : public ::testing::Test {
     ASSERT_TRUE(macsim_->wait_for_output("stepping", 30s)) << macsim_->output();
     participant_ =
         std::make_unique<dds::Participant>(dds::ParticipantOptions{domain_, "", "services_test"});
+    calls_ = std::make_unique<Ros2ServiceCalls>(*participant_);
   }
   void TearDown() override {
-    clients_.clear();
+    calls_.reset();
     participant_.reset();
     if (!macsim_) return;
     macsim_->signal(SIGTERM);
@@ -125,16 +127,7 @@ class SimulationInterfaces : public ::testing::Test {
   template <class Service>
   typename Service::Resp::type call(const std::string& service,
                                     const typename Service::Req::type& request) {
-    using Client = dds::ServiceClient<typename Service::Req, typename Service::Resp>;
-    auto& slot = clients_[service];
-    if (!slot) {
-      auto client = std::make_shared<Client>(*participant_, "/macsim/" + service);
-      EXPECT_TRUE(client->wait_for_service(10s)) << service << " is not served";
-      slot = client;
-    }
-    auto reply = std::static_pointer_cast<Client>(slot)->call(request, 20s);
-    EXPECT_TRUE(reply.has_value()) << service << ": no reply";
-    return reply.value_or(typename Service::Resp::type{});
+    return calls_->call<typename Service::Req, typename Service::Resp>(service, request);
   }
   uint8_t state() {
     return call<tag::GetSimulationState>("get_simulation_state", {}).state().state();
@@ -170,7 +163,7 @@ class SimulationInterfaces : public ::testing::Test {
   int domain_ = 0;
   std::unique_ptr<ChildProcess> macsim_;
   std::unique_ptr<dds::Participant> participant_;
-  std::map<std::string, std::shared_ptr<void>> clients_;
+  std::unique_ptr<Ros2ServiceCalls> calls_;
 };
 
 bool contains(const std::vector<std::string>& all, const std::string& one) {

@@ -72,16 +72,28 @@ bool wait_until(const std::function<bool()>& done) {
   return done();
 }
 
+/// A web server of at most two browsers on a page of its own (a folder removed at the end).
+struct CappedServer {
+  explicit CappedServer(const std::string& prefix)
+      : root(std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))),
+        server(options(root), nullptr, nullptr) {}
+  ~CappedServer() { std::filesystem::remove_all(root); }
+  static WebServer::Options options(const std::filesystem::path& root) {
+    std::filesystem::create_directories(root);
+    std::ofstream(root / "index.html") << "<html></html>";
+    WebServer::Options o;
+    o.port = 0;
+    o.root = root.string();
+    o.max_clients = 2;
+    return o;
+  }
+  std::filesystem::path root;
+  WebServer server;
+};
+
 TEST(WebServer, AtMostMaxClientsBrowsersAtOnceTheNextIsRefusedWith503) {
-  const std::filesystem::path root =
-      std::filesystem::temp_directory_path() / ("macsim_web_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(root);
-  std::ofstream(root / "index.html") << "<html></html>";
-  WebServer::Options options;
-  options.port = 0;
-  options.root = root.string();
-  options.max_clients = 2;
-  WebServer server(options, nullptr, nullptr);
+  CappedServer served("macsim_web_test_");
+  WebServer& server = served.server;
 
   Handshake first(server.port()), second(server.port());
   EXPECT_TRUE(first.accepted()) << first.answer;
@@ -98,19 +110,11 @@ TEST(WebServer, AtMostMaxClientsBrowsersAtOnceTheNextIsRefusedWith503) {
   ASSERT_TRUE(wait_until([&] { return server.clients() == 1; }));
   Handshake fourth(server.port());
   EXPECT_TRUE(fourth.accepted()) << fourth.answer;
-  std::filesystem::remove_all(root);
 }
 
 TEST(WebServer, HandshakesInFlightAtOnceCountAgainstTheCap) {
-  const std::filesystem::path root = std::filesystem::temp_directory_path() /
-                                     ("macsim_web_test_flight_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(root);
-  std::ofstream(root / "index.html") << "<html></html>";
-  WebServer::Options options;
-  options.port = 0;
-  options.root = root.string();
-  options.max_clients = 2;
-  WebServer server(options, nullptr, nullptr);
+  CappedServer served("macsim_web_test_flight_");
+  WebServer& server = served.server;
 
   // Every request is out before any answer is read: the server validates them while the first
   // ones' 101 answers are still being written, before any is open.
@@ -138,7 +142,6 @@ TEST(WebServer, HandshakesInFlightAtOnceCountAgainstTheCap) {
   EXPECT_TRUE(again2.accepted()) << again2.answer;
   Handshake again3(server.port());
   EXPECT_EQ(again3.answer.rfind("HTTP/1.1 503", 0), 0u) << again3.answer;
-  std::filesystem::remove_all(root);
 }
 
 }  // namespace
