@@ -193,7 +193,9 @@ TEST_F(WorldImport, BrokenDoorConventionsAreWarnedAboutAndEverythingStaysReachab
 }
 
 TEST_F(WorldImport, TheShippedWorldsLoadWithoutWarnings) {
-  for (const char* file : {"DemoWorld_v1.xml", "small_room.xml", "liftability.xml", "ramps.xml"}) {
+  for (const char* file : {"DemoWorld_v1.xml", "small_room.xml", "liftability.xml", "ramps.xml",
+                           "figure12_fixed_obstacles.xml", "figure13_steps_joist.xml",
+                           "figure14_cylinder_orientations.xml", "stackability.xml"}) {
     std::vector<std::string> w;
     const WorldSpec spec = load_world_file(source(std::string("worlds/") + file),
                                            [&](const std::string& m) { w.push_back(m); });
