@@ -1,16 +1,16 @@
 // Affordance trials at scale: trials per minute of affordance_trials with K = 1 and 2 simulators
-// for lift, push and climb (and K = 4 for lift), each beside the bound measured in the same run:
-// the trials' own steps at the in-process step rate of the trial world (sim_core alone, no DDS,
-// the robot driving), on min(K, cores) cores; efficiency = trials/min over that bound. And the
-// scoped reset's cost, in process (sim_core on the liftability and trial worlds) and as a
-// supervisor round trip against macsim beside a state-hash request (the round trip's baseline).
-// `name value unit` lines.
+// for lift, push, climb, stack and traverse (and K = 4 for lift), each beside the bound measured
+// in the same run: the trials' own steps at the in-process step rate of the trial world (sim_core
+// alone, no DDS, the robot driving), on min(K, cores) cores; efficiency = trials/min over that
+// bound. And the scoped reset's cost, in process (sim_core on the liftability and trial worlds) and
+// as a supervisor round trip against macsim beside a state-hash request (the round trip's
+// baseline). `name value unit` lines.
 //   bench_affordances [TRIALS] [--domain N]   (default 200 per run; from the repository root)
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -39,9 +39,9 @@ double median(std::vector<double> v) {
 
 /// What one affordance_trials run came to.
 struct TrialRun {
-  double per_minute = 0;      ///< trials/min, the simulators' start-up included (0: it failed)
-  double running = 0;         ///< trials/min from the first trial's start
-  double start_up = 0;        ///< s before the first trial began (simulators started, first look)
+  double per_minute = 0;       ///< trials/min, the simulators' start-up included (0: it failed)
+  double running = 0;          ///< trials/min from the first trial's start
+  double start_up = 0;         ///< s before the first trial began (simulators started, first look)
   double steps_per_trial = 0;  ///< mean of its rows' steps
 };
 
@@ -106,7 +106,13 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
                             int steps, int trials) {
   using affordances::Affordance;
   const double look = 0.806;
-  const double drive = affordance == Affordance::Lift ? 1.0 : affordance == Affordance::Push ? 3.0 : 1e9;
+  // When the drive starts and how long it lasts; stack carries first, traverse turns the
+  // scanner one revolution first.
+  double drive_at = look, drive = 1e9;
+  if (affordance == Affordance::Lift) drive = 1.0;
+  if (affordance == Affordance::Push) drive = 3.0;
+  if (affordance == Affordance::Stack) drive_at = look + 3.5, drive = 0.6;
+  if (affordance == Affordance::Traverse) drive_at = look + 1.04;
   // (time, slew, lift, hoist, magnet): the crane's commands of a trial.
   struct CraneAt {
     double at, slew, lift, hoist;
@@ -117,6 +123,12 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
     crane.push_back({look, 0.0, 0.2, 0.0, false});
     crane.push_back({look + 1.5, 0.0, 0.2, 0.12, true});
     crane.push_back({look + 2.3, 0.0, 0.5, 0.0, true});
+  } else if (affordance == Affordance::Stack) {  // pick beside, carry, lower onto the base
+    crane.push_back({look, 1.3, 0.0, 0.0, false});
+    crane.push_back({look + 2.0, 1.3, 0.0, 0.3, true});
+    crane.push_back({look + 3.0, 1.3, 0.3, 0.0, true});
+    crane.push_back({look + 4.2, 0.0, 0.3, 0.1, true});
+    crane.push_back({look + 6.0, 0.0, 0.3, 0.1, false});
   } else {
     crane.push_back({look, -0.75, 0.6, 0.0, false});
   }
@@ -134,6 +146,14 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
       std::fprintf(stderr, "bench_affordances: trial %d's object: %s\n", trial, error.c_str());
       return 0;
     }
+    if (affordance == Affordance::Stack) {
+      auto carried = macsim::codec::spec_of(affordances::carried_object(spec.carried), error);
+      if (!carried || !world.create_object(*carried).ok()) {
+        std::fprintf(stderr, "bench_affordances: trial %d's carried object: %s\n", trial,
+                     error.c_str());
+        return 0;
+      }
+    }
     auto& robot = *world.robots().front();
     std::size_t next_crane = 0;
     const auto t = Clock::now();
@@ -144,9 +164,14 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
         robot.command_crane({c.slew, c.lift, c.hoist});
         robot.command_magnet(c.magnet);
       }
-      if (s % 100 == 0 || std::fabs(now - look) < dt / 2 || std::fabs(now - look - drive) < dt / 2)
-        robot.command_twist(now + dt / 2 >= look && now + dt / 2 < look + drive ? 0.4 : 0.0, 0.0,
-                            now);
+      if (s % 100 == 0 || std::fabs(now - drive_at) < dt / 2 ||
+          std::fabs(now - drive_at - drive) < dt / 2)
+        robot.command_twist(now + dt / 2 >= drive_at && now + dt / 2 < drive_at + drive ? 0.4 : 0.0,
+                            0.0, now);
+      if (affordance == Affordance::Traverse && std::fabs(now - look) < dt / 2)
+        robot.command_rotunit(2 * M_PI);
+      if (affordance == Affordance::Traverse && std::fabs(now - drive_at) < dt / 2)
+        robot.command_rotunit(0.0);
       world.step();
     }
     if (trial >= 2) {  // the first two warm the caches
@@ -235,10 +260,11 @@ int main(int argc, char** argv) {
   // right after each run (as many steps per trial as the run's trials took) and averaged: this
   // machine's speed drifts over minutes, and the bound must be the machine the run had.
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  for (const char* a : {"lift", "push", "climb"}) {
+  for (const char* a : {"lift", "push", "climb", "stack", "traverse"}) {
     const auto affordance = *affordances::affordance_from_name(a);
     const auto steps_of = [&](int k) {  // the last run's steps per trial (a first guess before)
-      const double mean = mean_steps(dir + "/" + std::string(a) + "_k" + std::to_string(k) + ".csv");
+      const double mean =
+          mean_steps(dir + "/" + std::string(a) + "_k" + std::to_string(k) + ".csv");
       return mean > 0 ? static_cast<int>(std::lround(mean)) : 2500;
     };
     double k1 = 0;
@@ -251,9 +277,9 @@ int main(int argc, char** argv) {
         std::printf("efficiency.%s.k%d 0 ratio\n", a, k);  // the run failed (said above)
         continue;
       }
-      const double after = in_process_step_rate("worlds/affordance_trials.xml", affordance,
-                                                static_cast<int>(std::lround(run.steps_per_trial)),
-                                                10);
+      const double after =
+          in_process_step_rate("worlds/affordance_trials.xml", affordance,
+                               static_cast<int>(std::lround(run.steps_per_trial)), 10);
       const double rate = (before + after) / 2;
       // Each trial's steps at the in-process rate, on as many cores as instances can use.
       const double bound =
@@ -262,8 +288,7 @@ int main(int argc, char** argv) {
       // Trials per minute once the simulators run (their start-up, a fixed cost of a run, is
       // printed on its own), and with it.
       std::printf("trials_per_minute.%s.k%d %.1f trials/min\n", a, k, run.running);
-      std::printf("trials_per_minute_with_start_up.%s.k%d %.1f trials/min\n", a, k,
-                  run.per_minute);
+      std::printf("trials_per_minute_with_start_up.%s.k%d %.1f trials/min\n", a, k, run.per_minute);
       std::printf("start_up.%s.k%d %.2f s\n", a, k, run.start_up);
       std::printf("steps_per_trial.%s.k%d %.0f steps\n", a, k, run.steps_per_trial);
       std::printf("bound.%s.k%d %.1f trials/min\n", a, k, bound);

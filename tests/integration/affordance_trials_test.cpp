@@ -1,8 +1,8 @@
 // affordance_trials against real lock-step simulators: the rows do not depend on how many
-// instances ran them (lift, push, climb), a trial repeats bit for bit under CPU load with the
-// state hash checked after every step, a killed run resumes without losing or repeating a row,
-// an instance killed mid-run is noticed and its trials run elsewhere; affordance_learn learns
-// from the rows and draws its plots; bad arguments start nothing.
+// instances ran them (lift, push, climb, stack, traverse), a trial repeats bit for bit under CPU
+// load with the state hash checked after every step, a killed run resumes without losing or
+// repeating a row, an instance killed mid-run is noticed and its trials run elsewhere;
+// affordance_learn learns from the rows and draws its plots; bad arguments start nothing.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -109,7 +109,9 @@ TEST_P(ByAffordance, OneInstanceAndThreeGiveTheSameRows) {
   const std::map<std::string, std::set<std::string>> labels{
       {"lift", {"liftable", "not_liftable"}},
       {"push", {"pushed", "rolled", "stalled"}},
-      {"climb", {"climbed", "slid_back", "stalled"}}};
+      {"climb", {"climbed", "slid_back", "stalled"}},
+      {"stack", {"stacked", "slid_off", "toppled"}},
+      {"traverse", {"traversable", "not_traversable"}}};
   for (std::size_t i = 1; i < k1.size(); ++i) {
     std::stringstream row(k1[i]);
     std::string a, g, seed, label;
@@ -123,7 +125,8 @@ TEST_P(ByAffordance, OneInstanceAndThreeGiveTheSameRows) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Affordances, ByAffordance, ::testing::Values("lift", "push", "climb"));
+INSTANTIATE_TEST_SUITE_P(Affordances, ByAffordance,
+                         ::testing::Values("lift", "push", "climb", "stack", "traverse"));
 
 TEST(AffordanceTrials, ATrialRepeatsBitForBitUnderLoadWithEveryStepHashed) {
   // Two busy loops keep both cores loaded while two instances run the same trial 20 times,

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
     std::printf("%s: %d trials (%d to train, %d held out), held-out accuracy %.1f %%\n",
                 affordance.c_str(), data.features.rows, e.trained, e.tested, 100 * e.accuracy);
     std::printf("%s", confusion_text(data, e).c_str());
+    std::printf("%s", shape_text(data, e).c_str());
     const auto curve = learning_curve(data);
     std::printf("  learning curve:");
     for (const auto& [n, accuracy] : curve) std::printf(" %d:%.1f%%", n, 100 * accuracy);
@@ -72,6 +73,8 @@ int main(int argc, char** argv) {
                                                     : data.feature_names[0];
     if (all && affordance == "push") x = "fill";
     if (all && affordance == "climb") x = "laser_slope", y = "laser_height";
+    if (all && affordance == "stack") x = "top_curvature", y = "top_length";
+    if (all && affordance == "traverse") x = "free_width", y = "corridor_height";
     try {
       plot_learning_curve(curve, affordance + ": held-out accuracy against training trials",
                           out + "/" + affordance + "_learning_curve.png");

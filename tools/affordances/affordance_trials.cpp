@@ -176,10 +176,10 @@ int merge(int argc, char** argv) {
   cli.option("seed", "S", "seed of the first trial of the run (default 1)", &seed_text);
   cli.option("trials", "T", "trials of the whole run: seeds S..S+T-1 are expected", &trials);
   cli.option("shards", "N", "the run's shards, for the report per shard (default 1)", &shards);
-  cli.option("affordance", "lift|push|climb",
+  cli.option("affordance", "lift|push|climb|stack|traverse",
              "the affordance expected (default: those of the rows; lift when there are none)",
              &affordance_name);
-  cli.option("generator", "material|figure11",
+  cli.option("generator", "material|figure11|balanced",
              "the generator expected (default: those of the rows; material when there are none)",
              &generator_name);
   cli.arguments("IN.csv...", &inputs);
@@ -200,9 +200,10 @@ int merge(int argc, char** argv) {
     return usage("--shards " + std::to_string(shards) + " is more than --trials " +
                  std::to_string(trials));
   if (!affordance_name.empty() && !affordance_from_name(affordance_name))
-    return usage("unknown --affordance '" + affordance_name + "' (lift, push, climb)");
+    return usage("unknown --affordance '" + affordance_name +
+                 "' (lift, push, climb, stack, traverse)");
   if (!generator_name.empty() && !generator_from_name(generator_name))
-    return usage("unknown --generator '" + generator_name + "' (material, figure11)");
+    return usage("unknown --generator '" + generator_name + "' (material, figure11, balanced)");
 
   // Every row by its trial (affordance, generator, seed), with the file it came from.
   struct Kept {
@@ -210,6 +211,7 @@ int merge(int argc, char** argv) {
   };
   std::map<std::tuple<std::string, std::string, uint64_t>, Kept> kept;
   int read = 0, identical = 0, conflicts = 0;
+  std::string header;  // the first file's; every other must have the same
   for (const auto& path : inputs) {
     if (std::filesystem::is_regular_file(path) && std::filesystem::file_size(path) == 0) {
       // A task killed before it wrote anything: no rows (its seeds are reported missing).
@@ -225,12 +227,19 @@ int merge(int argc, char** argv) {
       std::cerr << "affordance_trials merge: " << e.what() << "\n";
       return 2;
     }
-    if (joined(table.columns) != csv_header()) {
+    // One header for every file: that of an affordance this version writes.
+    const std::string columns = joined(table.columns);
+    bool known = false;
+    for (auto a : {Affordance::Lift, Affordance::Stack, Affordance::Traverse})
+      known = known || columns == csv_header(a);
+    if (!known || (!header.empty() && columns != header)) {
       std::cerr << "affordance_trials merge: " << path
-                << " has other columns than this version writes (its header: "
-                << joined(table.columns).substr(0, 120) << "...)\n";
+                << (known ? " has other columns than the files before it (its header: "
+                          : " has other columns than this version writes (its header: ")
+                << columns.substr(0, 120) << "...)\n";
       return 2;
     }
+    header = columns;
     for (std::size_t i = 0; i < table.rows.size(); ++i) {
       const std::string row = joined(table.rows[i]);
       const auto seed = whole_number<uint64_t>(table.rows[i][2]);
@@ -324,7 +333,11 @@ int merge(int argc, char** argv) {
   const std::string temporary = out + ".merging";
   {
     std::ofstream file(temporary, std::ios::trunc);
-    file << csv_header() << "\n";
+    if (header.empty()) {
+      header = csv_header(affordance_name.empty() ? Affordance::Lift
+                                                  : *affordance_from_name(affordance_name));
+    }
+    file << header << "\n";
     for (const auto& row : rows) file << row << "\n";
     file.close();
     if (!file) {
@@ -375,9 +388,9 @@ int main(int argc, char** argv) {
       "Exit 0: every trial has its row; 1: trials are missing (every instance lost, or refused); "
       "2: usage; 3: --repeat found a trial that did not repeat bit for bit.");
   cli.participant_options(&participant);
-  cli.option("affordance", "lift|push|climb", "the affordance tried (default lift)",
+  cli.option("affordance", "lift|push|climb|stack|traverse", "the affordance tried (default lift)",
              &affordance_name);
-  cli.option("generator", "material|figure11",
+  cli.option("generator", "material|figure11|balanced",
              "how objects are drawn: material (liftability from mass and magnet) or figure11 "
              "(heavy objects are blue); default material",
              &generator_name);
@@ -421,8 +434,10 @@ int main(int argc, char** argv) {
     return 2;
   };
   if (!affordance)
-    return usage("unknown --affordance '" + affordance_name + "' (lift, push, climb)");
-  if (!generator) return usage("unknown --generator '" + generator_name + "' (material, figure11)");
+    return usage("unknown --affordance '" + affordance_name +
+                 "' (lift, push, climb, stack, traverse)");
+  if (!generator)
+    return usage("unknown --generator '" + generator_name + "' (material, figure11, balanced)");
   if (out.empty()) return usage("say where the rows go: --out FILE.csv");
   if (trials < 1 || instances < 1 || instances > 32 || repeat < 1 || first_seed < 0 ||
       !(timeout > 0) || !(camera_rate > 0))
@@ -454,7 +469,7 @@ int main(int argc, char** argv) {
       std::string joined;
       for (std::size_t i = 0; i < table.columns.size(); ++i)
         joined += (i ? "," : "") + table.columns[i];
-      if (joined != csv_header()) {
+      if (joined != csv_header(*affordance)) {
         std::cerr << "affordance_trials: " << out
                   << " has other columns than this version writes\n";
         return 2;
@@ -488,7 +503,7 @@ int main(int argc, char** argv) {
   // The file as it stands (a row cut short by a kill is dropped), then a row per trial done.
   {
     std::ofstream file(out, std::ios::trunc);
-    file << csv_header() << "\n";
+    file << csv_header(*affordance) << "\n";
     for (const auto& row : rows) file << row << "\n";
     if (!file) {
       std::cerr << "affordance_trials: cannot write " << out << "\n";
@@ -566,7 +581,7 @@ int main(int argc, char** argv) {
   {
     const std::string temporary = out + ".sorting";
     std::ofstream sorted(temporary, std::ios::trunc);
-    sorted << csv_header() << "\n";
+    sorted << csv_header(*affordance) << "\n";
     for (const auto& row : rows) sorted << row << "\n";
     sorted.close();
     std::error_code error;

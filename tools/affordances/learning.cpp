@@ -31,8 +31,13 @@ cv::Ptr<cv::ml::RTrees> forest() {
 std::map<std::string, Dataset> datasets(const CsvTable& table,
                                         const std::vector<std::string>& features) {
   std::vector<std::string> names = features;
-  if (names.empty()) {
-    for (const char* n : feature_names()) names.emplace_back(n);
+  const auto affordance = table.column("affordance");
+  if (names.empty()) {  // every perceived feature of the rows' affordance
+    Affordance a = Affordance::Lift;
+    if (affordance && !table.rows.empty()) {
+      if (auto named = affordance_from_name(table.rows.front()[*affordance])) a = *named;
+    }
+    names = feature_names(a);
   }
   std::vector<std::size_t> columns;
   for (const auto& n : names) {
@@ -40,8 +45,8 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
     if (!c) throw std::runtime_error("no feature column '" + n + "' in the trial rows");
     columns.push_back(*c);
   }
-  const auto affordance = table.column("affordance"), label = table.column("label"),
-             seed = table.column("seed");
+  const auto label = table.column("label"), seed = table.column("seed"),
+             shape = table.column("shape");
   if (!affordance || !label || !seed)
     throw std::runtime_error("the rows lack the affordance, label or seed column");
 
@@ -74,6 +79,7 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
     d.labels.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), row[*label]) -
                                         d.classes.begin()));
     d.seeds.push_back(static_cast<uint64_t>(number(*seed)));
+    if (shape) d.shapes.push_back(row[*shape]);
   }
   return out;
 }
@@ -88,16 +94,17 @@ bool held_out(uint64_t seed) {
 Evaluation evaluate(const Dataset& data, int max_train) {
   cv::Mat train_x, test_x;
   std::vector<int> train_y, test_y;
+  Evaluation e;
   for (int i = 0; i < data.features.rows; ++i) {
     if (held_out(data.seeds[i])) {
       test_x.push_back(data.features.row(i));
       test_y.push_back(data.labels[i]);
+      e.rows.push_back(i);
     } else if (max_train < 0 || static_cast<int>(train_y.size()) < max_train) {
       train_x.push_back(data.features.row(i));
       train_y.push_back(data.labels[i]);
     }
   }
-  Evaluation e;
   const int n = static_cast<int>(data.classes.size());
   e.confusion = cv::Mat::zeros(n, n, CV_32S);
   e.trained = static_cast<int>(train_y.size());
@@ -113,6 +120,7 @@ Evaluation evaluate(const Dataset& data, int max_train) {
     for (int i = 0; i < out.rows; ++i)
       predicted[i] = static_cast<int>(std::lround(out.at<float>(i, 0)));
   }
+  e.predicted = predicted;
   int right = 0;
   for (std::size_t i = 0; i < test_y.size(); ++i) {
     ++e.confusion.at<int>(test_y[i], predicted[i]);
@@ -250,6 +258,25 @@ std::string confusion_text(const Dataset& data, const Evaluation& e) {
     text += "\n";
   }
   return text;
+}
+
+std::string shape_text(const Dataset& data, const Evaluation& e) {
+  if (data.shapes.empty()) return {};
+  std::map<std::string, std::pair<int, int>> by_shape;  // right, held out
+  for (std::size_t i = 0; i < e.rows.size(); ++i) {
+    const auto row = static_cast<std::size_t>(e.rows[i]);
+    auto& [right, tested] = by_shape[data.shapes[row]];
+    right += e.predicted[i] == data.labels[row];
+    ++tested;
+  }
+  std::string text = "  held out by shape:";
+  for (const auto& [shape, counts] : by_shape) {
+    char part[96];
+    std::snprintf(part, sizeof part, " %s %d/%d (%.0f %%)", shape.c_str(), counts.first,
+                  counts.second, 100.0 * counts.first / counts.second);
+    text += part;
+  }
+  return text + "\n";
 }
 
 }  // namespace affordances

@@ -19,6 +19,7 @@ struct Dataset {
   std::vector<int> labels;           ///< index into classes
   std::vector<std::string> classes;  ///< sorted label names
   std::vector<uint64_t> seeds;
+  std::vector<std::string> shapes;  ///< each trial's shape column (empty when the rows lack it)
 };
 
 /// One Dataset per affordance in the table, with the named feature columns (empty: every
@@ -32,8 +33,9 @@ bool held_out(uint64_t seed);
 
 struct Evaluation {
   int trained = 0, tested = 0;
-  double accuracy = 0;  ///< on the held-out trials
-  cv::Mat confusion;    ///< CV_32S, rows: true class, columns: predicted
+  double accuracy = 0;               ///< on the held-out trials
+  cv::Mat confusion;                 ///< CV_32S, rows: true class, columns: predicted
+  std::vector<int> rows, predicted;  ///< the held-out trials (rows of the Dataset), predictions
 };
 
 /// Trains a random forest on the first `max_train` training trials (all when < 0) and tests it
@@ -52,5 +54,7 @@ void plot_scatter(const Dataset& data, const std::string& x_feature, const std::
 
 /// The confusion matrix as text.
 std::string confusion_text(const Dataset& data, const Evaluation& evaluation);
+/// Held-out accuracy per shape (what the learner gets wrong), as text; empty without shapes.
+std::string shape_text(const Dataset& data, const Evaluation& evaluation);
 
 }  // namespace affordances

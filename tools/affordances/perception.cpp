@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 namespace affordances {
 
@@ -89,6 +90,7 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
   double lowest_z = std::numeric_limits<double>::infinity(), lowest_x = 0;
   double highest_z = -std::numeric_limits<double>::infinity(), highest_x = 0;
   double nearest = std::numeric_limits<double>::infinity();
+  std::vector<cv::Point2d> hits;  // (x, z) of the beams that hit something above the floor
   for (std::size_t i = 0; i < scan.ranges().size(); ++i) {
     const double r = scan.ranges()[i];
     if (!std::isfinite(r) || r < scan.range_min() || r > scan.range_max()) continue;
@@ -99,6 +101,7 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
     // something (the scanner's noise is about a centimetre).
     const double floor_range = a < 0 ? (mount.laser_z - floor_z) / -std::sin(a) : 1e9;
     if (r > floor_range - 0.03) continue;
+    hits.emplace_back(x, z);
     nearest = std::min(nearest, x);
     if (z < lowest_z || (z == lowest_z && x < lowest_x)) lowest_z = z, lowest_x = x;
     if (z > highest_z + 1e-3 || (std::fabs(z - highest_z) <= 1e-3 && x < highest_x))
@@ -110,23 +113,167 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
   p.laser_height = highest_z - floor_z;
   p.laser_depth = highest_x - lowest_x;
   p.laser_slope = std::atan2(highest_z - floor_z, std::max(0.0, highest_x - nearest) + 1e-3);
+  // The top: the hits within 3 cm of the highest, as a parabola z = a + b x + c x^2 (x from
+  // their middle), without a vertical face in front of it (hits stacked within 1 cm of the
+  // front-most x over more than 1 cm of height); its length from those within 1 cm.
+  std::vector<cv::Point2d> top;
+  double top_lo = 1e9, top_hi = -1e9, front = 1e9;
+  for (const auto& hit : hits) {
+    if (hit.y < highest_z - 0.03) continue;
+    top.push_back(hit);
+    front = std::min(front, hit.x);
+    if (hit.y >= highest_z - 0.01) top_lo = std::min(top_lo, hit.x), top_hi = std::max(top_hi, hit.x);
+  }
+  p.top_length = top_hi - top_lo;
+  double face_lo = 1e9, face_hi = -1e9;
+  for (const auto& t : top) {
+    if (t.x < front + 0.01) face_lo = std::min(face_lo, t.y), face_hi = std::max(face_hi, t.y);
+  }
+  if (face_hi - face_lo > 0.01 && top.size() > 3) {
+    std::vector<cv::Point2d> above;
+    for (const auto& t : top) {
+      if (t.x >= front + 0.01 || t.y >= highest_z - 0.002) above.push_back(t);
+    }
+    top.swap(above);
+  }
+  double mean_x = 0, mean_z = 0;
+  for (const auto& t : top) mean_x += t.x, mean_z += t.y;
+  mean_x /= static_cast<double>(top.size());
+  mean_z /= static_cast<double>(top.size());
+  double spread = 0;
+  for (const auto& t : top) spread += (t.y - mean_z) * (t.y - mean_z);
+  p.top_flatness = std::sqrt(spread / static_cast<double>(top.size()));
+  if (top.size() >= 3) {
+    cv::Mat a(static_cast<int>(top.size()), 3, CV_64F), b(static_cast<int>(top.size()), 1, CV_64F);
+    for (int i = 0; i < a.rows; ++i) {
+      const double x = top[static_cast<std::size_t>(i)].x - mean_x;
+      a.at<double>(i, 0) = 1;
+      a.at<double>(i, 1) = x;
+      a.at<double>(i, 2) = x * x;
+      b.at<double>(i, 0) = top[static_cast<std::size_t>(i)].y;
+    }
+    cv::Mat c;
+    if (cv::solve(a, b, c, cv::DECOMP_SVD)) p.top_curvature = 2 * c.at<double>(2, 0);
+  }
 }
 
-std::vector<double> features(const Percept& p) {
-  return {p.r,           p.g,           p.b,
-          p.hue,         p.area_px,     p.width_px,
-          p.height_px,   p.fill,        p.stereo_range,
-          p.width_m,     p.laser_range, p.laser_height,
-          p.laser_depth, p.laser_slope};
+void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& p) {
+  using G = GroundGrid;
+  struct Cell {
+    double nearest = 1e9, farthest = 0, sum = 0, highest = 0;
+    int n = 0;
+    // sums for the plane z = a x + b y + c
+    double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+  };
+  std::array<Cell, G::kRows * G::kColumns> cells;
+  const double floor_z = -mount.base_height;
+  double left = G::kWidth / 2, right = -G::kWidth / 2;
+  p.corridor_height = 0;
+  p.corridor_nearest = 0;
+  for (const auto& q : cloud.points) {
+    const double x = q[0], y = q[1], h = q[2] - floor_z;
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) continue;
+    const int row = static_cast<int>(std::floor((x - G::kNear) / G::kRowDepth));
+    const int column =
+        static_cast<int>(std::floor((y + G::kWidth / 2) / (G::kWidth / G::kColumns)));
+    if (row < 0 || row >= G::kRows || column < 0 || column >= G::kColumns || h > G::kTop) continue;
+    const double range = std::hypot(x - mount.laser_x, y, q[2] - mount.laser_z);
+    Cell& c = cells[static_cast<std::size_t>(row * G::kColumns + column)];
+    c.nearest = std::min(c.nearest, range);
+    c.farthest = std::max(c.farthest, range);
+    c.sum += range;
+    c.highest = std::max(c.highest, h);
+    ++c.n;
+    c.sx += x, c.sy += y, c.sz += h;
+    c.sxx += x * x, c.sxy += x * y, c.syy += y * y, c.sxz += x * h, c.syz += y * h;
+    if (h > 0.03) {
+      if (y >= 0) left = std::min(left, y);
+      if (y < 0) right = std::max(right, y);
+    }
+    if (std::fabs(y) < 0.2) {
+      p.corridor_height = std::max(p.corridor_height, h);
+      if (h > 0.03 && (p.corridor_nearest == 0 || x < p.corridor_nearest)) p.corridor_nearest = x;
+    }
+  }
+  p.free_width = left - right;
+  p.grid.assign(cells.size() * G::kValues, 0.0);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const Cell& c = cells[i];
+    if (c.n == 0) continue;
+    double* v = &p.grid[i * G::kValues];
+    v[0] = c.nearest;
+    v[1] = c.farthest;
+    v[2] = c.sum / c.n;
+    v[3] = c.highest;
+    if (c.n >= 3) {  // least squares: the plane's gradient (a, b), its slope atan |(a, b)|
+      const cv::Matx33d m(c.sxx, c.sxy, c.sx, c.sxy, c.syy, c.sy, c.sx, c.sy, c.n);
+      const cv::Vec3d r(c.sxz, c.syz, c.sz);
+      cv::Vec3d plane;
+      if (cv::solve(m, r, plane, cv::DECOMP_SVD)) v[4] = std::atan(std::hypot(plane[0], plane[1]));
+    }
+  }
 }
 
-const std::vector<const char*>& feature_names() {
-  static const std::vector<const char*> names{"r",           "g",           "b",
-                                              "hue",         "area_px",     "width_px",
-                                              "height_px",   "fill",        "stereo_range",
-                                              "width_m",     "laser_range", "laser_height",
-                                              "laser_depth", "laser_slope"};
+namespace {
+
+/// The grid's feature names: cell_<row>_<column>_<value>.
+std::vector<std::string> grid_names() {
+  static const char* kValues[GroundGrid::kValues] = {"near", "far", "mean", "high", "slope"};
+  std::vector<std::string> names;
+  for (int r = 0; r < GroundGrid::kRows; ++r)
+    for (int c = 0; c < GroundGrid::kColumns; ++c)
+      for (const char* v : kValues)
+        names.push_back("cell_" + std::to_string(r) + "_" + std::to_string(c) + "_" + v);
   return names;
+}
+
+}  // namespace
+
+std::vector<double> features(const Percept& p, Affordance affordance) {
+  std::vector<double> f{p.r,           p.g,           p.b,
+                        p.hue,         p.area_px,     p.width_px,
+                        p.height_px,   p.fill,        p.stereo_range,
+                        p.width_m,     p.laser_range, p.laser_height,
+                        p.laser_depth, p.laser_slope};
+  if (affordance == Affordance::Stack) {
+    f.insert(f.end(), {p.top_length, p.top_flatness, p.top_curvature, p.carried_height});
+  } else if (affordance == Affordance::Traverse) {
+    std::vector<double> grid = p.grid;
+    grid.resize(
+        static_cast<std::size_t>(GroundGrid::kRows * GroundGrid::kColumns * GroundGrid::kValues),
+        0.0);
+    f.insert(f.end(), grid.begin(), grid.end());
+    f.insert(f.end(), {p.free_width, p.corridor_height, p.corridor_nearest});
+  }
+  return f;
+}
+
+const std::vector<std::string>& feature_names(Affordance affordance) {
+  static const std::vector<std::string> base{"r",           "g",           "b",
+                                             "hue",         "area_px",     "width_px",
+                                             "height_px",   "fill",        "stereo_range",
+                                             "width_m",     "laser_range", "laser_height",
+                                             "laser_depth", "laser_slope"};
+  static const std::vector<std::string> stack = [] {
+    auto n = base;
+    n.insert(n.end(), {"top_length", "top_flatness", "top_curvature", "carried_height"});
+    return n;
+  }();
+  static const std::vector<std::string> traverse = [] {
+    auto n = base;
+    const auto grid = grid_names();
+    n.insert(n.end(), grid.begin(), grid.end());
+    n.insert(n.end(), {"free_width", "corridor_height", "corridor_nearest"});
+    return n;
+  }();
+  switch (affordance) {
+    case Affordance::Stack:
+      return stack;
+    case Affordance::Traverse:
+      return traverse;
+    default:
+      return base;
+  }
 }
 
 }  // namespace affordances

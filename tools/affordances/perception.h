@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "macsim/client/robot_devices.h"
+#include "trial_spec.h"
 
 namespace affordances {
 
@@ -26,6 +27,18 @@ struct Percept {
   double laser_height = 0;  ///< m above the floor of the highest hit
   double laser_depth = 0;   ///< m from the lowest to the highest hit, along x
   double laser_slope = 0;   ///< rad, from the lowest to the highest hit (ramps: the slope)
+  // Stack: the top of what the sweep hit, and the carried object as the crane found it.
+  double top_length = 0;      ///< m along x of the hits within 1 cm of the highest
+  double top_flatness = 0;    ///< m, spread (standard deviation) of the hits within 3 cm of the top
+  double top_curvature = 0;   ///< 1/m, of a parabola fitted to those hits (a flat top: 0)
+  double carried_height = 0;  ///< m, the carried object's top above the floor where it stood
+  // Traverse: the 3D cloud of one turn of the rotating scanner, ahead of the robot.
+  std::vector<double> grid;     ///< per cell (grid_cell_names()): nearest, farthest and mean
+                                ///< range (m), highest point (m above the floor), slope (rad)
+  double free_width = 0;        ///< m between the nearest obstacle points left and right of
+                                ///< the robot's axis (above 3 cm, in the grid's reach)
+  double corridor_height = 0;   ///< m, the highest point within 0.2 m of the robot's axis
+  double corridor_nearest = 0;  ///< m ahead to the nearest such point above 3 cm (0: none)
 };
 
 /// Where the sensors sit on the KURT3D (base_link: x ahead, y left, z up).
@@ -36,12 +49,25 @@ struct SensorMount {
 
 /// Adds the cameras' view: the largest saturated blob of the left image, matched in the right.
 void perceive_image(const macsim::client::StereoFrame& frame, Percept& percept);
-/// Adds the laser's: one sweep of the scanner standing still, its plane straight ahead.
+/// Adds the laser's: one sweep of the scanner standing still, its plane straight ahead (the
+/// top's profile too).
 void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& mount,
                    Percept& percept);
+/// Adds the 3D cloud's (points in base_link): the grid of cells ahead and the corridor.
+void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& percept);
 
-/// The features a learner trains on, in a fixed order, and their names.
-std::vector<double> features(const Percept& percept);
-const std::vector<const char*>& feature_names();
+/// The grid's cells ahead of the robot: rows along x, columns along y (m, base_link).
+struct GroundGrid {
+  static constexpr int kRows = 8, kColumns = 6, kValues = 5;
+  static constexpr double kNear = 0.25, kRowDepth = 0.2;  ///< x of the first row, m
+  static constexpr double kWidth = 0.9;                   ///< y from -kWidth/2, m
+  static constexpr double kTop = 0.4;  ///< points higher above the floor are left out, m
+};
+
+/// The features a learner trains on for an affordance, in a fixed order, and their names:
+/// every affordance has the camera and laser-sweep features; stack adds the top's profile and
+/// the carried height, traverse the cloud's grid and corridor.
+std::vector<double> features(const Percept& percept, Affordance affordance = Affordance::Lift);
+const std::vector<std::string>& feature_names(Affordance affordance = Affordance::Lift);
 
 }  // namespace affordances

@@ -33,33 +33,59 @@ std::vector<std::string> split(const std::string& line) {
 
 }  // namespace
 
-std::string csv_header() {
+std::string csv_header(Affordance a) {
   std::string h = "affordance,generator,seed,label";
-  for (const char* f : feature_names()) h += std::string(",") + f;
+  for (const auto& f : feature_names(a)) h += "," + f;
   h += ",seen,laser_hit,shape,size_x,size_y,size_z,material,density,mass,friction,magnetizable,"
-       "colour_r,colour_g,colour_b,x,y,ramp_width,ramp_height,ramp_angle,"
-       "raised,moved,rolled,rise,progress,sim_time,steps,final_hash,trace,instance,wall_time";
+       "colour_r,colour_g,colour_b,x,y,ramp_width,ramp_height,ramp_angle";
+  if (a == Affordance::Stack)
+    h += ",carried_shape,carried_size_x,carried_size_y,carried_size_z,carried_mass";
+  if (a == Affordance::Traverse) h += ",yaw,fixed,gap";
+  h += ",raised,moved,rolled,rise,progress";
+  if (a == Affordance::Stack) h += ",offset,settle,a_tilt,b_tilt";
+  if (a == Affordance::Traverse) h += ",passed";
+  h += ",sim_time,steps,final_hash,trace,instance,wall_time";
   return h;
 }
 
 std::string csv_row(const TrialRecord& t) {
   const TrialSpec& s = t.spec;
-  std::string row = std::string(name(s.affordance)) + "," + name(s.generator) + "," +
-                    std::to_string(s.seed) + "," + t.outcome.label;
-  for (double f : features(t.percept)) row += "," + number(f);
+  const Affordance a = s.affordance;
+  std::string row = std::string(name(a)) + "," + name(s.generator) + "," + std::to_string(s.seed) +
+                    "," + t.outcome.label;
+  for (double f : features(t.percept, a)) row += "," + number(f);
   row += std::string(",") + (t.percept.seen ? "1" : "0") + "," + (t.percept.laser_hit ? "1" : "0");
   row += std::string(",") + name(s.shape);
   for (double v : s.size) row += "," + number(v);
   row += "," + s.material + "," + number(s.density) + "," + number(s.mass) + "," +
          number(s.friction) + "," + (s.magnetizable ? "1" : "0");
   for (float c : s.colour) row += "," + number(c);
-  for (double v :
-       {s.x, s.y, s.ramp_width, s.ramp_height, s.ramp_angle, t.outcome.raised, t.outcome.moved,
-        t.outcome.rolled, t.outcome.rise, t.outcome.progress, t.sim_time})
-    row += "," + number(v);
-  row += "," + std::to_string(t.steps) + "," + hex(t.final_hash) + "," + hex(t.trace) + "," +
-         std::to_string(t.instance) + "," + number(t.wall_time);
+  for (double v : {s.x, s.y, s.ramp_width, s.ramp_height, s.ramp_angle}) row += "," + number(v);
+  if (a == Affordance::Stack) {
+    row += std::string(",") + name(s.carried.shape);
+    for (double v : s.carried.size) row += "," + number(v);
+    row += "," + number(s.carried.mass);
+  }
+  if (a == Affordance::Traverse)
+    row += "," + number(s.yaw) + "," + (s.fixed ? "1" : "0") + "," + number(s.gap);
+  const Outcome& o = t.outcome;
+  for (double v : {o.raised, o.moved, o.rolled, o.rise, o.progress}) row += "," + number(v);
+  if (a == Affordance::Stack)
+    for (double v : {o.offset, o.settle, o.a_tilt, o.b_tilt}) row += "," + number(v);
+  if (a == Affordance::Traverse) row += "," + number(o.passed);
+  row += "," + number(t.sim_time) + "," + std::to_string(t.steps) + "," + hex(t.final_hash) + "," +
+         hex(t.trace) + "," + std::to_string(t.instance) + "," + number(t.wall_time);
   return row;
+}
+
+const std::vector<std::string>& labels(Affordance a) {
+  static const std::map<Affordance, std::vector<std::string>> kLabels{
+      {Affordance::Lift, {"liftable", "not_liftable"}},
+      {Affordance::Push, {"pushed", "rolled", "stalled"}},
+      {Affordance::Climb, {"climbed", "slid_back", "stalled"}},
+      {Affordance::Stack, {"stacked", "slid_off", "toppled"}},
+      {Affordance::Traverse, {"traversable", "not_traversable"}}};
+  return kLabels.at(a);
 }
 
 std::optional<std::size_t> CsvTable::column(const std::string& n) const {

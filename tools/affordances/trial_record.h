@@ -17,12 +17,18 @@ namespace affordances {
 /// What happened, measured on the world state (ground truth), and the label it gives.
 struct Outcome {
   std::string label;    ///< lift: liftable | not_liftable; push: pushed | rolled | stalled;
-                        ///< climb: climbed | slid_back | stalled
+                        ///< climb: climbed | slid_back | stalled; stack: stacked | slid_off |
+                        ///< toppled; traverse: traversable | not_traversable
   double raised = 0;    ///< lift: m the object came up (the lower of after raising and 1 s on)
   double moved = 0;     ///< push: m the object moved on the floor
   double rolled = 0;    ///< push: rad it turned about horizontal axes
   double rise = 0;      ///< climb: m the robot rose at most
-  double progress = 0;  ///< climb: m the robot got ahead at most
+  double progress = 0;  ///< climb, traverse: m the robot got ahead at most
+  double offset = 0;    ///< stack: m from the base's top middle to the carried object's, level
+  double settle = 0;    ///< stack: m from the base's top up to the carried object's bottom
+  double a_tilt = 0;    ///< stack: rad the carried object leans (its axis from upright)
+  double b_tilt = 0;    ///< stack: rad the base leans (a lying cylinder: its axis from level)
+  double passed = 0;    ///< traverse: m the robot's middle got past the far edge (< 0: short)
 };
 
 struct TrialRecord {
@@ -37,11 +43,14 @@ struct TrialRecord {
   double wall_time = 0;     ///< s it took (not part of the result)
 };
 
-/// The CSV header line (no newline).
-std::string csv_header();
+/// The CSV header line of an affordance's rows (no newline): lift, push and climb share one;
+/// stack and traverse add their features, what they put down and what they measure.
+std::string csv_header(Affordance affordance = Affordance::Lift);
 /// A row (no newline). Columns instance and wall_time come last; every other column is the
 /// same for the same trial wherever and whenever it runs.
 std::string csv_row(const TrialRecord& record);
+/// The labels an affordance's trials can have.
+const std::vector<std::string>& labels(Affordance affordance);
 
 /// A CSV file read back: the header's names and the rows' fields by column.
 struct CsvTable {

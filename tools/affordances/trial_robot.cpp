@@ -60,6 +60,25 @@ uint64_t mix(uint64_t trace, uint64_t value) {
 
 }  // namespace
 
+namespace {
+
+/// A box component at (x, y, z) in the object's frame.
+mm::Component_ box(const std::array<float, 3>& colour, double sx, double sy, double sz, double x,
+                   double y, double z) {
+  mm::Component_ c;
+  c.shape(mm::SHAPE_BOX);
+  c.size({sx, sy, sz});
+  c.pose().orientation().w(1.0);
+  c.pose().position(macsim::dds::point(x, y, z));
+  c.color({colour[0], colour[1], colour[2], 1.0f});
+  return c;
+}
+
+// The walls of passages and doorsteps: 0.3 m wide, 0.4 m high.
+constexpr double kWallWidth = 0.3, kWallHeight = 0.4, kDoorstepWallDepth = 0.15;
+
+}  // namespace
+
 /// The object (or ramp) the supervisor spawns for a trial, as its seed drew it.
 mm::Object_ trial_object(const TrialSpec& s) {
   mm::Object_ object;
@@ -70,11 +89,13 @@ mm::Object_ trial_object(const TrialSpec& s) {
   object.name("trial_object");
   object.material(s.material);
   object.magnetizable(s.magnetizable);
-  object.density(s.density);
+  object.density(s.density > 0 ? s.density : 1000.0);
   object.user_data("trial");
   double z = s.height() / 2;
   switch (s.shape) {
     case Shape::Box:
+    case Shape::Joist:
+    case Shape::Step:
       c.shape(mm::SHAPE_BOX);
       c.size({s.size[0], s.size[1], s.size[2]});
       break;
@@ -82,11 +103,12 @@ mm::Object_ trial_object(const TrialSpec& s) {
       c.shape(mm::SHAPE_CYLINDER);
       c.size({s.size[0] / 2, 0, s.size[2]});
       break;
-    case Shape::LyingCylinder:  // its axis across the robot's way: it can roll ahead
+    case Shape::LyingCylinder:  // its axis across the robot's way, turned by yaw
       c.shape(mm::SHAPE_CYLINDER);
       c.size({s.size[0] / 2, 0, s.size[2]});
-      object.pose().orientation(
-          macsim::dds::quaternion(std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)));
+      object.pose().orientation(macsim::dds::quaternion(
+          std::cos(s.yaw / 2) * std::sin(M_PI / 4), std::sin(s.yaw / 2) * std::sin(M_PI / 4),
+          std::sin(s.yaw / 2) * std::cos(M_PI / 4), std::cos(s.yaw / 2) * std::cos(M_PI / 4)));
       break;
     case Shape::Sphere:
       c.shape(mm::SHAPE_SPHERE);
@@ -95,14 +117,46 @@ mm::Object_ trial_object(const TrialSpec& s) {
     case Shape::Ramp:
       c.shape(mm::SHAPE_BOX);
       object.kind(mm::KIND_RAMP);
-      object.portable(false);
       object.ramp({s.ramp_width, s.ramp_height, s.ramp_angle});
       z = 0;
       break;
+    case Shape::Doorstep:  // the bar, and a wall on each side of it (the frame's origin: floor)
+    case Shape::Passage: {
+      z = 0;
+      const bool door = s.shape == Shape::Doorstep;
+      const double depth = door ? kDoorstepWallDepth : s.size[0];
+      for (double side : {-1.0, 1.0}) {
+        object.components().push_back(box(s.colour, depth, kWallWidth, kWallHeight, 0,
+                                          side * (s.gap + kWallWidth) / 2, kWallHeight / 2));
+      }
+      if (!door) break;
+      c = box(s.colour, s.size[0], s.gap, s.size[2], 0, 0, s.size[2] / 2);
+      break;
+    }
   }
-  if (s.shape != Shape::Ramp) object.portable(true);
-  object.components().push_back(c);
+  object.portable(!s.fixed && s.shape != Shape::Ramp);
+  if (s.shape != Shape::Passage) object.components().push_back(c);
   object.pose().position(macsim::dds::point(s.x, s.y, z));
+  return object;
+}
+
+/// The object a stack trial's crane carries, where it stands beside the robot.
+mm::Object_ carried_object(const Carried& a) {
+  mm::Object_ object;
+  object.name("carried_object");
+  object.material(a.material);
+  object.magnetizable(true);
+  object.density(a.density);
+  object.portable(true);
+  object.user_data("trial");
+  object.pose().orientation().w(1.0);
+  object.pose().position(macsim::dds::point(a.x, a.y, a.size[2] / 2));
+  mm::Component_ c = box(a.colour, a.size[0], a.size[1], a.size[2], 0, 0, 0);
+  if (a.shape == Shape::Cylinder) {
+    c.shape(mm::SHAPE_CYLINDER);
+    c.size({a.size[0] / 2, 0, a.size[2]});
+  }
+  object.components().push_back(c);
   return object;
 }
 
@@ -132,15 +186,15 @@ struct TrialRobot::Impl {
   double now = 0;
   double dt = 0;  // the world's step, s (from the first step's reply)
   uint64_t steps = 0, hash = 0, trace = 0;
-  bool drive_sent = false, crane_sent = false;
+  bool drive_sent = false, crane_sent = false, laser_sent = false;
   double speed = 0;
 
   mm::SupervisorReply_ call(const sv::Request& request, const char* what) {
     auto reply = supervisor.call(request, o.timeout);
     if (!reply) {
-      throw InstanceLost(std::string("no supervisor reply to ") + what + ": " +
-                         macsim::client::describe(supervisor.last_outcome(), "supervisor",
-                                                  o.domain));
+      throw InstanceLost(
+          std::string("no supervisor reply to ") + what + ": " +
+          macsim::client::describe(supervisor.last_outcome(), "supervisor", o.domain));
     }
     if (reply->code() != 0)
       throw std::runtime_error(std::string(what) + " refused: " + reply->message());
@@ -162,7 +216,8 @@ struct TrialRobot::Impl {
                             const Conditions& samples = {}, bool render = false) {
     if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
     if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
-    drive_sent = crane_sent = false;
+    if (laser_sent && !laser.wait_delivered(o.timeout)) throw InstanceLost("rot_vel not delivered");
+    drive_sent = crane_sent = laser_sent = false;
     uint32_t options = mm::STEP_PUBLISH_AT_END | mm::STEP_HOLD_COMMANDS;
     if (!render) options |= mm::STEP_NO_CAMERAS;
     if (o.hash_every_step) options |= mm::STEP_TRACE_HASH;
@@ -265,20 +320,22 @@ struct TrialRobot::Impl {
     // Nothing of the last trial may arrive after the reset.
     if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
     if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
+    if (laser_sent && !laser.wait_delivered(o.timeout)) throw InstanceLost("rot_vel not delivered");
     call(sv::reset(mm::RESET_EVERYTHING), "reset");
     now = 0;
     trace = 0;
     speed = 0;
-    drive_sent = crane_sent = false;
+    drive_sent = crane_sent = laser_sent = false;
   }
 
-  uint32_t spawn(const TrialSpec& s) {
-    return call(sv::create_object(trial_object(s), false), "create_object").object_id();
+  uint32_t spawn(const mm::Object_& object) {
+    return call(sv::create_object(object, false), "create_object").object_id();
   }
 
-  /// Looks: the crane swung out of the laser's plane, then one stereo pair and one sweep.
-  Percept perceive() {
-    crane_to(kAsideSlew, 0.0, 0.0);
+  /// Looks: the crane swung out of the laser's plane (its boom at `lift`), then one stereo pair
+  /// and one sweep.
+  Percept perceive(double lift = 0.0) {
+    crane_to(kAsideSlew, lift, 0.0);
     if (dt == 0) {
       // The instance's first look: its world's step, from the first step's reply.
       step(1);
@@ -306,45 +363,175 @@ struct TrialRobot::Impl {
     return p;
   }
 
+  /// Drives `travel` m straight ahead by odometry (at most 4 s): top speed, then slowing down
+  /// on what is left.
+  void drive_by(double travel) {
+    const double x_start = odometry_x();
+    if (travel <= 0.01) return;
+    constexpr double kGain = 3, kTop = 0.5;
+    const double limit = now + 4.0;
+    while (ticks_to(limit) > 0) {
+      const double left = travel - (odometry_x() - x_start);
+      if (left < 0.004) break;
+      set_speed(std::clamp(left * kGain, 0.05, kTop));
+      // Top speed until less than kTop / kGain is left: nothing to decide before. Then the
+      // speed follows what is left every 0.2 s, the stop looked at every tick.
+      const int ticks = left * kGain >= kTop ? ticks_to(limit) : std::min(ticks_to(limit), 10);
+      step(ticks * tick_steps(),
+           {until::above(mm::STEP_READ_ODOMETRY_X,
+                         x_start + travel - (left * kGain >= kTop ? kTop / kGain : 0.004))});
+    }
+    set_speed(0);
+  }
+
+  /// Where the crane's tip must go over what the robot perceived, with the boom at `lift`: the
+  /// slew and how far to drive first. Its middle: the near face by the laser and half its
+  /// apparent width further, to the side by the camera's bearing.
+  struct Reach {
+    double slew = 0, travel = 0;
+  };
+  Reach reach(const Percept& p, double lift) const {
+    const double depth = p.width_m > 0 ? std::clamp(p.width_m, 0.03, 0.15) : 0.08;
+    const double x = p.laser_range + depth / 2;
+    const double y = std::tan(p.bearing) * (x - 0.05) + 0.06;
+    const double radius = kBoom * std::cos(lift);
+    const double ahead = std::sqrt(std::max(0.0, radius * radius - y * y));
+    return {std::atan2(y, ahead), x - kPivotX - ahead};
+  }
+
+  /// The boom's lift that puts its tip `above` m over the floor (within its range).
+  static double lift_for(double above) {
+    return std::clamp(std::asin(std::clamp((above - kBaseHeight - kPivotZ) / kBoom, -1.0, 1.0)),
+                      kLiftMin, kLiftMax - 0.3);
+  }
+
+  /// Stack: picks the carried object beside the robot (magnet down until it holds), drives in
+  /// to the base it perceived, lowers the object to 1 cm over the base's top and lets go. The
+  /// label comes from both objects' poses 1 s later.
+  Outcome stack(const TrialSpec& s, Percept& p, uint32_t base, uint32_t carried) {
+    Outcome out;
+    // The pick, boom level at the carried object's place: it hangs from the magnet, its top
+    // where the magnet caught it.
+    constexpr double kPickSlew = 1.3, kMaxHoist = 0.3;
+    crane_to(kPickSlew, 0.0, 0.0);
+    wait_crane(kPickSlew, 0.0, 0.0, 3.0);
+    magnet(true);
+    crane_to(kPickSlew, 0.0, kMaxHoist);
+    wait_crane(kPickSlew, 0.0, kMaxHoist, 3.0, true);
+    const auto held = crane_state();
+    if (held.held_object().empty())
+      throw std::runtime_error("the magnet did not catch the carried object");
+    p.carried_height = kBaseHeight + kPivotZ - kMagnetBelowTip - held.hoist();
+    if (p.seen && p.laser_hit) {
+      // Up, the carried object's bottom 4 cm over the base's top, then in and over the base.
+      const double top = p.laser_height;
+      const double lift = lift_for(top + p.carried_height + kMagnetBelowTip + 0.04);
+      const Reach r = reach(p, lift);
+      crane_to(kPickSlew, lift, 0.0);
+      wait_crane(kPickSlew, lift, 0.0, 2.0);
+      drive_by(r.travel);
+      crane_to(r.slew, lift, 0.0);
+      wait_crane(r.slew, lift, 0.0, 3.0);
+      // Down to 1 cm over the top, a moment to settle, and let go.
+      const double tip_z = kBaseHeight + kPivotZ + kBoom * std::sin(lift);
+      const double down =
+          std::clamp(tip_z - kMagnetBelowTip - p.carried_height - top - 0.01, 0.0, kMaxHoist);
+      crane_to(r.slew, lift, down);
+      wait_crane(r.slew, lift, down, 2.0);
+      advance(0.2);
+    }
+    magnet(false);
+    advance(1.0);
+    // Both poses 1 s after the release.
+    const mm::Object_ a = object(carried), b = object(base);
+    auto up_z = [](const mm::Object_& thing) {  // the z of the object's own z axis, in the world
+      const auto& q = thing.pose().orientation();
+      return 1 - 2 * (q.x() * q.x() + q.y() * q.y());
+    };
+    out.a_tilt = std::acos(std::clamp(up_z(a), -1.0, 1.0));
+    switch (s.shape) {
+      case Shape::LyingCylinder:  // its axis from level
+        out.b_tilt = std::asin(std::min(1.0, std::fabs(up_z(b))));
+        break;
+      case Shape::Sphere:
+        out.b_tilt = 0;
+        break;
+      default:
+        out.b_tilt = std::acos(std::clamp(up_z(b), -1.0, 1.0));
+    }
+    const double b_top = b.pose().position().z() + s.height() / 2;
+    out.settle = a.pose().position().z() - s.carried.size[2] / 2 - b_top;
+    out.offset = std::hypot(a.pose().position().x() - b.pose().position().x(),
+                            a.pose().position().y() - b.pose().position().y());
+    out.moved = std::hypot(b.pose().position().x() - s.x, b.pose().position().y() - s.y);
+    // The base tipped over or rolled away: toppled; it stood and held the object upright on
+    // its top: stacked; it stood and the object came off: slid_off.
+    if (out.b_tilt >= 0.35 || out.moved >= 0.03)
+      out.label = "toppled";
+    else if (out.a_tilt < 0.2 && std::fabs(out.settle) < 0.015)
+      out.label = "stacked";
+    else
+      out.label = "slid_off";
+    return out;
+  }
+
+  /// Traverse: one turn of the rotating scanner standing still (the 3D cloud ahead), then
+  /// straight at the obstacle at 0.4 m/s for at most 5 s. Traversable when the robot's middle
+  /// got past the obstacle's far edge as it stood (over it, through it, or pushing it away).
+  Outcome traverse(const TrialSpec& s, Percept& p) {
+    const uint64_t seen = laser.clouds();
+    const double look_from = now;
+    laser.rotate(2 * M_PI);  // a turn a second: a cloud of 75 sweeps
+    laser_sent = true;
+    step(ticks_to(now + 1.04) * tick_steps());
+    const auto deadline = std::chrono::steady_clock::now() + o.timeout;
+    std::optional<macsim::client::Cloud> cloud;
+    while (laser.clouds() <= seen || !(cloud = laser.cloud(look_from)) ||
+           cloud->stamp > now + 1e-9) {
+      if (std::chrono::steady_clock::now() > deadline)
+        throw InstanceLost("no 3D cloud for sim time " + std::to_string(now));
+      std::this_thread::sleep_for(200us);
+    }
+    perceive_cloud(*cloud, SensorMount{}, p);
+    laser.rotate(0);
+    laser_sent = true;
+    const auto start = ground_truth();
+    const double x0 = start.pose().pose().position().x(), z0 = start.pose().pose().position().z();
+    const double far = s.x + s.reach_ahead();
+    Outcome out;
+    set_speed(0.4);
+    // Until the robot's middle is past the far edge, or no headway (2 cm) for a second; where
+    // it was at every tick.
+    const auto reply =
+        step(ticks_to(now + 5.0) * tick_steps(),
+             {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(far, -1e9), 0),
+              until::stalled(mm::STEP_READ_TRUTH_X, 1.0, 0.02, 1)},
+             {until::reading(mm::STEP_READ_TRUTH_X), until::reading(mm::STEP_READ_TRUTH_Z)});
+    set_speed(0);
+    double last_x = x0;
+    const auto& track = reply.samples();
+    for (std::size_t i = 0; i + 1 < track.size(); i += 2) {
+      last_x = track[i];
+      out.progress = std::max(out.progress, last_x - x0);
+      out.rise = std::max(out.rise, track[i + 1] - z0);
+    }
+    out.passed = last_x - far;
+    out.label = last_x >= far ? "traversable" : "not_traversable";
+    return out;
+  }
+
   Outcome lift(const Percept& p, uint32_t id) {
     const double z0 = object(id).pose().position().z();
     std::optional<double> z_up;  // the object's height once the boom is up, if a wait read it
     Outcome out;
     if (p.seen && p.laser_hit) {
-      // Where the object is, from the percept: its near face by the laser, its middle half its
-      // apparent width further, to the side by the camera's bearing.
-      const double depth = p.width_m > 0 ? std::clamp(p.width_m, 0.03, 0.15) : 0.08;
-      const double x = p.laser_range + depth / 2;
-      const double y = std::tan(p.bearing) * (x - 0.05) + 0.06;
       // The boom low enough that the magnet hangs 2 cm over the top with the hoist in.
       const double top = p.laser_height;
-      const double lift = std::clamp(
-          std::asin(std::clamp((top + kMagnetBelowTip + 0.02 - kBaseHeight - kPivotZ) / kBoom, -1.0,
-                               1.0)),
-          kLiftMin, kLiftMax - 0.3);
-      const double radius = kBoom * std::cos(lift);
-      const double ahead = std::sqrt(std::max(0.0, radius * radius - y * y));
-      const double travel = x - kPivotX - ahead;
-      const double slew = std::atan2(y, ahead);
+      const double lift = lift_for(top + kMagnetBelowTip + 0.02);
+      const auto [slew, travel] = reach(p, lift);
       // Drive in (by odometry) while the crane swings over.
       crane_to(slew, lift, 0.0);
-      const double x_start = odometry_x();
-      if (travel > 0.01) {
-        constexpr double kGain = 3, kTop = 0.5;
-        const double limit = now + 4.0;
-        while (ticks_to(limit) > 0) {
-          const double left = travel - (odometry_x() - x_start);
-          if (left < 0.004) break;
-          set_speed(std::clamp(left * kGain, 0.05, kTop));
-          // Top speed until less than kTop / kGain is left: nothing to decide before. Then the
-          // speed follows what is left every 0.2 s, the stop looked at every tick.
-          const int ticks = left * kGain >= kTop ? ticks_to(limit) : std::min(ticks_to(limit), 10);
-          step(ticks * tick_steps(),
-               {until::above(mm::STEP_READ_ODOMETRY_X,
-                             x_start + travel - (left * kGain >= kTop ? kTop / kGain : 0.004))});
-        }
-        set_speed(0);
-      }
+      drive_by(travel);
       wait_crane(slew, lift, 0.0, 2.0);
       // Down onto it with the magnet on, 1.5 cm further than the top: the magnet rests on it.
       magnet(true);
@@ -374,9 +561,8 @@ struct TrialRobot::Impl {
     Outcome out;
     set_speed(0.4);
     // 3 s, the object's turning about horizontal axes read at every tick.
-    const auto reply =
-        step(ticks_to(now + 3.0) * tick_steps(), {},
-             {until::reading(mm::STEP_READ_OBJECT_TILT_RATE, id)});
+    const auto reply = step(ticks_to(now + 3.0) * tick_steps(), {},
+                            {until::reading(mm::STEP_READ_OBJECT_TILT_RATE, id)});
     for (double tilt_rate : reply.samples()) out.rolled += tilt_rate * kTick;
     set_speed(0);
     const auto end = advance(0.4, {until::reading(mm::STEP_READ_OBJECT_X, id),
@@ -465,8 +651,11 @@ TrialRecord TrialRobot::run(const TrialSpec& spec) {
   TrialRecord record;
   record.spec = spec;
   m.begin();
-  const uint32_t id = m.spawn(spec);
-  record.percept = m.perceive();
+  const uint32_t id = m.spawn(trial_object(spec));
+  const uint32_t carried =
+      spec.affordance == Affordance::Stack ? m.spawn(carried_object(spec.carried)) : 0;
+  // Traverse looks with the boom up as it drives (out of the cloud's reach).
+  record.percept = m.perceive(spec.affordance == Affordance::Traverse ? 0.6 : 0.0);
   switch (spec.affordance) {
     case Affordance::Lift:
       record.outcome = m.lift(record.percept, id);
@@ -476,6 +665,12 @@ TrialRecord TrialRobot::run(const TrialSpec& spec) {
       break;
     case Affordance::Climb:
       record.outcome = m.climb(spec);
+      break;
+    case Affordance::Stack:
+      record.outcome = m.stack(spec, record.percept, id, carried);
+      break;
+    case Affordance::Traverse:
+      record.outcome = m.traverse(spec, record.percept);
       break;
   }
   record.sim_time = m.now;

@@ -17,14 +17,16 @@ namespace affordances {
 
 /// The object (or ramp) the supervisor spawns for a trial, as its seed drew it.
 macsim_msgs::msg::dds_::Object_ trial_object(const TrialSpec& spec);
+/// The object a stack trial's crane carries, where it stands beside the robot.
+macsim_msgs::msg::dds_::Object_ carried_object(const Carried& carried);
 
 /// How to reach an instance and how it was started.
 struct InstanceOptions {
   int domain = -1;
   std::string profile;  ///< DDS profile XML; empty: FASTRTPS_DEFAULT_PROFILES_FILE
   std::string robot = "kurt";
-  double camera_rate = 1.25;     ///< Hz: the instance's --camera-rate
-  bool hash_every_step = false;  ///< the trace mixes the state hash of every step
+  double camera_rate = 1.25;                 ///< Hz: the instance's --camera-rate
+  bool hash_every_step = false;              ///< the trace mixes the state hash of every step
   std::chrono::milliseconds timeout{10000};  ///< wall time an answer or a sample may take
 };
 

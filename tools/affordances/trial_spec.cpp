@@ -77,6 +77,123 @@ void draw_solid(TrialSpec& t, Draw& d, double lo, double hi, bool lying) {
   }
 }
 
+/// A base to stack onto (Stack): a box, upright or lying cylinder or sphere of any material,
+/// standing in the laser's plane; and beside the robot, the light magnetizable object the crane
+/// carries onto it. `balanced` draws the bases that rarely hold a load (spheres, narrow lying
+/// cylinders) less often.
+void draw_stack(TrialSpec& t, Draw& d, bool balanced) {
+  static constexpr Shape kBases[] = {Shape::Box, Shape::Cylinder, Shape::LyingCylinder,
+                                     Shape::Sphere};
+  // Balanced: a third boxes and upright cylinders (which mostly hold), a third lying cylinders
+  // (the load slides off), a third spheres light and small enough to roll away under a load
+  // set off their top (plastic or wood, 6-12 cm: 1,000 trials rolled all of 8-11 cm, half of
+  // 14-16 cm).
+  static constexpr std::size_t kBalanced[] = {0, 0, 1, 2, 2, 2, 3, 3, 3};
+  t.shape = kBases[balanced ? kBalanced[d.index(9)] : d.index(4)];
+  switch (t.shape) {
+    case Shape::Box:
+      t.size = {d.uniform(0.08, 0.25), d.uniform(0.08, 0.25), d.uniform(0.04, 0.22)};
+      break;
+    case Shape::Cylinder: {
+      const double diameter = d.uniform(0.06, 0.25);
+      t.size = {diameter, diameter, d.uniform(0.04, 0.22)};
+      break;
+    }
+    case Shape::LyingCylinder: {
+      const double diameter = d.uniform(0.06, 0.22);
+      t.size = {diameter, diameter, d.uniform(0.15, 0.35)};
+      break;
+    }
+    default: {
+      const double diameter = d.uniform(0.08, 0.25);
+      t.size = {diameter, diameter, diameter};
+    }
+  }
+  if (balanced && t.shape == Shape::Sphere) {
+    set_material(t, material_named(d.index(2) == 0 ? "plastic" : "wood"));
+    t.size[0] = t.size[1] = t.size[2] = d.uniform(0.06, 0.12);
+  } else {
+    set_material(t, kMaterials[d.index(kMaterials.size())]);
+  }
+  t.x = d.uniform(0.95, 1.1);
+  t.y = d.uniform(-0.015, 0.015);
+  // The carried object: tin, 4-8 cm across and 3-8 cm high (at most about 0.3 kg: the hoist
+  // lifts about 0.5 kg), on the floor to the robot's left where the boom reaches level
+  // (0.5 m from the slew axis, 1.3 rad from ahead): out of the cameras' and the laser's view.
+  Carried& c = t.carried;
+  c.shape = d.index(2) == 0 ? Shape::Box : Shape::Cylinder;
+  const double across = d.uniform(0.04, 0.08);
+  c.size = {across, c.shape == Shape::Box ? d.uniform(0.04, 0.08) : across, d.uniform(0.03, 0.08)};
+  const Material& tin = material_named("tin");
+  c.material = tin.name;
+  c.colour = tin.colour;
+  c.density = tin.density;
+  c.mass = c.density * c.size[2] *
+           (c.shape == Shape::Box ? c.size[0] * c.size[1] : M_PI * across * across / 4);
+  c.x = 0.05 + 0.5 * std::cos(1.3);
+  c.y = 0.5 * std::sin(1.3);
+}
+
+/// An obstacle or passage ahead (Traverse), its near edge 0.62-0.75 m ahead of the robot's
+/// middle: fixed boxes, upright cylinders, joists, steps, doorsteps, passages and ramps;
+/// portable lying cylinders (any yaw) and spheres. `balanced` draws passages around the
+/// robot's width more often.
+void draw_traverse(TrialSpec& t, Draw& d, bool balanced) {
+  static constexpr Shape kKinds[] = {Shape::Box,      Shape::Cylinder, Shape::LyingCylinder,
+                                     Shape::Sphere,   Shape::Joist,    Shape::Step,
+                                     Shape::Doorstep, Shape::Passage,  Shape::Ramp};
+  t.shape = kKinds[d.index(9)];
+  set_material(t, kMaterials[d.index(kMaterials.size())]);
+  t.fixed = t.shape != Shape::LyingCylinder && t.shape != Shape::Sphere;
+  switch (t.shape) {
+    case Shape::Box:
+      t.size = {d.uniform(0.1, 0.4), d.uniform(0.15, 0.6), d.uniform(0.02, 0.3)};
+      break;
+    case Shape::Cylinder: {
+      const double diameter = d.uniform(0.06, 0.3);
+      t.size = {diameter, diameter, d.uniform(0.02, 0.4)};
+      break;
+    }
+    case Shape::LyingCylinder: {
+      const double diameter = d.uniform(0.05, 0.25);
+      t.size = {diameter, diameter, d.uniform(0.15, 0.5)};
+      t.yaw = d.uniform(-M_PI / 2, M_PI / 2);
+      break;
+    }
+    case Shape::Sphere: {
+      const double diameter = d.uniform(0.05, 0.3);
+      t.size = {diameter, diameter, diameter};
+      break;
+    }
+    case Shape::Joist:
+      t.size = {d.uniform(0.03, 0.08), 1.0, d.uniform(0.01, 0.12)};
+      break;
+    case Shape::Step:
+      t.size = {d.uniform(0.2, 0.4), 1.0, d.uniform(0.02, 0.15)};
+      break;
+    case Shape::Doorstep:  // a bar between two walls 0.4 m high, 0.15 m deep
+      t.gap = d.uniform(0.3, 0.7);
+      t.size = {d.uniform(0.03, 0.08), t.gap, d.uniform(0.01, 0.08)};
+      break;
+    case Shape::Passage:  // two walls 0.4 m high; balanced: half of them around the robot's
+                          // width (0.325 m), where the laser must tell them apart
+      t.gap = balanced && d.index(2) == 0 ? d.uniform(0.26, 0.42) : d.uniform(0.2, 0.6);
+      t.size = {d.uniform(0.15, 0.5), t.gap, 0.4};
+      break;
+    default: {  // a ramp as the climb trials draw them, its foot the near edge
+      t.ramp_width = d.uniform(0.4, 1.0);
+      t.ramp_angle = d.uniform(5, 40) * M_PI / 180;
+      t.ramp_height = std::min(d.uniform(0.04, 0.2), 0.8 * std::tan(t.ramp_angle));
+      t.size = {t.ramp_height / std::tan(t.ramp_angle), t.ramp_width, t.ramp_height};
+    }
+  }
+  // Beyond the magnet, which hangs 0.55 m ahead at the reset.
+  const double near = d.uniform(0.62, 0.75);
+  t.x = t.shape == Shape::Ramp ? near : near + t.reach_ahead();
+  t.y = t.shape == Shape::Passage || t.shape == Shape::Doorstep ? d.uniform(-0.01, 0.01)
+                                                                : d.uniform(-0.02, 0.02);
+}
+
 }  // namespace
 
 const std::array<Material, 7>& materials() { return kMaterials; }
@@ -87,11 +204,24 @@ const char* name(Affordance a) {
       return "lift";
     case Affordance::Push:
       return "push";
-    default:
+    case Affordance::Climb:
       return "climb";
+    case Affordance::Stack:
+      return "stack";
+    default:
+      return "traverse";
   }
 }
-const char* name(Generator g) { return g == Generator::Material ? "material" : "figure11"; }
+const char* name(Generator g) {
+  switch (g) {
+    case Generator::Material:
+      return "material";
+    case Generator::Figure11:
+      return "figure11";
+    default:
+      return "balanced";
+  }
+}
 const char* name(Shape s) {
   switch (s) {
     case Shape::Box:
@@ -102,19 +232,28 @@ const char* name(Shape s) {
       return "lying_cylinder";
     case Shape::Sphere:
       return "sphere";
-    default:
+    case Shape::Ramp:
       return "ramp";
+    case Shape::Joist:
+      return "joist";
+    case Shape::Step:
+      return "step";
+    case Shape::Doorstep:
+      return "doorstep";
+    default:
+      return "passage";
   }
 }
 
 std::optional<Affordance> affordance_from_name(const std::string& n) {
-  for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb}) {
+  for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb, Affordance::Stack,
+                 Affordance::Traverse}) {
     if (n == name(a)) return a;
   }
   return std::nullopt;
 }
 std::optional<Generator> generator_from_name(const std::string& n) {
-  for (auto g : {Generator::Material, Generator::Figure11}) {
+  for (auto g : {Generator::Material, Generator::Figure11, Generator::Balanced}) {
     if (n == name(g)) return g;
   }
   return std::nullopt;
@@ -132,6 +271,7 @@ double TrialSpec::height() const {
 }
 
 double TrialSpec::volume() const {
+  if (fixed) return 0;
   switch (shape) {
     case Shape::Box:
       return size[0] * size[1] * size[2];
@@ -142,6 +282,20 @@ double TrialSpec::volume() const {
       return M_PI / 6 * size[0] * size[0] * size[0];
     default:
       return 0;
+  }
+}
+
+double TrialSpec::reach_ahead() const {
+  switch (shape) {
+    case Shape::Cylinder:
+    case Shape::Sphere:
+      return size[0] / 2;
+    case Shape::LyingCylinder:  // its axis along y turned by yaw: (-sin yaw, cos yaw, 0)
+      return size[2] / 2 * std::fabs(std::sin(yaw)) + size[0] / 2 * std::fabs(std::cos(yaw));
+    case Shape::Ramp:  // x is its foot
+      return size[0];
+    default:
+      return size[0] / 2;
   }
 }
 
@@ -197,6 +351,12 @@ TrialSpec make_trial(Affordance affordance, Generator generator, uint64_t seed) 
       t.size = {t.ramp_height / std::tan(t.ramp_angle), t.ramp_width, t.ramp_height};
       break;
     }
+    case Affordance::Stack:
+      draw_stack(t, d, generator == Generator::Balanced);
+      break;
+    case Affordance::Traverse:
+      draw_traverse(t, d, generator == Generator::Balanced);
+      break;
   }
   t.mass = t.density * t.volume();
   return t;

@@ -62,6 +62,87 @@ TEST(Perception, TheLaserMeasuresARampsSlope) {
   EXPECT_NEAR(p.laser_range, 0.8, 0.05);
 }
 
+TEST(Perception, TheTopOfABoxIsFlatTheTopOfASphereCurved) {
+  // A box 12 cm high from x = 0.9 to 1.1: a flat top about 20 cm long.
+  Percept box;
+  perceive_scan(
+      sweep({{0.9, kFloor, 0.9, kFloor + 0.12}, {0.9, kFloor + 0.12, 1.1, kFloor + 0.12}}),
+      SensorMount{}, box);
+  EXPECT_NEAR(box.top_length, 0.2, 0.07);  // beams a degree apart graze the top 5-7 cm apart
+  EXPECT_LT(box.top_flatness, 0.003);
+  EXPECT_NEAR(box.top_curvature, 0.0, 1.0);
+  // A sphere of 10 cm radius resting at x = 1.0, as 40 short chords.
+  std::vector<std::array<double, 4>> circle;
+  for (int i = 0; i < 40; ++i) {
+    const double a0 = M_PI * i / 40, a1 = M_PI * (i + 1) / 40;
+    circle.push_back({1.0 - 0.1 * std::cos(a0), kFloor + 0.1 + 0.1 * std::sin(a0),
+                      1.0 - 0.1 * std::cos(a1), kFloor + 0.1 + 0.1 * std::sin(a1)});
+  }
+  Percept sphere;
+  perceive_scan(sweep(circle), SensorMount{}, sphere);
+  EXPECT_NEAR(sphere.laser_height, 0.2, 0.02);
+  EXPECT_LT(sphere.top_curvature, -3.0);  // a circle of radius R: -1/R = -10 per metre
+  EXPECT_LT(sphere.top_length, box.top_length);
+}
+
+/// A cloud in base_link: the floor ahead on a 1 cm grid and boxes (x0, x1, y0, y1, height)
+/// as points on their faces and top, as one turn of the scanner would see them (noise-free).
+macsim::client::Cloud cloud(const std::vector<std::array<double, 5>>& boxes) {
+  macsim::client::Cloud c;
+  auto inside = [&](double x, double y) {
+    for (const auto& b : boxes)
+      if (x >= b[0] && x <= b[1] && y >= b[2] && y <= b[3]) return true;
+    return false;
+  };
+  for (double x = 0.2; x < 2.0; x += 0.01)
+    for (double y = -0.5; y < 0.5; y += 0.01)
+      if (!inside(x, y)) c.points.push_back({float(x), float(y), float(kFloor)});
+  for (const auto& b : boxes) {
+    for (double z = 0; z <= b[4]; z += 0.01)
+      for (double y = b[2]; y <= b[3]; y += 0.01)
+        c.points.push_back({float(b[0]), float(y), float(kFloor + z)});
+    for (double x = b[0]; x <= b[1]; x += 0.01)
+      for (double y = b[2]; y <= b[3]; y += 0.01)
+        c.points.push_back({float(x), float(y), float(kFloor + b[4])});
+    for (double z = 0; z <= b[4]; z += 0.01)
+      for (double x = b[0]; x <= b[1]; x += 0.01) {
+        c.points.push_back({float(x), float(b[2]), float(kFloor + z)});
+        c.points.push_back({float(x), float(b[3]), float(kFloor + z)});
+      }
+  }
+  return c;
+}
+
+TEST(Perception, TheCloudShowsWhatBlocksTheCorridorAndHowWideAPassageIs) {
+  Percept floor;
+  perceive_cloud(cloud({}), SensorMount{}, floor);
+  EXPECT_NEAR(floor.free_width, GroundGrid::kWidth, 1e-9);
+  EXPECT_NEAR(floor.corridor_height, 0.0, 1e-6);
+  EXPECT_EQ(floor.corridor_nearest, 0.0);
+  ASSERT_EQ(floor.grid.size(), static_cast<std::size_t>(GroundGrid::kRows * GroundGrid::kColumns *
+                                                        GroundGrid::kValues));
+  EXPECT_NEAR(floor.grid[4], 0.0, 1e-3);  // the floor is level
+
+  // A box 20 cm high across the middle, from x = 0.8: the corridor is blocked there.
+  Percept box;
+  perceive_cloud(cloud({{0.8, 1.0, -0.1, 0.1, 0.2}}), SensorMount{}, box);
+  EXPECT_NEAR(box.corridor_height, 0.2, 0.011);
+  EXPECT_NEAR(box.corridor_nearest, 0.8, 0.011);
+  EXPECT_LT(box.free_width, 0.05);
+  // Its cell (row 2 and 3: x 0.65-1.05; columns 2 and 3: y -0.15-0.15) is high, with a slope.
+  const std::size_t cell = (2 * GroundGrid::kColumns + 2) * GroundGrid::kValues;
+  EXPECT_NEAR(box.grid[cell + 3], 0.2, 0.011);
+  EXPECT_GT(box.grid[cell + 4], 0.3);
+  EXPECT_LT(box.grid[cell + 0], box.grid[cell + 1]);  // nearest before farthest
+
+  // Two walls 40 cm high with 36 cm between them.
+  Percept passage;
+  perceive_cloud(cloud({{0.8, 1.2, -0.48, -0.18, 0.39}, {0.8, 1.2, 0.18, 0.48, 0.39}}),
+                 SensorMount{}, passage);
+  EXPECT_NEAR(passage.free_width, 0.36, 0.011);
+  EXPECT_NEAR(passage.corridor_height, 0.39, 0.011);  // a wall within 0.2 m of the axis
+}
+
 TEST(Perception, TheFloorAloneIsNoHit) {
   Percept p;
   perceive_scan(sweep({}), SensorMount{}, p);

@@ -39,6 +39,37 @@ TEST(TrialRecord, ARowHasAFieldForEveryColumnAndReadsBack) {
   EXPECT_FALSE(t.column("no such column"));
 }
 
+TEST(TrialRecord, StackAndTraverseRowsCarryTheirOwnFeaturesAndMeasures) {
+  for (auto a : {Affordance::Stack, Affordance::Traverse}) {
+    TrialRecord r;
+    r.spec = make_trial(a, Generator::Balanced, 3);
+    r.outcome.label = labels(a).front();
+    r.outcome.passed = 0.125;
+    r.outcome.settle = -0.002;
+    r.percept.grid.assign(10, 1.5);  // fewer cells than the grid: the rest are zero
+    EXPECT_EQ(fields(csv_header(a)), fields(csv_row(r))) << name(a);
+    EXPECT_NE(csv_header(a), csv_header(Affordance::Lift));
+    macsim::test::TempDir dir("trial_record_");
+    const std::string path = dir.path() + "/rows.csv";
+    std::ofstream(path) << csv_header(a) << "\n" << csv_row(r) << "\n";
+    const CsvTable t = read_csv(path);
+    ASSERT_EQ(t.rows.size(), 1u);
+    for (const auto& feature : feature_names(a)) EXPECT_TRUE(t.column(feature)) << feature;
+    if (a == Affordance::Stack) {
+      EXPECT_EQ(t.rows[0][*t.column("carried_shape")], name(r.spec.carried.shape));
+      EXPECT_EQ(t.rows[0][*t.column("settle")], "-0.002");
+    } else {
+      EXPECT_EQ(t.rows[0][*t.column("cell_0_0_near")], "1.5");
+      EXPECT_EQ(t.rows[0][*t.column("cell_7_5_slope")], "0");
+      EXPECT_EQ(t.rows[0][*t.column("passed")], "0.125");
+      EXPECT_EQ(t.rows[0][*t.column("fixed")], r.spec.fixed ? "1" : "0");
+    }
+    EXPECT_EQ(t.columns.back(), "wall_time");
+  }
+  EXPECT_EQ(labels(Affordance::Stack),
+            (std::vector<std::string>{"stacked", "slid_off", "toppled"}));
+}
+
 TEST(TrialRecord, ARowCutShortAtTheEndIsDroppedOneInTheMiddleIsAnError) {
   TrialRecord r;
   r.spec = make_trial(Affordance::Lift, Generator::Material, 1);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 namespace affordances {
@@ -68,10 +69,71 @@ TEST(TrialSpec, RampsAreNoLongerThanTheirLimitAndRiseWithTheirAngle) {
   }
 }
 
+TEST(TrialSpec, StackBasesStandInTheLaserPlaneAndTheCarriedObjectIsLightTinWithinReach) {
+  std::map<Shape, int> shapes;
+  for (auto g : {Generator::Material, Generator::Balanced}) {
+    for (uint64_t s = 1; s <= 400; ++s) {
+      const TrialSpec t = make_trial(Affordance::Stack, g, s);
+      ++shapes[t.shape];
+      EXPECT_FALSE(t.fixed);
+      EXPECT_LE(std::abs(t.y), 0.015);
+      EXPECT_GE(t.x, 0.95);
+      EXPECT_LE(t.height(), 0.25);
+      const Carried& c = t.carried;
+      EXPECT_EQ(c.material, "tin");
+      EXPECT_TRUE(c.shape == Shape::Box || c.shape == Shape::Cylinder);
+      EXPECT_LT(c.mass, 0.35) << "seed " << s;  // the hoist lifts about 0.5 kg with the magnet
+      EXPECT_NEAR(std::hypot(c.x - 0.05, c.y), 0.5, 1e-9);  // the level boom's reach
+      EXPECT_GT(c.y - c.size[0] / 2, 0.2);                  // beside the robot, not under it
+    }
+  }
+  EXPECT_EQ(shapes.size(), 4u);  // box, cylinder, lying cylinder, sphere
+}
+
+TEST(TrialSpec, TraverseObstaclesStartBeyondTheMagnetAndOnlyRollingOnesAreFree) {
+  std::map<Shape, int> shapes;
+  for (uint64_t s = 1; s <= 900; ++s) {
+    const TrialSpec t = make_trial(Affordance::Traverse, Generator::Material, s);
+    ++shapes[t.shape];
+    EXPECT_EQ(t.fixed, t.shape != Shape::LyingCylinder && t.shape != Shape::Sphere);
+    const double near = t.shape == Shape::Ramp ? t.x : t.x - t.reach_ahead();
+    EXPECT_GE(near, 0.62 - 1e-9) << "seed " << s;  // the magnet hangs 0.55 m ahead
+    EXPECT_LE(near, 0.75 + 1e-9) << "seed " << s;
+    if (t.shape == Shape::Passage || t.shape == Shape::Doorstep) {
+      EXPECT_GT(t.gap, 0.19);
+    }
+    if (t.fixed) {
+      EXPECT_EQ(t.mass, 0.0);
+    }
+  }
+  EXPECT_EQ(shapes.size(), 9u);
+  for (const auto& [shape, count] : shapes) EXPECT_GT(count, 60) << name(shape);
+  // A lying cylinder across the way reaches its radius ahead, one along it half its length.
+  TrialSpec t = make_trial(Affordance::Traverse, Generator::Material, 1);
+  t.shape = Shape::LyingCylinder;
+  t.size = {0.1, 0.1, 0.4};
+  t.yaw = 0;
+  EXPECT_NEAR(t.reach_ahead(), 0.05, 1e-12);
+  t.yaw = M_PI / 2;
+  EXPECT_NEAR(t.reach_ahead(), 0.2, 1e-12);
+}
+
+TEST(TrialSpec, BalancedTraverseDrawsPassagesAroundTheRobotsWidth) {
+  int near_width = 0, passages = 0;
+  for (uint64_t s = 1; s <= 900; ++s) {
+    const TrialSpec t = make_trial(Affordance::Traverse, Generator::Balanced, s);
+    if (t.shape != Shape::Passage) continue;
+    ++passages;
+    near_width += t.gap > 0.26 && t.gap < 0.42;
+  }
+  EXPECT_GT(near_width, passages * 0.55);  // uniform over 0.2-0.6 would give 40 %
+}
+
 TEST(TrialSpec, NamesGoBothWays) {
-  for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb})
+  for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb, Affordance::Stack,
+                 Affordance::Traverse})
     EXPECT_EQ(affordance_from_name(name(a)), a);
-  for (auto g : {Generator::Material, Generator::Figure11})
+  for (auto g : {Generator::Material, Generator::Figure11, Generator::Balanced})
     EXPECT_EQ(generator_from_name(name(g)), g);
   EXPECT_FALSE(affordance_from_name("fly"));
   EXPECT_FALSE(generator_from_name(""));

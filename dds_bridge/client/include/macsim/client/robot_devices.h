@@ -91,6 +91,8 @@ class Laser {
   std::optional<Scan> scan() const { return scan_.get(); }
   /// The latest cloud with a stamp later than `after` (s), decoded, if one came.
   std::optional<Cloud> cloud(double after = -1.0) const;
+  /// How many clouds came so far.
+  uint64_t clouds() const { return points_.count(); }
 
  private:
   dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel_;
