@@ -58,8 +58,8 @@ for pair in "--trials:$trials" "--shards:$shards" "--instances:$instances" "--se
 done
 ((trials >= 1 && shards >= 1 && instances >= 1)) || die "--trials, --shards, --instances must be at least 1"
 ((shards <= trials)) || die "--shards $shards is more than --trials $trials"
-[[ "$affordance" =~ ^(lift|push|climb)$ ]] || die "unknown --affordance '$affordance' (lift, push, climb)"
-[[ "$generator" =~ ^(material|figure11)$ ]] || die "unknown --generator '$generator' (material, figure11)"
+[[ "$affordance" =~ ^(lift|push|climb|stack|traverse)$ ]] || die "unknown --affordance '$affordance' (lift, push, climb, stack, traverse)"
+[[ "$generator" =~ ^(material|figure11|balanced)$ ]] || die "unknown --generator '$generator' (material, figure11, balanced)"
 
 # affordance_trials: --bin, else the installation this script belongs to (share/macsim/slurm
 # beside bin/), else the source tree's build (deploy/slurm beside build/), else PATH.

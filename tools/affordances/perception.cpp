@@ -122,7 +122,8 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
     if (hit.y < highest_z - 0.03) continue;
     top.push_back(hit);
     front = std::min(front, hit.x);
-    if (hit.y >= highest_z - 0.01) top_lo = std::min(top_lo, hit.x), top_hi = std::max(top_hi, hit.x);
+    if (hit.y >= highest_z - 0.01)
+      top_lo = std::min(top_lo, hit.x), top_hi = std::max(top_hi, hit.x);
   }
   p.top_length = top_hi - top_lo;
   double face_lo = 1e9, face_hi = -1e9;

@@ -464,9 +464,11 @@ struct TrialRobot::Impl {
     out.offset = std::hypot(a.pose().position().x() - b.pose().position().x(),
                             a.pose().position().y() - b.pose().position().y());
     out.moved = std::hypot(b.pose().position().x() - s.x, b.pose().position().y() - s.y);
-    // The base tipped over or rolled away: toppled; it stood and held the object upright on
-    // its top: stacked; it stood and the object came off: slid_off.
-    if (out.b_tilt >= 0.35 || out.moved >= 0.03)
+    // The base tipped over or rolled away (5 cm: a base only nudged by a load sliding off moves
+    // less, lying cylinders up to 6 cm in 1,000 trials; spheres that roll go up to 34 cm):
+    // toppled; it stood and held the object upright on its top: stacked; it stood and the
+    // object came off: slid_off.
+    if (out.b_tilt >= 0.35 || out.moved >= 0.05)
       out.label = "toppled";
     else if (out.a_tilt < 0.2 && std::fabs(out.settle) < 0.015)
       out.label = "stacked";

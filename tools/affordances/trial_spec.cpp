@@ -333,9 +333,16 @@ TrialSpec make_trial(Affordance affordance, Generator generator, uint64_t seed) 
       break;
     case Affordance::Push:
       // A solid 6-20 cm across of any material, lead too; masses from the material's density
-      // (up to 90 kg).
-      draw_solid(t, d, 0.06, 0.2, true);
-      set_material(t, kMaterials[d.index(7)]);
+      // (up to 90 kg). Balanced: a third of them big lead boxes or upright cylinders (14-20 cm,
+      // 24-90 kg: what the robot cannot move), as `material` stalls about 4 % of its trials.
+      if (generator == Generator::Balanced && d.index(3) == 0) {
+        draw_solid(t, d, 0.14, 0.2, false);
+        if (t.shape == Shape::Sphere) t.shape = Shape::Box, t.size[1] = t.size[2] = t.size[0];
+        set_material(t, material_named("lead"));
+      } else {
+        draw_solid(t, d, 0.06, 0.2, true);
+        set_material(t, kMaterials[d.index(7)]);
+      }
       t.x = d.uniform(0.95, 1.1);
       t.y = d.uniform(-0.015, 0.015);
       break;
@@ -345,6 +352,16 @@ TrialSpec make_trial(Affordance affordance, Generator generator, uint64_t seed) 
       set_material(t, kMaterials[d.index(6)]);
       t.ramp_width = d.uniform(0.3, 1.0);
       t.ramp_angle = d.uniform(5, 50) * M_PI / 180;
+      if (generator == Generator::Balanced) {
+        // `material` climbs about 70 % of its ramps: balanced draws a quarter each of gentle
+        // ramps (5-30 degrees, not ice), gentle ice (14-22: it slides back), steep ice (30-50:
+        // it stalls) and steep ramps (40-50, not ice).
+        const std::size_t kind = d.index(4);
+        const bool ice = kind == 1 || kind == 2;
+        set_material(t, ice ? material_named("ice") : kMaterials[d.index(5)]);  // 0-4: not ice
+        static constexpr double kFrom[] = {5, 14, 30, 40}, kTo[] = {30, 22, 50, 50};
+        t.ramp_angle = d.uniform(kFrom[kind], kTo[kind]) * M_PI / 180;
+      }
       t.ramp_height = std::min(d.uniform(0.04, 0.3), 1.2 * std::tan(t.ramp_angle));
       t.x = d.uniform(0.75, 0.9);  // the foot
       t.y = d.uniform(-0.03, 0.03);
