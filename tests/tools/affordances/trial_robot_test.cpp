@@ -123,7 +123,8 @@ TEST_F(TrialRobotCases, ABoxOnABoxStacksABoxOnASphereDoesNot) {
   const auto box = run(base(Shape::Box, {0.2, 0.2, 0.12}, "wood"));
   EXPECT_EQ(box.outcome.label, "stacked") << csv_row(box);
   EXPECT_NEAR(box.outcome.settle, 0.0, 0.005);
-  EXPECT_NEAR(box.percept.carried_height, 0.05, 0.015);  // what the magnet found
+  // What the magnet found: it catches 1 cm away, and the wait ends at the next tick.
+  EXPECT_NEAR(box.percept.carried_height, 0.06, 0.012);
   const auto sphere = run(base(Shape::Sphere, {0.2, 0.2, 0.2}, "steel"));
   EXPECT_NE(sphere.outcome.label, "stacked") << csv_row(sphere);
   EXPECT_LT(sphere.outcome.settle, -0.05);  // the carried box came down off its top
