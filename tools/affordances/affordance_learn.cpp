@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
                                                     : data.feature_names[0];
     if (all && affordance == "push") x = "fill";
     if (all && affordance == "climb") x = "laser_slope", y = "laser_height";
-    if (all && affordance == "stack") x = "top_curvature", y = "top_length";
+    if (all && affordance == "stack") x = "fill", y = "top_length";
     if (all && affordance == "traverse") x = "free_width", y = "corridor_height";
     try {
       plot_learning_curve(curve, affordance + ": held-out accuracy against training trials",

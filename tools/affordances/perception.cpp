@@ -144,7 +144,11 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
   double spread = 0;
   for (const auto& t : top) spread += (t.y - mean_z) * (t.y - mean_z);
   p.top_flatness = std::sqrt(spread / static_cast<double>(top.size()));
-  if (top.size() >= 3) {
+  // A parabola needs three hits spread over 3 cm at least (beams a degree apart may put two
+  // within millimetres: their curvature would be noise); kept within +-100 1/m (a 2 cm radius).
+  double span_lo = 1e9, span_hi = -1e9;
+  for (const auto& t : top) span_lo = std::min(span_lo, t.x), span_hi = std::max(span_hi, t.x);
+  if (top.size() >= 3 && span_hi - span_lo >= 0.03) {
     cv::Mat a(static_cast<int>(top.size()), 3, CV_64F), b(static_cast<int>(top.size()), 1, CV_64F);
     for (int i = 0; i < a.rows; ++i) {
       const double x = top[static_cast<std::size_t>(i)].x - mean_x;
@@ -154,7 +158,8 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
       b.at<double>(i, 0) = top[static_cast<std::size_t>(i)].y;
     }
     cv::Mat c;
-    if (cv::solve(a, b, c, cv::DECOMP_SVD)) p.top_curvature = 2 * c.at<double>(2, 0);
+    if (cv::solve(a, b, c, cv::DECOMP_SVD))
+      p.top_curvature = std::clamp(2 * c.at<double>(2, 0), -100.0, 100.0);
   }
 }
 
