@@ -59,14 +59,20 @@ TEST_F(Ros2Conventions, TfCarriesTheRobotsTreeAndTfStaticReachesALateListener) {
   // a rotating laser and a moving crane show on tf
   Samples<tf::TFMessage_PubSubType> moving(*participant_, dds::topics::kTf, 2000,
                                            dds::QosFamily::State);
+  // Each moving frame may come in a message of its own, and the reader may match after some
+  // went out: wait until every one of them came at least once.
+  std::set<std::string> seen;
   ASSERT_TRUE(moving.wait_for(
-      [](const tf::TFMessage_& m) {
-        for (const auto& t : m.transforms()) {
-          if (t.child_frame_id() == "laser360") return true;
+      [&](const tf::TFMessage_& m) {
+        for (const auto& t : m.transforms()) seen.insert(t.child_frame_id());
+        for (const char* frame :
+             {"base_footprint", "laser360", "crane_turret", "crane_boom", "crane_magnet"}) {
+          if (!seen.count(frame)) return false;
         }
-        return false;
+        return true;
       },
-      20s));
+      20s))
+      << "frames seen: " << seen.size();
   const auto dynamic = edges(moving.all());
   EXPECT_EQ(dynamic.at("base_footprint"), "odom");  // REP-105
   EXPECT_EQ(dynamic.at("laser360"), "base_link");

@@ -232,6 +232,8 @@ int merge(int argc, char** argv) {
     bool known = false;
     for (auto a : {Affordance::Lift, Affordance::Stack, Affordance::Traverse})
       known = known || columns == csv_header(a);
+    if (!affordance_name.empty())  // the columns of the affordance named
+      known = columns == csv_header(*affordance_from_name(affordance_name));
     if (!known || (!header.empty() && columns != header)) {
       std::cerr << "affordance_trials merge: " << path
                 << (known ? " has other columns than the files before it (its header: "
@@ -391,8 +393,9 @@ int main(int argc, char** argv) {
   cli.option("affordance", "lift|push|climb|stack|traverse", "the affordance tried (default lift)",
              &affordance_name);
   cli.option("generator", "material|figure11|balanced",
-             "how objects are drawn: material (liftability from mass and magnet) or figure11 "
-             "(heavy objects are blue); default material",
+             "how objects are drawn: material (liftability from mass and magnet), figure11 "
+             "(heavy objects are blue) or balanced (no label of the affordance below about a "
+             "fifth); default material",
              &generator_name);
   cli.option("trials", "N", "number of trials (default 100)", &trials);
   cli.option("seed", "S", "seed of the first trial; trial i has seed S+i (default 1)", &first_seed);

@@ -261,7 +261,8 @@ std::string confusion_text(const Dataset& data, const Evaluation& e) {
 }
 
 std::string shape_text(const Dataset& data, const Evaluation& e) {
-  if (data.shapes.empty()) return {};
+  // Nothing predicted (no trial to train on, or none held out): nothing to break down.
+  if (data.shapes.empty() || e.predicted.size() != e.rows.size() || e.rows.empty()) return {};
   std::map<std::string, std::pair<int, int>> by_shape;  // right, held out
   for (std::size_t i = 0; i < e.rows.size(); ++i) {
     const auto row = static_cast<std::size_t>(e.rows[i]);

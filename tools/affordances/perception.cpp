@@ -113,19 +113,16 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
   p.laser_height = highest_z - floor_z;
   p.laser_depth = highest_x - lowest_x;
   p.laser_slope = std::atan2(highest_z - floor_z, std::max(0.0, highest_x - nearest) + 1e-3);
-  // The top: the hits within 3 cm of the highest, as a parabola z = a + b x + c x^2 (x from
-  // their middle), without a vertical face in front of it (hits stacked within 1 cm of the
-  // front-most x over more than 1 cm of height); its length from those within 1 cm.
+  // The top: the hits within 3 cm of the highest, without a vertical face in front of it (hits
+  // stacked within 1 cm of the front-most x over more than 1 cm of height), as a parabola
+  // z = a + b x + c x^2 (x from their middle); its length from those within 1 cm.
   std::vector<cv::Point2d> top;
-  double top_lo = 1e9, top_hi = -1e9, front = 1e9;
+  double front = 1e9;
   for (const auto& hit : hits) {
     if (hit.y < highest_z - 0.03) continue;
     top.push_back(hit);
     front = std::min(front, hit.x);
-    if (hit.y >= highest_z - 0.01)
-      top_lo = std::min(top_lo, hit.x), top_hi = std::max(top_hi, hit.x);
   }
-  p.top_length = top_hi - top_lo;
   double face_lo = 1e9, face_hi = -1e9;
   for (const auto& t : top) {
     if (t.x < front + 0.01) face_lo = std::min(face_lo, t.y), face_hi = std::max(face_hi, t.y);
@@ -137,6 +134,11 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
     }
     top.swap(above);
   }
+  double top_lo = 1e9, top_hi = -1e9;
+  for (const auto& t : top) {
+    if (t.y >= highest_z - 0.01) top_lo = std::min(top_lo, t.x), top_hi = std::max(top_hi, t.x);
+  }
+  p.top_length = top_hi - top_lo;
   double mean_x = 0, mean_z = 0;
   for (const auto& t : top) mean_x += t.x, mean_z += t.y;
   mean_x /= static_cast<double>(top.size());
@@ -145,7 +147,7 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
   for (const auto& t : top) spread += (t.y - mean_z) * (t.y - mean_z);
   p.top_flatness = std::sqrt(spread / static_cast<double>(top.size()));
   // A parabola needs three hits spread over 3 cm at least (beams a degree apart may put two
-  // within millimetres: their curvature would be noise); kept within +-100 1/m (a 2 cm radius).
+  // within millimetres: their curvature would be noise); kept within +-100 1/m (a 1 cm radius).
   double span_lo = 1e9, span_hi = -1e9;
   for (const auto& t : top) span_lo = std::min(span_lo, t.x), span_hi = std::max(span_hi, t.x);
   if (top.size() >= 3 && span_hi - span_lo >= 0.03) {

@@ -33,7 +33,7 @@ struct Percept {
   double top_curvature = 0;   ///< 1/m, of a parabola fitted to those hits (a flat top: 0)
   double carried_height = 0;  ///< m, the carried object's top above the floor where it stood
   // Traverse: the 3D cloud of one turn of the rotating scanner, ahead of the robot.
-  std::vector<double> grid;     ///< per cell (grid_cell_names()): nearest, farthest and mean
+  std::vector<double> grid;     ///< per cell (cell_<row>_<column>_*): nearest, farthest and mean
                                 ///< range (m), highest point (m above the floor), slope (rad)
   double free_width = 0;        ///< m between the nearest obstacle points left and right of
                                 ///< the robot's axis (above 3 cm, in the grid's reach)
@@ -61,7 +61,7 @@ struct GroundGrid {
   static constexpr int kRows = 8, kColumns = 6, kValues = 5;
   static constexpr double kNear = 0.25, kRowDepth = 0.2;  ///< x of the first row, m
   static constexpr double kWidth = 0.9;                   ///< y from -kWidth/2, m
-  static constexpr double kTop = 0.4;  ///< points higher above the floor are left out, m
+  static constexpr double kTop = 0.45;  ///< points higher above the floor are left out, m
 };
 
 /// The features a learner trains on for an affordance, in a fixed order, and their names:

@@ -20,7 +20,7 @@ struct Outcome {
                         ///< climb: climbed | slid_back | stalled; stack: stacked | slid_off |
                         ///< toppled; traverse: traversable | not_traversable
   double raised = 0;    ///< lift: m the object came up (the lower of after raising and 1 s on)
-  double moved = 0;     ///< push: m the object moved on the floor
+  double moved = 0;     ///< push: m the object moved on the floor; stack: m the base moved
   double rolled = 0;    ///< push: rad it turned about horizontal axes
   double rise = 0;      ///< climb: m the robot rose at most
   double progress = 0;  ///< climb, traverse: m the robot got ahead at most

@@ -386,7 +386,8 @@ struct TrialRobot::Impl {
 
   /// Where the crane's tip must go over what the robot perceived, with the boom at `lift`: the
   /// slew and how far to drive first. Its middle: the near face by the laser and half its
-  /// apparent width further, to the side by the camera's bearing.
+  /// apparent width further (the cameras see its width across, not its depth along the way),
+  /// to the side by the camera's bearing.
   struct Reach {
     double slew = 0, travel = 0;
   };
@@ -410,6 +411,9 @@ struct TrialRobot::Impl {
   /// label comes from both objects' poses 1 s later.
   Outcome stack(const TrialSpec& s, Percept& p, uint32_t base, uint32_t carried) {
     Outcome out;
+    // Nowhere to put the load: the trial is refused, not labelled (none of 1,000 trials).
+    if (!p.seen || !p.laser_hit)
+      throw std::runtime_error("the cameras or the laser did not find the base to stack on");
     // The pick, boom level at the carried object's place: it hangs from the magnet, its top
     // where the magnet caught it.
     constexpr double kPickSlew = 1.3, kMaxHoist = 0.3;
@@ -422,24 +426,24 @@ struct TrialRobot::Impl {
     if (held.held_object().empty())
       throw std::runtime_error("the magnet did not catch the carried object");
     p.carried_height = kBaseHeight + kPivotZ - kMagnetBelowTip - held.hoist();
-    if (p.seen && p.laser_hit) {
-      // Up, the carried object's bottom 4 cm over the base's top, then in and over the base.
-      const double top = p.laser_height;
-      const double lift = lift_for(top + p.carried_height + kMagnetBelowTip + 0.04);
-      const Reach r = reach(p, lift);
-      crane_to(kPickSlew, lift, 0.0);
-      wait_crane(kPickSlew, lift, 0.0, 2.0);
-      drive_by(r.travel);
-      crane_to(r.slew, lift, 0.0);
-      wait_crane(r.slew, lift, 0.0, 3.0);
-      // Down to 1 cm over the top, a moment to settle, and let go.
-      const double tip_z = kBaseHeight + kPivotZ + kBoom * std::sin(lift);
-      const double down =
-          std::clamp(tip_z - kMagnetBelowTip - p.carried_height - top - 0.01, 0.0, kMaxHoist);
-      crane_to(r.slew, lift, down);
-      wait_crane(r.slew, lift, down, 2.0);
-      advance(0.2);
-    }
+    // Up, the carried object's bottom 4 cm over the base's top, then in and over the base.
+    const double top = p.laser_height;
+    const double lift = lift_for(top + p.carried_height + kMagnetBelowTip + 0.04);
+    // Where lift trials put the magnet (a load on a long base lands off its middle: the
+    // label is what this robot's placement gets).
+    const Reach r = reach(p, lift);
+    crane_to(kPickSlew, lift, 0.0);
+    wait_crane(kPickSlew, lift, 0.0, 2.0);
+    drive_by(r.travel);
+    crane_to(r.slew, lift, 0.0);
+    wait_crane(r.slew, lift, 0.0, 3.0);
+    // Down to 1 cm over the top, a moment to settle, and let go.
+    const double tip_z = kBaseHeight + kPivotZ + kBoom * std::sin(lift);
+    const double down =
+        std::clamp(tip_z - kMagnetBelowTip - p.carried_height - top - 0.01, 0.0, kMaxHoist);
+    crane_to(r.slew, lift, down);
+    wait_crane(r.slew, lift, down, 2.0);
+    advance(0.2);
     magnet(false);
     advance(1.0);
     // Both poses 1 s after the release.
@@ -478,12 +482,12 @@ struct TrialRobot::Impl {
   }
 
   /// Traverse: one turn of the rotating scanner standing still (the 3D cloud ahead), then
-  /// straight at the obstacle at 0.4 m/s for at most 5 s. Traversable when the robot's middle
+  /// straight at the obstacle at 0.4 m/s for at most 6 s. Traversable when the robot's middle
   /// got past the obstacle's far edge as it stood (over it, through it, or pushing it away).
   Outcome traverse(const TrialSpec& s, Percept& p) {
     const uint64_t seen = laser.clouds();
     const double look_from = now;
-    laser.rotate(2 * M_PI);  // a turn a second: a cloud of 75 sweeps
+    laser.rotate(2 * M_PI);  // a turn a second: a cloud of about 75 sweeps
     laser_sent = true;
     step(ticks_to(now + 1.04) * tick_steps());
     const auto deadline = std::chrono::steady_clock::now() + o.timeout;
@@ -502,10 +506,10 @@ struct TrialRobot::Impl {
     const double far = s.x + s.reach_ahead();
     Outcome out;
     set_speed(0.4);
-    // Until the robot's middle is past the far edge, or no headway (2 cm) for a second; where
-    // it was at every tick.
+    // Until the robot's middle is past the far edge, or no headway (2 cm) for a second, at most
+    // 6 s (the farthest edge, 1.55 m, takes 3.9 s at full speed); where it was at every tick.
     const auto reply =
-        step(ticks_to(now + 5.0) * tick_steps(),
+        step(ticks_to(now + 6.0) * tick_steps(),
              {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(far, -1e9), 0),
               until::stalled(mm::STEP_READ_TRUTH_X, 1.0, 0.02, 1)},
              {until::reading(mm::STEP_READ_TRUTH_X), until::reading(mm::STEP_READ_TRUTH_Z)});
@@ -636,7 +640,9 @@ void TrialRobot::connect(std::chrono::milliseconds timeout) {
     throw InstanceLost("the participant" + where +
                        " is not a lock-step simulator (features: " + features->features() + ")");
   if (!m.supervisor.wait_for_server(left())) throw InstanceLost("no supervisor" + where);
-  while (!m.drive.commander_matched() || !m.crane.matched() || m.truth.matched() == 0) {
+  // The rotating unit too: a command to a reader not matched yet would be lost.
+  while (!m.drive.commander_matched() || !m.crane.matched() || m.truth.matched() == 0 ||
+         !m.laser.matched()) {
     if (left().count() <= 0) throw InstanceLost("no robot '" + m.o.robot + "'" + where);
     std::this_thread::sleep_for(20ms);
   }

@@ -79,8 +79,8 @@ void draw_solid(TrialSpec& t, Draw& d, double lo, double hi, bool lying) {
 
 /// A base to stack onto (Stack): a box, upright or lying cylinder or sphere of any material,
 /// standing in the laser's plane; and beside the robot, the light magnetizable object the crane
-/// carries onto it. `balanced` draws the bases that rarely hold a load (spheres, narrow lying
-/// cylinders) less often.
+/// carries onto it. `balanced` draws a third each of bases that hold a load, lying cylinders
+/// and small light spheres (below).
 void draw_stack(TrialSpec& t, Draw& d, bool balanced) {
   static constexpr Shape kBases[] = {Shape::Box, Shape::Cylinder, Shape::LyingCylinder,
                                      Shape::Sphere};

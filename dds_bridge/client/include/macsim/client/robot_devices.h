@@ -93,6 +93,8 @@ class Laser {
   std::optional<Cloud> cloud(double after = -1.0) const;
   /// How many clouds came so far.
   uint64_t clouds() const { return points_.count(); }
+  /// True once the robot's rotating unit reads our commands and its clouds' writer is matched.
+  bool matched() const { return rot_vel_.matched() > 0 && points_.matched() > 0; }
 
  private:
   dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel_;
