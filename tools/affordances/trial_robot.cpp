@@ -513,7 +513,10 @@ struct TrialRobot::Impl {
              {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(far, -1e9), 0),
               until::stalled(mm::STEP_READ_TRUTH_X, 1.0, 0.02, 1)},
              {until::reading(mm::STEP_READ_TRUTH_X), until::reading(mm::STEP_READ_TRUTH_Z)});
-    set_speed(0);
+    // No stop command: nothing steps after it in this trial, so the simulator would apply it
+    // at the next trial's first step, after that trial's reset (a command waits for a step; a
+    // reset does not drop it), and the next trial would start from another state. The reset
+    // stops the robot.
     double last_x = x0;
     const auto& track = reply.samples();
     for (std::size_t i = 0; i + 1 < track.size(); i += 2) {
