@@ -247,10 +247,12 @@ TEST_F(DataRoots, TheRos2ServicesReadNoFileOutsideTheRoots) {
       << available.result().error_message();
   ss::GetSpawnables_Request_ spawnables;
   spawnables.sources({outside_.string()});
-  for (const auto& s :
-       service<ss::GetSpawnables_Request_PubSubType, ss::GetSpawnables_Response_PubSubType>(
-           "get_spawnables", spawnables)
-           .spawnables()) {
+  // The response kept in a variable: a range-for over a member of a temporary would read it
+  // after it is gone.
+  const auto listed =
+      service<ss::GetSpawnables_Request_PubSubType, ss::GetSpawnables_Response_PubSubType>(
+          "get_spawnables", spawnables);
+  for (const auto& s : listed.spawnables()) {
     EXPECT_EQ(s.uri().find(outside_.string()), std::string::npos) << s.uri();
   }
   EXPECT_EQ(ros_spawn("file://" + (root_ / "crate.xml").string()).result().result(),
