@@ -236,9 +236,11 @@ int merge(int argc, char** argv) {
       known = columns == csv_header(*affordance_from_name(affordance_name));
     if (!known || (!header.empty() && columns != header)) {
       std::cerr << "affordance_trials merge: " << path
-                << (known ? " has other columns than the files before it (its header: "
-                          : " has other columns than this version writes (its header: ")
-                << columns.substr(0, 120) << "...)\n";
+                << (known ? " has other columns than the files before it"
+                    : affordance_name.empty()
+                        ? " has other columns than this version writes"
+                        : " has other columns than " + affordance_name + " rows (--affordance)")
+                << " (its header: " << columns.substr(0, 120) << "...)\n";
       return 2;
     }
     header = columns;

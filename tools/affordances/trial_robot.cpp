@@ -1,6 +1,7 @@
 #include "trial_robot.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <thread>
@@ -501,28 +502,18 @@ struct TrialRobot::Impl {
     perceive_cloud(*cloud, SensorMount{}, p);
     laser.rotate(0);
     laser_sent = true;
-    const auto start = ground_truth();
-    const double x0 = start.pose().pose().position().x(), z0 = start.pose().pose().position().z();
     const double far = s.x + s.reach_ahead();
     Outcome out;
-    set_speed(0.4);
-    // Until the robot's middle is past the far edge, or no headway (2 cm) for a second, at most
-    // 6 s (the farthest edge, 1.55 m, takes 3.9 s at full speed); where it was at every tick.
-    const auto reply =
-        step(ticks_to(now + 6.0) * tick_steps(),
-             {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(far, -1e9), 0),
-              until::stalled(mm::STEP_READ_TRUTH_X, 1.0, 0.02, 1)},
-             {until::reading(mm::STEP_READ_TRUTH_X), until::reading(mm::STEP_READ_TRUTH_Z)});
-    // No stop command: nothing steps after it in this trial, so the simulator would apply it
-    // at the next trial's first step, after that trial's reset (a command waits for a step; a
-    // reset does not drop it), and the next trial would start from another state. The reset
-    // stops the robot.
-    double last_x = x0;
-    const auto& track = reply.samples();
-    for (std::size_t i = 0; i + 1 < track.size(); i += 2) {
-      last_x = track[i];
-      out.progress = std::max(out.progress, last_x - x0);
-      out.rise = std::max(out.rise, track[i + 1] - z0);
+    // At most 6 s: the farthest edge, 1.55 m, takes 3.9 s at full speed. No stop command after
+    // it: nothing steps after it in this trial, so the simulator would apply it at the next
+    // trial's first step, after that trial's reset (a command waits for a step; a reset does
+    // not drop it), and the next trial would start from another state. The reset stops it.
+    const Track track = drive_past(far, 6.0);
+    double last_x = track.x0;
+    for (const auto& [x, z] : track.at) {
+      last_x = x;
+      out.progress = std::max(out.progress, x - track.x0);
+      out.rise = std::max(out.rise, z - track.z0);
     }
     out.passed = last_x - far;
     out.label = last_x >= far ? "traversable" : "not_traversable";
@@ -586,25 +577,39 @@ struct TrialRobot::Impl {
     return out;
   }
 
-  Outcome climb(const TrialSpec& s) {
-    crane_to(kAsideSlew, 0.6, 0.0);
+  /// Where the robot's middle (ground truth) was when a drive began, and at every tick of it.
+  struct Track {
+    double x0 = 0, z0 = 0;
+    std::vector<std::array<double, 2>> at;  ///< x, z
+  };
+  /// Straight ahead at 0.4 m/s in one request of at most `seconds` that ends when the robot's
+  /// middle is past `edge` or it made no 2 cm of headway for a second.
+  Track drive_past(double edge, double seconds) {
     const auto start = ground_truth();
-    const double x0 = start.pose().pose().position().x(), z0 = start.pose().pose().position().z();
-    const double top_x = s.x + s.ramp_height / std::tan(s.ramp_angle);
-    Outcome out;
+    Track track{start.pose().pose().position().x(), start.pose().pose().position().z(), {}};
     set_speed(0.4);
-    // At most 8 s: until the robot's middle is past the top, or no headway (2 cm) for a second;
-    // where it was at every tick.
     const auto reply =
-        step(ticks_to(now + 8.0) * tick_steps(),
-             {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(top_x, -1e9), 0),
+        step(ticks_to(now + seconds) * tick_steps(),
+             {until::above(mm::STEP_READ_TRUTH_X, std::nextafter(edge, -1e9), 0),
               until::stalled(mm::STEP_READ_TRUTH_X, 1.0, 0.02, 1)},
              {until::reading(mm::STEP_READ_TRUTH_X), until::reading(mm::STEP_READ_TRUTH_Z)});
+    const auto& samples = reply.samples();
+    for (std::size_t i = 0; i + 1 < samples.size(); i += 2)
+      track.at.push_back({samples[i], samples[i + 1]});
+    return track;
+  }
+
+  Outcome climb(const TrialSpec& s) {
+    crane_to(kAsideSlew, 0.6, 0.0);
+    const double top_x = s.x + s.ramp_height / std::tan(s.ramp_angle);
+    Outcome out;
+    // At most 8 s: until the robot's middle is past the top, or stalled.
+    const Track track = drive_past(top_x, 8.0);
+    const double x0 = track.x0, z0 = track.z0;
     double best_x = x0, last_x = x0, last_z = z0;
-    const auto& track = reply.samples();
-    for (std::size_t i = 0; i + 1 < track.size(); i += 2) {
-      last_x = track[i];
-      last_z = track[i + 1];
+    for (const auto& [x, z] : track.at) {
+      last_x = x;
+      last_z = z;
       out.rise = std::max(out.rise, last_z - z0);
       if (last_x > best_x + 0.02) best_x = last_x;
     }
