@@ -1,5 +1,6 @@
 // macsim.Supervisor (every supervisor operation, keyword arguments, SupervisorError on a
-// refusal), macsim.Simulation (pause, run, real-time factor, lock-step steps, reset, load,
+// refusal; the methods of most are generated from the IDL into supervisor_operations.inc),
+// macsim.Simulation (pause, run, real-time factor, lock-step steps, reset, load,
 // features) and macsim.WorldState (the world state topic as a dict of objects by id).
 #include <pybind11/eval.h>
 
@@ -48,8 +49,8 @@ struct PythonCaller {
     client::CallOutcome outcome;
     {
       py::gil_scoped_release release;
-      reply = client.call(std::move(request), limit, [] { return python_interrupted(); },
-                          &outcome);
+      reply = client.call(
+          std::move(request), limit, [] { return python_interrupted(); }, &outcome);
     }
     if (PyErr_Occurred()) raise_pending();
     if (!reply) {
@@ -194,19 +195,6 @@ void bind_supervisor(py::module_& m) {
           },
           "Every object: {id: name}, in the world's order.")
       .def(
-          "find_object",
-          [](S& s, const std::string& name) { return s.call(sv::find_object(name)).object_id(); },
-          py::arg("name"), "The id of the object of that (full) name.")
-      .def(
-          "find_by_user_data",
-          [](S& s, const std::string& user_data) {
-            return s.call(sv::find_by_user_data(user_data)).object_ids();
-          },
-          py::arg("user_data"), "The ids of the objects carrying that user data.")
-      .def(
-          "get_object", [](S& s, uint32_t id) { return s.call(sv::get_object(id)).object(); },
-          py::arg("object_id"), "The object: description, pose, velocity, mass, flags.")
-      .def(
           "create_object",
           [](S& s, const std::string& name, const std::vector<mm::Component_>& components,
              const sv::Vec3& position, const sv::Quat& orientation, int kind, bool portable,
@@ -231,131 +219,6 @@ void bind_supervisor(py::module_& m) {
           "height, angle) and returns its id. density kg/m^3 (0: 100); mass > 0 sets the "
           "density from the volume.")
       .def(
-          "import_environment",
-          [](S& s, const std::string& file, const std::string& import_id, const sv::Vec3& position,
-             const sv::Quat& orientation) {
-            return s.call(sv::import_environment(file, import_id, position, orientation))
-                .object_ids();
-          },
-          py::arg("file"), py::arg("import_id"), py::arg("position") = sv::Vec3{0, 0, 0},
-          py::arg("orientation") = identity,
-          "Imports an environment file (as an <IMPORT> names it); the new objects' ids.")
-      .def(
-          "destroy_object", [](S& s, uint32_t id) { s.call(sv::destroy_object(id)); },
-          py::arg("object_id"))
-      .def(
-          "destroy_by_user_data",
-          [](S& s, const std::string& user_data) {
-            return s.call(sv::destroy_by_user_data(user_data)).count();
-          },
-          py::arg("user_data"), "How many were destroyed.")
-      .def(
-          "destroy_all", [](S& s, int which) { return s.call(sv::destroy_all(which)).count(); },
-          py::arg("which") = mm::DESTROY_PORTABLE_OBJECTS,
-          "DESTROY_EVERY_OBJECT, DESTROY_PORTABLE_OBJECTS or DESTROY_FIXED_OBJECTS; how many "
-          "were destroyed.")
-      .def(
-          "set_pose",
-          [](S& s, uint32_t id, const sv::Vec3& position, const sv::Quat& orientation, bool pen) {
-            s.call(sv::set_pose(id, position, orientation, pen));
-          },
-          py::arg("object_id"), py::arg("position"), py::arg("orientation") = identity,
-          py::arg("allow_penetration") = false)
-      .def(
-          "set_position",
-          [](S& s, uint32_t id, const sv::Vec3& position, bool pen) {
-            s.call(sv::set_position(id, position, pen));
-          },
-          py::arg("object_id"), py::arg("position"), py::arg("allow_penetration") = false)
-      .def(
-          "set_orientation",
-          [](S& s, uint32_t id, const sv::Quat& orientation, bool pen) {
-            s.call(sv::set_orientation(id, orientation, pen));
-          },
-          py::arg("object_id"), py::arg("orientation"), py::arg("allow_penetration") = false)
-      .def(
-          "set_box_size",
-          [](S& s, uint32_t id, int component, const sv::Vec3& size, bool pen) {
-            s.call(sv::set_box_size(id, component, size, pen));
-          },
-          py::arg("object_id"), py::arg("component"), py::arg("size"),
-          py::arg("allow_penetration") = false, "Full sizes, m.")
-      .def(
-          "set_cylinder_size",
-          [](S& s, uint32_t id, int component, double radius, double height, bool pen) {
-            s.call(sv::set_cylinder_size(id, component, radius, height, pen));
-          },
-          py::arg("object_id"), py::arg("component"), py::arg("radius"), py::arg("height"),
-          py::arg("allow_penetration") = false)
-      .def(
-          "set_sphere_size",
-          [](S& s, uint32_t id, int component, double radius, bool pen) {
-            s.call(sv::set_sphere_size(id, component, radius, pen));
-          },
-          py::arg("object_id"), py::arg("component"), py::arg("radius"),
-          py::arg("allow_penetration") = false)
-      .def(
-          "set_ramp",
-          [](S& s, uint32_t id, double width, double height, double angle, bool pen) {
-            s.call(sv::set_ramp(id, width, height, angle, pen));
-          },
-          py::arg("object_id"), py::arg("width"), py::arg("height"), py::arg("angle"),
-          py::arg("allow_penetration") = false, "m, m, rad.")
-      .def(
-          "set_color",
-          [](S& s, uint32_t id, const sv::Rgba& rgba, int component) {
-            s.call(sv::set_color(id, rgba, component));
-          },
-          py::arg("object_id"), py::arg("rgba"), py::arg("component") = -1,
-          "rgba in [0, 1]; component -1: every component.")
-      .def(
-          "set_texture",
-          [](S& s, uint32_t id, const std::string& file, int component) {
-            s.call(sv::set_texture(id, file, component));
-          },
-          py::arg("object_id"), py::arg("file"), py::arg("component") = -1,
-          "A BMP of 2^n x 2^n pixels; '' removes the texture.")
-      .def(
-          "set_mass", [](S& s, uint32_t id, double mass) { s.call(sv::set_mass(id, mass)); },
-          py::arg("object_id"), py::arg("mass"), "kg")
-      .def(
-          "set_density",
-          [](S& s, uint32_t id, double density) { s.call(sv::set_density(id, density)); },
-          py::arg("object_id"), py::arg("density"), "kg/m^3")
-      .def(
-          "set_linear_velocity",
-          [](S& s, uint32_t id, const sv::Vec3& v) { s.call(sv::set_linear_velocity(id, v)); },
-          py::arg("object_id"), py::arg("velocity"), "m/s, world frame")
-      .def(
-          "set_angular_velocity",
-          [](S& s, uint32_t id, const sv::Vec3& v) { s.call(sv::set_angular_velocity(id, v)); },
-          py::arg("object_id"), py::arg("velocity"), "rad/s, world frame")
-      .def(
-          "add_force", [](S& s, uint32_t id, const sv::Vec3& f) { s.call(sv::add_force(id, f)); },
-          py::arg("object_id"), py::arg("force"),
-          "N at the centre of mass, world frame, during the next step only.")
-      .def(
-          "add_torque", [](S& s, uint32_t id, const sv::Vec3& t) { s.call(sv::add_torque(id, t)); },
-          py::arg("object_id"), py::arg("torque"), "N m, world frame, next step only.")
-      .def(
-          "set_frozen", [](S& s, uint32_t id, bool on) { s.call(sv::set_frozen(id, on)); },
-          py::arg("object_id"), py::arg("frozen"))
-      .def(
-          "set_magnetizable",
-          [](S& s, uint32_t id, bool on) { s.call(sv::set_magnetizable(id, on)); },
-          py::arg("object_id"), py::arg("magnetizable"))
-      .def(
-          "set_user_data",
-          [](S& s, uint32_t id, const std::string& data) { s.call(sv::set_user_data(id, data)); },
-          py::arg("object_id"), py::arg("user_data"))
-      .def(
-          "set_user_labels",
-          [](S& s, uint32_t id, int color, int shape) {
-            s.call(sv::set_user_labels(id, color, shape));
-          },
-          py::arg("object_id"), py::arg("color_label"), py::arg("shape_label"))
-      .def("door_count", [](S& s) { return s.call(sv::door_count()).count(); })
-      .def(
           "get_door",
           [](S& s, int door) {
             const auto r = s.call(sv::get_door(door));
@@ -364,40 +227,9 @@ void bind_supervisor(py::module_& m) {
                             d.opening(), d.switch_travel(), r.object_ids()};
           },
           py::arg("door"), "Door `door` (0 .. door_count() - 1).")
-      .def(
-          "set_switch_triggered",
-          [](S& s, int door, bool on) { s.call(sv::set_switch_triggered(door, on)); },
-          py::arg("door"), py::arg("triggered"))
-      .def(
-          "set_door_position",
-          [](S& s, int door, const sv::Vec3& p) { s.call(sv::set_door_position(door, p)); },
-          py::arg("door"), py::arg("position"), "Where the leaf's frame stands, m.")
-      .def(
-          "set_switch_position",
-          [](S& s, int door, const sv::Vec3& p) { s.call(sv::set_switch_position(door, p)); },
-          py::arg("door"), py::arg("position"), "Where the switch's platform stands, m.")
-      .def(
-          "reset", [](S& s, int scope) { s.call(sv::reset(scope)); },
-          py::arg("scope") = mm::RESET_EVERYTHING,
-          "RESET_POSES, RESET_POSES_AND_TIME or RESET_EVERYTHING (the world as loaded).")
-      .def(
-          "save_snapshot", [](S& s, const std::string& name) { s.call(sv::save_snapshot(name)); },
-          py::arg("name"))
-      .def(
-          "restore_snapshot",
-          [](S& s, const std::string& name) { s.call(sv::restore_snapshot(name)); },
-          py::arg("name"))
-      .def(
-          "delete_snapshot",
-          [](S& s, const std::string& name) { s.call(sv::delete_snapshot(name)); },
-          py::arg("name"),
-          "Frees the place of the snapshot `name` (macsim keeps --max-snapshots of them).")
-      .def(
-          "list_snapshots", [](S& s) { return s.call(sv::list_snapshots()).names(); },
-          "The names of the snapshots kept, in order.")
-      .def(
-          "state_hash", [](S& s) { return s.call(sv::state_hash()).hash(); },
-          "The hash of the world's whole state: equal states, equal hashes.");
+// The methods of the other operations, generated from the IDL (idl/tools/generate_operations.py).
+#include "supervisor_operations.inc"
+      ;  // the end of the Supervisor class's definitions
 
   using Sim = PythonSimulation;
   py::class_<Sim>(m, "Simulation",
