@@ -16,16 +16,20 @@
 #include "macsim/dds/data_files.h"
 #include "macsim/dds/shared_memory.h"
 #include "macsim/dds/topics.h"
+#include "macsim/dds/wire.h"
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
 #include "macsim/render/viewer.h"
 #include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
 #include "macsim/sim_core/world_variation.h"
 #include "picture_server.h"
 #include "sim_bridge.h"
+#include "sim_interfaces_dispatch.h"
 #include "sim_interfaces_server.h"
 #include "simulation_server.h"
+#include "supervisor_dispatch.h"
 #include "supervisor_server.h"
 
 namespace {
@@ -154,6 +158,10 @@ struct Options {
   int max_queued_commands = int(macsim::kDefaultMaxQueuedCommands);
   macsim::SnapshotLimits snapshot_limits;  // from the two above, once parsed
   std::vector<std::string> data_paths;
+  std::string record_session;
+  int session_hash_every = 100;
+  std::string replay;
+  std::optional<macsim::Session> session;  // read from --replay
 
   macsim::LoadLimits limits() const {
     return {std::size_t(max_import_depth), std::size_t(max_imported_files),
@@ -238,7 +246,8 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
       &o.data_paths);
   cli.option("max-snapshots", "N",
              "keep at most N named snapshots; saving a new name beyond is refused "
-             "(ERR_LIMIT_REACHED) (default " + std::to_string(o.max_snapshots) + ")",
+             "(ERR_LIMIT_REACHED) (default " +
+                 std::to_string(o.max_snapshots) + ")",
              &o.max_snapshots);
   cli.option("max-snapshot-bytes", "BYTES",
              "keep named snapshots of at most this many bytes in all (default " +
@@ -246,7 +255,8 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.max_snapshot_bytes);
   cli.option("max-pictures", "N",
              "write at most N distinct picture files per run (a name written before may be "
-             "written again) (default " + std::to_string(o.max_pictures) + ")",
+             "written again) (default " +
+                 std::to_string(o.max_pictures) + ")",
              &o.max_pictures);
   cli.option("max-queued-commands", "N",
              "hold at most N requests and robot commands waiting for the simulation thread; "
@@ -254,7 +264,31 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "counted (default " +
                  std::to_string(o.max_queued_commands) + ")",
              &o.max_queued_commands);
+  cli.option("record-session", "FILE",
+             "write every command that reaches the world (with its step) and the state hash "
+             "every --session-hash-every steps to FILE; --replay runs it again",
+             &o.record_session);
+  cli.option("session-hash-every", "N",
+             "steps between two hashes of a recorded session (default 100)", &o.session_hash_every);
+  cli.option("replay", "FILE",
+             "replay a recorded session without DDS: its world, its commands at their steps; "
+             "checks every hash and exits 0 when all are equal, 1 at the first step that differs",
+             &o.replay);
   if (auto code = cli.parse(argc, argv)) return code;
+  if (o.session_hash_every < 1) {
+    std::cerr << "macsim: --session-hash-every must be at least 1\n";
+    return 2;
+  }
+  if (!o.replay.empty()) {
+    try {
+      o.session = macsim::read_session(o.replay);
+    } catch (const macsim::SessionFileError& e) {
+      std::cerr << "macsim: --replay: " << e.what() << "\n";
+      return 2;
+    }
+    if (o.world_file.empty()) o.world_file = o.session->header.world_file;
+    if (o.seed == -1) o.seed = static_cast<int>(o.session->header.seed);
+  }
   {
     unsigned long long bytes = 0;
     const std::string& text = o.max_snapshot_bytes;
@@ -350,9 +384,9 @@ int serve(macsim::Runner& runner, const Options& o) {
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
     macsim::SupervisorServer supervisor(dds, runner);
-    macsim::SimulationServer control(
-        dds, runner, o.limits(),
-        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); });
+    macsim::SimulationServer control(dds, runner, o.limits(), [&bridge](const std::string& robot) {
+      return bridge.latest_readings(robot);
+    });
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     macsim::render::CameraIntrinsics picture_size;
     if (!o.pictures.empty()) {
@@ -388,8 +422,8 @@ int serve(macsim::Runner& runner, const Options& o) {
       // Anyone who may write there may link anything of this user's into it for a request.
       std::error_code error;
       const auto permissions = std::filesystem::status(folder, error).permissions();
-      if (!error && (permissions & std::filesystem::perms::others_write) !=
-                        std::filesystem::perms::none) {
+      if (!error &&
+          (permissions & std::filesystem::perms::others_write) != std::filesystem::perms::none) {
         std::cerr << "macsim: warning: the data root " << folder.string()
                   << " is writable by every user of this host, who can place links there for "
                      "requests to read through; keep worlds in a folder of your own\n";
@@ -474,11 +508,37 @@ int serve(macsim::Runner& runner, const Options& o) {
     bridge.wait_for_cameras();
     std::printf("%s", bridge.camera_summary().c_str());
     std::printf("%s", bridge.command_summary().c_str());
+    if (!o.record_session.empty()) {
+      runner.record(nullptr);  // its closing line
+      std::printf("macsim: session recorded to %s\n", o.record_session.c_str());
+    }
   } catch (const macsim::dds::DdsError& e) {
     std::cerr << "macsim: DDS error: " << e.what() << std::endl;
     return 3;
   }
   return 0;
+}
+
+/// Replays a recorded session on `runner` (its world): no DDS, the commands at their steps.
+int replay(macsim::Runner& runner, const Options& o) {
+  runner.set_executor(
+      macsim::CommandSource::Supervisor, [&runner](const macsim::Command& c, macsim::World& world) {
+        const auto q =
+            macsim::dds::from_wire<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>(c.message);
+        if (q) macsim::dispatch(*q, world, runner.snapshots());
+        return q.has_value();
+      });
+  runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
+  const auto limits = o.limits();
+  const auto load = [&runner, limits](const std::string& file) {
+    macsim::LoadOptions options;
+    options.limits = limits;
+    options.files = &runner.data_roots();
+    return macsim::load_world_file(file, options);
+  };
+  const auto outcome = macsim::replay_session(*o.session, runner, load);
+  std::printf("macsim: %s\n", outcome.message.c_str());
+  return outcome.equal ? 0 : 1;
 }
 
 }  // namespace
@@ -526,6 +586,17 @@ int main(int argc, char** argv) {
   runner->set_max_objects(std::size_t(o.max_objects));
   if (o.validate) return 0;
   if (!o.snapshots.empty()) return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
+  if (o.session) return replay(*runner, o);
+  if (!o.record_session.empty()) {
+    try {
+      runner->record(std::make_shared<macsim::SessionWriter>(
+          o.record_session,
+          macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every)}));
+    } catch (const macsim::SessionFileError& e) {
+      std::cerr << "macsim: --record-session: " << e.what() << std::endl;
+      return 2;
+    }
+  }
 
   return serve(*runner, o);
 }

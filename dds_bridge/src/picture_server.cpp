@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "macsim/dds/topics.h"
+#include "macsim/dds/wire.h"
 #include "macsim/render/camera_modes.h"
 
 namespace macsim {
@@ -32,6 +33,17 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
       admission_(kMaxInFlight, max_files),
       replies_(participant, dds::topics::kPictureReply, dds::QosFamily::Command),
       progress_([this](const Reply& reply) { replies_.write(reply); }) {
+  // On the simulation thread: the scene is taken between two steps (the world only read).
+  runner_.set_executor(CommandSource::Pictures, [this](const Command& c, World& world) {
+    if (auto r = dds::from_wire<mm::PictureRequest_PubSubType>(c.message)) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        jobs_.push_back({std::move(*r), capture_scene(world), world.time()});
+      }
+      queued_.notify_one();
+    }
+    return false;
+  });
   if (!folder_.empty()) renderer_ = std::thread([this] { render_loop(); });
   requests_ = std::make_unique<dds::Reader<mm::PictureRequest_PubSubType>>(
       participant, dds::topics::kPictureRequest, dds::QosFamily::Command,
@@ -48,8 +60,8 @@ PictureServer::~PictureServer() {
   if (renderer_.joinable()) renderer_.join();
 }
 
-void PictureServer::send(const Request& request, int code, const std::string& message,
-                         double time, const std::string& file) {
+void PictureServer::send(const Request& request, int code, const std::string& message, double time,
+                         const std::string& file) {
   Reply reply;
   reply.client_id(request.client_id());
   reply.sequence_number(request.sequence_number());
@@ -96,8 +108,7 @@ void PictureServer::accept(const Request& r) {
     return;
   }
   if (!r.camera_mode().empty() && !render::camera_mode_from_name(r.camera_mode())) {
-    send(r, mm::ERR_INVALID_ARGUMENT, "camera_mode: unknown mode '" + r.camera_mode() + "'", 0,
-         "");
+    send(r, mm::ERR_INVALID_ARGUMENT, "camera_mode: unknown mode '" + r.camera_mode() + "'", 0, "");
     return;
   }
   std::optional<std::string> refused;
@@ -110,13 +121,11 @@ void PictureServer::accept(const Request& r) {
     return;
   }
   // The scene is taken between two steps, on the simulation thread.
-  const bool pushed = runner_.push([this, r](World& world) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      jobs_.push_back({r, capture_scene(world), world.time()});
-    }
-    queued_.notify_one();
-  });
+  Command take;
+  take.source = CommandSource::Pictures;
+  take.operation = "take_picture";
+  take.message = dds::to_wire<mm::PictureRequest_PubSubType>(r);
+  const bool pushed = runner_.push(std::move(take));
   if (!pushed) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -145,8 +154,10 @@ void PictureServer::render_loop() {
     int code = mm::ERR_OK;
     std::string message;
     try {
-      if (!renderer) renderer = std::make_unique<render::OffscreenRenderer>(size_.width, size_.height);
-      const cv::Mat image = renderer->render(job.scene, render::camera_pose(mode, job.scene), size_);
+      if (!renderer)
+        renderer = std::make_unique<render::OffscreenRenderer>(size_.width, size_.height);
+      const cv::Mat image =
+          renderer->render(job.scene, render::camera_pose(mode, job.scene), size_);
       if (!cv::imwrite(file, image)) {
         code = mm::ERR_BAD_FILE;
         message = "cannot write '" + file + "'";

@@ -37,7 +37,9 @@ struct SimBridge::RobotTopics {
         node(
             p, kurt,
             [&runner, this](robot::RobotCommand command) {
-              if (runner.push([this, command = std::move(command)](World&) { command(kurt); })) {
+              // A value the runner runs on the world's robot (and a session records).
+              if (runner.push(robot_command(name, std::move(command.operation),
+                                            std::move(command.values)))) {
                 return;
               }
               if (commands_dropped.fetch_add(1) == 0) {  // said once; counted in the summary

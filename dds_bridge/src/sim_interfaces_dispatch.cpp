@@ -10,6 +10,7 @@
 #include <set>
 
 #include "macsim/dds/convert.h"
+#include "macsim/dds/wire.h"
 #include "macsim/sim_core/data_roots.h"
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world_bounds.h"
@@ -551,11 +552,11 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
   const Pose pose = *frame * Pose{local.position, local.orientation.normalized()};
   WorldSpec environment;
   try {
-    environment = file.empty()
-                      ? load_environment_string(q.resource_string(), name, world.spec().materials,
-                                                "resource_string.xml")
-                      : load_environment_file(file, name, world.spec().materials, {},
-                                              world.data_roots());
+    environment =
+        file.empty()
+            ? load_environment_string(q.resource_string(), name, world.spec().materials,
+                                      "resource_string.xml")
+            : load_environment_file(file, name, world.spec().materials, {}, world.data_roots());
   } catch (const std::exception& e) {  // missing, refused (outside the roots) or malformed
     return fail(sc::RESOURCE_PARSE_ERROR, e.what());
   }
@@ -701,6 +702,55 @@ ss::ResetSimulation_Response_ reset_simulation(const ss::ResetSimulation_Request
   }
   r.result(result(rc::RESULT_OK));
   return r;
+}
+
+bool changes_world(const std::string& service) {
+  return service == "set_entity_state" || service == "spawn_entity" ||
+         service == "spawn_entities" || service == "delete_entity" ||
+         service == "reset_simulation" || service == "set_simulation_state";
+}
+
+namespace {
+
+template <class PubSubType, class Run>
+bool replay_with(const Command& c, Run run) {
+  const auto request = dds::from_wire<PubSubType>(c.message);
+  if (!request) return false;
+  run(*request);
+  return true;
+}
+
+}  // namespace
+
+bool replay(const Command& c, World& world) {
+  const std::string& s = c.operation;
+  if (s == "set_entity_state") {
+    return replay_with<ss::SetEntityState_Request_PubSubType>(
+        c, [&](const auto& q) { set_entity_state(q, world); });
+  }
+  if (s == "spawn_entity") {
+    return replay_with<ss::SpawnEntity_Request_PubSubType>(
+        c, [&](const auto& q) { spawn_entity(q, world); });
+  }
+  if (s == "spawn_entities") {
+    return replay_with<ss::SpawnEntities_Request_PubSubType>(
+        c, [&](const auto& q) { spawn_entities(q, world); });
+  }
+  if (s == "delete_entity") {
+    return replay_with<ss::DeleteEntity_Request_PubSubType>(
+        c, [&](const auto& q) { delete_entity(q, world); });
+  }
+  if (s == "reset_simulation") {
+    return replay_with<ss::ResetSimulation_Request_PubSubType>(
+        c, [&](const auto& q) { reset_simulation(q, world); });
+  }
+  if (s == "set_simulation_state") {  // only STOPPED changes the world: it puts it back as loaded
+    return replay_with<ss::SetSimulationState_Request_PubSubType>(c, [&](const auto& q) {
+      if (q.state().state() == si::SimulationState_Constants::STATE_STOPPED)
+        world.reset(ResetScope::Everything);
+    });
+  }
+  return false;
 }
 
 }  // namespace macsim::sim_interfaces

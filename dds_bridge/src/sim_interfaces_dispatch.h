@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
+#include "macsim/sim_core/command.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim::sim_interfaces {
@@ -54,5 +55,11 @@ ss::GetAvailableWorlds_Response_ get_available_worlds(
 /// Resets what the scope says: state (poses), state and time, or all (spawned objects go).
 ss::ResetSimulation_Response_ reset_simulation(const ss::ResetSimulation_Request_& request,
                                                World& world);
+
+/// True for a service whose requests change the world (a session records them).
+bool changes_world(const std::string& service);
+/// Runs a recorded service command on the world as the server did, without answering it
+/// (a replay); false for a service that does not change the world or a damaged message.
+bool replay(const Command& command, World& world);
 
 }  // namespace macsim::sim_interfaces

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "macsim/dds/wire.h"
 #include "sim_interfaces_dispatch.h"
 
 namespace macsim {
@@ -34,12 +35,26 @@ void SimInterfacesServer::serve(const std::string& name, Respond<Req, Resp> resp
 
 template <class Req, class Resp, class Run>
 void SimInterfacesServer::serve_on_world(const std::string& name, Run run) {
-  serve<Req, Resp>(name, [this, run](const typename Req::type& q, const dds::RequestId& id,
-                                     dds::ServiceServer<Req, Resp>& server) {
-    if (!runner_.push([q, id, &server, run](World& world) { server.reply(id, run(q, world)); })) {
-      refuse_full(id, server);
-    }
-  });
+  using Server = dds::ServiceServer<Req, Resp>;
+  using ReplyTo = std::pair<dds::RequestId, Server*>;
+  // On the simulation thread: the request from its wire form, answered where it came from.
+  on_world_[name] = [run](const Command& c, World& world) {
+    const auto q = dds::from_wire<Req>(c.message);
+    if (!q) return false;
+    const auto response = run(*q, world);
+    if (const auto* to = std::any_cast<ReplyTo>(&c.reply_to))
+      to->second->reply(to->first, response);
+    return sim_interfaces::changes_world(c.operation);
+  };
+  serve<Req, Resp>(
+      name, [this, name](const typename Req::type& q, const dds::RequestId& id, Server& server) {
+        Command c;
+        c.source = CommandSource::Ros2Service;
+        c.operation = name;
+        c.message = dds::to_wire<Req>(q);
+        c.reply_to = ReplyTo{id, &server};
+        if (!runner_.push(std::move(c))) refuse_full(id, server);
+      });
 }
 
 template <class Req, class Resp>
@@ -64,6 +79,10 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
                                          LoadLimits limits, std::function<void()> quit)
     : participant_(participant), runner_(runner), limits_(limits), quit_(std::move(quit)) {
   namespace sim = sim_interfaces;
+  runner_.set_executor(CommandSource::Ros2Service, [this](const Command& c, World& world) {
+    const auto found = on_world_.find(c.operation);
+    return found != on_world_.end() && found->second(c, world);
+  });
   // Constant, and its response has no result to say a full queue with: answered at once.
   serve<MACSIM_SERVICE(GetSimulatorFeatures)>(
       "get_simulator_features",
@@ -145,37 +164,52 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
         }
       });
 
+  // Answered once its steps are done: the request and where it came from, as a command.
+  using StepServer = dds::ServiceServer<MACSIM_SERVICE(StepSimulation)>;
+  using StepReplyTo = std::pair<dds::RequestId, StepServer*>;
+  on_world_["step_simulation"] = [this](const Command& c, World&) {
+    const auto* to = std::any_cast<StepReplyTo>(&c.reply_to);
+    const auto request = dds::from_wire<ss::StepSimulation_Request_PubSubType>(c.message);
+    if (!to || !request) return false;
+    const ss::StepSimulation_Request_& q = *request;
+    const dds::RequestId id = to->first;
+    StepServer& server = *to->second;
+    ss::StepSimulation_Response_ r;
+    if (!runner_.settings().paused) {
+      r.result(result(rc::RESULT_OPERATION_FAILED,
+                      "the simulation is playing: pause it first (SetSimulationState)"));
+      server.reply(id, r);
+      return false;
+    }
+    stopped_ = false;
+    if (q.steps() == 0) {
+      r.result(result(rc::RESULT_OK));
+      server.reply(id, r);
+      return false;
+    }
+    const bool taken = runner_.request_steps(q.steps(), [id, &server](bool done) {
+      ss::StepSimulation_Response_ stepped;
+      stepped.result(done ? result(rc::RESULT_OK)
+                          : result(rc::RESULT_OPERATION_FAILED,
+                                   "cancelled: paused, or a body went unstable (see the "
+                                   "events)"));
+      server.reply(id, stepped);
+    });
+    if (!taken) {
+      r.result(result(rc::RESULT_INCORRECT_STATE, "a step request is still running"));
+      server.reply(id, r);
+    }
+    return false;
+  };
   serve<MACSIM_SERVICE(StepSimulation)>(
-      "step_simulation", [this](const ss::StepSimulation_Request_& q, const dds::RequestId& id,
-                                dds::ServiceServer<MACSIM_SERVICE(StepSimulation)>& server) {
-        const bool pushed = runner_.push([this, q, id, &server](World&) {
-          ss::StepSimulation_Response_ r;
-          if (!runner_.settings().paused) {
-            r.result(result(rc::RESULT_OPERATION_FAILED,
-                            "the simulation is playing: pause it first (SetSimulationState)"));
-            server.reply(id, r);
-            return;
-          }
-          stopped_ = false;
-          if (q.steps() == 0) {
-            r.result(result(rc::RESULT_OK));
-            server.reply(id, r);
-            return;
-          }
-          const bool taken = runner_.request_steps(q.steps(), [id, &server](bool done) {
-            ss::StepSimulation_Response_ stepped;
-            stepped.result(done ? result(rc::RESULT_OK)
-                                : result(rc::RESULT_OPERATION_FAILED,
-                                         "cancelled: paused, or a body went unstable (see the "
-                                         "events)"));
-            server.reply(id, stepped);
-          });
-          if (!taken) {
-            r.result(result(rc::RESULT_INCORRECT_STATE, "a step request is still running"));
-            server.reply(id, r);
-          }
-        });
-        if (!pushed) refuse_full(id, server);
+      "step_simulation",
+      [this](const ss::StepSimulation_Request_& q, const dds::RequestId& id, StepServer& server) {
+        Command c;
+        c.source = CommandSource::Ros2Service;
+        c.operation = "step_simulation";
+        c.message = dds::to_wire<ss::StepSimulation_Request_PubSubType>(q);
+        c.reply_to = StepReplyTo{id, &server};
+        if (!runner_.push(std::move(c))) refuse_full(id, server);
       });
 
   serve<MACSIM_SERVICE(LoadWorld)>(

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,6 +53,8 @@ class SimInterfacesServer {
   std::function<void()> quit_;
   bool stopped_ = false;  // STATE_STOPPED: paused at the start (simulation thread only)
   std::vector<std::shared_ptr<void>> servers_;
+  /// What runs each service's command on the simulation thread, by service name.
+  std::map<std::string, std::function<bool(const Command&, World&)>> on_world_;
 };
 
 }  // namespace macsim

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "macsim/dds/topics.h"
+#include "macsim/dds/wire.h"
 #include "macsim/sim_core/world_loader.h"
 #include "simulation_dispatch.h"
 #include "supervisor_codec.h"
@@ -28,26 +29,45 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
       readings_(std::move(readings)),
       replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command),
       progress_([this](const Reply& reply) { replies_.write(reply); }) {
+  // On the simulation thread: control of the run, not of the world (a load is recorded by the
+  // runner when the new world is swapped in).
+  runner_.set_executor(CommandSource::Simulation, [this](const Command& c, World&) {
+    const auto r = dds::from_wire<mm::SimulationRequest_PubSubType>(c.message);
+    if (!r) return false;
+    if (c.operation == "answer_repeated_load") {
+      progress_.end(r->client_id(), r->sequence_number());
+      repeated(*r);
+    } else if (c.operation == "answer_load_running") {
+      send(reply_to(*r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
+    } else {
+      execute(*r);
+    }
+    return false;
+  });
+  const auto command = [](const char* operation, const Request& r) {
+    Command c;
+    c.source = CommandSource::Simulation;
+    c.operation = operation ? std::string(operation) : "SIM_" + std::to_string(r.command());
+    c.message = dds::to_wire<mm::SimulationRequest_PubSubType>(r);
+    return c;
+  };
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread. A repeat of a
   // request still running gets its progress (RequestProgress) and is not queued again.
   requests_ = std::make_unique<dds::Reader<mm::SimulationRequest_PubSubType>>(
       participant, dds::topics::kSimulationRequest, dds::QosFamily::Command,
-      [this](const Request& r) {
+      [this, command](const Request& r) {
         const auto asked = [steps = r.command() == mm::SIM_STEP ? r.steps() : 0](Reply& p) {
           p.steps_asked(steps);
         };
         if (!progress_.begin(r, waiting_text(r), asked)) return;
         if (r.command() != mm::SIM_LOAD_WORLD) {
-          if (!runner_.push([this, r](World&) { execute(r); })) refuse_full(r);
+          if (!runner_.push(command(nullptr, r))) refuse_full(r);
           return;
         }
         if (load_seen(r)) {
           // Sent again: never load twice; answer again if the load was answered.
-          const bool pushed = runner_.push([this, r](World&) {
-            progress_.end(r.client_id(), r.sequence_number());
-            repeated(r);
-          });
+          const bool pushed = runner_.push(command("answer_repeated_load", r));
           if (!pushed) refuse_full(r);
           return;
         }
@@ -61,14 +81,13 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
             },
             [this, r](const LoadOutcome& outcome) {
               send(reply_to(r, codec::error_code(outcome.code), outcome.error));
-            });
+            },
+            r.world_file());
         if (queued == LoadQueued::QueueFull) {
           forget_load(r);  // not loaded: a repeat may try again
           refuse_full(r);
         } else if (queued == LoadQueued::LoadRunning) {
-          const bool pushed = runner_.push([this, r](World&) {
-            send(reply_to(r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
-          });
+          const bool pushed = runner_.push(command("answer_load_running", r));
           if (!pushed) refuse_full(r);
         }
       });

@@ -2,6 +2,7 @@
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
+#include "macsim/dds/wire.h"
 #include "supervisor_codec.h"
 #include "supervisor_dispatch.h"
 
@@ -20,6 +21,11 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
       door_list_(participant, dds::topics::kWorldDoorList, QosFamily::Latched),
       events_stamped_(participant, dds::topics::kWorldEventsStamped, QosFamily::Command),
       progress_([this](const Reply& reply) { replies_.write(reply); }) {
+  // On the simulation thread, live or in a replay: the request from its wire form.
+  runner_.set_executor(CommandSource::Supervisor, [this](const Command& c, World& world) {
+    const auto q = dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
+    return q && execute(*q, world);
+  });
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later. A
   // repeat of a request still waiting gets its progress and is not queued again.
   requests_ = std::make_unique<dds::Reader<mm::SupervisorRequest_PubSubType>>(
@@ -28,7 +34,7 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
                                 "before it)")) {
           return;
         }
-        if (!runner_.push([this, r](World& world) { execute(r, world); })) {
+        if (!runner_.push(command(r))) {
           refuse(r, mm::ERR_LIMIT_REACHED, runner_.queue_full_message());
         }
       });
@@ -46,21 +52,30 @@ void SupervisorServer::refuse(const Request& q, int code, const std::string& mes
   replies_.write(reply);
 }
 
-void SupervisorServer::execute(const Request& q, World& world) {
+Command SupervisorServer::command(const Request& q) {
+  Command c;
+  c.source = CommandSource::Supervisor;
+  c.operation = "OP_" + std::to_string(q.operation()._d());
+  c.message = dds::to_wire<mm::SupervisorRequest_PubSubType>(q);
+  return c;
+}
+
+bool SupervisorServer::execute(const Request& q, World& world) {
   if (const Reply* again = replied_.find(q)) {  // sent again: answer, do not redo
     progress_.end(q.client_id(), q.sequence_number());
     replies_.write(*again);
-    return;
+    return false;
   }
   if (replied_.forgotten(q)) {  // answered long ago: its reply is gone, it must not run again
     progress_.end(q.client_id(), q.sequence_number());
     replies_.write(replied_.forgotten_reply(q));
-    return;
+    return false;
   }
   const Reply reply = dispatch(q, world, runner_.snapshots());
   progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);
   replies_.write(reply);
+  return true;
 }
 
 void SupervisorServer::publish_world_state(World& world) {

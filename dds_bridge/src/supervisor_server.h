@@ -36,7 +36,10 @@ class SupervisorServer {
   using Request = macsim_msgs::msg::dds_::SupervisorRequest_;
   using Reply = macsim_msgs::msg::dds_::SupervisorReply_;
 
-  void execute(const Request& request, World& world);
+  /// Runs a request (not one answered before); true when it reached the world.
+  bool execute(const Request& request, World& world);
+  /// The request as a command value.
+  static Command command(const Request& request);
   /// Answers a request that was not queued, from the listener (nothing of the world read; not
   /// kept for repeats: a repeat is tried again).
   void refuse(const Request& request, int code, const std::string& message);

@@ -185,7 +185,7 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
   auto twist = [post](const gm::Twist_& m) {
     const double v = m.linear().x(), w = m.angular().z();
-    if (finite({v, w})) post([v, w](RobotInterface& r) { r.command_twist(v, w); });
+    if (finite({v, w})) post(RobotCommand{"twist", {v, w}});
   };
   if (options_.cmd_vel_stamped) {
     t.cmd_vel_stamped = std::make_unique<dds::Reader<gm::TwistStamped_PubSubType>>(
@@ -198,13 +198,13 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   t.wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
       p, dds::topics::wheel_speeds(name), QosFamily::Command, [post](const km::WheelSpeeds_& m) {
         const double l = m.left(), r = m.right();
-        if (finite({l, r})) post([l, r](RobotInterface& it) { it.command_wheel_speeds(l, r); });
+        if (finite({l, r})) post(RobotCommand{"wheel_speeds", {l, r}});
       });
   if (t.has.rotunit) {
     t.rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
         p, dds::topics::rot_vel(name), QosFamily::Command, [post](const gm::Twist_& m) {
           const double speed = m.angular().z();
-          if (finite({speed})) post([speed](RobotInterface& r) { r.command_rotunit(speed); });
+          if (finite({speed})) post(RobotCommand{"rotunit", {speed}});
         });
   }
   if (t.has.crane) {
@@ -213,7 +213,7 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
         [post](const km::CraneCommand_& m) {
           const double slew = m.slew(), lift = m.lift(), hoist = m.hoist();
           if (finite({slew, lift, hoist})) {
-            post([slew, lift, hoist](RobotInterface& r) { r.command_crane(slew, lift, hoist); });
+            post(RobotCommand{"crane", {slew, lift, hoist}});
           }
         });
   }
@@ -221,13 +221,30 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     t.magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
         p, dds::topics::crane_magnet(name), QosFamily::Command,
         [post](const km::MagnetCommand_& m) {
-          const bool on = m.on();
-          post([on](RobotInterface& r) { r.command_magnet(on); });
+          post(RobotCommand{"magnet", {m.on() ? 1.0 : 0.0}});
         });
   }
 }
 
 RobotNode::~RobotNode() = default;
+
+bool RobotCommand::apply(RobotInterface& robot) const {
+  const auto& v = values;
+  if (operation == "twist" && v.size() == 2) {
+    robot.command_twist(v[0], v[1]);
+  } else if (operation == "wheel_speeds" && v.size() == 2) {
+    robot.command_wheel_speeds(v[0], v[1]);
+  } else if (operation == "rotunit" && v.size() == 1) {
+    robot.command_rotunit(v[0]);
+  } else if (operation == "crane" && v.size() == 3) {
+    robot.command_crane(v[0], v[1], v[2]);
+  } else if (operation == "magnet" && v.size() == 1) {
+    robot.command_magnet(v[0] != 0);
+  } else {
+    return false;
+  }
+  return true;
+}
 
 void RobotNode::poll_commands() {
   Topics& t = *topics_;
@@ -318,8 +335,9 @@ void RobotNode::fill(const Readings& r) {
     auto odom = dds::kurt_odometry(o.x, o.y, o.yaw, o.linear, o.angular, now);
     odom.child_frame_id(framed(fp, odom.child_frame_id()));
     out.odom = in_frames(odom, fp);
-    out.tf_odom = {transform(now, framed(fp, "odom"), framed(fp, "base_footprint"), {o.x, o.y, 0.0},
-                             Eigen::Quaterniond(Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ())))};
+    out.tf_odom = {
+        transform(now, framed(fp, "odom"), framed(fp, "base_footprint"), {o.x, o.y, 0.0},
+                  Eigen::Quaterniond(Eigen::AngleAxisd(o.yaw, Eigen::Vector3d::UnitZ())))};
     out.wheels = dds::kurt_wheel_joints(o.left_wheel, o.right_wheel, now);
   }
   if (r.ground_truth && t.ground_truth) {

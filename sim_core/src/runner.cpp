@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
 
 namespace macsim {
@@ -13,7 +14,51 @@ using Clock = std::chrono::steady_clock;
 Runner::Runner(WorldSpec spec, RunSettings settings)
     : world_(std::make_unique<World>(std::move(spec))),
       settings_(settings),
-      max_queued_(std::max<std::size_t>(settings.max_queued_commands, 1)) {}
+      max_queued_(std::max<std::size_t>(settings.max_queued_commands, 1)) {
+  executors_.resize(kCommandSources);
+  commands_run_.resize(kCommandSources, 0);
+}
+
+void Runner::set_executor(CommandSource source, CommandExecutor executor) {
+  executors_[static_cast<std::size_t>(source)] = std::move(executor);
+}
+
+void Runner::record(std::shared_ptr<SessionWriter> writer) {
+  if (recording_ && recording_ != writer) recording_->finish(steps_run_);
+  recording_ = std::move(writer);
+  if (recording_) recording_->hash(steps_run_, world_->state_hash());
+}
+
+uint64_t Runner::commands_run(CommandSource source) const {
+  return commands_run_[static_cast<std::size_t>(source)];
+}
+
+bool Runner::execute(const Command& command) {
+  ++commands_run_[static_cast<std::size_t>(command.source)];
+  bool acted = false;
+  switch (command.source) {
+    case CommandSource::Local:
+      if (command.local) command.local(*world_);
+      return false;  // code, not a value: never recorded
+    case CommandSource::Robot:
+      acted = run_robot_command(command, *world_);
+      break;
+    default:
+      if (command.source == CommandSource::Simulation &&
+          command.operation == "keep_robot_commands") {
+        world_->keep_robot_commands();
+        acted = true;
+        break;
+      }
+      if (const auto& run = executors_[static_cast<std::size_t>(command.source)]) {
+        acted = run(command, *world_);
+      } else {
+        std::cerr << "macsim: nobody runs " << describe(command) << "; dropped" << std::endl;
+      }
+  }
+  if (acted && recording_) recording_->command(steps_run_, command);
+  return acted;
+}
 
 void Runner::set_data_roots(std::shared_ptr<const DataRoots> roots) {
   data_roots_ = roots ? std::move(roots) : DataRoots::anywhere();
@@ -34,6 +79,12 @@ Runner::~Runner() {
   for (auto& loader : loaders) loader.wait();  // a parse still running finishes first
 }
 
+bool Runner::push(std::function<void(World&)> local) {
+  Command command;
+  command.local = std::move(local);
+  return push(std::move(command));
+}
+
 bool Runner::push(Command command) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -52,7 +103,7 @@ std::string Runner::queue_full_message() const {
 }
 
 LoadQueued Runner::load(std::function<WorldSpec()> parse,
-                        std::function<void(const LoadOutcome&)> done) {
+                        std::function<void(const LoadOutcome&)> done, std::string file) {
   auto promise = std::make_shared<std::promise<WorldSpec>>();
   std::shared_future<WorldSpec> spec = promise->get_future().share();
   {
@@ -77,7 +128,7 @@ LoadQueued Runner::load(std::function<WorldSpec()> parse,
       return LoadQueued::LoadRunning;  // no thread to be had: refused like a second load
     }
     loading_ = true;
-    pending_.emplace_back(Load{std::move(spec), std::move(done)});
+    pending_.emplace_back(Load{std::move(spec), std::move(done), std::move(file)});
     ++queued_;
   }
   arrived_.notify_one();
@@ -110,7 +161,7 @@ std::size_t Runner::apply_commands() {
       batch.pop_front();
       if (auto* command = std::get_if<Command>(&item)) {
         try {
-          (*command)(*world_);
+          execute(*command);
         } catch (const std::exception& e) {  // a command's own errors are its replies
           std::cerr << "macsim: a command failed and was dropped: " << e.what() << std::endl;
         }
@@ -153,6 +204,13 @@ void Runner::replace_world(Load& load) {
       ++generation_;
       snapshots_.clear();
       outcome.ok = true;
+      if (recording_) {
+        Command loaded;
+        loaded.source = CommandSource::Simulation;
+        loaded.operation = "load_world";
+        loaded.message.assign(load.file.begin(), load.file.end());
+        recording_->command(steps_run_, loaded);
+      }
     }
   } catch (const WorldFileError& e) {
     outcome.code = ErrorCode::BadFile;
@@ -185,14 +243,23 @@ void Runner::step() {
   if (requested && requested_steps_ == 0 && settings_.paused) return;
   // A body gone non-finite or wild was put back and reported (an Instability event naming it);
   // pausing keeps a learning run from stepping on through a broken world unnoticed.
-  if (!world_->step() && settings_.pause_on_instability) pause();
+  const bool stable = world_->step();
+  ++steps_run_;
+  if (recording_ && steps_run_ % recording_->hash_every() == 0)
+    recording_->hash(steps_run_, world_->state_hash());
+  if (!stable && settings_.pause_on_instability) pause();
 }
 
 void Runner::step(const StepHooks& hooks) {
   const StepHooks* outer = hooks_;
   hooks_ = &hooks;  // a request ended inside (by its steps or cancelled) calls its request_end
   if (hooks.before_step) hooks.before_step();
-  if (requested_steps_ > 0 && request_.hold_commands) world_->keep_robot_commands();
+  if (requested_steps_ > 0 && request_.hold_commands) {
+    Command keep;
+    keep.source = CommandSource::Simulation;
+    keep.operation = "keep_robot_commands";
+    execute(keep);
+  }
   step();
   if (hooks.after_step) hooks.after_step(*world_);
   finish_requested_step();  // a requested step is done once its data is out

@@ -19,13 +19,17 @@
 #include <variant>
 #include <vector>
 
+#include "macsim/sim_core/command.h"
 #include "macsim/sim_core/snapshot_store.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim {
 
-/// A change to the world, run on the simulation thread with the world current at that moment.
-using Command = std::function<void(World&)>;
+class SessionWriter;
+
+/// Runs the commands of one source on the simulation thread, with the world current at that
+/// moment; true when the command acted on the world (a recorded session keeps it).
+using CommandExecutor = std::function<bool(const Command&, World&)>;
 
 /// How a world load ended: the new world runs, or the old one runs on and `error` says why
 /// (`code`: BadFile when it cannot be read or built, InvalidArgument when it does not fit).
@@ -97,19 +101,36 @@ class Runner {
   /// Queues a command; it runs before the next step (or at once while paused). False (and
   /// nothing queued) when the queue is full (RunSettings::max_queued_commands).
   [[nodiscard]] bool push(Command command);
+  /// Queues in-process code (a Local command: tests, programs embedding the runner).
+  [[nodiscard]] bool push(std::function<void(World&)> local);
   /// Queues a world load: `parse` runs on a thread of its own while the current world runs on;
   /// commands queued after it wait and then run on the new world. The new world must have the
   /// same robots (names and types) as the current one. `done` runs on the simulation thread.
   /// Refused (nothing queued, nothing parsed) while another load is still on its way, or when
   /// the queue is full; a load counts as one command.
+  /// `file` names what `parse` reads, for a recorded session.
   [[nodiscard]] LoadQueued load(std::function<WorldSpec()> parse,
-                                std::function<void(const LoadOutcome&)> done);
+                                std::function<void(const LoadOutcome&)> done,
+                                std::string file = {});
   /// What a request refused because the queue is full is told (names the cap and its flag).
   std::string queue_full_message() const;
   /// Blocks until a command can run or `deadline` passes; true if one can.
   bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
 
+  // ---- before run() -----------------------------------------------------------------------
+  /// Who runs the commands of `source` (robot, Local and the runner's own commands need none).
+  void set_executor(CommandSource source, CommandExecutor executor);
+  /// Writes every command that acts on the world from now on, with the step it runs at, and
+  /// the state hash every writer->hash_every() steps (and now). Null stops recording.
+  void record(std::shared_ptr<SessionWriter> writer);
+
   // ---- on the simulation thread (in commands, hooks or tests) ----------------------------
+  /// Runs one command now (its executor), recording it when it acted on the world.
+  bool execute(const Command& command);
+  /// Steps this runner has run, over every world it ran (a session's clock).
+  uint64_t steps_run() const { return steps_run_; }
+  /// Commands run so far from `source`.
+  uint64_t commands_run(CommandSource source) const;
   /// Runs the queued commands in arrival order, swapping in a parsed world where a load stands
   /// (a load still parsing holds it and everything after it back); returns how many ran.
   std::size_t apply_commands();
@@ -158,6 +179,7 @@ class Runner {
   struct Load {
     std::shared_future<WorldSpec> spec;
     std::function<void(const LoadOutcome&)> done;
+    std::string file;
   };
   using Item = std::variant<Command, Load>;
 
@@ -171,6 +193,10 @@ class Runner {
   void end_request(bool completed);
 
   std::unique_ptr<World> world_;
+  std::vector<CommandExecutor> executors_;  // by CommandSource
+  std::vector<uint64_t> commands_run_;      // by CommandSource
+  std::shared_ptr<SessionWriter> recording_;
+  uint64_t steps_run_ = 0;
   std::shared_ptr<const DataRoots> data_roots_ = DataRoots::anywhere();
   uint64_t generation_ = 0;
   SnapshotStore snapshots_;

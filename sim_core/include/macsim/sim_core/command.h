@@ -1,0 +1,59 @@
+// What the runner executes: a command as a value (gz-sim's typed user commands): its source,
+// its operation, its arguments, and where its answer goes. Values can be printed, counted and
+// written to a session file; the executor of each source runs them, live and in a replay alike.
+#pragma once
+
+#include <any>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace macsim {
+
+class World;
+
+/// Who sent a command.
+enum class CommandSource : uint8_t {
+  Supervisor,   ///< a supervisor request (macsim_msgs SupervisorRequest)
+  Simulation,   ///< simulation control (SimulationRequest), and what the runner does itself
+  Ros2Service,  ///< a simulation_interfaces service request
+  Pictures,     ///< a picture request (the scene is taken; the world is only read)
+  Robot,        ///< a robot's command topic (cmd_vel, crane, magnet, ...)
+  Local,        ///< code in this process (tests, programs embedding the runner): never recorded
+};
+
+/// How many sources there are.
+inline constexpr std::size_t kCommandSources = 6;
+
+/// The source's name in a session file ("supervisor", "robot", ...).
+std::string_view to_string(CommandSource source);
+/// The source of that name, or nullopt.
+std::optional<CommandSource> command_source(std::string_view name);
+
+/// One command for the world.
+struct Command {
+  CommandSource source = CommandSource::Local;
+  std::string operation;         ///< e.g. "set_density", "twist", "load_world"
+  std::string target;            ///< the robot a robot command is for; empty otherwise
+  std::vector<double> values;    ///< a robot command's arguments (SI units)
+  std::vector<uint8_t> message;  ///< a request's message in its wire form (CDR)
+  std::any reply_to;             ///< where its answer goes (its server's; empty in a replay)
+  /// Local only: what it does. Every other source is run by its executor from the fields above.
+  std::function<void(World&)> local;
+};
+
+/// One line for logs: source, operation, target, values and message size.
+std::string describe(const Command& command);
+
+/// A robot command: `operation` twist (linear m/s, angular rad/s), wheel_speeds (left, right
+/// m/s), rotunit (rad/s), crane (slew rad, lift rad, hoist m) or magnet (1 on, 0 off).
+Command robot_command(std::string robot, std::string operation, std::vector<double> values);
+
+/// Runs a robot command on the world's robot; false (nothing done) for an unknown robot or
+/// operation, or values of the wrong count.
+bool run_robot_command(const Command& command, World& world);
+
+}  // namespace macsim

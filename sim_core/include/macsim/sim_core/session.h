@@ -1,0 +1,108 @@
+// A session: every command that reached the world, with the step it ran at, and the world's
+// state hash every N steps. Recorded by a running simulator, replayed without any input to
+// the same hashes; a replay stops at the first step whose hash differs. A bug report is one file.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "macsim/sim_core/command.h"
+#include "macsim/sim_core/world_spec.h"
+
+namespace macsim {
+
+class Runner;
+
+/// The version of the session format this build writes and reads (its first line).
+inline constexpr int kSessionFormatVersion = 1;
+
+/// A session file that cannot be read: names the file and line.
+class SessionFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// What a session starts from.
+struct SessionHeader {
+  std::string world_file;     ///< the world the session started with, as it was named
+  int64_t seed = -1;          ///< the layout's seed (macsim --seed), or -1: as written
+  uint64_t hash_every = 100;  ///< steps between two recorded state hashes
+};
+
+/// A command and the runner's step count when it ran (before that step).
+struct RecordedCommand {
+  uint64_t step = 0;
+  Command command;
+};
+
+/// The world's state hash after `step` steps.
+struct RecordedHash {
+  uint64_t step = 0;
+  uint64_t hash = 0;
+};
+
+/// A whole session file.
+struct Session {
+  SessionHeader header;
+  std::vector<RecordedCommand> commands;  ///< in the order they ran
+  std::vector<RecordedHash> hashes;       ///< by step
+  uint64_t steps = 0;                     ///< steps run when it ended
+};
+
+/// Writes a session as the simulation runs (on the simulation thread).
+class SessionWriter {
+ public:
+  /// Opens `path` for writing and writes the header; throws SessionFileError if it cannot.
+  SessionWriter(const std::string& path, const SessionHeader& header);
+  ~SessionWriter();
+  SessionWriter(const SessionWriter&) = delete;
+  SessionWriter& operator=(const SessionWriter&) = delete;
+
+  void command(uint64_t step, const Command& command);
+  void hash(uint64_t step, uint64_t hash);
+  /// Writes the closing line (a file without it is refused as cut short) and closes.
+  void finish(uint64_t steps);
+  uint64_t hash_every() const { return hash_every_; }
+  uint64_t commands() const { return commands_; }
+
+ private:
+  std::FILE* file_ = nullptr;
+  std::string path_;
+  uint64_t hash_every_;
+  uint64_t commands_ = 0, hashes_ = 0;
+};
+
+/// Reads a session file; throws SessionFileError naming the file and line of what is wrong (a
+/// damaged line, a file cut short, another format version).
+Session read_session(const std::string& path);
+/// Writes a whole session (e.g. one with a command changed).
+void write_session(const std::string& path, const Session& session);
+
+/// How a replay ended.
+struct ReplayOutcome {
+  bool equal = true;   ///< every recorded hash was met
+  uint64_t steps = 0;  ///< steps replayed
+  std::size_t hashes_checked = 0;
+  std::size_t commands_run = 0;
+  /// The first step whose hash differs, the last one that was equal, and both hashes.
+  std::optional<uint64_t> first_difference;
+  uint64_t last_equal = 0;
+  uint64_t recorded_hash = 0, replayed_hash = 0;
+  std::string message;  ///< one paragraph saying what happened
+};
+
+/// Loads the world file a recorded load_world names (as the simulator would).
+using SessionWorldLoader = std::function<WorldSpec(const std::string& file)>;
+
+/// Replays a session on a runner built from its header's world, with the executors of its
+/// sources set (the same as a live run's, minus the answers): runs each command at its step,
+/// steps, checks each recorded hash, and stops at the first that differs.
+ReplayOutcome replay_session(const Session& session, Runner& runner,
+                             const SessionWorldLoader& load);
+
+}  // namespace macsim

@@ -1,0 +1,79 @@
+#include "macsim/sim_core/command.h"
+
+#include <array>
+#include <cstdio>
+#include <utility>
+
+#include "macsim/sim_core/world.h"
+
+namespace macsim {
+
+namespace {
+
+constexpr std::array<std::pair<CommandSource, std::string_view>, 6> kSourceNames{{
+    {CommandSource::Supervisor, "supervisor"},
+    {CommandSource::Simulation, "simulation"},
+    {CommandSource::Ros2Service, "ros2_service"},
+    {CommandSource::Pictures, "pictures"},
+    {CommandSource::Robot, "robot"},
+    {CommandSource::Local, "local"},
+}};
+
+}  // namespace
+
+std::string_view to_string(CommandSource source) {
+  for (const auto& [s, name] : kSourceNames) {
+    if (s == source) return name;
+  }
+  return "unknown";
+}
+
+std::optional<CommandSource> command_source(std::string_view name) {
+  for (const auto& [s, n] : kSourceNames) {
+    if (n == name) return s;
+  }
+  return std::nullopt;
+}
+
+std::string describe(const Command& c) {
+  std::string text = std::string(to_string(c.source)) + " " + c.operation;
+  if (!c.target.empty()) text += " " + c.target;
+  for (double v : c.values) {
+    char number[32];
+    std::snprintf(number, sizeof number, " %g", v);
+    text += number;
+  }
+  if (!c.message.empty()) text += " (" + std::to_string(c.message.size()) + " bytes)";
+  return text;
+}
+
+Command robot_command(std::string robot, std::string operation, std::vector<double> values) {
+  Command c;
+  c.source = CommandSource::Robot;
+  c.operation = std::move(operation);
+  c.target = std::move(robot);
+  c.values = std::move(values);
+  return c;
+}
+
+bool run_robot_command(const Command& c, World& world) {
+  KurtRobot* robot = world.robot(c.target);
+  if (!robot) return false;
+  const auto& v = c.values;
+  if (c.operation == "twist" && v.size() == 2) {
+    robot->command_twist(v[0], v[1], world.time());
+  } else if (c.operation == "wheel_speeds" && v.size() == 2) {
+    robot->command_wheel_speeds({v[0], v[1]}, world.time());
+  } else if (c.operation == "rotunit" && v.size() == 1) {
+    robot->command_rotunit(v[0]);
+  } else if (c.operation == "crane" && v.size() == 3) {
+    robot->command_crane({v[0], v[1], v[2]});
+  } else if (c.operation == "magnet" && v.size() == 1) {
+    robot->command_magnet(v[0] != 0);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace macsim

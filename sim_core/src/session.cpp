@@ -1,0 +1,381 @@
+#include "macsim/sim_core/session.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "macsim/sim_core/runner.h"
+
+namespace macsim {
+
+// The format, one record a line, fields separated by one space:
+//   macsim-session <version>
+//   world <file>                         the world the session starts with
+//   seed <N>                             its layout's seed, or -1: as written
+//   hash-every <N>
+//   c <step> <source> <operation> <target> <values> <message>   a command, before step+1
+//   h <step> <hash>                      the state hash after `step` steps (16 hex digits)
+//   end <steps> <commands> <hashes>      the closing line: counts of what came before
+// Text fields are percent-encoded; an empty one is "-". Values are %.17g numbers joined by ",";
+// a message is its bytes in hex.
+
+namespace {
+
+constexpr const char* kMagic = "macsim-session";
+
+bool plain(unsigned char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+         std::strchr("._/:+-", c) != nullptr;
+}
+
+std::string encode(const std::string& text) {
+  if (text.empty()) return "-";
+  std::string out;
+  for (unsigned char c : text) {
+    if (plain(c) && !(c == '-' && text.size() == 1)) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+std::optional<std::string> decode(const std::string& field) {
+  if (field == "-") return std::string();
+  std::string out;
+  for (std::size_t i = 0; i < field.size(); ++i) {
+    if (field[i] != '%') {
+      if (!plain(static_cast<unsigned char>(field[i]))) return std::nullopt;
+      out += field[i];
+      continue;
+    }
+    if (i + 2 >= field.size()) return std::nullopt;
+    const int hi = hex_digit(field[i + 1]), lo = hex_digit(field[i + 2]);
+    if (hi < 0 || lo < 0) return std::nullopt;
+    out += static_cast<char>(hi * 16 + lo);
+    i += 2;
+  }
+  return out;
+}
+
+std::string values_text(const std::vector<double>& values) {
+  if (values.empty()) return "-";
+  std::string out;
+  for (double v : values) {
+    char number[40];
+    std::snprintf(number, sizeof number, "%.17g", v);
+    if (!out.empty()) out += ',';
+    out += number;
+  }
+  return out;
+}
+
+std::string bytes_text(const std::vector<uint8_t>& bytes) {
+  if (bytes.empty()) return "-";
+  static const char* digits = "0123456789abcdef";
+  std::string out;
+  out.reserve(bytes.size() * 2);
+  for (uint8_t b : bytes) {
+    out += digits[b >> 4];
+    out += digits[b & 15];
+  }
+  return out;
+}
+
+std::string command_line(uint64_t step, const Command& c) {
+  return "c " + std::to_string(step) + " " + std::string(to_string(c.source)) + " " +
+         encode(c.operation) + " " + encode(c.target) + " " + values_text(c.values) + " " +
+         bytes_text(c.message) + "\n";
+}
+
+std::string hash_line(uint64_t step, uint64_t hash) {
+  char text[64];
+  std::snprintf(text, sizeof text, "h %" PRIu64 " %016" PRIx64 "\n", step, hash);
+  return text;
+}
+
+/// Reads one file's lines, each error naming file and line.
+struct LineReader {
+  std::string path;
+  int line = 0;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw SessionFileError(path + ":" + std::to_string(line) + ": " + what);
+  }
+
+  uint64_t number(const std::string& field, const char* what) const {
+    if (field.empty() || field.find_first_not_of("0123456789") != std::string::npos)
+      fail(std::string(what) + " must be a whole number; got '" + field + "'");
+    errno = 0;
+    const unsigned long long n = std::strtoull(field.c_str(), nullptr, 10);
+    if (errno == ERANGE) fail(std::string(what) + " is too large: " + field);
+    return n;
+  }
+
+  std::vector<double> values(const std::string& field) const {
+    std::vector<double> out;
+    if (field == "-") return out;
+    std::stringstream parts(field);
+    std::string part;
+    while (std::getline(parts, part, ',')) {
+      char* end = nullptr;
+      const double v = std::strtod(part.c_str(), &end);
+      if (part.empty() || *end != '\0')
+        fail("a command's values must be numbers; got '" + part + "'");
+      out.push_back(v);
+    }
+    return out;
+  }
+
+  std::vector<uint8_t> bytes(const std::string& field) const {
+    std::vector<uint8_t> out;
+    if (field == "-") return out;
+    if (field.size() % 2 != 0) fail("a command's message must be pairs of hex digits");
+    for (std::size_t i = 0; i < field.size(); i += 2) {
+      const int hi = hex_digit(field[i]), lo = hex_digit(field[i + 1]);
+      if (hi < 0 || lo < 0)
+        fail("a command's message must be hex digits; got '" + field.substr(i, 2) + "'");
+      out.push_back(static_cast<uint8_t>(hi * 16 + lo));
+    }
+    return out;
+  }
+
+  std::string text(const std::string& field, const char* what) const {
+    auto decoded = decode(field);
+    if (!decoded) fail(std::string(what) + " is not a percent-encoded text: '" + field + "'");
+    return *decoded;
+  }
+};
+
+std::vector<std::string> fields_of(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t space = line.find(' ', start);
+    fields.push_back(line.substr(start, space - start));
+    if (space == std::string::npos) return fields;
+    start = space + 1;
+  }
+}
+
+void write_all(std::FILE* file, const std::string& path, const std::string& text) {
+  if (std::fwrite(text.data(), 1, text.size(), file) != text.size())
+    throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
+}
+
+std::string header_text(const SessionHeader& header) {
+  return std::string(kMagic) + " " + std::to_string(kSessionFormatVersion) + "\nworld " +
+         encode(header.world_file) + "\nseed " + std::to_string(header.seed) + "\nhash-every " +
+         std::to_string(header.hash_every) + "\n";
+}
+
+}  // namespace
+
+SessionWriter::SessionWriter(const std::string& path, const SessionHeader& header)
+    : path_(path), hash_every_(header.hash_every) {
+  if (hash_every_ == 0)
+    throw SessionFileError(path + ": the hash interval must be 1 or more steps");
+  file_ = std::fopen(path.c_str(), "w");
+  if (!file_) throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
+  write_all(file_, path_, header_text(header));
+}
+
+SessionWriter::~SessionWriter() {
+  if (file_) std::fclose(file_);  // no closing line: the file reads as cut short
+}
+
+void SessionWriter::command(uint64_t step, const Command& command) {
+  if (!file_) return;
+  write_all(file_, path_, command_line(step, command));
+  ++commands_;
+}
+
+void SessionWriter::hash(uint64_t step, uint64_t hash) {
+  if (!file_) return;
+  write_all(file_, path_, hash_line(step, hash));
+  ++hashes_;
+}
+
+void SessionWriter::finish(uint64_t steps) {
+  if (!file_) return;
+  write_all(file_, path_,
+            "end " + std::to_string(steps) + " " + std::to_string(commands_) + " " +
+                std::to_string(hashes_) + "\n");
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!closed) throw SessionFileError(path_ + ": cannot write: " + std::strerror(errno));
+}
+
+Session read_session(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw SessionFileError(path + ": cannot read: " + std::strerror(errno));
+  std::stringstream in;
+  in << file.rdbuf();
+  const std::string& whole = in.str();
+  if (!whole.empty() && whole.back() != '\n') {
+    throw SessionFileError(path + ":" +
+                           std::to_string(std::count(whole.begin(), whole.end(), '\n') + 1) +
+                           ": the file is cut short (its last line is incomplete)");
+  }
+  LineReader r{path};
+  Session session;
+  std::string line;
+  bool ended = false, has_world = false, has_every = false, has_seed = false;
+  uint64_t last_step = 0;
+  while (std::getline(in, line)) {
+    ++r.line;
+    if (ended) r.fail("nothing may follow the closing 'end' line");
+    const auto f = fields_of(line);
+    if (r.line == 1) {
+      if (f.size() != 2 || f[0] != kMagic)
+        r.fail("not a macsim session file (its first line must be 'macsim-session <version>')");
+      if (f[1] != std::to_string(kSessionFormatVersion)) {
+        r.fail("session format version " + f[1] + "; this macsim reads version " +
+               std::to_string(kSessionFormatVersion) + " only");
+      }
+      continue;
+    }
+    if (f[0] == "world" && f.size() == 2 && !has_world) {
+      session.header.world_file = r.text(f[1], "the world file");
+      has_world = true;
+    } else if (f[0] == "seed" && f.size() == 2 && !has_seed) {
+      session.header.seed = f[1] == "-1" ? -1 : static_cast<int64_t>(r.number(f[1], "the seed"));
+      has_seed = true;
+    } else if (f[0] == "hash-every" && f.size() == 2 && !has_every) {
+      session.header.hash_every = r.number(f[1], "hash-every");
+      if (session.header.hash_every == 0) r.fail("hash-every must be 1 or more");
+      has_every = true;
+    } else if (f[0] == "c" && f.size() == 7) {
+      RecordedCommand rc;
+      rc.step = r.number(f[1], "a command's step");
+      const auto source = command_source(f[2]);
+      if (!source || *source == CommandSource::Local)
+        r.fail("unknown command source '" + f[2] + "'");
+      rc.command.source = *source;
+      rc.command.operation = r.text(f[3], "the operation");
+      rc.command.target = r.text(f[4], "the target");
+      rc.command.values = r.values(f[5]);
+      rc.command.message = r.bytes(f[6]);
+      if (rc.command.operation.empty()) r.fail("a command must name its operation");
+      if (rc.step < last_step) r.fail("steps must not go back");
+      last_step = rc.step;
+      session.commands.push_back(std::move(rc));
+    } else if (f[0] == "h" && f.size() == 3) {
+      RecordedHash h;
+      h.step = r.number(f[1], "a hash's step");
+      if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
+        r.fail("a hash must be 16 hex digits; got '" + f[2] + "'");
+      h.hash = std::strtoull(f[2].c_str(), nullptr, 16);
+      if (h.step < last_step) r.fail("steps must not go back");
+      last_step = h.step;
+      session.hashes.push_back(h);
+    } else if (f[0] == "end" && f.size() == 4) {
+      session.steps = r.number(f[1], "the steps");
+      if (session.steps < last_step) r.fail("the session ends before its last record");
+      if (r.number(f[2], "the command count") != session.commands.size() ||
+          r.number(f[3], "the hash count") != session.hashes.size()) {
+        r.fail("the closing line's counts do not match the records before it (" +
+               std::to_string(session.commands.size()) + " commands, " +
+               std::to_string(session.hashes.size()) + " hashes): lines are missing");
+      }
+      ended = true;
+    } else {
+      r.fail("not a session record: '" + line.substr(0, 60) + "'");
+    }
+    if (r.line == 4 && !(has_world && has_seed && has_every))
+      r.fail("the header needs 'world', 'seed' and 'hash-every' lines");
+  }
+  if (r.line == 0) throw SessionFileError(path + ": empty, not a session file");
+  if (!ended) {
+    throw SessionFileError(path + ":" + std::to_string(r.line) +
+                           ": the file is cut short (no closing 'end' line): the simulator did "
+                           "not stop cleanly, or the file was truncated");
+  }
+  return session;
+}
+
+void write_session(const std::string& path, const Session& session) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
+  std::string text = header_text(session.header);
+  // Commands before a hash of the same step ran before it: they come first.
+  std::size_t h = 0;
+  for (const auto& c : session.commands) {
+    for (; h < session.hashes.size() && session.hashes[h].step <= c.step; ++h)
+      text += hash_line(session.hashes[h].step, session.hashes[h].hash);
+    text += command_line(c.step, c.command);
+  }
+  for (; h < session.hashes.size(); ++h)
+    text += hash_line(session.hashes[h].step, session.hashes[h].hash);
+  text += "end " + std::to_string(session.steps) + " " + std::to_string(session.commands.size()) +
+          " " + std::to_string(session.hashes.size()) + "\n";
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  if (std::fclose(file) != 0 || !written)
+    throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
+}
+
+ReplayOutcome replay_session(const Session& session, Runner& runner,
+                             const SessionWorldLoader& load) {
+  ReplayOutcome out;
+  std::size_t c = 0, h = 0;
+  const auto hex = [](uint64_t v) {
+    char text[20];
+    std::snprintf(text, sizeof text, "%016" PRIx64, v);
+    return std::string(text);
+  };
+  for (uint64_t step = 0;; ++step) {
+    // The hash after `step` steps was taken before the commands that ran at that step.
+    for (; h < session.hashes.size() && session.hashes[h].step == step; ++h) {
+      const uint64_t now = runner.world().state_hash();
+      ++out.hashes_checked;
+      if (now != session.hashes[h].hash) {
+        out.equal = false;
+        out.first_difference = step;
+        out.recorded_hash = session.hashes[h].hash;
+        out.replayed_hash = now;
+        out.steps = step;
+        out.message = "the replay differs at step " + std::to_string(step) +
+                      " (t = " + std::to_string(runner.world().time()) + " s): recorded hash " +
+                      hex(out.recorded_hash) + ", replayed " + hex(now) +
+                      "; the last equal hash was at step " + std::to_string(out.last_equal);
+        return out;
+      }
+      out.last_equal = step;
+    }
+    for (; c < session.commands.size() && session.commands[c].step == step; ++c) {
+      const Command& command = session.commands[c].command;
+      if (command.source == CommandSource::Simulation && command.operation == "load_world") {
+        const std::string file(command.message.begin(), command.message.end());
+        (void)runner.load([&load, file] { return load(file); }, {}, file);
+        runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::hours(1));
+        runner.apply_commands();
+      } else {
+        runner.execute(command);
+      }
+      ++out.commands_run;
+    }
+    if (step >= session.steps) break;
+    runner.step();
+  }
+  out.steps = session.steps;
+  out.message = "replayed " + std::to_string(out.steps) + " steps and " +
+                std::to_string(out.commands_run) + " commands: all " +
+                std::to_string(out.hashes_checked) + " hashes equal";
+  return out;
+}
+
+}  // namespace macsim

@@ -1,0 +1,153 @@
+// Sessions: a runner records every command that reaches its world with the step it ran at and
+// the state hash every N steps; a replay from the file alone meets every hash, a changed command
+// is found at the first hash after it, and a damaged or other-version file is refused by line.
+#include "macsim/sim_core/session.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/world_loader.h"
+#include "support/child_process.h"
+
+namespace macsim {
+namespace {
+
+const std::string kWorld = "worlds/small_room.xml";
+
+WorldSpec small_room() { return load_world_file(test::source(kWorld)); }
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+/// 600 steps of the small room: the robot driven, turned and its crane moved at odd steps, a
+/// local command between (never recorded); hashes every 50 steps.
+uint64_t record(const std::string& path) {
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  runner.record(std::make_shared<SessionWriter>(path, SessionHeader{kWorld, -1, 50}));
+  for (int step = 0; step < 600; ++step) {
+    if (step % 37 == 0) {
+      EXPECT_TRUE(runner.push(robot_command("kurt", "twist", {0.2 + step * 1e-4, 0.3})));
+    }
+    if (step == 120) EXPECT_TRUE(runner.push(robot_command("kurt", "crane", {0.4, 0.2, 0.05})));
+    if (step == 200) EXPECT_TRUE(runner.push([](World&) {}));
+    runner.step();
+  }
+  const uint64_t hash = runner.world().state_hash();
+  runner.record(nullptr);
+  return hash;
+}
+
+ReplayOutcome replay(const Session& session) {
+  Runner runner(load_world_file(test::source(session.header.world_file)), RunSettings{true, 0.0});
+  return replay_session(
+      session, runner, [](const std::string& file) { return load_world_file(test::source(file)); });
+}
+
+TEST(Session, ARecordedRunReplaysToEveryHash) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  const Session session = read_session(path);
+  EXPECT_EQ(session.header.world_file, kWorld);
+  EXPECT_EQ(session.steps, 600u);
+  EXPECT_EQ(session.hashes.size(), 13u);    // steps 0, 50, ..., 600
+  EXPECT_EQ(session.commands.size(), 18u);  // 17 twists and one crane command; not the local one
+  EXPECT_EQ(session.commands[0].command.operation, "twist");
+  EXPECT_EQ(session.commands[0].command.values.size(), 2u);
+  const ReplayOutcome outcome = replay(session);
+  EXPECT_TRUE(outcome.equal) << outcome.message;
+  EXPECT_EQ(outcome.hashes_checked, 13u);
+  EXPECT_EQ(outcome.commands_run, 18u);
+  EXPECT_EQ(outcome.steps, 600u);
+}
+
+TEST(Session, AChangedCommandIsFoundAtTheFirstHashAfterIt) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  Session session = read_session(path);
+  RecordedCommand& changed = session.commands[6];  // the twist at step 185
+  ASSERT_EQ(changed.command.operation, "twist");
+  ASSERT_EQ(changed.step, 185u);
+  const double speed = changed.command.values[0];
+  changed.command.values[0] += 0.1;
+  write_session(dir.path() + "/changed.session", session);
+  const ReplayOutcome outcome = replay(read_session(dir.path() + "/changed.session"));
+  EXPECT_FALSE(outcome.equal);
+  ASSERT_TRUE(outcome.first_difference.has_value());
+  EXPECT_EQ(*outcome.first_difference, 200u) << outcome.message;  // the first hash after 185
+  EXPECT_EQ(outcome.last_equal, 150u);
+  EXPECT_NE(outcome.recorded_hash, outcome.replayed_hash);
+  EXPECT_NE(outcome.message.find("differs at step 200"), std::string::npos) << outcome.message;
+  // Unchanged, the same file written back replays equal: the writer loses nothing.
+  changed.command.values[0] = speed;
+  write_session(dir.path() + "/same.session", session);
+  EXPECT_EQ(read_text(dir.path() + "/same.session"), read_text(path));
+}
+
+/// The error read_session throws for `text`, or "" if it reads.
+std::string refusal(const std::string& path, const std::string& text) {
+  write_text(path, text);
+  try {
+    read_session(path);
+  } catch (const SessionFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  const std::string good = read_text(path);
+  const std::string bad = dir.path() + "/bad.session";
+  // Another version.
+  std::string other = good;
+  other.replace(0, good.find('\n'), "macsim-session 2");
+  EXPECT_NE(refusal(bad, other)
+                .find(bad + ":1: session format version 2; this macsim reads "
+                            "version 1"),
+            std::string::npos)
+      << refusal(bad, other);
+  // Cut short: half of it, ending inside a line.
+  const std::string half = good.substr(0, good.size() / 2);
+  EXPECT_NE(refusal(bad, half).find("cut short"), std::string::npos) << refusal(bad, half);
+  // A line whose hash is not hex, on line 5 (the first hash).
+  std::string garbled = good;
+  std::size_t at = 0;
+  for (int line = 1; line < 5; ++line) at = garbled.find('\n', at) + 1;
+  ASSERT_EQ(garbled.substr(at, 2), "h ");
+  garbled.replace(garbled.find(' ', at + 2) + 1, 1, "z");
+  EXPECT_NE(refusal(bad, garbled).find(bad + ":5: a hash must be 16 hex digits"), std::string::npos)
+      << refusal(bad, garbled);
+  // A line lost: the closing line's counts say so.
+  std::string lost = good;
+  lost.erase(at, lost.find('\n', at) + 1 - at);
+  EXPECT_NE(refusal(bad, lost).find("lines are missing"), std::string::npos) << refusal(bad, lost);
+  EXPECT_NE(refusal(bad, "").find("empty"), std::string::npos);
+  EXPECT_NE(refusal(bad, "<WORLD/>\n").find(":1: not a macsim session file"), std::string::npos);
+  EXPECT_EQ(refusal(bad, good), "");
+}
+
+TEST(Session, ARobotCommandOfAnUnknownRobotOrShapeDoesNothing) {
+  World world(small_room());
+  EXPECT_TRUE(run_robot_command(robot_command("kurt", "twist", {0.1, 0.0}), world));
+  EXPECT_FALSE(run_robot_command(robot_command("nobody", "twist", {0.1, 0.0}), world));
+  EXPECT_FALSE(run_robot_command(robot_command("kurt", "twist", {0.1}), world));
+  EXPECT_FALSE(run_robot_command(robot_command("kurt", "fly", {1.0}), world));
+  EXPECT_EQ(describe(robot_command("kurt", "crane", {0.5, 0.25, 0.1})),
+            "robot crane kurt 0.5 0.25 0.1");
+}
+
+}  // namespace
+}  // namespace macsim
