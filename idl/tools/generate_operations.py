@@ -285,7 +285,7 @@ def op_doc(op, python=False):
     if op.replies:
         reply = ("Returns the reply's " + op.replies[0]) if python else \
                 ("Reply: " + ", ".join(op.replies))
-        if op.reply_description:
+        if op.reply_description and (not python or len(op.replies) == 1):
             reply += " (" + op.reply_description + ")"
         parts.append(reply + ".")
     return " ".join(parts)
