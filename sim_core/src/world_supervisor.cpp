@@ -699,6 +699,12 @@ std::optional<int> World::find_door(const std::string& name) const {
   return std::nullopt;
 }
 
+Result<int> World::get_door_by_name(const std::string& name) const {
+  if (const auto door = find_door(name)) return {{}, *door};
+  return {Status::error(ErrorCode::UnknownObject, "no door named '" + name + "' (there are " +
+                                                      std::to_string(door_count()) + ")")};
+}
+
 Status World::check_door(int door) const {
   if (door < 0 || door >= door_count()) {
     return Status::error(ErrorCode::UnknownObject, "no door with index " + std::to_string(door) +

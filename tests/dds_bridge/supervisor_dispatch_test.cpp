@@ -262,6 +262,16 @@ std::vector<OperationCase> operation_cases() {
          EXPECT_EQ(r.object_ids(),
                    (std::vector<uint32_t>{parts.leaf, parts.frame, *parts.platform, *parts.base}));
        }},
+      {mm::OP_GET_DOOR_BY_NAME, "get door by name",
+       [](Fixture& f) {
+         const int last = f.world.door_count() - 1;
+         const Reply r = f.ok(rq::get_door_by_name(f.world.door_name(last)));
+         EXPECT_EQ(r.index(), last);
+         EXPECT_EQ(r.door().name(), f.world.door_name(last));
+         const DoorParts parts = f.world.door_parts(last).value;
+         EXPECT_EQ(r.object_ids(),
+                   (std::vector<uint32_t>{parts.leaf, parts.frame, *parts.platform, *parts.base}));
+       }},
       {mm::OP_SET_SWITCH_TRIGGERED, "trigger switch",
        [](Fixture& f) {
          f.ok(rq::set_switch_triggered(0, true));
@@ -370,6 +380,8 @@ std::vector<ErrorCase> error_cases() {
       {mm::ERR_UNKNOWN_OBJECT, "unknown name", [](Fixture&) { return rq::find_object("no/such"); },
        "no/such"},
       {mm::ERR_UNKNOWN_OBJECT, "unknown door", [](Fixture&) { return rq::get_door(7); }, "7"},
+      {mm::ERR_UNKNOWN_OBJECT, "unknown door name",
+       [](Fixture&) { return rq::get_door_by_name("doors/no_such_door"); }, "doors/no_such_door"},
       {mm::ERR_WRONG_GEOMETRY, "sphere size of a box",
        [](Fixture& f) { return rq::set_sphere_size(f.id(kBox), 0, 0.1); }, "box_red_small"},
       {mm::ERR_WRONG_GEOMETRY, "ramp of a box",
@@ -486,7 +498,7 @@ TEST(SupervisorDispatch, EveryOperationAndErrorCodeOfTheIdlHasItsTest) {
   for (const auto& c : operation_cases()) operations.insert(c.op);
   for (const auto& c : error_cases()) errors.insert(c.code);
   EXPECT_EQ(operations, idl_codes("OP_"));
-  EXPECT_EQ(operations.size(), 39u);
+  EXPECT_EQ(operations.size(), 40u);
   EXPECT_EQ(errors, idl_codes("ERR_"));
 }
 

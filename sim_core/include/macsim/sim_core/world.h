@@ -234,6 +234,8 @@ class World {
   // ---- doors ---------------------------------------------------------------------------
   int door_count() const { return static_cast<int>(doors_.size()); }
   std::optional<int> find_door(const std::string& name) const;
+  /// The index of the door of that name, or UnknownObject naming the name.
+  Result<int> get_door_by_name(const std::string& name) const;
   Result<DoorState> door_state(int door) const;
   Result<DoorParts> door_parts(int door) const;
   const std::string& door_name(int door) const;
