@@ -1,0 +1,240 @@
+// Sessions end to end: macsim --record-session while kurt_demo plays the final demonstrator in
+// real time (commands arriving as the controller sends them, not lock-step), then macsim
+// --replay from the file alone meets every hash; one command changed is reported at the first
+// hash after it; a damaged or other-version file is refused with its line. A session with
+// supervisor requests, a ROS 2 service and a world load replays too.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "macsim/client/supervisor_client.h"
+#include "macsim/dds/convert.h"
+#include "macsim/msg/simulation_interfacesPubSubTypes.h"
+#include "macsim/sim_core/session.h"
+#include "support/child_process.h"
+#include "support/ros2_service_calls.h"
+#include "support/test_domain.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace mm = macsim_msgs::msg::dds_;
+namespace supervisor = client::supervisor;
+
+/// The hash-equal line of a replay's output: "all N hashes equal".
+std::optional<int> hashes_equal(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex("all ([0-9]+) hashes equal"))) return std::nullopt;
+  return std::stoi(m[1]);
+}
+
+/// The step a replay says differs first.
+std::optional<uint64_t> differs_at(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex("differs at step ([0-9]+)"))) return std::nullopt;
+  return std::stoull(m[1]);
+}
+
+struct Replay {
+  int exit_code = -1;
+  std::string output;
+};
+
+Replay replay(const std::string& file) {
+  ChildProcess p({bin("macsim"), "--replay", file});
+  Replay r;
+  r.exit_code = p.wait_for_exit(180s).value_or(-1);
+  r.output = p.output();
+  return r;
+}
+
+/// One recorded run of the demonstrator for every test of the suite (it takes 100 s of wall time).
+class DemonstratorSession : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir("macsim_session_");
+    path_ = dir_->path() + "/demonstrator.session";
+    const std::string domain = std::to_string(unique_test_domain());
+    ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
+                         domain, "--record-session", path_});
+    ASSERT_TRUE(macsim.wait_for_output("stepping at real-time factor 1", 30s)) << macsim.output();
+    ChildProcess demo({bin("kurt_demo"), "--domain", domain});
+    demo_exit_ = demo.wait_for_exit(240s).value_or(-1);
+    demo_output_ = demo.output();
+    macsim.signal(SIGINT);
+    macsim_exit_ = macsim.wait_for_exit(20s).value_or(-1);
+    macsim_output_ = macsim.output();
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+
+  static TempDir* dir_;
+  static std::string path_, demo_output_, macsim_output_;
+  static int demo_exit_, macsim_exit_;
+};
+TempDir* DemonstratorSession::dir_ = nullptr;
+std::string DemonstratorSession::path_, DemonstratorSession::demo_output_,
+    DemonstratorSession::macsim_output_;
+int DemonstratorSession::demo_exit_ = -1, DemonstratorSession::macsim_exit_ = -1;
+
+TEST_F(DemonstratorSession, ReplaysWithEveryHashEqual) {
+  ASSERT_EQ(demo_exit_, 0) << demo_output_;
+  EXPECT_NE(demo_output_.find("SUCCESS"), std::string::npos) << demo_output_;
+  ASSERT_EQ(macsim_exit_, 0) << macsim_output_;
+  EXPECT_NE(macsim_output_.find("session recorded to " + path_), std::string::npos);
+  const Session session = read_session(path_);
+  // About 100 s at 1 ms a step, a hash every 100 steps, the controller's commands all along.
+  EXPECT_GT(session.steps, 80000u);
+  EXPECT_EQ(session.hashes.size(), session.steps / 100 + 1);
+  EXPECT_GT(session.commands.size(), 2000u);
+  std::map<std::string, int> operations;
+  for (const auto& c : session.commands) ++operations[c.command.operation];
+  EXPECT_GT(operations["twist"], 100);
+  EXPECT_GT(operations["crane"], 100);
+  EXPECT_GT(operations["magnet"], 10);
+  const Replay r = replay(path_);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(hashes_equal(r.output), static_cast<int>(session.hashes.size())) << r.output;
+}
+
+TEST_F(DemonstratorSession, OneChangedCommandIsReportedAtTheFirstHashAfterIt) {
+  ASSERT_EQ(macsim_exit_, 0) << macsim_output_;
+  Session session = read_session(path_);
+  // A drive command in the middle of the run that no later command replaces in the same step.
+  std::size_t pick = session.commands.size() / 2;
+  const auto superseded = [&](std::size_t i) {
+    for (std::size_t j = i + 1; j < session.commands.size(); ++j) {
+      if (session.commands[j].step != session.commands[i].step) return false;
+      if (session.commands[j].command.operation == "twist") return true;
+    }
+    return false;
+  };
+  while (pick < session.commands.size() &&
+         (session.commands[pick].command.operation != "twist" || superseded(pick)))
+    ++pick;
+  ASSERT_LT(pick, session.commands.size());
+  RecordedCommand& changed = session.commands[pick];
+  changed.command.values[0] += 0.05;  // 5 cm/s faster
+  const std::string path = dir_->path() + "/changed.session";
+  write_session(path, session);
+  const Replay r = replay(path);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  const uint64_t hash_every = session.header.hash_every;
+  const uint64_t first_hash_after = (changed.step / hash_every + 1) * hash_every;
+  EXPECT_EQ(differs_at(r.output), first_hash_after)
+      << "changed the twist at step " << changed.step << "\n"
+      << r.output;
+  EXPECT_NE(r.output.find("the last equal hash was at step " +
+                          std::to_string(first_hash_after - hash_every)),
+            std::string::npos)
+      << r.output;
+}
+
+TEST_F(DemonstratorSession, ADamagedOrOtherVersionFileIsRefused) {
+  std::ifstream in(path_);
+  std::stringstream whole;
+  whole << in.rdbuf();
+  const std::string text = whole.str();
+  const std::string other = dir_->path() + "/other_version.session";
+  std::ofstream(other) << "macsim-session 99" << text.substr(text.find('\n'));
+  Replay r = replay(other);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(other + ":1: session format version 99; this macsim reads version 1"),
+            std::string::npos)
+      << r.output;
+  const std::string cut = dir_->path() + "/cut.session";
+  std::ofstream(cut) << text.substr(0, text.size() / 3);
+  r = replay(cut);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("cut short"), std::string::npos) << r.output;
+  const std::string garbled = dir_->path() + "/garbled.session";
+  std::string g = text;
+  const std::size_t command = g.find("\nc ") + 1;
+  g.replace(command, 2, "x ");
+  std::ofstream(garbled) << g;
+  r = replay(garbled);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("not a session record"), std::string::npos) << r.output;
+  EXPECT_EQ(replay(dir_->path() + "/missing.session").exit_code, 2);
+}
+
+TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
+  TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/supervised.session";
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
+                       std::to_string(domain), "--cameras", "off", "--record-session", path,
+                       "--session-hash-every", "10"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
+  {
+    dds::Participant participant({domain, "", "session_test"});
+    client::SupervisorClient sv(participant);
+    client::SimulationClient sim(participant);
+    ASSERT_TRUE(sv.wait_for_server(20s));
+    const auto can = sv.call(supervisor::find_object("environment_01/ball_green"));
+    ASSERT_TRUE(can && can->code() == mm::ERR_OK);
+    for (int i = 0; i < 5; ++i) {
+      auto r = sv.call(supervisor::add_force(can->object_id(), {0.0, 3.0, 8.0}));
+      ASSERT_TRUE(r && r->code() == mm::ERR_OK);
+      std::this_thread::sleep_for(50ms);
+    }
+    auto r = sv.call(supervisor::set_density(can->object_id(), 450.0));
+    ASSERT_TRUE(r && r->code() == mm::ERR_OK);
+    // A ROS 2 service (simulation_interfaces) spawns a crate where the ball was.
+    namespace ss = simulation_interfaces::srv::dds_;
+    Ros2ServiceCalls services(participant);
+    ss::SpawnEntity_Request_ spawn;
+    spawn.name("crate");
+    spawn.resource_string(
+        "<ENVIRONMENT><OBJECT><ID>box</ID><TYPE>PORTABLE</TYPE><SHAPE>BOX</SHAPE>"
+        "<DIMS>0.2,0.2,0.2</DIMS><POS>0,0,0.1</POS></OBJECT></ENVIRONMENT>");
+    spawn.initial_pose().pose().position().x(-1.0);
+    spawn.initial_pose().pose().position().z(0.3);
+    spawn.initial_pose().pose().orientation().w(1);
+    const auto spawned =
+        services.call<ss::SpawnEntity_Request_PubSubType, ss::SpawnEntity_Response_PubSubType>(
+            "spawn_entity", spawn);
+    ASSERT_EQ(spawned.result().result(), 1) << spawned.result().error_message();  // RESULT_OK
+    r = sv.call(supervisor::save_snapshot("before"));
+    ASSERT_TRUE(r && r->code() == mm::ERR_OK);
+    std::this_thread::sleep_for(300ms);
+    r = sv.call(supervisor::restore_snapshot("before"));
+    ASSERT_TRUE(r && r->code() == mm::ERR_OK);
+    auto load = client::SimulationClient::request(mm::SIM_LOAD_WORLD);
+    load.world_file(source("worlds/small_room.xml"));
+    auto loaded = sim.call(load);
+    ASSERT_TRUE(loaded && loaded->code() == mm::ERR_OK) << (loaded ? loaded->message() : "");
+    std::this_thread::sleep_for(300ms);
+    // Moved in the new world: the commands after a load run on it.
+    const auto box = sv.call(supervisor::find_object("red_box"));
+    ASSERT_TRUE(box && box->code() == mm::ERR_OK);
+    r = sv.call(supervisor::set_linear_velocity(box->object_id(), {0.5, 0.0, 0.0}));
+    ASSERT_TRUE(r && r->code() == mm::ERR_OK);
+    std::this_thread::sleep_for(300ms);
+  }
+  macsim.signal(SIGINT);
+  ASSERT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();
+  const Session session = read_session(path);
+  std::map<std::string, int> operations;
+  for (const auto& c : session.commands)
+    ++operations[std::string(to_string(c.command.source)) + " " + c.command.operation];
+  EXPECT_EQ(operations["simulation load_world"], 1);
+  EXPECT_EQ(operations["ros2_service spawn_entity"], 1);
+  int supervisor_commands = 0;
+  for (const auto& [name, count] : operations)
+    if (name.rfind("supervisor ", 0) == 0) supervisor_commands += count;
+  EXPECT_EQ(supervisor_commands, 11);  // find, 5 forces, density, save, restore; find, velocity
+  const Replay replayed = replay(path);
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.output;
+  EXPECT_EQ(hashes_equal(replayed.output), static_cast<int>(session.hashes.size()))
+      << replayed.output;
+}
+
+}  // namespace
+}  // namespace macsim::test
