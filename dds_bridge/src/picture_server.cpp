@@ -31,8 +31,7 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
       folder_(std::move(folder)),
       size_(size),
       admission_(kMaxInFlight, max_files),
-      replies_(participant, dds::topics::kPictureReply, dds::QosFamily::Command),
-      progress_([this](const Reply& reply) { replies_.write(reply); }) {
+      progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread: the scene is taken between two steps (the world only read).
   runner_.set_executor(CommandSource::Pictures, [this](const Command& c, World& world) {
     if (auto r = dds::from_wire<mm::PictureRequest_PubSubType>(c.message)) {
@@ -45,13 +44,12 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
     return false;
   });
   if (!folder_.empty()) renderer_ = std::thread([this] { render_loop(); });
-  requests_ = std::make_unique<dds::Reader<mm::PictureRequest_PubSubType>>(
-      participant, dds::topics::kPictureRequest, dds::QosFamily::Command,
-      [this](const Request& r) { accept(r); });
+  service_.open(participant, {dds::topics::kPictureRequest, dds::topics::kPictureReply},
+                [this](const Request& r, const dds::RequestId&) { accept(r); });
 }
 
 PictureServer::~PictureServer() {
-  requests_.reset();
+  service_.close();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
@@ -74,7 +72,7 @@ void PictureServer::send(const Request& request, int code, const std::string& me
     replied_.remember(reply);
   }
   progress_.end(reply.client_id(), reply.sequence_number());
-  replies_.write(reply);
+  service_.reply(reply);
 }
 
 void PictureServer::accept(const Request& r) {
@@ -84,12 +82,12 @@ void PictureServer::accept(const Request& r) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (const Reply* again = replied_.find(r)) {
       progress_.end(r.client_id(), r.sequence_number());
-      replies_.write(*again);
+      service_.reply(*again);
       return;
     }
     if (replied_.forgotten(r)) {  // answered long ago: its reply is gone, it must not run again
       progress_.end(r.client_id(), r.sequence_number());
-      replies_.write(replied_.forgotten_reply(r));
+      service_.reply(replied_.forgotten_reply(r));
       return;
     }
     const bool pending = std::any_of(jobs_.begin(), jobs_.end(), [&](const Job& j) {

@@ -18,6 +18,7 @@
 #include "picture_admission.h"
 #include "reply_cache.h"
 #include "request_progress.h"
+#include "request_service.h"
 
 namespace macsim {
 
@@ -58,9 +59,10 @@ class PictureServer {
   PictureAdmission admission_;  // guarded by mutex_
   bool stopping_ = false;
   ReplyCache<Reply> replied_;
-  dds::Writer<macsim_msgs::msg::dds_::PictureReply_PubSubType> replies_;
-  RequestProgress<Reply> progress_;  // after replies_, which it writes to
-  std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::PictureRequest_PubSubType>> requests_;
+  RequestService<macsim_msgs::msg::dds_::PictureRequest_PubSubType,
+                 macsim_msgs::msg::dds_::PictureReply_PubSubType>
+      service_;                      // requests in, replies out; closed first
+  RequestProgress<Reply> progress_;  // writes through service_
   std::thread renderer_;
 };
 

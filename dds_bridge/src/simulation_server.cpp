@@ -27,8 +27,7 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
     : runner_(runner),
       limits_(limits),
       readings_(std::move(readings)),
-      replies_(participant, dds::topics::kSimulationReply, dds::QosFamily::Command),
-      progress_([this](const Reply& reply) { replies_.write(reply); }) {
+      progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread: control of the run, not of the world (a load is recorded by the
   // runner when the new world is swapped in).
   runner_.set_executor(CommandSource::Simulation, [this](const Command& c, World&) {
@@ -54,9 +53,9 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread. A repeat of a
   // request still running gets its progress (RequestProgress) and is not queued again.
-  requests_ = std::make_unique<dds::Reader<mm::SimulationRequest_PubSubType>>(
-      participant, dds::topics::kSimulationRequest, dds::QosFamily::Command,
-      [this, command](const Request& r) {
+  service_.open(
+      participant, {dds::topics::kSimulationRequest, dds::topics::kSimulationReply},
+      [this, command](const Request& r, const dds::RequestId&) {
         const auto asked = [steps = r.command() == mm::SIM_STEP ? r.steps() : 0](Reply& p) {
           p.steps_asked(steps);
         };
@@ -100,7 +99,7 @@ void SimulationServer::refuse_full(const Request& q) {
   reply.code(mm::ERR_LIMIT_REACHED);
   reply.message(runner_.queue_full_message());
   progress_.end(q.client_id(), q.sequence_number());
-  replies_.write(reply);
+  service_.reply(reply);
 }
 
 bool SimulationServer::load_seen(const Request& r) {
@@ -135,7 +134,7 @@ void SimulationServer::forget_load(const Request& r) {
   }
 }
 
-SimulationServer::~SimulationServer() { requests_.reset(); }
+SimulationServer::~SimulationServer() { service_.close(); }
 
 SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
                                                    const std::string& message) const {
@@ -150,12 +149,12 @@ bool SimulationServer::repeated(const Request& q) {
   }
   if (const Reply* again = replied_.find(q)) {
     progress_.end(q.client_id(), q.sequence_number());
-    replies_.write(*again);
+    service_.reply(*again);
     return true;
   }
   if (replied_.forgotten(q)) {  // answered long ago: its reply is gone, it must not run again
     progress_.end(q.client_id(), q.sequence_number());
-    replies_.write(
+    service_.reply(
         reply_to(q, mm::ERR_LIMIT_REACHED, replied_.forgotten_message(q.sequence_number())));
     return true;
   }
@@ -230,7 +229,7 @@ SimulationServer::Reply SimulationServer::cancel(const Request& q) {
 void SimulationServer::send(const Reply& reply) {
   progress_.end(reply.client_id(), reply.sequence_number());
   replied_.remember(reply);
-  replies_.write(reply);
+  service_.reply(reply);
 }
 
 }  // namespace macsim

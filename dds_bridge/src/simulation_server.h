@@ -15,6 +15,7 @@
 #include "macsim/sim_core/world_loader.h"
 #include "reply_cache.h"
 #include "request_progress.h"
+#include "request_service.h"
 #include "step_conditions.h"
 
 namespace macsim {
@@ -60,8 +61,8 @@ class SimulationServer {
   const LoadLimits limits_;
   const LatestReadings readings_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
-  bool cancelling_ = false;           // a SIM_CANCEL is ending stepping_
-  std::optional<Reply> cancelled_;    // the reply of the request it ended
+  bool cancelling_ = false;          // a SIM_CANCEL is ending stepping_
+  std::optional<Reply> cancelled_;   // the reply of the request it ended
   ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;  // guards loads_seen_ and load_uses_ (Fast DDS's threads)
   struct LoadsSeen {
@@ -71,9 +72,10 @@ class SimulationServer {
   };
   std::map<std::string, LoadsSeen> loads_seen_;  // by client, at most kMaxLoadClients
   uint64_t load_uses_ = 0;
-  dds::Writer<macsim_msgs::msg::dds_::SimulationReply_PubSubType> replies_;
-  RequestProgress<Reply> progress_;  // after replies_, which it writes to
-  std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SimulationRequest_PubSubType>> requests_;
+  RequestService<macsim_msgs::msg::dds_::SimulationRequest_PubSubType,
+                 macsim_msgs::msg::dds_::SimulationReply_PubSubType>
+      service_;                      // requests in, replies out; closed first
+  RequestProgress<Reply> progress_;  // writes through service_
 };
 
 }  // namespace macsim

@@ -13,43 +13,47 @@ using dds::QosFamily;
 
 SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner)
     : runner_(runner),
-      replies_(participant, dds::topics::kSupervisorReply, QosFamily::Command),
       objects_(participant, dds::topics::kWorldObjects, QosFamily::Latched),
       doors_(participant, dds::topics::kWorldDoors, QosFamily::Latched),
       events_(participant, dds::topics::kWorldEvents, QosFamily::Command),
       object_list_(participant, dds::topics::kWorldObjectList, QosFamily::Latched),
       door_list_(participant, dds::topics::kWorldDoorList, QosFamily::Latched),
       events_stamped_(participant, dds::topics::kWorldEventsStamped, QosFamily::Command),
-      progress_([this](const Reply& reply) { replies_.write(reply); }) {
+      progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread, live or in a replay: the request from its wire form.
   runner_.set_executor(CommandSource::Supervisor, [this](const Command& c, World& world) {
     const auto q = dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
-    return q && execute(*q, world);
+    return q && execute(*q, world, std::any_cast<dds::RequestId>(&c.reply_to));
   });
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later. A
   // repeat of a request still waiting gets its progress and is not queued again.
-  requests_ = std::make_unique<dds::Reader<mm::SupervisorRequest_PubSubType>>(
-      participant, dds::topics::kSupervisorRequest, QosFamily::Command, [this](const Request& r) {
-        if (!progress_.begin(r, "waiting for the simulation thread (a step or a world load "
-                                "before it)")) {
-          return;
-        }
-        if (!runner_.push(command(r))) {
-          refuse(r, mm::ERR_LIMIT_REACHED, runner_.queue_full_message());
-        }
-      });
+  service_.open(participant,
+                dds::ServiceTopics{dds::topics::kSupervisorRequest, dds::topics::kSupervisorReply},
+                [this](const Request& r, const dds::RequestId& id) {
+                  if (!progress_.begin(r,
+                                       "waiting for the simulation thread (a step or a world load "
+                                       "before it)")) {
+                    return;
+                  }
+                  Command c = command(r);
+                  c.reply_to = id;
+                  if (!runner_.push(std::move(c))) {
+                    refuse(r, id, mm::ERR_LIMIT_REACHED, runner_.queue_full_message());
+                  }
+                });
 }
 
-SupervisorServer::~SupervisorServer() { requests_.reset(); }
+SupervisorServer::~SupervisorServer() { service_.close(); }
 
-void SupervisorServer::refuse(const Request& q, int code, const std::string& message) {
+void SupervisorServer::refuse(const Request& q, const dds::RequestId& id, int code,
+                              const std::string& message) {
   Reply reply;
   reply.client_id(q.client_id());
   reply.sequence_number(q.sequence_number());
   reply.code(code);
   reply.message(message);
   progress_.end(q.client_id(), q.sequence_number());
-  replies_.write(reply);
+  service_.reply(reply, &id);
 }
 
 Command SupervisorServer::command(const Request& q) {
@@ -60,21 +64,21 @@ Command SupervisorServer::command(const Request& q) {
   return c;
 }
 
-bool SupervisorServer::execute(const Request& q, World& world) {
+bool SupervisorServer::execute(const Request& q, World& world, const dds::RequestId* id) {
   if (const Reply* again = replied_.find(q)) {  // sent again: answer, do not redo
     progress_.end(q.client_id(), q.sequence_number());
-    replies_.write(*again);
+    service_.reply(*again, id);
     return false;
   }
   if (replied_.forgotten(q)) {  // answered long ago: its reply is gone, it must not run again
     progress_.end(q.client_id(), q.sequence_number());
-    replies_.write(replied_.forgotten_reply(q));
+    service_.reply(replied_.forgotten_reply(q), id);
     return false;
   }
   const Reply reply = dispatch(q, world, runner_.snapshots());
   progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);
-  replies_.write(reply);
+  service_.reply(reply, id);
   return true;
 }
 

@@ -4,6 +4,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "macsim/sim_core/runner.h"
 #include "reply_cache.h"
 #include "request_progress.h"
+#include "request_service.h"
 
 namespace macsim {
 
@@ -36,13 +38,15 @@ class SupervisorServer {
   using Request = macsim_msgs::msg::dds_::SupervisorRequest_;
   using Reply = macsim_msgs::msg::dds_::SupervisorReply_;
 
-  /// Runs a request (not one answered before); true when it reached the world.
-  bool execute(const Request& request, World& world);
+  /// Runs a request (not one answered before); true when it reached the world. The reply
+  /// names the request's sample identity `id` too, when there is one.
+  bool execute(const Request& request, World& world, const dds::RequestId* id);
   /// The request as a command value.
   static Command command(const Request& request);
   /// Answers a request that was not queued, from the listener (nothing of the world read; not
   /// kept for repeats: a repeat is tried again).
-  void refuse(const Request& request, int code, const std::string& message);
+  void refuse(const Request& request, const dds::RequestId& id, int code,
+              const std::string& message);
   void publish_world_state(World& world);
 
   Runner& runner_;
@@ -53,7 +57,6 @@ class SupervisorServer {
   std::set<uint32_t> published_ids_;
   std::set<std::string> published_doors_;
   ReplyCache<Reply> replied_;
-  dds::Writer<macsim_msgs::msg::dds_::SupervisorReply_PubSubType> replies_;
   dds::Writer<macsim_msgs::msg::dds_::ObjectState_PubSubType> objects_;
   dds::Writer<macsim_msgs::msg::dds_::DoorState_PubSubType> doors_;
   dds::Writer<macsim_msgs::msg::dds_::WorldEvent_PubSubType> events_;
@@ -61,8 +64,10 @@ class SupervisorServer {
   dds::Writer<macsim_msgs::msg::dds_::ObjectList_PubSubType> object_list_;
   dds::Writer<macsim_msgs::msg::dds_::DoorList_PubSubType> door_list_;
   dds::Writer<macsim_msgs::msg::dds_::Event_PubSubType> events_stamped_;
-  RequestProgress<Reply> progress_;  // after replies_, which it writes to
-  std::unique_ptr<dds::Reader<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>> requests_;
+  RequestService<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType,
+                 macsim_msgs::msg::dds_::SupervisorReply_PubSubType>
+      service_;                      // requests in, replies out; closed first
+  RequestProgress<Reply> progress_;  // writes through service_
 };
 
 }  // namespace macsim

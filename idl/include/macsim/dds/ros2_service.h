@@ -30,8 +30,16 @@ std::string service_reply_topic(const std::string& service);
 /// sequence number, as rmw_fastrtps correlates them.
 using RequestId = eprosima::fastrtps::rtps::SampleIdentity;
 
-/// Serves one ROS 2 service: `on_request` hears each request on Fast DDS's thread (copy or
-/// enqueue it there, nothing more); `reply` answers it later from any thread.
+/// The request and reply topics of a service named outright (this project's own services).
+struct ServiceTopics {
+  std::string request, reply;
+};
+
+/// Serves one service: `on_request` hears each request on Fast DDS's thread (copy or enqueue it
+/// there, nothing more); `reply` answers it later from any thread. The one request/reply
+/// transport of every service macsim serves: the ROS 2 services (correlated by sample identity,
+/// as rmw_fastrtps does) and its own (correlated in the payload, client id and sequence number
+/// echoed; their replies name the request's sample identity too when it is known).
 template <class RequestType, class ResponseType>
 class ServiceServer : private fdds::DataReaderListener, private fdds::DataWriterListener {
  public:
@@ -39,18 +47,14 @@ class ServiceServer : private fdds::DataReaderListener, private fdds::DataWriter
   using Response = typename ResponseType::type;
   using Handler = std::function<void(const Request&, const RequestId&)>;
 
+  /// A ROS 2 service ("/macsim/step_simulation": rq/macsim/step_simulationRequest, ...).
   ServiceServer(Participant& participant, const std::string& service, Handler on_request)
-      : participant_(participant), service_(service), on_request_(std::move(on_request)) {
-    writer_ = participant.publisher()->create_datawriter(
-        participant.topic<ResponseType>(service_reply_topic(service)),
-        writer_qos(QosFamily::Command, participant.publisher()), this,
-        fdds::StatusMask::publication_matched());
-    reader_ = participant.subscriber()->create_datareader(
-        participant.topic<RequestType>(service_request_topic(service)),
-        reader_qos(QosFamily::Command, participant.subscriber()), this);
-    if (!writer_ || !reader_) throw DdsError("cannot serve the service " + service);
-    participant.endpoints_changed();
-  }
+      : ServiceServer(participant, service,
+                      {service_request_topic(service), service_reply_topic(service)},
+                      std::move(on_request)) {}
+  /// A service on topics named outright.
+  ServiceServer(Participant& participant, const ServiceTopics& topics, Handler on_request)
+      : ServiceServer(participant, topics.request, topics, std::move(on_request)) {}
   ~ServiceServer() override {
     reader_->set_listener(nullptr);
     writer_->set_listener(nullptr);
@@ -79,10 +83,26 @@ class ServiceServer : private fdds::DataReaderListener, private fdds::DataWriter
     }
     send(id, response);  // never under mutex_: Fast DDS may hold its lock while it calls us
   }
+  /// Writes a reply correlated in its payload alone (e.g. a progress reply).
+  void publish(const Response& response) { send({}, response); }
   /// The service's name, e.g. "/macsim/step_simulation".
   const std::string& name() const { return service_; }
 
  private:
+  ServiceServer(Participant& participant, const std::string& service, const ServiceTopics& topics,
+                Handler on_request)
+      : participant_(participant), service_(service), on_request_(std::move(on_request)) {
+    writer_ = participant.publisher()->create_datawriter(
+        participant.topic<ResponseType>(topics.reply),
+        writer_qos(QosFamily::Command, participant.publisher()), this,
+        fdds::StatusMask::publication_matched());
+    reader_ = participant.subscriber()->create_datareader(
+        participant.topic<RequestType>(topics.request),
+        reader_qos(QosFamily::Command, participant.subscriber()), this);
+    if (!writer_ || !reader_) throw DdsError("cannot serve the service " + service);
+    participant.endpoints_changed();
+  }
+
   struct Pending {
     RequestId id;
     Response response;

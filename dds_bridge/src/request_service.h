@@ -1,0 +1,54 @@
+// One of macsim's own services (correlated in the payload: replies echo the client id and
+// sequence number) on the request/reply transport the ROS 2 services use too
+// (dds::ServiceServer): a reply also names its request's sample identity when it is known.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <mutex>
+
+#include "macsim/dds/ros2_service.h"
+
+namespace macsim {
+
+/// Requests in on Fast DDS's thread, replies out from any thread, until close().
+template <class RequestType, class ReplyType>
+class RequestService {
+ public:
+  using Request = typename RequestType::type;
+  using Reply = typename ReplyType::type;
+  using Server = dds::ServiceServer<RequestType, ReplyType>;
+
+  /// Serves the topics: `on_request` hears each request (copy or enqueue it, nothing more).
+  void open(dds::Participant& participant, const dds::ServiceTopics& topics,
+            typename Server::Handler on_request) {
+    auto server = std::make_unique<Server>(participant, topics, std::move(on_request));
+    std::lock_guard<std::mutex> lock(mutex_);
+    server_ = std::move(server);
+  }
+  /// No request comes in and no reply goes out any more.
+  void close() {
+    std::unique_ptr<Server> gone;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      gone = std::move(server_);
+    }
+    gone.reset();  // outside the lock: a request being heard may still reply (to no one)
+  }
+  /// Sends a reply; with `id`, it names that request's sample identity too.
+  void reply(const Reply& reply, const dds::RequestId* id = nullptr) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!server_) return;
+    if (id) {
+      server_->reply(*id, reply);
+    } else {
+      server_->publish(reply);
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::unique_ptr<Server> server_;
+};
+
+}  // namespace macsim
