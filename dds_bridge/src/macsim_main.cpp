@@ -508,6 +508,14 @@ int serve(macsim::Runner& runner, const Options& o) {
     bridge.wait_for_cameras();
     std::printf("%s", bridge.camera_summary().c_str());
     std::printf("%s", bridge.command_summary().c_str());
+    std::printf("macsim: commands run:");
+    for (auto source : {macsim::CommandSource::Supervisor, macsim::CommandSource::Simulation,
+                        macsim::CommandSource::Ros2Service, macsim::CommandSource::Pictures,
+                        macsim::CommandSource::Robot}) {
+      std::printf(" %s %llu", std::string(macsim::to_string(source)).c_str(),
+                  static_cast<unsigned long long>(runner.commands_run(source)));
+    }
+    std::printf("\n");
     if (!o.record_session.empty()) {
       runner.record(nullptr);  // its closing line
       std::printf("macsim: session recorded to %s\n", o.record_session.c_str());

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <regex>
 #include <set>
 
@@ -704,53 +705,45 @@ ss::ResetSimulation_Response_ reset_simulation(const ss::ResetSimulation_Request
   return r;
 }
 
-bool changes_world(const std::string& service) {
-  return service == "set_entity_state" || service == "spawn_entity" ||
-         service == "spawn_entities" || service == "delete_entity" ||
-         service == "reset_simulation" || service == "set_simulation_state";
-}
-
 namespace {
 
-template <class PubSubType, class Run>
-bool replay_with(const Command& c, Run run) {
+/// A recorded request of one service run on the world as its server runs it, unanswered.
+template <class PubSubType, auto run>
+bool replayed(const Command& c, World& world) {
   const auto request = dds::from_wire<PubSubType>(c.message);
   if (!request) return false;
-  run(*request);
+  run(*request, world);
   return true;
+}
+
+/// Only STOPPED changes the world: it puts it back as loaded.
+void stop(const ss::SetSimulationState_Request_& q, World& world) {
+  if (q.state().state() == si::SimulationState_Constants::STATE_STOPPED)
+    world.reset(ResetScope::Everything);
+}
+
+using Replay = bool (*)(const Command&, World&);
+
+/// The services whose requests change the world, and how a replay runs each.
+const std::map<std::string, Replay>& replays() {
+  static const std::map<std::string, Replay> kReplays{
+      {"set_entity_state", replayed<ss::SetEntityState_Request_PubSubType, set_entity_state>},
+      {"spawn_entity", replayed<ss::SpawnEntity_Request_PubSubType, spawn_entity>},
+      {"spawn_entities", replayed<ss::SpawnEntities_Request_PubSubType, spawn_entities>},
+      {"delete_entity", replayed<ss::DeleteEntity_Request_PubSubType, delete_entity>},
+      {"reset_simulation", replayed<ss::ResetSimulation_Request_PubSubType, reset_simulation>},
+      {"set_simulation_state", replayed<ss::SetSimulationState_Request_PubSubType, stop>},
+  };
+  return kReplays;
 }
 
 }  // namespace
 
+bool changes_world(const std::string& service) { return replays().count(service) > 0; }
+
 bool replay(const Command& c, World& world) {
-  const std::string& s = c.operation;
-  if (s == "set_entity_state") {
-    return replay_with<ss::SetEntityState_Request_PubSubType>(
-        c, [&](const auto& q) { set_entity_state(q, world); });
-  }
-  if (s == "spawn_entity") {
-    return replay_with<ss::SpawnEntity_Request_PubSubType>(
-        c, [&](const auto& q) { spawn_entity(q, world); });
-  }
-  if (s == "spawn_entities") {
-    return replay_with<ss::SpawnEntities_Request_PubSubType>(
-        c, [&](const auto& q) { spawn_entities(q, world); });
-  }
-  if (s == "delete_entity") {
-    return replay_with<ss::DeleteEntity_Request_PubSubType>(
-        c, [&](const auto& q) { delete_entity(q, world); });
-  }
-  if (s == "reset_simulation") {
-    return replay_with<ss::ResetSimulation_Request_PubSubType>(
-        c, [&](const auto& q) { reset_simulation(q, world); });
-  }
-  if (s == "set_simulation_state") {  // only STOPPED changes the world: it puts it back as loaded
-    return replay_with<ss::SetSimulationState_Request_PubSubType>(c, [&](const auto& q) {
-      if (q.state().state() == si::SimulationState_Constants::STATE_STOPPED)
-        world.reset(ResetScope::Everything);
-    });
-  }
-  return false;
+  const auto found = replays().find(c.operation);
+  return found != replays().end() && found->second(c, world);
 }
 
 }  // namespace macsim::sim_interfaces

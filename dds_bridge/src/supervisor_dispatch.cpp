@@ -30,6 +30,11 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world,
 
 }  // namespace
 
+std::string operation_name(int32_t code) {
+  const char* name = generated::name_of(code);
+  return name ? name : "operation_" + std::to_string(code);
+}
+
 mm::SupervisorReply_ dispatch(const mm::SupervisorRequest_& request, World& world,
                               SnapshotStore& snapshots) {
   const auto addressed = [&request] {  // a reply to this request, nothing in it yet

@@ -2,11 +2,17 @@
 // No DDS here: SupervisorServer calls it on the simulation thread, unit tests call it directly.
 #pragma once
 
+#include <cstdint>
+#include <string>
+
 #include "macsim/msg/macsim_msgs.h"
 #include "macsim/sim_core/snapshot_store.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim {
+
+/// The name of an operation code (OP_SET_DENSITY: "set_density"); "operation_<code>" if unknown.
+std::string operation_name(int32_t code);
 
 /// Runs the request's operation; the reply echoes client and sequence number and carries the
 /// result, or an ERR_* code with a message (the world then unchanged).

@@ -59,7 +59,7 @@ void SupervisorServer::refuse(const Request& q, const dds::RequestId& id, int co
 Command SupervisorServer::command(const Request& q) {
   Command c;
   c.source = CommandSource::Supervisor;
-  c.operation = "OP_" + std::to_string(q.operation()._d());
+  c.operation = operation_name(q.operation()._d());
   c.message = dds::to_wire<mm::SupervisorRequest_PubSubType>(q);
   return c;
 }

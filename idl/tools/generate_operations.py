@@ -448,6 +448,16 @@ def dispatch(operations):
     out.append("  return std::nullopt;")
     out.append("}")
     out.append("")
+    out.append("/// The operation's name (e.g. \"set_density\"), or nullptr for an unknown code.")
+    out.append("inline const char* name_of(int32_t code) {")
+    out.append("  switch (code) {")
+    for op in operations:
+        out.append(f"    case mm::{op.const}:")
+        out.append(f"      return \"{op.name}\";")
+    out.append("  }")
+    out.append("  return nullptr;")
+    out.append("}")
+    out.append("")
     return "\n".join(out)
 
 

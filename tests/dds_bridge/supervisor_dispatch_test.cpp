@@ -557,5 +557,12 @@ TEST(SupervisorDispatch, AFullSnapshotStoreReplacesByNameAndADeleteFreesAPlace) 
   EXPECT_EQ(f.world.state_hash(), later);
 }
 
+TEST(SupervisorDispatch, NamesEveryOperationAsItsBuilderIsNamed) {
+  EXPECT_EQ(operation_name(mm::OP_SET_DENSITY), "set_density");
+  EXPECT_EQ(operation_name(mm::OP_GET_DOOR_BY_NAME), "get_door_by_name");
+  EXPECT_EQ(operation_name(mm::OP_LIST_SNAPSHOTS), "list_snapshots");
+  EXPECT_EQ(operation_name(999), "operation_999");
+}
+
 }  // namespace
 }  // namespace macsim::test

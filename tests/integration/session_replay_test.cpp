@@ -220,6 +220,11 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
   }
   macsim.signal(SIGINT);
   ASSERT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();
+  // Counted as they ran: the eleven requests, the spawn, no picture, no robot command.
+  EXPECT_NE(macsim.output().find("commands run: supervisor 11 simulation 0 ros2_service 1 "
+                                 "pictures 0 robot 0"),
+            std::string::npos)
+      << macsim.output();
   const Session session = read_session(path);
   std::map<std::string, int> operations;
   for (const auto& c : session.commands)
@@ -230,6 +235,8 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
   for (const auto& [name, count] : operations)
     if (name.rfind("supervisor ", 0) == 0) supervisor_commands += count;
   EXPECT_EQ(supervisor_commands, 11);  // find, 5 forces, density, save, restore; find, velocity
+  EXPECT_EQ(operations["supervisor add_force"], 5);
+  EXPECT_EQ(operations["supervisor restore_snapshot"], 1);
   const Replay replayed = replay(path);
   EXPECT_EQ(replayed.exit_code, 0) << replayed.output;
   EXPECT_EQ(hashes_equal(replayed.output), static_cast<int>(session.hashes.size()))
