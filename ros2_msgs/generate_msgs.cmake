@@ -18,8 +18,8 @@ string(REPLACE "\n" ";" types "${listing}")
 
 foreach(package ${PACKAGES})
   set(dir ${OUT}/${package})
-  file(REMOVE_RECURSE ${dir}/msg)
   file(MAKE_DIRECTORY ${dir}/msg)
+  file(GLOB stale ${dir}/msg/*.msg)  # what the IDL still has is taken off this list below
   foreach(file package.xml CMakeLists.txt)
     file(COPY_FILE ${SOURCE}/${package}/${file} ${dir}/${file} ONLY_IF_DIFFERENT)
   endforeach()
@@ -34,11 +34,23 @@ foreach(package ${PACKAGES})
     if(cannot OR definition STREQUAL "")
       continue()  # a union (or a struct of one): .msg cannot say it
     endif()
-    file(WRITE ${dir}/msg/${name}.msg
-         "# ${package}/${name}: the IDL type ${package}::msg::dds_::${name}_ "
-         "(idl/kurt/${package}.idl), field for field.\n${definition}")
+    # Written only when it changed: a colcon workspace linking these sees no new timestamps.
+    set(msg ${dir}/msg/${name}.msg)
+    string(CONCAT text "# ${package}/${name}: the IDL type ${package}::msg::dds_::${name}_ "
+           "(idl/kurt/${package}.idl), field for field.\n" "${definition}")
+    set(old "")
+    if(EXISTS ${msg})
+      file(READ ${msg} old)
+    endif()
+    if(NOT old STREQUAL text)
+      file(WRITE ${msg} "${text}")
+    endif()
+    list(REMOVE_ITEM stale ${msg})
     math(EXPR count "${count} + 1")
   endforeach()
+  if(stale)
+    file(REMOVE ${stale})
+  endif()
   if(count EQUAL 0)
     message(FATAL_ERROR "generate_msgs.cmake: no type of package ${package} in '${TOPIC} types'")
   endif()

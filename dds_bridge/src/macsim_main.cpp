@@ -28,6 +28,7 @@
 #include "sim_bridge.h"
 #include "sim_interfaces_dispatch.h"
 #include "sim_interfaces_server.h"
+#include "simulation_dispatch.h"
 #include "simulation_server.h"
 #include "supervisor_dispatch.h"
 #include "supervisor_server.h"
@@ -286,8 +287,17 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
       std::cerr << "macsim: --replay: " << e.what() << "\n";
       return 2;
     }
-    if (o.world_file.empty()) o.world_file = o.session->header.world_file;
-    if (o.seed == -1) o.seed = static_cast<int>(o.session->header.seed);
+    const auto& header = o.session->header;
+    if (!o.world_file.empty() && o.world_file != header.world_file) {
+      std::cerr << "macsim: replaying on --world " << o.world_file << ", not the session's "
+                << header.world_file << "\n";
+    }
+    if (o.seed != -1 && o.seed != header.seed) {
+      std::cerr << "macsim: replaying with --seed " << o.seed << ", not the session's "
+                << header.seed << "\n";
+    }
+    if (o.world_file.empty()) o.world_file = header.world_file;
+    if (o.seed == -1) o.seed = static_cast<int>(header.seed);
   }
   {
     unsigned long long bytes = 0;
@@ -529,20 +539,15 @@ int serve(macsim::Runner& runner, const Options& o) {
 
 /// Replays a recorded session on `runner` (its world): no DDS, the commands at their steps.
 int replay(macsim::Runner& runner, const Options& o) {
-  runner.set_executor(
-      macsim::CommandSource::Supervisor, [&runner](const macsim::Command& c, macsim::World& world) {
-        const auto q =
-            macsim::dds::from_wire<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>(c.message);
-        if (q) macsim::dispatch(*q, world, runner.snapshots());
-        return q.has_value();
-      });
+  runner.set_executor(macsim::CommandSource::Supervisor,
+                      [&runner](const macsim::Command& c, macsim::World& world) {
+                        return macsim::replay(c, world, runner.snapshots());
+                      });
   runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
-  const auto limits = o.limits();
-  const auto load = [&runner, limits](const std::string& file) {
-    macsim::LoadOptions options;
-    options.limits = limits;
-    options.files = &runner.data_roots();
-    return macsim::load_world_file(file, options);
+  const auto load = [&runner, limits = o.limits()](const macsim::Command& c) {
+    const auto source = macsim::load_source(c);
+    return source ? macsim::world_parser(runner, limits, *source)
+                  : std::function<macsim::WorldSpec()>();
   };
   const auto outcome = macsim::replay_session(*o.session, runner, load);
   std::printf("macsim: %s\n", outcome.message.c_str());

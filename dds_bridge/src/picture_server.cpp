@@ -50,6 +50,7 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
 
 PictureServer::~PictureServer() {
   service_.close();
+  runner_.set_executor(CommandSource::Pictures, {});  // what is still queued runs nowhere
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;

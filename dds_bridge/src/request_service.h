@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 
 #include "macsim/dds/ros2_service.h"
 
@@ -23,21 +24,22 @@ class RequestService {
   void open(dds::Participant& participant, const dds::ServiceTopics& topics,
             typename Server::Handler on_request) {
     auto server = std::make_unique<Server>(participant, topics, std::move(on_request));
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::shared_mutex> lock(mutex_);
     server_ = std::move(server);
   }
   /// No request comes in and no reply goes out any more.
   void close() {
     std::unique_ptr<Server> gone;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      std::unique_lock<std::shared_mutex> lock(mutex_);
       gone = std::move(server_);
     }
     gone.reset();  // outside the lock: a request being heard may still reply (to no one)
   }
-  /// Sends a reply; with `id`, it names that request's sample identity too.
+  /// Sends a reply; with `id`, it names that request's sample identity too. Replies from
+  /// several threads go out side by side; only close() waits for them.
   void reply(const Reply& reply, const dds::RequestId* id = nullptr) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::shared_lock<std::shared_mutex> lock(mutex_);
     if (!server_) return;
     if (id) {
       server_->reply(*id, reply);
@@ -47,7 +49,7 @@ class RequestService {
   }
 
  private:
-  std::mutex mutex_;
+  std::shared_mutex mutex_;  // exclusive only to open and close
   std::unique_ptr<Server> server_;
 };
 

@@ -6,6 +6,7 @@
 
 #include "macsim/dds/wire.h"
 #include "sim_interfaces_dispatch.h"
+#include "simulation_dispatch.h"
 
 namespace macsim {
 
@@ -38,13 +39,17 @@ void SimInterfacesServer::serve_on_world(const std::string& name, Run run) {
   using Server = dds::ServiceServer<Req, Resp>;
   using ReplyTo = std::pair<dds::RequestId, Server*>;
   // On the simulation thread: the request from its wire form, answered where it came from.
-  on_world_[name] = [run](const Command& c, World& world) {
+  on_world_[name] = [this, run](const Command& c, World& world) {
     const auto q = dds::from_wire<Req>(c.message);
     if (!q) return false;
     const auto response = run(*q, world);
     if (const auto* to = std::any_cast<ReplyTo>(&c.reply_to))
       to->second->reply(to->first, response);
-    return sim_interfaces::changes_world(c.operation);
+    // Recorded when it changed the world: a service that can, answered RESULT_OK (a
+    // set_simulation_state only when it stopped the simulation, which resets the world).
+    return sim_interfaces::changes_world(c.operation) &&
+           response.result().result() == rc::RESULT_OK &&
+           (c.operation != "set_simulation_state" || stopped_);
   };
   serve<Req, Resp>(
       name, [this, name](const typename Req::type& q, const dds::RequestId& id, Server& server) {
@@ -232,15 +237,8 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
           return refuse_now(lc::UNSUPPORTED_FORMAT, "'" + q.uri() + "' is no macsim_xml file");
         }
         // Parsed off the simulation thread; answered once the new world runs (or was refused).
-        const LoadQueued queued = runner_.load(
-            // On the runner's loader thread, which may outlive this server: nothing of it.
-            [file, xml = q.resource_string(), limits = limits_, files = &runner_.data_roots()] {
-              LoadOptions options;
-              options.limits = limits;
-              options.files = files;
-              return file.empty() ? load_world_string(xml, "resource_string.xml", options)
-                                  : load_world_file(file, options);
-            },
+        const LoadQueued queued = queue_world_load(
+            runner_, limits_, {file, q.resource_string()},
             [this, id, &server](const LoadOutcome& outcome) {
               ss::LoadWorld_Response_ r;
               if (outcome.ok) {
@@ -274,7 +272,10 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
                                              "world files of this simulator name no poses");
 }
 
-SimInterfacesServer::~SimInterfacesServer() { servers_.clear(); }
+SimInterfacesServer::~SimInterfacesServer() {
+  servers_.clear();
+  runner_.set_executor(CommandSource::Ros2Service, {});  // what is still queued runs nowhere
+}
 
 std::vector<std::string> SimInterfacesServer::service_names() {
   std::vector<std::string> names;

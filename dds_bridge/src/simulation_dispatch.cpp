@@ -1,6 +1,7 @@
 #include "simulation_dispatch.h"
 
 #include <memory>
+#include <utility>
 
 namespace macsim {
 
@@ -22,7 +23,8 @@ mm::SimulationReply_ simulation_reply(const mm::SimulationRequest_& q, const Run
   r.ended_by(-1);
   r.steps_asked(q.command() == mm::SIM_STEP ? q.steps() : 0);
   r.features(
-      "simulator,supervisor,lockstep,step_until,cancel,progress,ground_truth,reset,snapshot,load_world,cameras,laser,crane");
+      "simulator,supervisor,lockstep,step_until,cancel,progress,ground_truth,reset,snapshot,load_"
+      "world,cameras,laser,crane");
   return r;
 }
 
@@ -57,7 +59,8 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
         return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT, *error);
       }
       if (q.steps() == 0) break;  // zero steps (fields checked): answered at once
-      auto conditions = std::make_shared<StepConditions>(std::get<StepConditions>(std::move(compiled)));
+      auto conditions =
+          std::make_shared<StepConditions>(std::get<StepConditions>(std::move(compiled)));
       StepRequest request;
       request.steps = q.steps();
       request.check_every = q.check_every();
@@ -75,8 +78,7 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       request.hold_commands = q.step_options() & mm::STEP_HOLD_COMMANDS;
       request.publish_at_end = q.step_options() & mm::STEP_PUBLISH_AT_END;
       request.cameras = !(q.step_options() & mm::STEP_NO_CAMERAS);
-      request.done = [&runner, q, conditions, steps_done,
-                      stepped = std::move(stepped)](bool done) {
+      request.done = [&runner, q, conditions, steps_done, stepped = std::move(stepped)](bool done) {
         auto reply = done ? simulation_reply(q, runner, mm::ERR_OK, "")
                           : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
                                              "cancelled: paused (SIM_PAUSE, or a body that "
@@ -107,6 +109,42 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
                               "unknown simulation command " + std::to_string(q.command()));
   }
   return simulation_reply(q, runner, mm::ERR_OK, "");
+}
+
+std::function<WorldSpec()> world_parser(const Runner& runner, LoadLimits limits,
+                                        WorldSource source) {
+  // On the runner's loader thread, which may outlive whoever asked: nothing of them.
+  return [source = std::move(source), limits, files = &runner.data_roots()] {
+    LoadOptions options;
+    options.limits = limits;
+    options.files = files;
+    return source.file.empty() ? load_world_string(source.xml, "resource_string.xml", options)
+                               : load_world_file(source.file, options);
+  };
+}
+
+LoadQueued queue_world_load(Runner& runner, LoadLimits limits, WorldSource source,
+                            std::function<void(const LoadOutcome&)> done) {
+  Command recorded = load_command(source);
+  return runner.load(world_parser(runner, limits, std::move(source)), std::move(done),
+                     std::move(recorded));
+}
+
+Command load_command(const WorldSource& source) {
+  Command c;
+  c.source = CommandSource::Simulation;
+  c.operation = source.file.empty() ? "load_world_xml" : "load_world";
+  const std::string& text = source.file.empty() ? source.xml : source.file;
+  c.message.assign(text.begin(), text.end());
+  return c;
+}
+
+std::optional<WorldSource> load_source(const Command& c) {
+  if (c.source != CommandSource::Simulation) return std::nullopt;
+  const std::string text(c.message.begin(), c.message.end());
+  if (c.operation == "load_world") return WorldSource{text, ""};
+  if (c.operation == "load_world_xml") return WorldSource{"", text};
+  return std::nullopt;
 }
 
 }  // namespace macsim

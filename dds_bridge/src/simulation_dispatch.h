@@ -12,9 +12,28 @@
 
 #include "macsim/msg/macsim_msgs.h"
 #include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/world_loader.h"
 #include "step_conditions.h"
 
 namespace macsim {
+
+/// A world a request loads: a file or, when `file` is empty, the text of one.
+struct WorldSource {
+  std::string file;
+  std::string xml;
+};
+
+/// How every request that loads a world (SIM_LOAD_WORLD, LoadWorld, a replay) parses it: on
+/// the runner's loader thread, through the runner's data roots, held to `limits`.
+std::function<WorldSpec()> world_parser(const Runner& runner, LoadLimits limits,
+                                        WorldSource source);
+/// Queues that load on the runner; a session records it as the command load_command() makes.
+LoadQueued queue_world_load(Runner& runner, LoadLimits limits, WorldSource source,
+                            std::function<void(const LoadOutcome&)> done);
+/// The command a session records for a load (load_world: the file; load_world_xml: the text).
+Command load_command(const WorldSource& source);
+/// The load a recorded command names; nullopt if it names none.
+std::optional<WorldSource> load_source(const Command& command);
 
 /// The reply to `request` with `code` and `message`, stamped with the runner's time, steps,
 /// state hash, pause flag, real-time factor and features.

@@ -70,18 +70,10 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
           if (!pushed) refuse_full(r);
           return;
         }
-        const LoadQueued queued = runner_.load(
-            // On the runner's loader thread, which may outlive this server: nothing of it.
-            [file = r.world_file(), limits = limits_, files = &runner_.data_roots()] {
-              LoadOptions options;
-              options.limits = limits;
-              options.files = files;
-              return load_world_file(file, options);
-            },
-            [this, r](const LoadOutcome& outcome) {
+        const LoadQueued queued = queue_world_load(
+            runner_, limits_, {r.world_file(), ""}, [this, r](const LoadOutcome& outcome) {
               send(reply_to(r, codec::error_code(outcome.code), outcome.error));
-            },
-            r.world_file());
+            });
         if (queued == LoadQueued::QueueFull) {
           forget_load(r);  // not loaded: a repeat may try again
           refuse_full(r);
@@ -134,7 +126,10 @@ void SimulationServer::forget_load(const Request& r) {
   }
 }
 
-SimulationServer::~SimulationServer() { service_.close(); }
+SimulationServer::~SimulationServer() {
+  service_.close();
+  runner_.set_executor(CommandSource::Simulation, {});  // what is still queued runs nowhere
+}
 
 SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,
                                                    const std::string& message) const {

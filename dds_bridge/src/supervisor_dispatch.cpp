@@ -2,6 +2,8 @@
 
 #include <optional>
 
+#include "macsim/dds/wire.h"
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "supervisor_codec.h"
 #include "supervisor_operations.h"
 
@@ -29,6 +31,14 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world,
 }
 
 }  // namespace
+
+bool changes_world(int32_t code) { return generated::changes_world(code); }
+
+bool replay(const Command& command, World& world, SnapshotStore& snapshots) {
+  const auto request = dds::from_wire<mm::SupervisorRequest_PubSubType>(command.message);
+  if (request) dispatch(*request, world, snapshots);
+  return request.has_value();
+}
 
 std::string operation_name(int32_t code) {
   const char* name = generated::name_of(code);

@@ -6,10 +6,19 @@
 #include <string>
 
 #include "macsim/msg/macsim_msgs.h"
+#include "macsim/sim_core/command.h"
 #include "macsim/sim_core/snapshot_store.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim {
+
+/// True for an operation that may change the world or its snapshots (a session records it);
+/// false for one that only reads (get_*, list_*, find_*, door_count, state_hash).
+bool changes_world(int32_t code);
+
+/// Runs a recorded supervisor command (its request in the wire form) as the server did,
+/// unanswered (a replay); false for a damaged message.
+bool replay(const Command& command, World& world, SnapshotStore& snapshots);
 
 /// The name of an operation code (OP_SET_DENSITY: "set_density"); "operation_<code>" if unknown.
 std::string operation_name(int32_t code);

@@ -43,7 +43,10 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
                 });
 }
 
-SupervisorServer::~SupervisorServer() { service_.close(); }
+SupervisorServer::~SupervisorServer() {
+  service_.close();
+  runner_.set_executor(CommandSource::Supervisor, {});  // what is still queued runs nowhere
+}
 
 void SupervisorServer::refuse(const Request& q, const dds::RequestId& id, int code,
                               const std::string& message) {
@@ -79,7 +82,7 @@ bool SupervisorServer::execute(const Request& q, World& world, const dds::Reques
   progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);
   service_.reply(reply, id);
-  return true;
+  return changes_world(q.operation()._d());
 }
 
 void SupervisorServer::publish_world_state(World& world) {

@@ -448,6 +448,20 @@ def dispatch(operations):
     out.append("  return std::nullopt;")
     out.append("}")
     out.append("")
+    # Reads by their names: what a session need not record (a snapshot saved is kept: a
+    # later restore depends on it).
+    reads = [op for op in operations
+             if op.name.startswith(("get_", "list_", "find_")) or op.name in ("door_count", "state_hash")]
+    out.append("/// False for an operation that only reads (a session need not record it).")
+    out.append("inline bool changes_world(int32_t code) {")
+    out.append("  switch (code) {")
+    for op in reads:
+        out.append(f"    case mm::{op.const}:")
+    out.append("      return false;")
+    out.append("  }")
+    out.append("  return true;")
+    out.append("}")
+    out.append("")
     out.append("/// The operation's name (e.g. \"set_density\"), or nullptr for an unknown code.")
     out.append("inline const char* name_of(int32_t code) {")
     out.append("  switch (code) {")

@@ -18,6 +18,7 @@ constexpr std::array<std::pair<CommandSource, std::string_view>, 6> kSourceNames
     {CommandSource::Robot, "robot"},
     {CommandSource::Local, "local"},
 }};
+static_assert(kSourceNames.size() == kCommandSources, "a name for every CommandSource");
 
 }  // namespace
 

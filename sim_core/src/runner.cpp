@@ -71,6 +71,7 @@ void Runner::set_max_objects(std::size_t max_objects) {
 }
 
 Runner::~Runner() {
+  if (recording_) recording_->finish(steps_run_);  // however the run ended
   std::vector<std::future<void>> loaders;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -103,7 +104,7 @@ std::string Runner::queue_full_message() const {
 }
 
 LoadQueued Runner::load(std::function<WorldSpec()> parse,
-                        std::function<void(const LoadOutcome&)> done, std::string file) {
+                        std::function<void(const LoadOutcome&)> done, Command recorded) {
   auto promise = std::make_shared<std::promise<WorldSpec>>();
   std::shared_future<WorldSpec> spec = promise->get_future().share();
   {
@@ -128,7 +129,7 @@ LoadQueued Runner::load(std::function<WorldSpec()> parse,
       return LoadQueued::LoadRunning;  // no thread to be had: refused like a second load
     }
     loading_ = true;
-    pending_.emplace_back(Load{std::move(spec), std::move(done), std::move(file)});
+    pending_.emplace_back(Load{std::move(spec), std::move(done), std::move(recorded)});
     ++queued_;
   }
   arrived_.notify_one();
@@ -204,13 +205,8 @@ void Runner::replace_world(Load& load) {
       ++generation_;
       snapshots_.clear();
       outcome.ok = true;
-      if (recording_) {
-        Command loaded;
-        loaded.source = CommandSource::Simulation;
-        loaded.operation = "load_world";
-        loaded.message.assign(load.file.begin(), load.file.end());
-        recording_->command(steps_run_, loaded);
-      }
+      if (recording_ && !load.recorded.operation.empty())
+        recording_->command(steps_run_, load.recorded);
     }
   } catch (const WorldFileError& e) {
     outcome.code = ErrorCode::BadFile;

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cinttypes>
+#include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -132,12 +135,15 @@ struct LineReader {
     std::stringstream parts(field);
     std::string part;
     while (std::getline(parts, part, ',')) {
-      char* end = nullptr;
-      const double v = std::strtod(part.c_str(), &end);
-      if (part.empty() || *end != '\0')
-        fail("a command's values must be numbers; got '" + part + "'");
+      double v = 0;
+      const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), v);
+      if (part.empty() || error != std::errc() || end != part.data() + part.size() ||
+          !std::isfinite(v)) {
+        fail("a command's values must be finite numbers; got '" + part + "'");
+      }
       out.push_back(v);
     }
+    if (field.back() == ',') fail("a command's values end with ','");
     return out;
   }
 
@@ -198,26 +204,38 @@ SessionWriter::~SessionWriter() {
   if (file_) std::fclose(file_);  // no closing line: the file reads as cut short
 }
 
-void SessionWriter::command(uint64_t step, const Command& command) {
+void SessionWriter::put(const std::string& text) {
   if (!file_) return;
-  write_all(file_, path_, command_line(step, command));
+  if (std::fwrite(text.data(), 1, text.size(), file_) == text.size()) return;
+  std::fprintf(stderr, "macsim: cannot write the session %s (%s): recording stopped\n",
+               path_.c_str(), std::strerror(errno));
+  std::fclose(file_);
+  file_ = nullptr;
+}
+
+void SessionWriter::command(uint64_t step, const Command& command) {
+  put(command_line(step, command));
   ++commands_;
 }
 
 void SessionWriter::hash(uint64_t step, uint64_t hash) {
-  if (!file_) return;
-  write_all(file_, path_, hash_line(step, hash));
+  put(hash_line(step, hash));
   ++hashes_;
+  if (file_) std::fflush(file_);
 }
 
 void SessionWriter::finish(uint64_t steps) {
   if (!file_) return;
-  write_all(file_, path_,
-            "end " + std::to_string(steps) + " " + std::to_string(commands_) + " " +
-                std::to_string(hashes_) + "\n");
+  put("end " + std::to_string(steps) + " " + std::to_string(commands_) + " " +
+      std::to_string(hashes_) + "\n");
+  if (!file_) return;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
-  if (!closed) throw SessionFileError(path_ + ": cannot write: " + std::strerror(errno));
+  finished_ = closed;
+  if (!closed) {
+    std::fprintf(stderr, "macsim: cannot write the session %s (%s)\n", path_.c_str(),
+                 std::strerror(errno));
+  }
 }
 
 Session read_session(const std::string& path) {
@@ -249,11 +267,15 @@ Session read_session(const std::string& path) {
       }
       continue;
     }
+    const bool header_line = f[0] == "world" || f[0] == "seed" || f[0] == "hash-every";
+    if (!header_line && !(has_world && has_seed && has_every))
+      r.fail("the header needs 'world', 'seed' and 'hash-every' lines before any record");
     if (f[0] == "world" && f.size() == 2 && !has_world) {
       session.header.world_file = r.text(f[1], "the world file");
       has_world = true;
     } else if (f[0] == "seed" && f.size() == 2 && !has_seed) {
       session.header.seed = f[1] == "-1" ? -1 : static_cast<int64_t>(r.number(f[1], "the seed"));
+      if (session.header.seed > INT32_MAX) r.fail("the seed must be -1 or 0 to 2147483647");
       has_seed = true;
     } else if (f[0] == "hash-every" && f.size() == 2 && !has_every) {
       session.header.hash_every = r.number(f[1], "hash-every");
@@ -296,8 +318,6 @@ Session read_session(const std::string& path) {
     } else {
       r.fail("not a session record: '" + line.substr(0, 60) + "'");
     }
-    if (r.line == 4 && !(has_world && has_seed && has_every))
-      r.fail("the header needs 'world', 'seed' and 'hash-every' lines");
   }
   if (r.line == 0) throw SessionFileError(path + ": empty, not a session file");
   if (!ended) {
@@ -358,11 +378,21 @@ ReplayOutcome replay_session(const Session& session, Runner& runner,
     }
     for (; c < session.commands.size() && session.commands[c].step == step; ++c) {
       const Command& command = session.commands[c].command;
-      if (command.source == CommandSource::Simulation && command.operation == "load_world") {
-        const std::string file(command.message.begin(), command.message.end());
-        (void)runner.load([&load, file] { return load(file); }, {}, file);
-        runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::hours(1));
-        runner.apply_commands();
+      if (auto parse = load(command)) {
+        std::optional<LoadOutcome> loaded;
+        (void)runner.load(
+            std::move(parse), [&loaded](const LoadOutcome& o) { loaded = o; }, command);
+        while (!loaded) {
+          runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::seconds(1));
+          runner.apply_commands();
+        }
+        if (!loaded->ok) {  // the live run loaded it: the replay cannot go on without it
+          out.equal = false;
+          out.steps = step;
+          out.message = "the replay cannot load the world the session loaded at step " +
+                        std::to_string(step) + ": " + loaded->error;
+          return out;
+        }
       } else {
         runner.execute(command);
       }

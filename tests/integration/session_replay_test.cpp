@@ -211,6 +211,22 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
     auto loaded = sim.call(load);
     ASSERT_TRUE(loaded && loaded->code() == mm::ERR_OK) << (loaded ? loaded->message() : "");
     std::this_thread::sleep_for(300ms);
+    // The same room again, as text through the ROS 2 LoadWorld (left stopped), then played.
+    std::ifstream room(source("worlds/small_room.xml"));
+    std::stringstream xml;
+    xml << room.rdbuf();
+    ss::LoadWorld_Request_ load_text;
+    load_text.resource_string(xml.str());
+    const auto loaded_text =
+        services.call<ss::LoadWorld_Request_PubSubType, ss::LoadWorld_Response_PubSubType>(
+            "load_world", load_text);
+    ASSERT_EQ(loaded_text.result().result(), 1) << loaded_text.result().error_message();
+    ss::SetSimulationState_Request_ play;
+    play.state().state(simulation_interfaces::msg::dds_::SimulationState_Constants::STATE_PLAYING);
+    const auto played =
+        services.call<ss::SetSimulationState_Request_PubSubType,
+                      ss::SetSimulationState_Response_PubSubType>("set_simulation_state", play);
+    ASSERT_EQ(played.result().result(), 1) << played.result().error_message();
     // Moved in the new world: the commands after a load run on it.
     const auto box = sv.call(supervisor::find_object("red_box"));
     ASSERT_TRUE(box && box->code() == mm::ERR_OK);
@@ -220,8 +236,9 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
   }
   macsim.signal(SIGINT);
   ASSERT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();
-  // Counted as they ran: the eleven requests, the spawn, no picture, no robot command.
-  EXPECT_NE(macsim.output().find("commands run: supervisor 11 simulation 0 ros2_service 1 "
+  // Counted as they ran: the eleven requests, spawn and play (loads are no commands), no picture,
+  // no robot command.
+  EXPECT_NE(macsim.output().find("commands run: supervisor 11 simulation 0 ros2_service 2 "
                                  "pictures 0 robot 0"),
             std::string::npos)
       << macsim.output();
@@ -230,11 +247,13 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
   for (const auto& c : session.commands)
     ++operations[std::string(to_string(c.command.source)) + " " + c.command.operation];
   EXPECT_EQ(operations["simulation load_world"], 1);
+  EXPECT_EQ(operations["simulation load_world_xml"], 1);
+  EXPECT_EQ(operations["ros2_service set_simulation_state"], 0);  // playing changes no world
   EXPECT_EQ(operations["ros2_service spawn_entity"], 1);
   int supervisor_commands = 0;
   for (const auto& [name, count] : operations)
     if (name.rfind("supervisor ", 0) == 0) supervisor_commands += count;
-  EXPECT_EQ(supervisor_commands, 11);  // find, 5 forces, density, save, restore; find, velocity
+  EXPECT_EQ(supervisor_commands, 9);  // 5 forces, density, save, restore, velocity: not the finds
   EXPECT_EQ(operations["supervisor add_force"], 5);
   EXPECT_EQ(operations["supervisor restore_snapshot"], 1);
   const Replay replayed = replay(path);

@@ -37,8 +37,12 @@ uint64_t record(const std::string& path) {
     if (step % 37 == 0) {
       EXPECT_TRUE(runner.push(robot_command("kurt", "twist", {0.2 + step * 1e-4, 0.3})));
     }
-    if (step == 120) EXPECT_TRUE(runner.push(robot_command("kurt", "crane", {0.4, 0.2, 0.05})));
-    if (step == 200) EXPECT_TRUE(runner.push([](World&) {}));
+    if (step == 120) {
+      EXPECT_TRUE(runner.push(robot_command("kurt", "crane", {0.4, 0.2, 0.05})));
+    }
+    if (step == 200) {
+      EXPECT_TRUE(runner.push([](World&) {}));
+    }
     runner.step();
   }
   const uint64_t hash = runner.world().state_hash();
@@ -48,8 +52,9 @@ uint64_t record(const std::string& path) {
 
 ReplayOutcome replay(const Session& session) {
   Runner runner(load_world_file(test::source(session.header.world_file)), RunSettings{true, 0.0});
-  return replay_session(
-      session, runner, [](const std::string& file) { return load_world_file(test::source(file)); });
+  // The test's sessions load no other world.
+  return replay_session(session, runner,
+                        [](const Command&) { return std::function<WorldSpec()>(); });
 }
 
 TEST(Session, ARecordedRunReplaysToEveryHash) {
@@ -136,6 +141,18 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   EXPECT_NE(refusal(bad, lost).find("lines are missing"), std::string::npos) << refusal(bad, lost);
   EXPECT_NE(refusal(bad, "").find("empty"), std::string::npos);
   EXPECT_NE(refusal(bad, "<WORLD/>\n").find(":1: not a macsim session file"), std::string::npos);
+  // No header before the records; a value not finite; a seed out of range.
+  EXPECT_NE(refusal(bad, "macsim-session 1\nend 0 0 0\n").find(":2: the header needs"),
+            std::string::npos);
+  const std::string header = good.substr(0, good.find("\nh 0 ") + 1);
+  EXPECT_NE(refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n")
+                .find(":5: a command's values must be finite numbers; got 'nan'"),
+            std::string::npos)
+      << refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n");
+  std::string seed = good;
+  seed.replace(seed.find("seed -1"), 7, "seed 99999999999");
+  EXPECT_NE(refusal(bad, seed).find(":3: the seed must be"), std::string::npos)
+      << refusal(bad, seed);
   EXPECT_EQ(refusal(bad, good), "");
 }
 

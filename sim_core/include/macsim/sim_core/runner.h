@@ -108,10 +108,10 @@ class Runner {
   /// same robots (names and types) as the current one. `done` runs on the simulation thread.
   /// Refused (nothing queued, nothing parsed) while another load is still on its way, or when
   /// the queue is full; a load counts as one command.
-  /// `file` names what `parse` reads, for a recorded session.
+  /// A recorded session keeps `recorded` once the new world runs (what `parse` reads).
   [[nodiscard]] LoadQueued load(std::function<WorldSpec()> parse,
                                 std::function<void(const LoadOutcome&)> done,
-                                std::string file = {});
+                                Command recorded = {});
   /// What a request refused because the queue is full is told (names the cap and its flag).
   std::string queue_full_message() const;
   /// Blocks until a command can run or `deadline` passes; true if one can.
@@ -179,7 +179,7 @@ class Runner {
   struct Load {
     std::shared_future<WorldSpec> spec;
     std::function<void(const LoadOutcome&)> done;
-    std::string file;
+    Command recorded;
   };
   using Item = std::variant<Command, Load>;
 

@@ -54,7 +54,8 @@ struct Session {
   uint64_t steps = 0;                     ///< steps run when it ended
 };
 
-/// Writes a session as the simulation runs (on the simulation thread).
+/// Writes a session as the simulation runs (on the simulation thread). Once a write fails (a
+/// full disk) it says so on stderr, once, and writes no more: the file then reads as cut short.
 class SessionWriter {
  public:
   /// Opens `path` for writing and writes the header; throws SessionFileError if it cannot.
@@ -64,9 +65,13 @@ class SessionWriter {
   SessionWriter& operator=(const SessionWriter&) = delete;
 
   void command(uint64_t step, const Command& command);
+  /// Writes a hash line and flushes: a simulator killed keeps what came before it on disk.
   void hash(uint64_t step, uint64_t hash);
-  /// Writes the closing line (a file without it is refused as cut short) and closes.
+  /// Writes the closing line (a file without it is refused as cut short) and closes; later
+  /// calls do nothing.
   void finish(uint64_t steps);
+  /// False once a write failed.
+  bool ok() const { return file_ != nullptr || finished_; }
   uint64_t hash_every() const { return hash_every_; }
   uint64_t commands() const { return commands_; }
 
@@ -75,6 +80,9 @@ class SessionWriter {
   std::string path_;
   uint64_t hash_every_;
   uint64_t commands_ = 0, hashes_ = 0;
+  bool finished_ = false;
+
+  void put(const std::string& text);
 };
 
 /// Reads a session file; throws SessionFileError naming the file and line of what is wrong (a
@@ -96,8 +104,9 @@ struct ReplayOutcome {
   std::string message;  ///< one paragraph saying what happened
 };
 
-/// Loads the world file a recorded load_world names (as the simulator would).
-using SessionWorldLoader = std::function<WorldSpec(const std::string& file)>;
+/// What parses the world a recorded load names (as the simulator did); an empty function when
+/// `command` is no load.
+using SessionWorldLoader = std::function<std::function<WorldSpec()>(const Command& command)>;
 
 /// Replays a session on a runner built from its header's world, with the executors of its
 /// sources set (the same as a live run's, minus the answers): runs each command at its step,
