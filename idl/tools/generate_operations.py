@@ -223,35 +223,26 @@ def make_params(op, fields):
 
 # --- Values of defaults in each language --------------------------------------------------
 
-def cpp_value(value, kind):
+# How each output spells an identity quaternion, a zero vector and the prefix of an IDL
+# constant (None: the stubs write "..." for a constant's value).
+SPELLINGS = {
+    "cpp": ("kIdentity", "Vec3{0, 0, 0}", MM),
+    "pybind": ("sv::kIdentity", "sv::Vec3{0, 0, 0}", "mm::"),
+    "pyi": ("(0, 0, 0, 1)", "(0, 0, 0)", None),
+}
+
+
+def default_value(value, kind, output):
+    """A default as `output` (cpp, pybind or pyi) writes it."""
+    identity, zero_vector, constants = SPELLINGS[output]
     if value == "identity":
-        return "kIdentity"
+        return identity
     if value == "zero":
-        return "Vec3{0, 0, 0}" if kind == "vec3" else "0"
-    if re.fullmatch(r"[A-Z][A-Z0-9_]+", value):
-        return f"{MM}{value}"
-    return value
-
-
-def pybind_value(value, kind):
-    if value == "identity":
-        return "sv::kIdentity"
-    if value == "zero":
-        return "sv::Vec3{0, 0, 0}" if kind == "vec3" else "0"
-    if re.fullmatch(r"[A-Z][A-Z0-9_]+", value):
-        return f"mm::{value}"
-    return value
-
-
-def pyi_value(value, kind):
-    if value == "identity":
-        return "(0, 0, 0, 1)"
-    if value == "zero":
-        return "(0, 0, 0)" if kind == "vec3" else "0"
-    if value in ("true", "false"):
+        return zero_vector if kind == "vec3" else "0"
+    if output == "pyi" and value in ("true", "false"):
         return value.capitalize()
     if re.fullmatch(r"[A-Z][A-Z0-9_]+", value):
-        return "..."
+        return "..." if constants is None else f"{constants}{value}"
     return value
 
 
@@ -314,7 +305,7 @@ def signature(op, with_defaults):
     for p in op.cpp_params():
         text = f"{CPP_TYPES[p.kind]} {p.name}"
         if with_defaults and p.cpp_default is not None:
-            text += f" = {cpp_value(p.cpp_default, p.kind)}"
+            text += f" = {default_value(p.cpp_default, p.kind, 'cpp')}"
         out.append(text)
     return ", ".join(out)
 
@@ -498,7 +489,7 @@ def python_defs(operations):
         for p in params:
             arg = f'py::arg("{p.name}")'
             if p.py_default is not None:
-                arg += f" = {pybind_value(p.py_default, p.kind)}"
+                arg += f" = {default_value(p.py_default, p.kind, 'pybind')}"
             args.append(arg)
         doc = op_doc(op, python=True) or op.name.replace("_", " ").capitalize() + "."
         pieces = [f'"{op.name}"', f"[]({lambda_params}) {{ {body} }}"] + args + [cpp_string(doc)]
@@ -516,7 +507,7 @@ def pyi_methods(operations):
         for p in op.py_params():
             text = f"{p.name}: {PYI_TYPES[p.kind]}"
             if p.py_default is not None:
-                text += f" = {pyi_value(p.py_default, p.kind)}"
+                text += f" = {default_value(p.py_default, p.kind, 'pyi')}"
             params.append(text)
         result = REPLY_PYI[op.replies[0]] if op.replies else "None"
         head = f"    def {op.name}({', '.join(params)}) -> {result}:"
