@@ -45,6 +45,9 @@ PACKAGES=(
   # macsim_web: HTTP + WebSocket (websocketpp on standalone asio), JSON; its browser test drives
   # Debian's Chromium through chromedriver
   libwebsocketpp-dev libasio-dev nlohmann-json3-dev chromium chromium-driver
+  # every program's options (CLI11) and leveled logging (spdlog); the browser test's WebDriver
+  # client (selenium) and its screenshot decoding (PIL)
+  libcli11-dev libspdlog-dev python3-selenium python3-pil
 )
 
 missing=()
