@@ -25,6 +25,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools" / "python"))
+import child_process  # noqa: E402  (the helpers of tests, tools and benchmarks)
 
 
 def percentile(values, q):
@@ -122,13 +124,7 @@ def main():
         return 0
     finally:
         for server in servers:
-            server.send_signal(signal.SIGINT)
-        for server in servers:
-            try:
-                server.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                server.kill()
-                server.wait()
+            child_process.stop(server, signal.SIGINT, timeout=10)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tools" / "web"))
+sys.path.insert(0, str(ROOT / "tools" / "python"))
+import child_process  # noqa: E402  (the helpers of tests, tools and benchmarks)
 
 
 def percentile(values, q):
@@ -55,13 +56,7 @@ class Child:
         raise RuntimeError(f"did not see '{text}'")
 
     def stop(self):
-        if self.process.poll() is None:
-            os.killpg(self.process.pid, signal.SIGINT)
-            try:
-                self.process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                os.killpg(self.process.pid, signal.SIGKILL)
-                self.process.wait()
+        child_process.stop(self.process, signal.SIGINT, timeout=10, group=True)
 
 
 def main():
@@ -75,16 +70,19 @@ def main():
         parser.error("--domain is 0..232, --seconds > 0, --rounds >= 1")
     os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE",
                           str(ROOT / "deploy" / "dds" / "localhost.xml"))
+    import headless_chromium
     import macsim
-    from webdriver import ChromeDriver
 
     binary = Path(args.bin)
     d = args.domain
     world = ROOT / "worlds" / "DemoWorld_v1.xml"
     participant = macsim.Participant(domain=d, name="web_bench")
     simulation = macsim.Simulation(participant, timeout=20)
-    driver = ChromeDriver(9515 + d % 400)
-    children = []
+    children, pages = [], []  # pages: the browsers open
+
+    def close(page):
+        pages.remove(page)
+        page.quit()
 
     def web():
         child = Child([binary / "macsim_web", "--domain", d, "--port", "0"])
@@ -95,13 +93,14 @@ def main():
     def browsers(url, count):
         opened = []
         for _ in range(count):
-            b = driver.browser()
-            b.open(url)
+            b = headless_chromium.start()
+            pages.append(b)
+            b.get(url)
             opened.append(b)
         for b in opened:
             deadline = time.monotonic() + 60
             while time.monotonic() < deadline:
-                v = b.view()
+                v = b.execute_script("return window.macsimView || null;")
                 if v and v["drawn"] > 0 and v["updates"] > 5:
                     break
                 time.sleep(0.2)
@@ -130,7 +129,7 @@ def main():
                 rates.setdefault(name, []).append((last.steps - first.steps) /
                                                   (time.monotonic() - start))
                 for b in opened:
-                    b.quit()
+                    close(b)
                 if server:
                     server.stop()
         sim.stop()
@@ -151,7 +150,7 @@ def main():
         state = macsim.WorldState(participant)
         box = supervisor.find_object(next(name for name in supervisor.list_objects().values()
                                           if "can" in name))
-        page.run(f"window.macsimView.watched.add({box});")
+        page.execute_script(f"window.macsimView.watched.add({box});")
         origin = supervisor.get_object(box).position
         seen = []
         for k in range(30):
@@ -165,21 +164,22 @@ def main():
                     break
                 time.sleep(0.001)
             time.sleep(0.3)
-        changes = page.run(f"return window.macsimView.changes['{box}'] || [];")
+        changes = page.execute_script(f"return window.macsimView.changes['{box}'] || [];")
         latencies = []
         for dds_ms, x in seen:
             later = [t for t, cx, _, _ in changes if abs(cx - x) < 2e-3 and t >= dds_ms - 50]
             if later:
                 latencies.append(min(later) - dds_ms)
-        page.quit()
+        close(page)
         print(f"web_latency.changes {len(latencies)} of {len(seen)} count")
         print(f"web_latency.p50 {statistics.median(latencies):.1f} ms")
         print(f"web_latency.p95 {percentile(latencies, 0.95):.1f} ms")
         return 0
     finally:
+        for page in list(pages):
+            close(page)
         for child in reversed(children):
             child.stop()
-        driver.stop()
 
 
 if __name__ == "__main__":

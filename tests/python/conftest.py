@@ -6,6 +6,7 @@ import fcntl
 import os
 import signal
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -14,6 +15,9 @@ import pytest
 
 SOURCE_DIR = Path(os.environ.get("MACSIM_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 BIN_DIR = Path(os.environ.get("MACSIM_BIN_DIR", SOURCE_DIR / "build" / "bin"))
+# The Python helpers of tests, tools and benchmarks (child_process, headless_chromium).
+sys.path.insert(0, str(SOURCE_DIR / "tools" / "python"))
+import child_process  # noqa: E402
 # DDS traffic of tests stays on this machine.
 os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE",
                       str(SOURCE_DIR / "deploy" / "dds" / "localhost.xml"))
@@ -76,13 +80,7 @@ class Process:
         return self.proc.wait(timeout=timeout)
 
     def stop(self):
-        if self.proc.poll() is None:
-            os.killpg(self.proc.pid, signal.SIGINT)
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                os.killpg(self.proc.pid, signal.SIGKILL)
-                self.proc.wait()
+        child_process.stop(self.proc, signal.SIGINT, timeout=10, group=True)
         self.log.close()
 
 

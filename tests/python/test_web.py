@@ -1,11 +1,11 @@
 """macsim_web in a real browser (ctest label `browser`): macsim on the demo world, macsim_web,
-and Debian's headless Chromium driven through chromedriver's WebDriver HTTP interface. The page
-must draw every object of the world state, show a picture that is not blank, and follow the
-robot when it drives; bad requests get errors and the server keeps serving."""
+and Debian's headless Chromium driven with Selenium through chromedriver
+(tools/python/headless_chromium.py). The page must draw every object of the world state, show a
+picture that is not blank, and follow the robot when it drives; bad requests get errors and the
+server keeps serving."""
 
 import os
 import re
-import sys
 import time
 import urllib.error
 import urllib.request
@@ -14,11 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import headless_chromium
 import macsim
-from conftest import SOURCE_DIR, binary, start_macsim
+from conftest import binary, start_macsim
 
-sys.path.insert(0, str(SOURCE_DIR / "tools" / "web"))
-from webdriver import ChromeDriver, decode_png  # noqa: E402
 
 def wait_until(check, timeout, what):
     deadline = time.monotonic() + timeout
@@ -36,13 +35,16 @@ def served(domain, spawn):
     web = spawn([binary("macsim_web"), "--domain", domain, "--port", "0"])
     assert web.wait_for_output("serving http://", 20), web.output()
     url = re.search(r"serving (http://\S+)", web.output()).group(1)
-    driver = ChromeDriver(9515 + domain)
+    browser = headless_chromium.start()
     try:
-        browser = driver.browser()
         yield url, browser, web
-        browser.quit()
     finally:
-        driver.stop()
+        browser.quit()
+
+
+def page_view(browser):
+    """What the page shows (window.macsimView), or None before it is set up."""
+    return browser.execute_script("return window.macsimView || null;")
 
 
 def test_the_page_draws_the_world_and_follows_the_robot(served, domain):
@@ -50,43 +52,45 @@ def test_the_page_draws_the_world_and_follows_the_robot(served, domain):
     participant = macsim.Participant(domain=domain, name="web_test")
     world = macsim.WorldState(participant)
     objects = world.wait(lambda o: len(o) > 20, timeout=30)
-    browser.open(url)
-    view = wait_until(lambda: (v := browser.view()) and v["drawn"] == len(objects) and v, 60,
+    browser.get(url)
+    view = wait_until(lambda: (v := page_view(browser)) and v["drawn"] == len(objects) and v, 60,
                       f"the page did not draw the world's {len(objects)} objects")
     assert view["objectIds"] == sorted(objects)
     assert view["domain"] == domain and view["connected"]
-    assert "objects drawn" in browser.run("return document.title;")
-    names = browser.run("return [...document.querySelectorAll('#objects li')].map(e => e.textContent);")
+    assert "objects drawn" in browser.execute_script("return document.title;")
+    names = browser.execute_script(
+        "return [...document.querySelectorAll('#objects li')].map(e => e.textContent);")
     assert sorted(names) == sorted(f"{i} {o.name}" for i, o in objects.items())
 
-    picture = decode_png(browser.screenshot())
+    png = browser.get_screenshot_as_png()
+    picture = headless_chromium.decode_png(png)
     out = Path(os.environ.get("MACSIM_BIN_DIR", ".")).parent / "web_test_screenshot.png"
-    out.write_bytes(browser.screenshot())
+    out.write_bytes(png)
     assert picture.shape[0] >= 600 and picture.std() > 20, "a blank picture"
     assert len(np.unique(picture.reshape(-1, 3)[::7], axis=0)) > 200, "too few colours"
 
     # Sensors reach the page: a scan, and camera images.
-    wait_until(lambda: browser.view()["scans"] > 0, 20, "no laser scan on the page")
-    wait_until(lambda: browser.view()["images"] >= 2, 20, "no camera image on the page")
+    wait_until(lambda: page_view(browser)["scans"] > 0, 20, "no laser scan on the page")
+    wait_until(lambda: page_view(browser)["images"] >= 2, 20, "no camera image on the page")
 
     # The robot drives; the page's pose follows the simulator's.
     robot = macsim.Robot(participant)
-    start = wait_until(lambda: browser.view()["robotPose"], 20, "no robot pose on the page")
+    start = wait_until(lambda: page_view(browser)["robotPose"], 20, "no robot pose on the page")
     deadline = time.monotonic() + 20
     while time.monotonic() < deadline:
         robot.cmd_vel(0.3, 0.0)
-        pose = browser.view()["robotPose"]
+        pose = page_view(browser)["robotPose"]
         if np.hypot(pose[0] - start[0], pose[1] - start[1]) > 0.4:
             break
         time.sleep(0.1)
     robot.stop()
-    pose = browser.view()["robotPose"]
+    pose = page_view(browser)["robotPose"]
     assert np.hypot(pose[0] - start[0], pose[1] - start[1]) > 0.4, (start, pose)
 
     # Camera modes are buttons with the simulator's names.
     for mode in ("MouseOnly", "FixedFollow", "Follow", "Inside", "LeftCamera", "RightCamera"):
-        browser.run(f"document.querySelector('button[data-mode={mode}]').click();")
-        assert browser.view()["mode"] == mode
+        browser.execute_script(f"document.querySelector('button[data-mode={mode}]').click();")
+        assert page_view(browser)["mode"] == mode
 
 
 def test_bad_requests_get_errors_and_the_server_keeps_serving(served):
@@ -97,10 +101,10 @@ def test_bad_requests_get_errors_and_the_server_keeps_serving(served):
     with pytest.raises(urllib.error.HTTPError) as error:
         urllib.request.urlopen(url + "../../etc/passwd", timeout=10)
     assert error.value.code == 404
-    browser.open(url)
-    wait_until(lambda: browser.view() and browser.view()["connected"], 30, "no connection")
+    browser.get(url)
+    wait_until(lambda: page_view(browser) and page_view(browser)["connected"], 30, "no connection")
     # Malformed messages over a WebSocket of the browser's: each gets an error, in order.
-    replies = browser.call("POST", f"/session/{browser.session}/execute/async", {"args": [], "script": """
+    replies = browser.execute_async_script("""
         const done = arguments[arguments.length - 1];
         const socket = new WebSocket(`ws://${location.host}/ws`);
         const errors = [];
@@ -114,13 +118,14 @@ def test_bad_requests_get_errors_and_the_server_keeps_serving(served):
           socket.send('[1, 2]');
           socket.send(JSON.stringify({type: 'explode'}));
           socket.send(JSON.stringify({type: 'hello'}));
-        };"""})
+        };""")
     assert [r["type"] for r in replies] == ["error", "error", "error", "hello"]
     assert "not JSON" in replies[0]["message"] and "explode" in replies[2]["message"]
     # Browsers come and go; their connections are freed, the server still serves.
     for _ in range(3):
-        browser.open("about:blank")
-        browser.open(url)
-    wait_until(lambda: browser.view() and browser.view()["drawn"] > 0, 30, "the page after reloads")
+        browser.get("about:blank")
+        browser.get(url)
+    wait_until(lambda: page_view(browser) and page_view(browser)["drawn"] > 0, 30,
+               "the page after reloads")
     with urllib.request.urlopen(url, timeout=10) as page:
         assert b"macsim_web" in page.read()

@@ -17,6 +17,7 @@ import shutil
 import signal
 import socket
 import subprocess
+import sys
 import tempfile
 import time
 import uuid
@@ -32,6 +33,9 @@ MARKER = "MACSIM_SLURM_TEST_MARKER"
 # DDS traffic of tests stays on this machine.
 os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE", str(PROFILE))
 PR_SET_CHILD_SUBREAPER = 36
+# The Python helpers of tests, tools and benchmarks.
+sys.path.insert(0, str(SOURCE_DIR / "tools" / "python"))
+import child_process  # noqa: E402
 
 
 def lock_domains(count):
@@ -309,13 +313,8 @@ PartitionName=test Nodes={self.host} Default=YES MaxTime=INFINITE State=UP
             if process.poll() is None:
                 pid = int(pid_file.read_text()) if pid_file.exists() else process.pid
                 assert pid == process.pid, f"{pid_file} names {pid}, not {name} ({process.pid})"
-                os.kill(pid, signal.SIGTERM)
-                try:
-                    process.wait(timeout=20)
-                except subprocess.TimeoutExpired:
+                if not child_process.stop(process, signal.SIGTERM, timeout=20):
                     leftovers[process.pid] = f"{name} (ignored SIGTERM for 20 s)"
-                    process.kill()
-                    process.wait()
         deadline = time.monotonic() + 10
         while time.monotonic() < deadline and self.processes():
             self.reap()
