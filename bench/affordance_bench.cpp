@@ -19,8 +19,8 @@
 #include <thread>
 #include <vector>
 
-#include "macsim/client/child_program.h"
 #include "macsim/client/supervisor_client.h"
+#include "macsim/process/child_process.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 #include "supervisor_codec.h"
@@ -61,12 +61,12 @@ TrialRun run_trials(const std::string& affordance, int instances, int trials, in
                     const std::string& dir) {
   const std::string tag = affordance + "_k" + std::to_string(instances);
   const std::string log = dir + "/" + tag + ".log";
-  macsim::client::ChildProgram run(
-      {macsim::client::sibling_program("affordance_trials"), "--domain", std::to_string(domain),
+  macsim::process::ChildProcess run(
+      {macsim::process::sibling_program("affordance_trials"), "--domain", std::to_string(domain),
        "--instances", std::to_string(instances), "--affordance", affordance, "--trials",
        std::to_string(trials), "--out", dir + "/" + tag + ".csv", "--logs", dir, "--bench"},
-      log);
-  if (run.wait(std::chrono::hours(2)).value_or(-1) != 0) {
+      macsim::process::Output::file(log));
+  if (run.wait_for_exit(std::chrono::hours(2)).value_or(-1) != 0) {
     std::fprintf(stderr, "bench_affordances: %s failed, see %s\n", tag.c_str(), log.c_str());
     return {};
   }
@@ -142,13 +142,13 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
                                               static_cast<uint64_t>(trial % trials + 1));
     std::string error;
     auto object = macsim::codec::spec_of(affordances::trial_object(spec), error);
-    if (!object || !world.create_object(*object).ok()) {
+    if (!object || !world.edit().create_object(*object).ok()) {
       std::fprintf(stderr, "bench_affordances: trial %d's object: %s\n", trial, error.c_str());
       return 0;
     }
     if (affordance == Affordance::Stack) {
       auto carried = macsim::codec::spec_of(affordances::carried_object(spec.carried), error);
-      if (!carried || !world.create_object(*carried).ok()) {
+      if (!carried || !world.edit().create_object(*carried).ok()) {
         std::fprintf(stderr, "bench_affordances: trial %d's carried object: %s\n", trial,
                      error.c_str());
         return 0;
@@ -226,10 +226,10 @@ int main(int argc, char** argv) {
   std::printf("reset_in_process.affordance_trials %.1f us\n",
               reset_in_process("worlds/affordance_trials.xml"));
   {
-    macsim::client::ChildProgram sim(
-        {macsim::client::sibling_program("macsim"), "--world", "worlds/liftability.xml", "--domain",
-         std::to_string(domain), "--lockstep", "--cameras", "off"},
-        dir + "/macsim_reset.log");
+    macsim::process::ChildProcess sim(
+        {macsim::process::sibling_program("macsim"), "--world", "worlds/liftability.xml",
+         "--domain", std::to_string(domain), "--lockstep", "--cameras", "off"},
+        macsim::process::Output::file(dir + "/macsim_reset.log"));
     macsim::dds::Participant participant({domain, "", "bench_affordances"});
     macsim::client::SupervisorClient supervisor(participant);
     if (!supervisor.wait_for_server(std::chrono::seconds(30))) {

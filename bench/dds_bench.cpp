@@ -3,8 +3,6 @@
 // exchange through macsim: supervisor request/reply, lock-step Step(1), twist -> odometry, and
 // 640x480 stereo images. Prints `name value unit` lines.
 //   bench_dds [ROUND_TRIPS]   (from the repository root)
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,6 +28,7 @@
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/process/child_process.h"
 
 namespace {
 
@@ -89,23 +88,13 @@ double micros_since(Clock::time_point t0) {
   macsim::bench::publish_images(p, "bench/image");
 }
 
-pid_t spawn(const std::vector<std::string>& argv) {
-  std::fflush(stdout);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (!std::freopen("/dev/null", "w", stdout)) _exit(126);  // keep the figures readable
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execv(args[0], args.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-void stop(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
+/// A server process of the benchmark: its standard output discarded (keeps the figures
+/// readable), its errors on ours; stopped (SIGTERM) and reaped when the handle goes.
+std::unique_ptr<macsim::process::ChildProcess> spawn(std::vector<std::string> argv) {
+  macsim::process::Options options;
+  options.output = macsim::process::Output::discard();
+  options.merge_stderr = false;
+  return std::make_unique<macsim::process::ChildProcess>(std::move(argv), options);
 }
 
 /// One request/reply exchange measured against the others: its call and its round trips (us).
@@ -242,11 +231,11 @@ int main(int argc, char** argv) {
   //      publishing).
   std::vector<double> bare_twist;
   if (round_trips_wanted) {
-    const std::vector<pid_t> servers{
-        spawn({bin + "/bench_dds", "--pong", std::to_string(domain)}),
-        start_macsim(1, "worlds/small_room.xml", {}),
-        start_macsim(2, "bench/worlds/empty_floor.xml", {"--lockstep"}),
-        start_macsim(6, "worlds/small_room.xml", {"--lockstep"})};
+    std::vector<std::unique_ptr<macsim::process::ChildProcess>> servers;
+    servers.push_back(spawn({bin + "/bench_dds", "--pong", std::to_string(domain)}));
+    servers.push_back(start_macsim(1, "worlds/small_room.xml", {}));
+    servers.push_back(start_macsim(2, "bench/worlds/empty_floor.xml", {"--lockstep"}));
+    servers.push_back(start_macsim(6, "worlds/small_room.xml", {"--lockstep"}));
     macsim::dds::Participant bare_p({domain, "", "bench_ping"});
     macsim::client::RequestReply<mm::SupervisorRequest_PubSubType, mm::SupervisorReply_PubSubType>
         ping(bare_p, "bench/ping", "bench/pong", "bench");
@@ -273,7 +262,7 @@ int main(int argc, char** argv) {
     interleave(exchanges, n);
     // The twist baseline: the echo process answers a twist with an odometry message.
     bare_twist = twist_to_odometry(bare_p, "bench/cmd_vel", "bench/odom", std::max(100, n / 2));
-    for (const pid_t server : servers) stop(server);
+    for (const auto& server : servers) server->stop();
     const std::vector<double>& bare = exchanges[0].us;
     for (const Exchange& e : exchanges) {
       report(e.name, e.us);
@@ -284,11 +273,11 @@ int main(int argc, char** argv) {
     // 4. Twist -> macsim applies it at its next 1 ms step -> odometry of that step (encoder
     //    frames every step in this world) -> received. Goal: p99 <= bare p99 + one step.
     {
-      const pid_t macsim = start_macsim(3, "bench/worlds/kurt_1khz_encoders.xml", {"--realtime"});
+      const auto macsim = start_macsim(3, "bench/worlds/kurt_1khz_encoders.xml", {"--realtime"});
       macsim::dds::Participant p({domain + 3, "", "bench_twist"});
       const auto twist = twist_to_odometry(p, macsim::dds::topics::cmd_vel("kurt"),
                                            macsim::dds::topics::odom("kurt"), std::max(100, n / 2));
-      stop(macsim);
+      macsim->stop();
       report("twist_to_odometry", twist);
       std::printf("twist_to_odometry.p99_minus_bare_p99 %.1f us (goal <= one step, 1000 us)\n",
                   percentile(twist, 0.99) - percentile(bare_twist, 0.99));
@@ -299,7 +288,7 @@ int main(int argc, char** argv) {
 
   // 5. The images' bare baseline: DDS delivery alone, write to callback.
   {
-    const pid_t source = spawn({bin + "/bench_dds", "--images", std::to_string(domain + 5)});
+    const auto source = spawn({bin + "/bench_dds", "--images", std::to_string(domain + 5)});
     macsim::dds::Participant p({domain + 5, "", "bench_image_sink"});
     std::mutex mutex;
     std::vector<double> latency;
@@ -310,7 +299,7 @@ int main(int argc, char** argv) {
           latency.push_back((now - macsim::dds::to_seconds(image.header().stamp())) * 1e6);
         });
     std::this_thread::sleep_for(std::chrono::seconds(6));
-    stop(source);
+    source->stop();
     std::lock_guard<std::mutex> lock(mutex);
     std::printf("bare_images_640x480.received %zu of about %d\n", latency.size(), 30 * 6);
     if (latency.size() > 10) latency.erase(latency.begin(), latency.begin() + 10);
@@ -324,9 +313,10 @@ int main(int argc, char** argv) {
   //    latency = arrival - stamp - that offset (from the end of the step that was rendered,
   //    short by one small sample's transport, about 30-50 us).
   {
-    const pid_t macsim =
+    const auto macsim =
         spawn({bin + "/macsim", "--world", "worlds/DemoWorld_v1.xml", "--domain",
-               std::to_string(domain + 4), "--cameras", "640x480", "--camera-rate", "30"});
+               std::to_string(domain + 4), "--cameras", "640x480", "--camera-rate", "30",
+               "--quiet"});
     macsim::dds::Participant p({domain + 4, "", "bench_images"});
     std::mutex mutex;
     std::map<std::string, std::vector<std::pair<double, double>>> images;  // eye: wall s, stamp s
@@ -350,7 +340,7 @@ int main(int argc, char** argv) {
           odom_offset = std::min(odom_offset, now - macsim::dds::to_seconds(o.header().stamp()));
         });
     std::this_thread::sleep_for(std::chrono::seconds(8));
-    stop(macsim);
+    macsim->stop();
     std::lock_guard<std::mutex> lock(mutex);
     for (auto& [eye, arrivals] : images) {
       const std::string name = "images_640x480." + eye;

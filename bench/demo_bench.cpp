@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "macsim/client/child_program.h"
+#include "macsim/process/child_process.h"
 
 namespace {
 
@@ -61,13 +61,13 @@ int main(int argc, char** argv) {
     const std::string domain = std::to_string(150 + seed % 80);
     const std::string sim_log = logs + "/macsim_" + std::to_string(seed) + ".log";
     const std::string demo_log = logs + "/kurt_demo_" + std::to_string(seed) + ".log";
-    macsim::client::ChildProgram sim({bin + "/macsim", "--world", world, "--domain", domain,
-                                      "--lockstep", "--seed", std::to_string(seed)},
-                                     sim_log);
+    macsim::process::ChildProcess sim({bin + "/macsim", "--world", world, "--domain", domain,
+                                       "--lockstep", "--seed", std::to_string(seed)},
+                                      macsim::process::Output::file(sim_log));
     const auto start = std::chrono::steady_clock::now();
-    macsim::client::ChildProgram demo({bin + "/kurt_demo", "--domain", domain, "--lockstep"},
-                                      demo_log);
-    const auto ended = demo.wait(std::chrono::seconds(600));
+    macsim::process::ChildProcess demo({bin + "/kurt_demo", "--domain", domain, "--lockstep"},
+                                       macsim::process::Output::file(demo_log));
+    const auto ended = demo.wait_for_exit(std::chrono::seconds(600));
     const int code = ended ? *ended : demo.stop();  // stopped after 600 s
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "vehicle_layout.h"
 
 namespace macsim::bench {
@@ -140,7 +140,7 @@ std::string mjcf_from_spec(const WorldSpec& spec, const MujocoOptions& options) 
     x << "</body>\n";
   }
   for (const auto& robot : spec.robots) {
-    const KurtConfig* config = find_robot_type(robot.type);
+    const KurtConfig* config = find_kurt_type(robot.type);
     const VehicleLayout layout = vehicle_layout(config ? *config : KurtConfig{}, robot.pose);
     // The body tree: chassis (free) > wheels, turret > boom > magnet. Each child's joint
     // names the part it hangs from; nested bodies take poses relative to their parent.
@@ -210,7 +210,7 @@ MujocoWorld::MujocoWorld(const WorldSpec& spec, const MujocoOptions& options) {
       wheel_actuators_.push_back(mj_name2id(
           model_, mjOBJ_ACTUATOR, (robot + "_wheel" + std::to_string(i) + "_motor").c_str()));
     }
-    const KurtConfig* config = find_robot_type(spec.robots[0].type);
+    const KurtConfig* config = find_kurt_type(spec.robots[0].type);
     wheel_radius_ = (config ? *config : KurtConfig{}).drive.wheel_radius();
   }
 }

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 #include "mujoco_world.h"
@@ -33,7 +33,7 @@ class SimCoreEngine : public PeerEngine {
  public:
   explicit SimCoreEngine(const WorldSpec& spec) : world_(spec) {
     for (const auto& o : spec.objects) {
-      if (o.portable) ids_.push_back(*world_.find_object(o.name));
+      if (o.portable) ids_.push_back(*world_.objects().find_object(o.name));
     }
   }
   void step() override {
@@ -45,7 +45,7 @@ class SimCoreEngine : public PeerEngine {
   void drive(double speed) override { speed_ = speed; }
   std::vector<Eigen::Vector3d> object_positions() const override {
     std::vector<Eigen::Vector3d> out;
-    for (auto id : ids_) out.push_back(world_.object_state(id).value.pose.position);
+    for (auto id : ids_) out.push_back(world_.objects().object_state(id).value.pose.position);
     return out;
   }
   Pose robot_pose() const override {
@@ -54,8 +54,8 @@ class SimCoreEngine : public PeerEngine {
   double kinetic_energy() const override {
     double e = 0.0;
     for (auto id : ids_) {
-      e += 0.5 * world_.object_mass(id).value *
-           world_.object_state(id).value.linear_velocity.squaredNorm();
+      e += 0.5 * world_.objects().object_mass(id).value *
+           world_.objects().object_state(id).value.linear_velocity.squaredNorm();
     }
     return e;
   }
@@ -185,10 +185,10 @@ void print_fidelity(const Scene& scene, Engine e, const Outcome& o) {
 /// The scenes by name, each built when it runs (the demo room reads worlds/ from the cwd).
 std::vector<std::pair<std::string, std::function<Scene()>>> scenes() {
   // The robot: the KURT3D without sensors (physics only, in every engine).
-  macsim::KurtConfig bare = *macsim::find_robot_type("kurt3d");
+  macsim::KurtConfig bare = *macsim::find_kurt_type("kurt3d");
   bare.range_sensors = false;
   bare.laser = macsim::LaserMount::None;
-  macsim::register_robot_type("bench_peers_kurt", bare);
+  macsim::register_kurt_type("bench_peers_kurt", bare);
   std::vector<std::pair<std::string, std::function<Scene()>>> out;
   // The vehicle driving straight on an empty floor.
   out.emplace_back("vehicle", [] {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "vehicle_layout.h"
 
 namespace macsim::bench {
@@ -201,7 +201,7 @@ void RawOdeWorld::add_joint(const JointSpec& j) {
 }
 
 void RawOdeWorld::add_robot(const RobotSpec& robot) {
-  const KurtConfig* config = find_robot_type(robot.type);
+  const KurtConfig* config = find_kurt_type(robot.type);
   const VehicleLayout layout = vehicle_layout(config ? *config : KurtConfig{}, robot.pose);
   wheel_radius_ = layout.wheel_radius;
   std::vector<dBodyID> bodies;

@@ -12,7 +12,7 @@
 
 #include "bench_world_arg.h"
 #include "macsim/render/camera_rig.h"
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 
@@ -37,11 +37,11 @@ struct Setup {
 
 /// The world with its robots of a robot type made for `setup` (sensors on or off).
 macsim::WorldSpec spec_for(const macsim::WorldSpec& base, const Setup& setup) {
-  macsim::KurtConfig config = *macsim::find_robot_type("kurt3d");
+  macsim::KurtConfig config = *macsim::find_kurt_type("kurt3d");
   config.range_sensors = setup.ranges;
   config.laser = setup.laser ? macsim::LaserMount::Rotating : macsim::LaserMount::None;
   config.rotunit_speed = M_PI / 6;
-  macsim::register_robot_type("bench_" + setup.name, config);
+  macsim::register_kurt_type("bench_" + setup.name, config);
   macsim::WorldSpec spec = base;
   for (auto& robot : spec.robots) robot.type = "bench_" + setup.name;
   return spec;

@@ -1,4 +1,6 @@
 // macsim: loads a world, steps it and serves it over Fast DDS.
+#include <fmt/ranges.h>
+
 #include <atomic>
 #include <charconv>
 #include <chrono>
@@ -14,6 +16,7 @@
 
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/data_files.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/shared_memory.h"
 #include "macsim/dds/topics.h"
 #include "macsim/dds/wire.h"
@@ -39,7 +42,8 @@ std::atomic<bool> g_stop{false};
 
 void on_signal(int) { g_stop.store(true); }
 
-void print_summary(const macsim::WorldSpec& spec) {
+/// One line on what the world holds.
+std::string world_summary(const macsim::WorldSpec& spec) {
   std::map<std::string, int> kinds;
   int portable = 0;
   for (const auto& o : spec.objects) {
@@ -48,34 +52,31 @@ void print_summary(const macsim::WorldSpec& spec) {
                                   "switch platforms", "door frames", "door leaves"};
     ++kinds[names[static_cast<int>(o.kind)]];
   }
-  std::cout << "world '" << spec.name << "' from " << spec.file << ": " << spec.objects.size()
-            << " objects (" << portable << " portable, " << spec.objects.size() - portable
-            << " fixed; ";
-  bool first = true;
-  for (const auto& [kind, count] : kinds) {
-    std::cout << (first ? "" : ", ") << count << " " << kind;
-    first = false;
-  }
-  std::cout << "), " << spec.doors.size() << " doors, " << spec.robots.size() << " robots";
-  for (const auto& r : spec.robots) std::cout << " [" << r.name << ": " << r.type << "]";
-  std::cout << ", step " << spec.physics.step * 1e3 << " ms" << std::endl;
+  std::vector<std::string> counts, robots;
+  for (const auto& [kind, count] : kinds) counts.push_back(fmt::format("{} {}", count, kind));
+  for (const auto& r : spec.robots) robots.push_back(fmt::format(" [{}: {}]", r.name, r.type));
+  return fmt::format(
+      "world '{}' from {}: {} objects ({} portable, {} fixed; {}), {} doors, {} robots{}, step {:g} "
+      "ms",
+      spec.name, spec.file, spec.objects.size(), portable, spec.objects.size() - portable,
+      fmt::join(counts, ", "), spec.doors.size(), spec.robots.size(), fmt::join(robots, ""),
+      spec.physics.step * 1e3);
 }
 
 void print_status(const macsim::World& world) {
   for (const auto& robot : world.robots()) {
     const macsim::Pose p = robot->base_footprint_pose();
     const Eigen::Vector3d heading = p.orientation * Eigen::Vector3d::UnitX();
-    std::printf("macsim: t=%7.2f s  %s at x=%.3f y=%.3f yaw=%.1f deg, speed %.2f m/s\n",
-                world.time(), robot->name().c_str(), p.position.x(), p.position.y(),
-                std::atan2(heading.y(), heading.x()) * 180.0 / M_PI,
-                robot->linear_velocity().norm());
+    macsim::log::info("macsim: t={:7.2f} s  {} at x={:.3f} y={:.3f} yaw={:.1f} deg, speed {:.2f} m/s",
+                      world.time(), robot->name(), p.position.x(), p.position.y(),
+                      std::atan2(heading.y(), heading.x()) * 180.0 / M_PI,
+                      robot->linear_velocity().norm());
   }
-  std::fflush(stdout);
 }
 
 /// --snapshot: settle, render each requested camera mode offscreen, write the PNGs.
 int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requests, double settle,
-                    const std::string& size) {
+                    const macsim::render::CameraIntrinsics& intrinsics) {
   namespace render = macsim::render;
   std::vector<std::pair<render::CameraMode, std::string>> jobs;
   for (const auto& request : requests) {
@@ -84,23 +85,16 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
                           ? std::nullopt
                           : render::camera_mode_from_name(request.substr(0, colon));
     if (!mode || colon + 1 >= request.size()) {
-      std::cerr
-          << "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, "
-             "MouseKeyboard, FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual, Chase; "
-             "got '"
-          << request << "'\n";
+      macsim::log::error(
+          "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, MouseKeyboard, "
+          "FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual, Chase; got '{}'",
+          request);
       return 2;
     }
     jobs.emplace_back(*mode, request.substr(colon + 1));
   }
-  render::CameraIntrinsics intrinsics;
-  if (std::sscanf(size.c_str(), "%dx%d", &intrinsics.width, &intrinsics.height) != 2 ||
-      intrinsics.width <= 0 || intrinsics.height <= 0) {
-    std::cerr << "macsim: --snapshot-size takes WxH, e.g. 640x480; got '" << size << "'\n";
-    return 2;
-  }
   if (settle < 0) {
-    std::cerr << "macsim: --settle must not be negative\n";
+    macsim::log::error("macsim: --settle must not be negative");
     return 2;
   }
   const auto steps = static_cast<long>(std::llround(settle / runner.world().step_size()));
@@ -111,15 +105,14 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
     for (const auto& [mode, file] : jobs) {
       const cv::Mat image = renderer.render(scene, render::camera_pose(mode, scene), intrinsics);
       if (!cv::imwrite(file, image)) {
-        std::cerr << "macsim: cannot write '" << file << "'\n";
+        macsim::log::error("macsim: cannot write '{}'", file);
         return 1;
       }
-      std::cout << "macsim: wrote " << render::camera_mode_name(mode) << " view to " << file << " ("
-                << intrinsics.width << "x" << intrinsics.height << ", " << renderer.gl_renderer()
-                << ")" << std::endl;
+      macsim::log::info("macsim: wrote {} view to {} ({}x{}, {})", render::camera_mode_name(mode),
+                        file, intrinsics.width, intrinsics.height, renderer.gl_renderer());
     }
   } catch (const render::RenderError& e) {
-    std::cerr << "macsim: cannot render offscreen: " << e.what() << std::endl;
+    macsim::log::error("macsim: cannot render offscreen: {}", e.what());
     return 1;
   }
   return 0;
@@ -140,7 +133,7 @@ struct Options {
   double status_period = 0.0;
   std::vector<std::string> snapshots;
   double settle = 1.0;
-  std::string snapshot_size = "640x480";
+  macsim::render::CameraIntrinsics snapshot_size{640, 480};
   std::string pictures;
   int seed = -1;
   std::string cameras = "320x240";
@@ -198,8 +191,9 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
       &o.snapshots);
   cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
              &o.settle);
-  cli.option("snapshot-size", "WxH", "image size of --snapshot and --pictures (default 640x480)",
-             &o.snapshot_size);
+  cli.size_option("snapshot-size", "WxH",
+                  "image size of --snapshot and --pictures (default 640x480)",
+                  &o.snapshot_size.width, &o.snapshot_size.height);
   cli.option("pictures", "DIR",
              "serve overview pictures: a PictureRequest renders a camera mode offscreen to "
              "DIR/<name>.png (default: off)",
@@ -277,24 +271,24 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.replay);
   if (auto code = cli.parse(argc, argv)) return code;
   if (o.session_hash_every < 1) {
-    std::cerr << "macsim: --session-hash-every must be at least 1\n";
+    macsim::log::error("macsim: --session-hash-every must be at least 1");
     return 2;
   }
   if (!o.replay.empty()) {
     try {
       o.session = macsim::read_session(o.replay);
     } catch (const macsim::SessionFileError& e) {
-      std::cerr << "macsim: --replay: " << e.what() << "\n";
+      macsim::log::error("macsim: --replay: {}", e.what());
       return 2;
     }
     const auto& header = o.session->header;
     if (!o.world_file.empty() && o.world_file != header.world_file) {
-      std::cerr << "macsim: replaying on --world " << o.world_file << ", not the session's "
-                << header.world_file << "\n";
+      macsim::log::warn("macsim: replaying on --world {}, not the session's {}", o.world_file,
+                        header.world_file);
     }
     if (o.seed != -1 && o.seed != header.seed) {
-      std::cerr << "macsim: replaying with --seed " << o.seed << ", not the session's "
-                << header.seed << "\n";
+      macsim::log::warn("macsim: replaying with --seed {}, not the session's {}", o.seed,
+                        header.seed);
     }
     if (o.world_file.empty()) o.world_file = header.world_file;
     if (o.seed == -1) o.seed = static_cast<int>(header.seed);
@@ -305,21 +299,23 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), bytes);
     if (error != std::errc() || end != text.data() + text.size() || o.max_snapshots < 1 ||
         o.max_pictures < 1) {
-      std::cerr << "macsim: --max-snapshots and --max-pictures must be at least 1, "
-                   "--max-snapshot-bytes a count of bytes; got '"
-                << text << "'\n";
+      macsim::log::error(
+          "macsim: --max-snapshots and --max-pictures must be at least 1, --max-snapshot-bytes "
+          "a count of bytes; got '{}'",
+          text);
       return 2;
     }
     o.snapshot_limits = {std::size_t(o.max_snapshots), std::size_t(bytes)};
   }
   if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1 ||
       o.max_queued_commands < 1) {
-    std::cerr << "macsim: --max-objects, --max-import-depth, --max-imported-files and "
-                 "--max-queued-commands must be at least 1\n";
+    macsim::log::error(
+        "macsim: --max-objects, --max-import-depth, --max-imported-files and "
+        "--max-queued-commands must be at least 1");
     return 2;
   }
   if (o.world_file.empty()) {
-    std::cerr << "macsim: --world FILE is required (see --help)\n";
+    macsim::log::error("macsim: --world FILE is required (see --help)");
     return 2;
   }
   if (const auto installed = macsim::dds::data_file("worlds/" + o.world_file);
@@ -328,13 +324,13 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     o.world_file = installed;
   }
   if (o.seed < -1) {
-    std::cerr << "macsim: --seed must be 0 or more, got " << o.seed << "\n";
+    macsim::log::error("macsim: --seed must be 0 or more, got {}", o.seed);
     return 2;
   }
   if (!(o.rtf >= macsim::kMinRealTimeFactor) || !std::isfinite(o.rtf) || !(o.duration >= 0.0) ||
       !(o.status_period >= 0.0)) {
-    std::cerr << "macsim: --rtf must be at least " << macsim::kMinRealTimeFactor
-              << ", --duration and --status not negative\n";
+    macsim::log::error("macsim: --rtf must be at least {}, --duration and --status not negative",
+                       macsim::kMinRealTimeFactor);
     return 2;
   }
   if (o.realtime) o.rtf = 1.0;
@@ -363,7 +359,7 @@ int serve(macsim::Runner& runner, const Options& o) {
   if (o.viewer) {
     auto mode = macsim::render::camera_mode_from_name(o.camera_mode);
     if (!mode) {
-      std::cerr << "macsim: unknown --camera-mode '" << o.camera_mode << "'\n";
+      macsim::log::error("macsim: unknown --camera-mode '{}'", o.camera_mode);
       return 2;
     }
     viewer_options.mode = *mode;
@@ -372,8 +368,8 @@ int serve(macsim::Runner& runner, const Options& o) {
 
   // What killed participants (an earlier macsim among them) left in shared memory goes first.
   if (const auto stale = macsim::dds::clean_stale_shared_memory(); !stale.removed.empty()) {
-    std::cout << "macsim: removed " << stale.removed.size()
-              << " stale Fast DDS shared-memory files of killed participants" << std::endl;
+    macsim::log::info("macsim: removed {} stale Fast DDS shared-memory files of killed participants",
+                      stale.removed.size());
   }
   try {
     macsim::dds::Participant dds(o.participant);
@@ -383,13 +379,13 @@ int serve(macsim::Runner& runner, const Options& o) {
     bridge_options.robot_frames = o.robot_frames;
     bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
     if (bridge_options.cameras &&
-        (std::sscanf(o.cameras.c_str(), "%dx%d", &bridge_options.camera.width,
-                     &bridge_options.camera.height) != 2 ||
-         bridge_options.camera.width <= 0 || bridge_options.camera.height <= 0 ||
-         o.camera_rate <= 0)) {
-      std::cerr << "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive "
-                   "rate; got '"
-                << o.cameras << "'\n";
+        (!macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
+                                        &bridge_options.camera.height) ||
+         !(o.camera_rate > 0))) {
+      macsim::log::error(
+          "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive rate; "
+          "got '{}'",
+          o.cameras);
       return 2;
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
@@ -398,59 +394,51 @@ int serve(macsim::Runner& runner, const Options& o) {
       return bridge.latest_readings(robot);
     });
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
-    macsim::render::CameraIntrinsics picture_size;
     if (!o.pictures.empty()) {
       std::error_code error;
       std::filesystem::create_directories(o.pictures, error);
-      if (error ||
-          std::sscanf(o.snapshot_size.c_str(), "%dx%d", &picture_size.width,
-                      &picture_size.height) != 2 ||
-          picture_size.width <= 0 || picture_size.height <= 0) {
-        std::cerr << "macsim: --pictures needs a folder it can create ('" << o.pictures
-                  << "') and --snapshot-size WxH ('" << o.snapshot_size << "')\n";
+      if (error) {
+        macsim::log::error("macsim: --pictures needs a folder it can create ('{}'): {}",
+                           o.pictures, error.message());
         return 2;
       }
     }
-    macsim::PictureServer pictures(dds, runner, o.pictures, picture_size,
+    macsim::PictureServer pictures(dds, runner, o.pictures, o.snapshot_size,
                                    std::size_t(o.max_pictures));
-    std::cout << "macsim: serving on DDS domain " << o.participant.domain << ":\n";
-    for (const auto& topic : bridge.topic_names()) std::cout << "  " << topic << "\n";
-    for (const auto& topic : macsim::SupervisorServer::topic_names())
-      std::cout << "  " << topic << "\n";
-    std::cout << "  " << macsim::dds::topics::kSimulationRequest
-              << " (macsim_msgs/SimulationRequest, in)\n  " << macsim::dds::topics::kSimulationReply
-              << " (macsim_msgs/SimulationReply, out)\n  " << macsim::dds::topics::kPictureRequest
-              << " (macsim_msgs/PictureRequest, in)\n  " << macsim::dds::topics::kPictureReply
-              << " (macsim_msgs/PictureReply, out)" << (o.pictures.empty() ? ": pictures off" : "")
-              << "\n";
+    std::vector<std::string> served = bridge.topic_names();
+    for (const auto& topic : macsim::SupervisorServer::topic_names()) served.push_back(topic);
+    namespace topics = macsim::dds::topics;
+    served.push_back(topics::kSimulationRequest + " (macsim_msgs/SimulationRequest, in)");
+    served.push_back(topics::kSimulationReply + " (macsim_msgs/SimulationReply, out)");
+    served.push_back(topics::kPictureRequest + " (macsim_msgs/PictureRequest, in)");
+    served.push_back(topics::kPictureReply + " (macsim_msgs/PictureReply, out)" +
+                     (o.pictures.empty() ? ": pictures off" : ""));
     for (const auto& service : macsim::SimInterfacesServer::service_names())
-      std::cout << "  " << service << "\n";
-    std::cout << "macsim: requests may name files under:";
-    for (const auto& folder : runner.data_roots().folders()) std::cout << " " << folder.string();
-    std::cout << "\n";
+      served.push_back(service);
+    macsim::log::info("macsim: serving on DDS domain {}:\n  {}", o.participant.domain,
+                      fmt::join(served, "\n  "));
+    std::vector<std::string> folders;
+    for (const auto& folder : runner.data_roots().folders()) folders.push_back(folder.string());
+    macsim::log::info("macsim: requests may name files under: {}", fmt::join(folders, " "));
     for (const auto& folder : runner.data_roots().folders()) {
       // Anyone who may write there may link anything of this user's into it for a request.
       std::error_code error;
       const auto permissions = std::filesystem::status(folder, error).permissions();
       if (!error &&
           (permissions & std::filesystem::perms::others_write) != std::filesystem::perms::none) {
-        std::cerr << "macsim: warning: the data root " << folder.string()
-                  << " is writable by every user of this host, who can place links there for "
-                     "requests to read through; keep worlds in a folder of your own\n";
+        macsim::log::warn(
+            "macsim: warning: the data root {} is writable by every user of this host, who can "
+            "place links there for requests to read through; keep worlds in a folder of your own",
+            folder.string());
       }
     }
-    if (o.lockstep) {
-      std::printf("macsim: stepping on request only (lock-step: SIM_STEP requests)");
-    } else if (o.paused) {
-      std::printf("macsim: stepping paused until a SIM_RUN request");
-    } else if (o.as_fast_as_possible) {
-      std::printf("macsim: stepping as fast as possible");
-    } else {
-      std::printf("macsim: stepping at real-time factor %g", o.rtf);
-    }
-    if (o.duration > 0) std::printf(", for %g s of sim time", o.duration);
-    std::printf("\n");
-    std::fflush(stdout);
+    const std::string pace =
+        o.lockstep ? "on request only (lock-step: SIM_STEP requests)"
+        : o.paused ? "paused until a SIM_RUN request"
+        : o.as_fast_as_possible ? "as fast as possible"
+                                : fmt::format("at real-time factor {:g}", o.rtf);
+    macsim::log::info("macsim: stepping {}{}", pace,
+                      o.duration > 0 ? fmt::format(", for {:g} s of sim time", o.duration) : "");
 
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
@@ -509,29 +497,28 @@ int serve(macsim::Runner& runner, const Options& o) {
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     const auto& world = runner.world();
-    std::printf(
-        "macsim: stopped at sim time %.3f s after %llu steps in %.3f s wall: %.0f steps/s, "
-        "real-time factor %.2f\n",
-        world.time(), static_cast<unsigned long long>(world.steps()), wall, world.steps() / wall,
-        world.time() / wall);
+    macsim::log::info(
+        "macsim: stopped at sim time {:.3f} s after {} steps in {:.3f} s wall: {:.0f} steps/s, "
+        "real-time factor {:.2f}",
+        world.time(), world.steps(), wall, world.steps() / wall, world.time() / wall);
     // A frame still being rendered is counted once it is done, not whenever the summary comes.
     bridge.wait_for_cameras();
-    std::printf("%s", bridge.camera_summary().c_str());
-    std::printf("%s", bridge.command_summary().c_str());
-    std::printf("macsim: commands run:");
+    for (const std::string& summary : {bridge.camera_summary(), bridge.command_summary()}) {
+      if (!summary.empty()) macsim::log::info("{}", summary.substr(0, summary.find_last_not_of('\n') + 1));
+    }
+    std::string counts;
     for (auto source : {macsim::CommandSource::Supervisor, macsim::CommandSource::Simulation,
                         macsim::CommandSource::Ros2Service, macsim::CommandSource::Pictures,
                         macsim::CommandSource::Robot}) {
-      std::printf(" %s %llu", std::string(macsim::to_string(source)).c_str(),
-                  static_cast<unsigned long long>(runner.commands_run(source)));
+      counts += fmt::format(" {} {}", macsim::to_string(source), runner.commands_run(source));
     }
-    std::printf("\n");
+    macsim::log::info("macsim: commands run:{}", counts);
     if (!o.record_session.empty()) {
       runner.record(nullptr);  // its closing line
-      std::printf("macsim: session recorded to %s\n", o.record_session.c_str());
+      macsim::log::info("macsim: session recorded to {}", o.record_session);
     }
   } catch (const macsim::dds::DdsError& e) {
-    std::cerr << "macsim: DDS error: " << e.what() << std::endl;
+    macsim::log::error("macsim: DDS error: {}", e.what());
     return 3;
   }
   return 0;
@@ -562,14 +549,18 @@ int main(int argc, char** argv) {
   std::unique_ptr<macsim::Runner> runner;
   try {
     macsim::LoadOptions load;
-    load.warn = [](const std::string& warning) { std::cerr << warning << "\n"; };
+    load.warn = [](const std::string& warning) { macsim::log::warn("{}", warning); };
     load.limits = o.limits();
     auto spec = macsim::load_world_file(o.world_file, load);
-    print_summary(spec);
+    // What --validate asks for goes to standard output; otherwise it is a diagnostic.
+    if (o.validate) {
+      std::cout << world_summary(spec) << std::endl;
+    } else {
+      macsim::log::info("{}", world_summary(spec));
+    }
     if (o.seed >= 0) {
       const auto moved = macsim::vary_world(spec, static_cast<uint32_t>(o.seed));
-      std::cout << "macsim: layout of seed " << o.seed << ":\n";
-      for (const auto& line : moved) std::cout << "  " << line << "\n";
+      macsim::log::info("macsim: layout of seed {}:\n  {}", o.seed, fmt::join(moved, "\n  "));
     }
     macsim::RunSettings settings;
     settings.paused = o.paused || o.lockstep;
@@ -586,19 +577,21 @@ int main(int argc, char** argv) {
                 << std::endl;
     }
   } catch (const macsim::WorldFileError& e) {
-    std::cerr << "macsim: " << e.what() << std::endl;
+    macsim::log::error("macsim: {}", e.what());
     return 1;
   }
   try {
     runner->set_data_roots(data_roots(o));
   } catch (const std::invalid_argument& e) {
-    std::cerr << "macsim: --data-path: " << e.what() << std::endl;
+    macsim::log::error("macsim: --data-path: {}", e.what());
     return 2;
   }
   runner->snapshots().set_limits(o.snapshot_limits);
   runner->set_max_objects(std::size_t(o.max_objects));
   if (o.validate) return 0;
-  if (!o.snapshots.empty()) return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
+  if (!o.snapshots.empty()) {
+    return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
+  }
   if (o.session) return replay(*runner, o);
   if (!o.record_session.empty()) {
     try {
@@ -606,7 +599,7 @@ int main(int argc, char** argv) {
           o.record_session,
           macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every)}));
     } catch (const macsim::SessionFileError& e) {
-      std::cerr << "macsim: --record-session: " << e.what() << std::endl;
+      macsim::log::error("macsim: --record-session: {}", e.what());
       return 2;
     }
   }

@@ -9,6 +9,7 @@
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/kurt_messages.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/topics.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
@@ -17,7 +18,7 @@
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "macsim/render/camera_rig.h"
 #include "macsim/robot/robot_node.h"
-#include "simulated_kurt.h"
+#include "simulated_robot.h"
 
 namespace macsim {
 
@@ -32,10 +33,10 @@ struct SimBridge::RobotTopics {
   RobotTopics(dds::Participant& p, Runner& runner, const std::string& robot_name,
               const robot::NodeOptions& node_options)
       : name(robot_name),
-        kurt(runner, robot_name),
+        simulated(runner, robot_name),
         // Commands run on the simulation thread, between steps, on the current world's robot.
         node(
-            p, kurt,
+            p, simulated,
             [&runner, this](robot::RobotCommand command) {
               // A value the runner runs on the world's robot (and a session records).
               if (runner.push(robot_command(name, std::move(command.operation),
@@ -43,16 +44,15 @@ struct SimBridge::RobotTopics {
                 return;
               }
               if (commands_dropped.fetch_add(1) == 0) {  // said once; counted in the summary
-                std::cerr << "macsim: " << name
-                          << "'s commands are being dropped: " << runner.queue_full_message()
-                          << std::endl;
+                log::warn("macsim: {}'s commands are being dropped: {}", name,
+                          runner.queue_full_message());
               }
             },
             node_options) {}
 
   std::string name;
   std::atomic<uint64_t> commands_dropped{0};  // the runner's queue was full (before node)
-  SimulatedKurt kurt;
+  SimulatedRobot simulated;
   robot::RobotNode node;
   uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
   uint64_t stereo_waited = 0;   // camera instants the simulation waited for a busy renderer
@@ -106,7 +106,7 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     const std::string frames = options_.robot_frames ? name + "/" : "";
     auto topics = std::make_unique<RobotTopics>(
         participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped});
-    const auto& stereo = robot->config().cameras;  // a robot type without cameras has none
+    const auto stereo = robot->cameras();  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
       t->left_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(

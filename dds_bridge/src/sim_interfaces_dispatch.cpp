@@ -33,14 +33,14 @@ constexpr std::size_t kMaxFilterLength = 512;
 struct Entity {
   std::string name;
   std::optional<ObjectId> object;
-  const KurtRobot* robot = nullptr;
+  const RobotModel* robot = nullptr;
 };
 
 std::vector<Entity> entities(const World& world) {
   std::vector<Entity> all;
   for (const auto& robot : world.robots())
     all.push_back({robot->name(), std::nullopt, robot.get()});
-  for (ObjectId id : world.object_ids()) all.push_back({world.object(id)->name, id, nullptr});
+  for (ObjectId id : world.objects().object_ids()) all.push_back({world.objects().object(id)->name, id, nullptr});
   return all;
 }
 
@@ -48,7 +48,7 @@ std::optional<Entity> find_entity(const World& world, const std::string& name) {
   for (const auto& robot : world.robots()) {
     if (robot->name() == name) return Entity{name, std::nullopt, robot.get()};
   }
-  if (auto id = world.find_object(name)) return Entity{name, *id, nullptr};
+  if (auto id = world.objects().find_object(name)) return Entity{name, *id, nullptr};
   return std::nullopt;
 }
 
@@ -66,12 +66,12 @@ std::optional<Entity> named(const World& world, const std::string& name, Respons
 
 Pose pose_of(const World& world, const Entity& e) {
   if (e.robot) return e.robot->base_link_pose();
-  return world.object_state(*e.object).value.pose;
+  return world.objects().object_state(*e.object).value.pose;
 }
 
 uint8_t category_of(const World& world, const Entity& e) {
   if (e.robot) return cat::CATEGORY_ROBOT;
-  return world.object(*e.object)->portable ? cat::CATEGORY_OBJECT : cat::CATEGORY_STATIC_OBJECT;
+  return world.objects().object(*e.object)->portable ? cat::CATEGORY_OBJECT : cat::CATEGORY_STATIC_OBJECT;
 }
 
 const char* kind_name(ObjectKind kind) {
@@ -97,7 +97,7 @@ const char* kind_name(ObjectKind kind) {
 /// Tags: the kind, portable or fixed, magnetizable, the user data (objects); robot and type.
 std::vector<std::string> tags_of(const World& world, const Entity& e) {
   if (e.robot) return {"robot", e.robot->spec().type};
-  const ObjectSpec& o = *world.object(*e.object);
+  const ObjectSpec& o = *world.objects().object(*e.object);
   std::vector<std::string> tags{kind_name(o.kind), o.portable ? "portable" : "fixed"};
   if (o.magnetizable) tags.push_back("magnetizable");
   if (!o.user_data.empty()) tags.push_back(o.user_data);
@@ -131,7 +131,7 @@ Eigen::AlignedBox3d component_box(const ComponentSpec& c) {
 Eigen::AlignedBox3d local_box(const World& world, const Entity& e) {
   if (e.robot) return {Eigen::Vector3d(-0.3, -0.25, -0.1), Eigen::Vector3d(0.3, 0.25, 0.45)};
   Eigen::AlignedBox3d box;
-  for (const auto& c : world.object(*e.object)->components) box.extend(component_box(c));
+  for (const auto& c : world.objects().object(*e.object)->components) box.extend(component_box(c));
   return box;
 }
 
@@ -176,7 +176,7 @@ si::EntityState_ state_of(const World& world, const Entity& e) {
     linear = e.robot->linear_velocity();
     angular = e.robot->angular_velocity();
   } else {
-    const ObjectState o = world.object_state(*e.object).value;
+    const ObjectState o = world.objects().object_state(*e.object).value;
     linear = o.linear_velocity;
     angular = o.angular_velocity;
   }
@@ -456,12 +456,12 @@ ss::SetEntityState_Response_ set_entity_state(const ss::SetEntityState_Request_&
   }
   // A body that takes no velocity (fixed, frozen, a door's part) takes a zero twist only.
   const ObjectId id = *e->object;
-  const Status free = world.free_body(id, "twist");
+  const Status free = world.objects().free_body(id, "twist");
   if (!free.ok() && (linear.norm() > 0 || angular.norm() > 0)) {
     r.result(result(rc::RESULT_OPERATION_FAILED, free.message));
     return r;
   }
-  const Status moved = world.set_pose(id, target, PenetrationPolicy::Refuse);
+  const Status moved = world.edit().set_pose(id, target, PenetrationPolicy::Refuse);
   if (!moved.ok()) {  // penetrating, or a door's part (moved with its door)
     r.result(result(
         moved.code == ErrorCode::InvalidArgument ? kInvalidPose : rc::RESULT_OPERATION_FAILED,
@@ -469,8 +469,8 @@ ss::SetEntityState_Response_ set_entity_state(const ss::SetEntityState_Request_&
     return r;
   }
   if (free.ok()) {  // checked above: these cannot fail
-    world.set_linear_velocity(id, linear);
-    world.set_angular_velocity(id, angular);
+    world.edit().set_linear_velocity(id, linear);
+    world.edit().set_angular_velocity(id, angular);
   }
   r.result(result(rc::RESULT_OK));
   return r;
@@ -486,7 +486,7 @@ ss::GetEntityInfo_Response_ get_entity_info(const ss::GetEntityInfo_Request_& q,
   if (e->robot) {
     r.info().description("robot of type " + e->robot->spec().type);
   } else {
-    const ObjectSpec& o = *world.object(*e->object);
+    const ObjectSpec& o = *world.objects().object(*e->object);
     char mass[64];
     std::snprintf(mass, sizeof mass, "%.4g kg", o.mass());
     r.info().description(std::string(o.portable ? "portable " : "fixed ") + kind_name(o.kind) +
@@ -568,7 +568,7 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
   const bool single =
       environment.objects.size() == 1 && environment.joints.empty() && environment.doors.empty();
   if (single) environment.objects.front().name = name;  // one object: the entity itself
-  const auto added = world.add_environment(std::move(environment), pose);
+  const auto added = world.edit().add_environment(std::move(environment), pose);
   if (!added.ok()) {
     return fail(added.status.code == ErrorCode::LimitReached ? rc::RESULT_OPERATION_FAILED
                                                              : sc::INVALID_POSE,
@@ -622,7 +622,7 @@ ss::DeleteEntity_Response_ delete_entity(const ss::DeleteEntity_Request_& q, Wor
     r.result(result(rc::RESULT_NOT_FOUND, not_found(q.entity())));
     return r;
   }
-  for (ObjectId id : doomed) world.destroy_object(id);  // a door's parts may be gone already
+  for (ObjectId id : doomed) world.edit().destroy_object(id);  // a door's parts may be gone already
   r.result(result(rc::RESULT_OK));
   return r;
 }
@@ -650,9 +650,9 @@ ss::GetCurrentWorld_Response_ get_current_world(const World& world) {
     std::error_code error;
     r.world().world_resource().uri("file://" + fs::absolute(world.spec().file, error).string());
   }
-  r.world().description(std::to_string(world.object_count()) + " objects, " +
+  r.world().description(std::to_string(world.objects().object_count()) + " objects, " +
                         std::to_string(world.robots().size()) + " robot(s), " +
-                        std::to_string(world.door_count()) + " door(s)");
+                        std::to_string(world.doors().door_count()) + " door(s)");
   r.result(result(rc::RESULT_OK));
   return r;
 }

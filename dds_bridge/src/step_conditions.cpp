@@ -33,7 +33,7 @@ std::variant<StepConditions, std::string> StepConditions::compile(
       return field + ".reading " + std::to_string(c.reading()) + " is no STEP_READ_* value";
     if (robot_reading(c.reading()) && (!readings || !readings(c.robot())))
       return field + ".robot: no robot '" + c.robot() + "' here";
-    if (object_reading(c.reading()) && !world.object_state(c.object_id()).ok())
+    if (object_reading(c.reading()) && !world.objects().object_state(c.object_id()).ok())
       return field + ".object_id: no object " + std::to_string(c.object_id());
     return "";
   };
@@ -86,7 +86,7 @@ std::variant<StepConditions, std::string> StepConditions::compile(
 double StepConditions::read(const Reading& r, const World& world) const {
   if (r.what == mm::STEP_READ_SIM_TIME) return world.time();
   if (object_reading(r.what)) {
-    const auto state = world.object_state(r.object);
+    const auto state = world.objects().object_state(r.object);
     if (!state.ok()) return kNone;  // gone meanwhile
     const auto& p = state.value.pose.position;
     switch (r.what) {

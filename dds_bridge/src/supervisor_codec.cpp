@@ -49,9 +49,9 @@ Pose pose_of(const gm::Pose_& m) {
 
 mm::Object_ object_message(const World& world, ObjectId id) {
   mm::Object_ o;
-  const ObjectSpec* spec = world.object(id);
+  const ObjectSpec* spec = world.objects().object(id);
   if (!spec) return o;
-  const ObjectState state = world.object_state(id).value;
+  const ObjectState state = world.objects().object_state(id).value;
   o.id(id);
   o.name(spec->name);
   o.kind(static_cast<int32_t>(spec->kind));
@@ -71,7 +71,7 @@ mm::Object_ object_message(const World& world, ObjectId id) {
   o.velocity().linear(dds::vector3(v.x(), v.y(), v.z()));
   o.velocity().angular(dds::vector3(w.x(), w.y(), w.z()));
   o.density(spec->density);
-  o.mass(spec->portable ? world.object_mass(id).value : 0.0);
+  o.mass(spec->portable ? world.objects().object_mass(id).value : 0.0);
   o.material(spec->material);
   o.magnetizable(spec->magnetizable);
   o.frozen(spec->frozen);
@@ -121,8 +121,8 @@ std::optional<ObjectSpec> spec_of(const mm::Object_& o, std::string& error) {
 
 mm::Door_ door_message(const World& world, int door) {
   mm::Door_ d;
-  const DoorState s = world.door_state(door).value;
-  d.name(world.door_name(door));
+  const DoorState s = world.doors().door_state(door).value;
+  d.name(world.doors().door_name(door));
   d.triggered(s.triggered);
   d.virtually_triggered(s.virtually_triggered);
   d.gap(static_cast<int32_t>(s.gap));

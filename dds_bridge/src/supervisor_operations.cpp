@@ -47,37 +47,37 @@ void also(Context& c, const Result<int>& door, reply_field::door) {
 }
 
 void also(Context& c, const Result<int>& door, reply_field::object_ids) {
-  auto parts = c.world.door_parts(door.value);
+  auto parts = c.world.doors().door_parts(door.value);
   if (!parts.ok()) return;
   c.reply.object_ids({parts.value.leaf, parts.value.frame, parts.value.platform.value_or(0),
                       parts.value.base.value_or(0)});
 }
 
 Status list_objects(Context& c) {
-  for (ObjectId each : c.world.object_ids()) {
+  for (ObjectId each : c.world.objects().object_ids()) {
     c.reply.object_ids().push_back(each);
-    c.reply.names().push_back(c.world.object(each)->name);
+    c.reply.names().push_back(c.world.objects().object(each)->name);
   }
-  c.reply.count(c.world.object_count());
+  c.reply.count(c.world.objects().object_count());
   return Status{};
 }
 
 Status find_object(Context& c, const mm::ObjectName_& a) {
-  const auto found = c.world.find_object(a.name());
+  const auto found = c.world.objects().find_object(a.name());
   if (!found) return Status::error(ErrorCode::UnknownObject, "no object named '" + a.name() + "'");
   c.reply.object_id(*found);
-  c.reply.index(*c.world.index_of(*found));
+  c.reply.index(*c.world.objects().index_of(*found));
   return Status{};
 }
 
 Status get_object(Context& c, const mm::ObjectRef_& a) {
   const ObjectId id = a.object_id();
-  if (!c.world.object(id)) {
+  if (!c.world.objects().object(id)) {
     return Status::error(ErrorCode::UnknownObject, "no object with id " + std::to_string(id));
   }
   c.reply.object(codec::object_message(c.world, id));
   c.reply.object_id(id);
-  c.reply.index(*c.world.index_of(id));
+  c.reply.index(*c.world.objects().index_of(id));
   return Status{};
 }
 
@@ -85,29 +85,29 @@ Status create_object(Context& c, const mm::CreateObject_& a) {
   std::string error;
   auto spec = codec::spec_of(a.object(), error);
   if (!spec) return Status::error(ErrorCode::InvalidArgument, error);
-  return fill(c, c.world.create_object(*spec, policy(a.allow_penetration())),
+  return fill(c, c.world.edit().create_object(*spec, policy(a.allow_penetration())),
               reply_field::object_id{});
 }
 
 Status import_environment(Context& c, const mm::ImportEnvironment_& a) {
   Pose pose = codec::pose_of(a.pose());
   pose.orientation.normalize();
-  return fill(c, c.world.import_environment(a.file(), a.import_id(), pose),
+  return fill(c, c.world.edit().import_environment(a.file(), a.import_id(), pose),
               reply_field::object_ids{});
 }
 
 Status destroy_by_user_data(Context& c, const mm::UserData_& a) {
-  return fill(c, c.world.destroy_objects(a.user_data()), reply_field::count{});
+  return fill(c, c.world.edit().destroy_objects(a.user_data()), reply_field::count{});
 }
 
 Status destroy_all(Context& c, const mm::DestroyAll_& a) {
   switch (a.which()) {
     case mm::DESTROY_EVERY_OBJECT:
-      return fill(c, c.world.destroy_all_objects(), reply_field::count{});
+      return fill(c, c.world.edit().destroy_all_objects(), reply_field::count{});
     case mm::DESTROY_PORTABLE_OBJECTS:
-      return fill(c, c.world.destroy_all_portable_objects(), reply_field::count{});
+      return fill(c, c.world.edit().destroy_all_portable_objects(), reply_field::count{});
     case mm::DESTROY_FIXED_OBJECTS:
-      return fill(c, c.world.destroy_all_fixed_objects(), reply_field::count{});
+      return fill(c, c.world.edit().destroy_all_fixed_objects(), reply_field::count{});
   }
   return Status::error(ErrorCode::InvalidArgument,
                        "which must be DESTROY_EVERY_OBJECT, DESTROY_PORTABLE_OBJECTS or "
@@ -116,13 +116,13 @@ Status destroy_all(Context& c, const mm::DestroyAll_& a) {
 }
 
 Status set_ramp(Context& c, const mm::SetRamp_& a) {
-  return c.world.set_ramp(a.object_id(), RampGeometry{a.width(), a.height(), a.angle()},
+  return c.world.edit().set_ramp(a.object_id(), RampGeometry{a.width(), a.height(), a.angle()},
                           policy(a.allow_penetration()));
 }
 
 Status get_door(Context& c, const mm::DoorRef_& a) {
   const int door = a.door();
-  auto parts = c.world.door_parts(door);
+  auto parts = c.world.doors().door_parts(door);
   if (!parts.ok()) return parts.status;
   const Result<int> found{Status{}, door};
   also(c, found, reply_field::door{});

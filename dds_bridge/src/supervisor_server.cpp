@@ -108,7 +108,7 @@ void SupervisorServer::publish_world_state(World& world) {
   const bool lists = object_list_.matched() > 0 || door_list_.matched() > 0;
   mm::ObjectList_ list;
   list.header(dds::header(now, "world"));
-  for (ObjectId id : world.object_ids()) {
+  for (ObjectId id : world.objects().object_ids()) {
     mm::ObjectState_ state;
     state.id(id);
     state.stamp(now);
@@ -128,9 +128,9 @@ void SupervisorServer::publish_world_state(World& world) {
   std::set<std::string> doors;
   mm::DoorList_ door_list;
   door_list.header(dds::header(now, "world"));
-  for (int d = 0; d < world.door_count(); ++d) {
+  for (int d = 0; d < world.doors().door_count(); ++d) {
     mm::DoorState_ state;
-    state.name(world.door_name(d));
+    state.name(world.doors().door_name(d));
     state.stamp(now);
     state.door(codec::door_message(world, d));
     doors_.write(state);

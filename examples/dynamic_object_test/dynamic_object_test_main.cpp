@@ -9,8 +9,9 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/client/world_state.h"
 #include "macsim/dds/command_line.h"
-#include "macsim/dds/data_files.h"
 #include "macsim/dds/convert.h"
+#include "macsim/dds/data_files.h"
+#include "macsim/dds/log.h"
 
 namespace mm = macsim_msgs::msg::dds_;
 using macsim::client::SupervisorClient;
@@ -224,13 +225,15 @@ int main(int argc, char** argv) {
       "Exit 0: every effect seen; 1: some effect not seen; 2: usage, or no simulator.");
   cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("textures", "DIR",
-             "folder of BMP textures (default: the installed worlds' DemoEnvironment_v1/textures)", &textures);
+             "folder of BMP textures (default: the installed worlds' DemoEnvironment_v1/textures)",
+             &textures);
   // The seed's form: the test number as an argument of its own (not an option's value: every
   // option here but --help takes one).
   int test = 0;
   std::vector<char*> rest{argv[0]};
   for (int i = 1; i < argc; ++i) {
-    const bool option_value = i > 1 && argv[i - 1][0] == '-' && std::string(argv[i - 1]) != "--help";
+    const bool option_value =
+        i > 1 && argv[i - 1][0] == '-' && std::string(argv[i - 1]) != "--help";
     if (test == 0 && !option_value &&
         std::string(argv[i]).find_first_not_of("0123456789") == std::string::npos) {
       test = std::atoi(argv[i]);
@@ -240,7 +243,7 @@ int main(int argc, char** argv) {
   }
   if (auto code = cli.parse(static_cast<int>(rest.size()), rest.data())) return *code;
   if (test < 1 || test > 4) {
-    std::cerr << "dynamicObjectTest: give the test number 1 to 4 (see --help)\n";
+    macsim::log::error("dynamicObjectTest: give the test number 1 to 4 (see --help)");
     return 2;
   }
   try {
@@ -248,7 +251,7 @@ int main(int argc, char** argv) {
     SupervisorClient supervisor(dds);
     WorldStateClient world(dds);
     if (!supervisor.wait_for_server(std::chrono::seconds(15))) {
-      std::cerr << "dynamicObjectTest: no simulator on DDS domain " << participant.domain << "\n";
+      macsim::log::error("dynamicObjectTest: no simulator on DDS domain {}", participant.domain);
       return 2;
     }
     Context c{supervisor, world, std::filesystem::absolute(textures).string()};
@@ -271,7 +274,7 @@ int main(int argc, char** argv) {
         c.failures == 0 ? "every effect seen" : (std::to_string(c.failures) + " failed").c_str());
     return c.failures == 0 ? 0 : 1;
   } catch (const macsim::dds::DdsError& e) {
-    std::cerr << "dynamicObjectTest: DDS error: " << e.what() << "\n";
+    macsim::log::error("dynamicObjectTest: DDS error: {}", e.what());
     return 2;
   }
 }

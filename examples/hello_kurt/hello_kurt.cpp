@@ -9,6 +9,7 @@
 
 #include "macsim/client/robot_client.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 
 namespace {
 
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
   if (auto code = cli.parse(argc, argv)) return *code;
   if (distance <= 0 || speed <= 0 || timeout <= 0 || discovery_timeout <= 0 ||
       reconnect_timeout < 0) {
-    std::cerr << "helloKurt: --distance, --speed and the timeouts must be positive\n";
+    macsim::log::error("helloKurt: --distance, --speed and the timeouts must be positive");
     return 2;
   }
 
@@ -61,10 +62,10 @@ int main(int argc, char** argv) {
     auto start = kurt.wait_for_odometry(
         std::chrono::milliseconds(static_cast<int>(discovery_timeout * 1000)));
     if (!start) {
-      std::fprintf(stderr,
-                   "helloKurt: no odometry from robot '%s' on DDS domain %d within %.0f s: is "
-                   "macsim (or kurt_adapter) running with the same --domain and DDS profile?\n",
-                   robot.c_str(), participant.domain, discovery_timeout);
+      macsim::log::error(
+          "helloKurt: no odometry from robot '{}' on DDS domain {} within {:.0f} s: is macsim (or "
+          "kurt_adapter) running with the same --domain and DDS profile?",
+          robot, participant.domain, discovery_timeout);
       return 2;
     }
     std::printf("helloKurt: found '%s' at odometry (%.3f, %.3f); driving %.2f m at %.2f m/s\n",
@@ -82,8 +83,7 @@ int main(int argc, char** argv) {
                                      std::chrono::milliseconds(int(reconnect_timeout * 1000)));
       if (!next.odometry) {
         kurt.stop();
-        std::fprintf(stderr, "helloKurt: robot '%s' went silent and did not come back\n",
-                     robot.c_str());
+        macsim::log::error("helloKurt: robot '{}' went silent and did not come back", robot);
         return 3;
       }
       auto& odom = next.odometry;
@@ -99,8 +99,9 @@ int main(int argc, char** argv) {
       if (remaining <= kTolerance) break;
       if (Clock::now() > deadline) {
         kurt.stop();
-        std::fprintf(stderr, "helloKurt: did not arrive within %.0f s (travelled %.3f of %.3f m)\n",
-                     timeout, travelled, distance);
+        macsim::log::error(
+            "helloKurt: did not arrive within {:.0f} s (travelled {:.3f} of {:.3f} m)", timeout,
+            travelled, distance);
         return 1;
       }
       // Slow down near the goal; never below what SPEED_CM can express (1 cm/s steps).
@@ -128,7 +129,7 @@ int main(int argc, char** argv) {
     std::printf("helloKurt: arrived: travelled %.3f m by odometry (goal %.3f m)\n", travelled,
                 distance);
   } catch (const macsim::dds::DdsError& e) {
-    std::cerr << "helloKurt: DDS error: " << e.what() << "\n";
+    macsim::log::error("helloKurt: DDS error: {}", e.what());
     return 2;
   }
   return 0;

@@ -6,6 +6,7 @@
 
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 
 namespace mm = macsim_msgs::msg::dds_;
 using macsim::client::SimulationClient;
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
     SimulationClient simulation(dds);
     SupervisorClient supervisor(dds);
     if (!simulation.wait_for_server(std::chrono::seconds(15))) {
-      std::cerr << "interfaceTest: no simulator on DDS domain " << participant.domain << "\n";
+      macsim::log::error("interfaceTest: no simulator on DDS domain {}", participant.domain);
       return 2;
     }
     if (!world.empty()) {
@@ -35,12 +36,11 @@ int main(int argc, char** argv) {
       load.world_file(std::filesystem::absolute(world).string());
       const auto reply = simulation.call(load);
       if (!reply || reply->code() != mm::ERR_OK) {
-        std::cerr << "interfaceTest: the simulator did not load '" << world
-                  << "': "
-                  << (reply ? reply->message()
-                            : macsim::client::describe(simulation.last_outcome(),
-                                                       "simulation control", participant.domain))
-                  << "\n";
+        macsim::log::error(
+            "interfaceTest: the simulator did not load '{}': {}", world,
+            reply ? reply->message()
+                  : macsim::client::describe(simulation.last_outcome(), "simulation control",
+                                             participant.domain));
         return 1;
       }
       std::printf("interfaceTest: loaded %s\n", world.c_str());
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     const auto objects = supervisor.call(macsim::client::supervisor::list_objects());
     const auto doors = supervisor.call(macsim::client::supervisor::door_count());
     if (!objects || !doors) {
-      std::cerr << "interfaceTest: the supervisor did not answer\n";
+      macsim::log::error("interfaceTest: the supervisor did not answer");
       return 2;
     }
     std::printf("interfaceTest: %d objects, %d doors\n", objects->count(), doors->count());
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
       std::printf("  [%zu] id %u  %s\n", i, objects->object_ids()[i], objects->names()[i].c_str());
     }
   } catch (const macsim::dds::DdsError& e) {
-    std::cerr << "interfaceTest: DDS error: " << e.what() << "\n";
+    macsim::log::error("interfaceTest: DDS error: {}", e.what());
     return 2;
   }
   return 0;

@@ -8,6 +8,7 @@
 
 #include "demo_controller.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 
 int main(int argc, char** argv) {
   // No default domain: a program that moves a robot acts only where it is told to.
@@ -37,8 +38,8 @@ int main(int argc, char** argv) {
              &options.debug_images);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || options.robot.empty()) {
-    std::cerr << "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not "
-                 "empty\n";
+    macsim::log::error(
+        "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not empty");
     return kurt_demo::kUsage;
   }
   const auto wall_start = std::chrono::steady_clock::now();
@@ -60,7 +61,7 @@ int main(int argc, char** argv) {
         "%.1f s\n",
         demo.elapsed(), wall());
   } catch (const macsim::dds::DdsError& e) {
-    std::cerr << "kurt_demo: DDS error: " << e.what() << "\n";
+    macsim::log::error("kurt_demo: DDS error: {}", e.what());
     return kurt_demo::kNoRobot;
   }
   return 0;

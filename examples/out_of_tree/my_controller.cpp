@@ -8,6 +8,7 @@
 
 #include "macsim/client/robot_client.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 
 int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{0, "", "my_controller"};
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
   cli.option("distance", "METERS", "how far (default 0.5)", &distance);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(distance > 0 && distance < 100)) {
-    std::fprintf(stderr, "my_controller: --distance must be in (0, 100) m\n");
+    macsim::log::error("my_controller: --distance must be in (0, 100) m");
     return 2;
   }
 
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
   macsim::client::RobotClient robot(dds, "kurt");
   const auto start = robot.wait_for_odometry(std::chrono::seconds(15));
   if (!start) {
-    std::fprintf(stderr, "my_controller: no robot on DDS domain %d\n", participant.domain);
+    macsim::log::error("my_controller: no robot on DDS domain {}", participant.domain);
     return 2;
   }
   const auto& p0 = start->pose().pose().position();
@@ -36,7 +37,8 @@ int main(int argc, char** argv) {
   while (travelled < distance) {
     if (std::chrono::steady_clock::now() > deadline) {
       robot.stop();
-      std::fprintf(stderr, "my_controller: travelled %.3f of %.3f m in 60 s\n", travelled, distance);
+      macsim::log::error("my_controller: travelled {:.3f} of {:.3f} m in 60 s", travelled,
+                         distance);
       return 1;
     }
     robot.drive(0.3, 0.0);

@@ -391,7 +391,8 @@ def client_source(operations):
 def dispatch(operations):
     """Per operation: a template that calls the hand-written ops::<name>(context, arguments)
     when supervisor_operations.h declares one, else world.<name>(converted fields, in the
-    builder's order) and fill()s the reply with the result (its first reply field, then the
+    builder's order) on the world or the part of it that has <name> (objects(), edit(), doors()),
+    and fill()s the reply with the result (its first reply field, then the
     others derived from it with also()); and the switch over the operations."""
     out = [f"// {HEADER_NOTE}",
            "// Included by supervisor_dispatch.cpp inside namespace macsim::generated.", ""]
@@ -419,7 +420,15 @@ def dispatch(operations):
             else:
                 args.append(get)
         primary = op.replies[0] if op.replies else "none"
-        out.append(f"    auto&& result = c.world.{op.name}({', '.join(args)});")
+        # The world serves it itself, or one of its parts does (objects(), edit(), doors()).
+        call = f"{op.name}({', '.join(args)})"
+        out.append("    auto&& result = [&]() -> decltype(auto) {")
+        for i, part in enumerate(["", ".objects()", ".edit()", ".doors()"]):
+            keyword = "if" if i == 0 else "else if"
+            out.append(f"      {keyword} constexpr (requires {{ c.world{part}.{call}; }})")
+            out.append(f"        return c.world{part}.{call};")
+        out.append(f'      else static_assert(sizeof(c) == 0, "World has no {op.name}()");')
+        out.append("    }();")
         out.append(f"    Status status = fill(c, result, reply_field::{primary}{{}});")
         for extra in op.replies[1:]:
             out.append(f"    if (status.ok()) also(c, result, reply_field::{extra}{{}});")

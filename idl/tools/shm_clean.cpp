@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/shared_memory.h"
 
 int main(int argc, char** argv) {
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
   cli.option("min-age", "SECONDS", "leave younger files alone (default 2)", &min_age);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (min_age < 0) {
-    std::cerr << "macsim_shm_clean: --min-age must not be negative\n";
+    macsim::log::error("macsim_shm_clean: --min-age must not be negative");
     return 2;
   }
   const auto result =

@@ -11,13 +11,14 @@
 #include <thread>
 
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/participant.h"
 #include "macsim/dds/topics.h"
 #include "macsim/kurt/kurt_driver.h"
 #include "macsim/kurt/real_kurt.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/robot/robot_node.h"
-#include "macsim/sim_core/command_queue.h"
+#include "macsim/robot/command_queue.h"
 
 namespace {
 
@@ -38,8 +39,8 @@ bool hard_stop(CanTransport& can) {
   const auto give_up = Clock::now() + std::chrono::milliseconds(200);
   while (!can.send(encode_hard_stop())) {
     if (Clock::now() > give_up) {
-      std::cerr << "kurt_adapter: the bus refused the hard stop for 200 ms: STOP THE ROBOT BY HAND"
-                << std::endl;
+      macsim::log::error(
+          "kurt_adapter: the bus refused the hard stop for 200 ms: STOP THE ROBOT BY HAND");
       return false;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -86,18 +87,22 @@ int main(int argc, char** argv) {
   // The real driver's parameters; the defaults are the indoor KURT's (kurt_base), the outdoor
   // one has --wheel-perimeter 0.518 --axis-length 0.39 --turning-adaptation 0.64.
   macsim::KurtDriveParams params;
-  cli.option("wheel-perimeter", "M", "wheel perimeter (default 0.379)", &params.wheel_perimeter);
-  cli.option("axis-length", "M", "track of cmd_vel and odometry (default 0.28)",
+  auto fallback = [](auto value) { return fmt::format(" (default {})", value); };
+  cli.option("wheel-perimeter", "M", "wheel perimeter" + fallback(params.wheel_perimeter),
+             &params.wheel_perimeter);
+  cli.option("axis-length", "M", "track of cmd_vel and odometry" + fallback(params.axis_length),
              &params.axis_length);
-  cli.option("turning-adaptation", "FACTOR", "odometry's skid factor (default 0.69)",
+  cli.option("turning-adaptation", "FACTOR",
+             "odometry's skid factor" + fallback(params.turning_adaptation),
              &params.turning_adaptation);
-  cli.option("ticks-per-turn", "N", "encoder ticks per wheel turn (default 21950)",
+  cli.option("ticks-per-turn", "N", "encoder ticks per wheel turn" + fallback(params.ticks_per_turn),
              &params.ticks_per_turn);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(params.wheel_perimeter > 0) || !(params.axis_length > 0) ||
       !(params.turning_adaptation > 0) || params.ticks_per_turn <= 0) {
-    std::cerr << "kurt_adapter: --wheel-perimeter, --axis-length, --turning-adaptation and "
-                 "--ticks-per-turn must be positive\n";
+    macsim::log::error(
+        "kurt_adapter: --wheel-perimeter, --axis-length, --turning-adaptation and "
+        "--ticks-per-turn must be positive");
     return 2;
   }
 
@@ -105,7 +110,7 @@ int main(int argc, char** argv) {
   try {
     can = open_can(can_spec);
   } catch (const CanError& e) {
-    std::cerr << "kurt_adapter: " << e.what() << std::endl;
+    macsim::log::error("kurt_adapter: {}", e.what());
     return 1;
   }
   // Every way a terminal or a supervisor ends us is a stop with a hard stop first.
@@ -179,11 +184,11 @@ int main(int argc, char** argv) {
     std::cout << "kurt_adapter: hard stop sent, exiting" << std::endl;
   } catch (const macsim::dds::DdsError& e) {
     hard_stop(*can);
-    std::cerr << "kurt_adapter: DDS error: " << e.what() << std::endl;
+    macsim::log::error("kurt_adapter: DDS error: {}", e.what());
     return 3;
   } catch (const std::exception& e) {
     hard_stop(*can);
-    std::cerr << "kurt_adapter: " << e.what() << std::endl;
+    macsim::log::error("kurt_adapter: {}", e.what());
     return 3;
   }
   return 0;

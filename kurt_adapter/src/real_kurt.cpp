@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "macsim/kurt/kurt_can.h"
-#include "macsim/sim_core/kurt_sensors.h"
+#include "macsim/robot/kurt3d_description.h"
 
 namespace macsim::kurt {
 
@@ -25,12 +25,13 @@ robot::Frames RealKurt::frames() const {
   robot::Frames f;
   f.mounts.push_back({"base_footprint",
                       "base_link",
-                      {0, 0, kBaseLinkAboveWheelAxle + driver_.params().wheel_radius()},
+                      {0, 0, robot::kurt3d::kBaseLinkAboveWheelAxle + driver_.params().wheel_radius()},
                       {0, 0, 0, 1}});
-  for (const RangeSensorSpec& s : kurt_range_sensors()) {
+  for (const robot::kurt3d::RangeSensor& s : robot::kurt3d::kRangeSensors) {
     f.mounts.push_back(
         {"base_link", s.frame, {s.x, s.y, 0}, {0, 0, std::sin(s.yaw / 2), std::cos(s.yaw / 2)}});
   }
+  f.description = robot::kurt3d::description_text();
   return f;
 }
 

@@ -15,7 +15,9 @@
 #include <thread>
 
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 #include "macsim/kurt/kurt_can.h"
+#include "macsim/robot/kurt3d_description.h"
 
 namespace {
 
@@ -52,8 +54,9 @@ int main(int argc, char** argv) {
                       &ranges);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (can_spec.empty() || tau <= 0 || watchdog <= 0) {
-    std::cerr << "kurt_emulator: --can udp:LOCAL:PEER is required; --motor-tau and --watchdog "
-                 "must be positive\n";
+    macsim::log::error(
+        "kurt_emulator: --can udp:LOCAL:PEER is required; --motor-tau and --watchdog must be "
+        "positive");
     return 2;
   }
   std::map<std::string, double> distance;
@@ -61,9 +64,10 @@ int main(int argc, char** argv) {
   for (const auto& r : ranges) {
     const auto eq = r.find('=');
     if (eq == std::string::npos || !distance.count(r.substr(0, eq))) {
-      std::cerr << "kurt_emulator: --sensor-range takes FRAME=METERS with a KURT sensor frame "
-                   "(e.g. ir_left), got '"
-                << r << "'\n";
+      macsim::log::error(
+          "kurt_emulator: --sensor-range takes FRAME=METERS with a KURT sensor frame (e.g. "
+          "ir_left), got '{}'",
+          r);
       return 2;
     }
     distance[r.substr(0, eq)] = std::atof(r.c_str() + eq + 1);
@@ -72,7 +76,7 @@ int main(int argc, char** argv) {
   try {
     can = open_can(can_spec);
   } catch (const CanError& e) {
-    std::cerr << "kurt_emulator: " << e.what() << std::endl;
+    macsim::log::error("kurt_emulator: {}", e.what());
     return 1;
   }
   std::signal(SIGINT, on_signal);
@@ -158,7 +162,8 @@ int main(int argc, char** argv) {
     can->send(encode_tilt(32768, 32768));
     can->send(encode_gyro(
         static_cast<int32_t>(std::lround(yaw * 180 / M_PI * kGyroCountsPerDegree)), 1000));
-    can->send(encode_rotunit_angle(static_cast<int>(rotunit_angle / (2 * M_PI) * 10240) % 10240));
+    constexpr int kTicks = macsim::robot::kurt3d::kRotunitTicks;
+    can->send(encode_rotunit_angle(static_cast<int>(rotunit_angle / (2 * M_PI) * kTicks) % kTicks));
     CanFrame bumper;
     bumper.id = can_id::kBumper;
     can->send(bumper);

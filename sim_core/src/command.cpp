@@ -58,7 +58,7 @@ Command robot_command(std::string robot, std::string operation, std::vector<doub
 }
 
 bool run_robot_command(const Command& c, World& world) {
-  KurtRobot* robot = world.robot(c.target);
+  RobotModel* robot = world.robot(c.target);
   if (!robot) return false;
   const auto& v = c.values;
   if (c.operation == "twist" && v.size() == 2) {

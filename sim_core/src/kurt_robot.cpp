@@ -4,22 +4,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 
 #include "ode_support.h"
+#include "robot_readings.h"
 #include "ray_caster.h"
+#include "state_archive.h"
 
 namespace macsim {
 
+using detail::add_stereo_frames;
 using detail::body_pose;
 using detail::GeomTag;
+using detail::ground_truth_reading;
+using detail::odometry_reading;
+using detail::robot_mount;
+using detail::scan_reading;
 using detail::set_body_pose;
 
 namespace {
 
 constexpr int kLeftMiddle = 1;
 constexpr int kRightMiddle = 4;
-constexpr double kMagnetHeight = 0.03;
-constexpr double kRotunitTicks = 10240;
+constexpr double kMagnetHeight = robot::kurt3d::kMagnetHeight;
+constexpr double kRotunitTicks = robot::kurt3d::kRotunitTicks;
 
 double wrap_difference(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
 
@@ -61,23 +70,41 @@ KurtRobot::State initial_state(const KurtConfig& config) {
 }  // namespace
 
 Eigen::Vector3d laser_origin(LaserMount mount) {
-  return mount == LaserMount::Rotating ? Eigen::Vector3d(-0.10, 0, 0.35)
-                                       : Eigen::Vector3d(0.145, 0, 0.11);
+  return Eigen::Vector3d(mount == LaserMount::Rotating ? robot::kurt3d::kRotatingLaser.data()
+                                                       : robot::kurt3d::kFixedLaser.data());
 }
 
-KurtRobot::KurtRobot(dWorldID world, dSpaceID space, const RobotSpec& spec, int collision_group,
-                     const KurtConfig& config)
-    : name_(spec.name),
-      spec_(spec),
-      config_(config),
-      world_(world),
-      space_(space),
-      chassis_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.5, 0.0, 0.1, nullptr})),
+StereoMount kurt3d_cameras() {
+  namespace k = robot::kurt3d;
+  const Eigen::Quaterniond pitch(Eigen::AngleAxisd(k::kCameraPitch, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d left(k::kLeftCamera.data());
+  return {{left, pitch}, {{left.x(), -left.y(), left.z()}, pitch}};
+}
+
+namespace {
+/// The configuration as built into a world: noise seeded by the build, frames at the spec's rate.
+KurtConfig as_built(KurtConfig config, const RobotSpec& spec, const RobotBuild& build) {
+  config.noise_seed = build.noise_seed;
+  config.drive.frame_period = 1.0 / spec.encoder_rate;
+  return config;
+}
+}  // namespace
+
+KurtRobot::KurtRobot(const RobotSpec& spec, const RobotBuild& build, const KurtConfig& config)
+    : RobotModel(spec),
+      config_(as_built(config, spec, build)),
+      world_(build.world),
+      space_(build.space),
+      chassis_tag_(
+          std::make_unique<GeomTag>(GeomTag{build.collision_group, 0.5, 0.0, 0.1, nullptr})),
       wheel_tag_(std::make_unique<GeomTag>(
-          GeomTag{collision_group, config.body.wheel_friction, 0.0, 0.1, nullptr})),
-      crane_tag_(std::make_unique<GeomTag>(GeomTag{collision_group, 0.8, 0.0, 0.1, nullptr})),
-      rays_(std::make_unique<detail::RayCaster>(space, collision_group)),
-      state_{initial_state(config)} {
+          GeomTag{build.collision_group, config.body.wheel_friction, 0.0, 0.1, nullptr})),
+      crane_tag_(
+          std::make_unique<GeomTag>(GeomTag{build.collision_group, 0.8, 0.0, 0.1, nullptr})),
+      rays_(std::make_unique<detail::RayCaster>(build.space, build.collision_group)),
+      state_{initial_state(config_)} {
+  dWorldID world = build.world;
+  dSpaceID space = build.space;
   detail::ensure_ode_ready();
   const KurtBodyParams& body = config_.body;
   const double r = config_.drive.wheel_radius();
@@ -168,8 +195,8 @@ void KurtRobot::build_crane(dWorldID world, dSpaceID space, const Pose& base_lin
   const Eigen::Vector3d lift_axis = q * -Eigen::Vector3d::UnitY();
   dJointSetHingeAnchor(lift_, pivot.x(), pivot.y(), pivot.z());
   dJointSetHingeAxis(lift_, lift_axis.x(), lift_axis.y(), lift_axis.z());
-  dJointSetHingeParam(lift_, dParamLoStop, -0.6);
-  dJointSetHingeParam(lift_, dParamHiStop, 0.8);
+  dJointSetHingeParam(lift_, dParamLoStop, robot::kurt3d::kLiftMin);
+  dJointSetHingeParam(lift_, dParamHiStop, robot::kurt3d::kLiftMax);
 
   // The magnet hangs below the boom tip on the hoist (a slider along the boom's down axis).
   dMassSetCylinderTotal(&m, c.magnet_mass, 3, c.magnet_radius, kMagnetHeight);
@@ -219,20 +246,23 @@ void KurtRobot::command_wheel_speeds(WheelSpeeds speeds, double now) {
   state_.last_command_time = now;
 }
 
-void KurtRobot::command_crane(const CraneCommand& target) {
+bool KurtRobot::command_crane(const CraneCommand& target) {
   const CraneParams& c = config_.crane_params;
   state_.crane.slew = std::clamp(target.slew, -M_PI, M_PI);
-  state_.crane.lift = std::clamp(target.lift, -0.6, 0.8);
+  state_.crane.lift = std::clamp(target.lift, robot::kurt3d::kLiftMin, robot::kurt3d::kLiftMax);
   state_.crane.hoist = std::clamp(target.hoist, 0.0, c.max_hoist);
+  return config_.crane;
 }
 
-void KurtRobot::command_magnet(bool on) {
+bool KurtRobot::command_magnet(bool on) {
   state_.magnet_on = on;
   if (!on && hold_) release("magnet switched off");
+  return config_.crane;
 }
 
-void KurtRobot::command_rotunit(double speed) {
+bool KurtRobot::command_rotunit(double speed) {
   state_.rotunit_speed = rotunit_speed_from_command(rotunit_speed_command(speed));
+  return config_.laser == LaserMount::Rotating;
 }
 
 void KurtRobot::keep_command(double now) {
@@ -275,6 +305,7 @@ void KurtRobot::update_wheel_angles() {
 }
 
 void KurtRobot::after_step(double now, double step) {
+  now_ = now;
   update_wheel_angles();
   const double yaw = yaw_of(base_link_pose().orientation);
   state_.yaw_unwrapped += wrap_difference(yaw, state_.last_yaw);
@@ -429,7 +460,7 @@ void KurtRobot::run_magnet() {
   held_body_ = query.found;
   state_.held_object = query.name;
   reattach(held_body_);
-  events_.emplace_back("attached", query.name);
+  emit(WorldEvent::Type::ObjectAttached, query.name);
 }
 
 void KurtRobot::reattach(dBodyID body) {
@@ -446,7 +477,7 @@ void KurtRobot::release(const std::string& why) {
   if (hold_) dJointDestroy(hold_);
   hold_ = nullptr;
   held_body_ = nullptr;
-  events_.emplace_back("released", state_.held_object + " (" + why + ")");
+  emit(WorldEvent::Type::ObjectReleased, state_.held_object + " (" + why + ")");
   state_.held_object.clear();
 }
 
@@ -454,19 +485,24 @@ void KurtRobot::forget_body(dBodyID body) {
   if (hold_ && held_body_ == body) release("object removed");
 }
 
-std::vector<std::pair<std::string, std::string>> KurtRobot::take_events() {
-  std::vector<std::pair<std::string, std::string>> out;
+void KurtRobot::emit(WorldEvent::Type type, std::string detail) {
+  events_.push_back({type, now_, name(), std::move(detail)});
+}
+
+std::vector<WorldEvent> KurtRobot::take_events() {
+  std::vector<WorldEvent> out;
   out.swap(events_);
   return out;
 }
 
-void KurtRobot::set_state(const State& state) {
+void KurtRobot::set_state(const State& state, dBodyID held) {
   if (hold_) {
     dJointDestroy(hold_);
     hold_ = nullptr;
     held_body_ = nullptr;
   }
   state_ = state;
+  if (held) reattach(held);
 }
 
 CraneState KurtRobot::crane_state() const {
@@ -491,32 +527,13 @@ Pose KurtRobot::magnet_pose() const {
 std::vector<ShapeView> KurtRobot::shapes() const {
   std::vector<ShapeView> out;
   for (dGeomID g : geoms_) {
-    ShapeView v;
-    dQuaternion q;
-    dGeomGetQuaternion(g, q);
-    v.pose = {detail::vec(dGeomGetPosition(g)), detail::from_ode(q)};
     const dBodyID body = dGeomGetBody(g);
-    if (dGeomGetClass(g) == dBoxClass) {
-      dVector3 sides;
-      dGeomBoxGetLengths(g, sides);
-      v.shape = Shape::Box;
-      v.size = detail::vec(sides);
-    } else {
-      dReal radius, length;
-      dGeomCylinderGetParams(g, &radius, &length);
-      v.shape = Shape::Cylinder;
-      v.size = {radius, 0.0, length};
-    }
-    if (body == chassis_) {
-      v.color = {0.25f, 0.3f, 0.35f, 1.0f};
-    } else if (body == magnet_) {
-      v.color = {0.75f, 0.1f, 0.1f, 1.0f};
-    } else if (body == turret_ || body == boom_) {
-      v.color = {0.95f, 0.75f, 0.1f, 1.0f};
-    } else {
-      v.color = {0.08f, 0.08f, 0.08f, 1.0f};  // tyres
-    }
-    out.push_back(v);
+    const Color color = body == chassis_  ? Color{0.25f, 0.3f, 0.35f, 1.0f}
+                        : body == magnet_ ? Color{0.75f, 0.1f, 0.1f, 1.0f}
+                        : body == turret_ || body == boom_
+                            ? Color{0.95f, 0.75f, 0.1f, 1.0f}
+                            : Color{0.08f, 0.08f, 0.08f, 1.0f};  // tyres
+    out.push_back(detail::shape_view(g, color));
   }
   return out;
 }
@@ -542,6 +559,207 @@ Eigen::Vector3d KurtRobot::linear_velocity() const {
 
 Eigen::Vector3d KurtRobot::angular_velocity() const {
   return detail::vec(dBodyGetAngularVel(chassis_));
+}
+
+// ---- what the node serves ---------------------------------------------------------------
+
+robot::Capabilities KurtRobot::capabilities() const {
+  robot::Capabilities c;
+  c.ground_truth = true;
+  c.ranges = config_.range_sensors;
+  c.imu = true;
+  c.rotunit = config_.laser == LaserMount::Rotating;
+  c.laser = config_.laser != LaserMount::None;
+  c.laser_rotating = config_.laser == LaserMount::Rotating;
+  c.points = config_.laser == LaserMount::Rotating;
+  c.crane = config_.crane;
+  c.magnet = config_.crane;
+  return c;
+}
+
+robot::Frames KurtRobot::frames() const {
+  robot::Frames f;
+  const double link_height = config_.body.wheel_axle_below_base_link + config_.drive.wheel_radius();
+  f.mounts.push_back(robot_mount("base_footprint", "base_link", {0, 0, link_height}));
+  if (config_.range_sensors) {
+    for (const RangeSensorSpec& s : kurt_range_sensors()) {
+      f.mounts.push_back(
+          robot_mount("base_link", s.frame, {s.x, s.y, 0},
+                      Eigen::Quaterniond(Eigen::AngleAxisd(s.yaw, Eigen::Vector3d::UnitZ()))));
+    }
+  }
+  if (config_.cameras) add_stereo_frames(*config_.cameras, f);
+  if (config_.laser == LaserMount::Fixed) {
+    f.mounts.push_back(robot_mount("base_link", "laser", laser_origin(config_.laser)));
+  } else if (config_.laser == LaserMount::Rotating) {
+    // The scan plane is vertical (the frame's xy plane turned up about x); the rotunit turns
+    // it about base_link's z axis.
+    f.laser = robot_mount("base_link", "laser360", laser_origin(config_.laser),
+                          Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())));
+  }
+  if (config_.crane) {
+    const CraneParams& c = config_.crane_params;
+    f.crane_pivot = robot_mount("base_link", "crane_turret", {c.pivot_x, 0, c.pivot_height});
+    f.boom_length = c.boom_length;
+  }
+  f.description = robot::kurt3d::description_text();
+  return f;
+}
+
+robot::Readings KurtRobot::read(ReadMark& mark, double now) const {
+  robot::Readings out;
+  out.stamp = now;
+  if (odometry_frames() != mark.frames) {  // every encoder frame
+    mark.frames = odometry_frames();
+    out.odometry = odometry_reading(odometry(), wheel_angle(0), wheel_angle(1));
+    out.ground_truth = ground_truth_reading(*this);
+    const ImuReading& imu = state_.imu;
+    out.imu = robot::Imu{imu.roll, imu.pitch, imu.yaw, imu.yaw_variance, imu.yaw_rate};
+    if (config_.range_sensors) {
+      for (const RangeReading& each : state_.ranges) {
+        out.ranges.push_back({each.sensor->frame, each.sensor->sonar, each.range});
+      }
+    }
+    if (config_.crane) {
+      const CraneState c = crane_state();
+      out.crane = robot::Crane{c.slew, c.lift, c.hoist, c.magnet_on, c.held_object};
+    }
+  }
+  if (laser_scans() != mark.scans) {  // every sweep
+    mark.scans = laser_scans();
+    const bool rotating = config_.laser == LaserMount::Rotating;
+    out.scan = scan_reading(state_.scan, rotating ? "laser360" : "laser", 1.0 / config_.laser_rate);
+    if (rotating) out.rotunit = robot::Rotunit{rotunit_angle(), rotunit_speed()};
+  }
+  if (point_clouds() != mark.clouds) {  // every revolution
+    mark.clouds = point_clouds();
+    robot::Cloud c;
+    c.xyz.reserve(state_.cloud.points.size() * 3);
+    for (const auto& p : state_.cloud.points) c.xyz.insert(c.xyz.end(), {p.x(), p.y(), p.z()});
+    out.cloud = std::move(c);
+  }
+  return out;
+}
+
+// ---- its part of the world's state ----------------------------------------------------------
+
+template <class Ar>
+void archive(Ar& ar, WheelSpeeds& w) {
+  ar(w.left, w.right);
+}
+template <class Ar>
+void archive(Ar& ar, EncoderCounter& e) {
+  e.fields(ar);
+}
+template <class Ar>
+void archive(Ar& ar, KurtOdometry& o) {
+  o.fields(ar);
+}
+template <class Ar>
+void archive(Ar& ar, CraneCommand& c) {
+  ar(c.slew, c.lift, c.hoist);
+}
+template <class Ar>
+void archive(Ar& ar, RangeReading& r) {
+  // The sensor is one of the robot's eight: stored as its index.
+  const auto& sensors = kurt_range_sensors();
+  int32_t index = r.sensor ? static_cast<int32_t>(r.sensor - sensors.data()) : -1;
+  ar(index, r.range);
+  if constexpr (Ar::kReading) {
+    if (index < -1 || index >= static_cast<int32_t>(sensors.size())) {
+      throw std::runtime_error("the snapshot names an unknown range sensor");
+    }
+    r.sensor = index < 0 ? nullptr : &sensors[static_cast<std::size_t>(index)];
+  }
+}
+template <class Ar>
+void archive(Ar& ar, ImuReading& i) {
+  ar(i.yaw, i.yaw_rate, i.roll, i.pitch, i.yaw_variance);
+}
+template <class Ar>
+void archive(Ar& ar, LaserScan& s) {
+  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges, s.rotunit_angle,
+     s.origin);
+}
+template <class Ar>
+void archive(Ar& ar, PointCloud& c) {
+  ar(c.stamp, c.points);
+}
+template <class Ar>
+void archive(Ar& ar, KurtRobot::State& s) {
+  ar(s.commanded, s.active, s.last_command_time, s.encoder_angle, s.last_hinge_angle, s.encoders,
+     s.odometry, s.next_frame_time, s.frames, s.yaw_unwrapped, s.last_yaw, s.start_yaw, s.crane,
+     s.magnet_on, s.held_object, s.rotunit_speed, s.rotunit_angle, s.cloud_start_angle,
+     s.next_scan_time, s.scans, s.clouds, s.noise_rng, s.ranges, s.imu, s.scan, s.cloud,
+     s.cloud_in_progress);
+}
+
+std::vector<uint8_t> KurtRobot::save_state() const { return detail::to_bytes(state_); }
+
+std::optional<std::string> KurtRobot::state_problem(const std::vector<uint8_t>& bytes) const {
+  State r;
+  try {
+    r = detail::from_bytes<State>(bytes);
+  } catch (const std::runtime_error& e) {
+    return std::string(e.what());
+  }
+  const bool finite = std::isfinite(r.commanded.left) && std::isfinite(r.commanded.right) &&
+                      std::isfinite(r.active.left) && std::isfinite(r.active.right) &&
+                      std::isfinite(r.crane.slew) && std::isfinite(r.crane.lift) &&
+                      std::isfinite(r.crane.hoist) && std::isfinite(r.rotunit_speed) &&
+                      std::isfinite(r.rotunit_angle);
+  if (!finite) return std::string("a robot whose commands are not finite");
+  return std::nullopt;
+}
+
+void KurtRobot::load_state(const std::vector<uint8_t>& bytes, const BodyByName& body_of) {
+  const State s = detail::from_bytes<State>(bytes);
+  set_state(s, s.held_object.empty() ? nullptr : body_of(s.held_object));
+}
+
+// ---- the KURT types ----------------------------------------------------------------------
+
+KurtConfig kurt3d_config() { return KurtConfig{}; }  // defaults: crane, rotating laser, cameras
+
+KurtConfig kurt2_config() {
+  KurtConfig kurt2;
+  kurt2.crane = false;
+  kurt2.laser = LaserMount::Fixed;
+  kurt2.cameras.reset();  // the KURT2 has no stereo pair
+  return kurt2;
+}
+
+RobotFactory kurt_factory(KurtConfig config) {
+  return [config](const RobotSpec& spec, const RobotBuild& build) -> std::unique_ptr<RobotModel> {
+    return std::make_unique<KurtRobot>(spec, build, config);
+  };
+}
+
+namespace {
+std::mutex& kurt_types_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::map<std::string, std::shared_ptr<const KurtConfig>>& kurt_types() {
+  static std::map<std::string, std::shared_ptr<const KurtConfig>> types{
+      {"kurt3d", std::make_shared<const KurtConfig>(kurt3d_config())},
+      {"kurt2", std::make_shared<const KurtConfig>(kurt2_config())}};
+  return types;
+}
+}  // namespace
+
+void register_kurt_type(const std::string& type, const KurtConfig& config) {
+  {
+    std::lock_guard<std::mutex> lock(kurt_types_mutex());
+    kurt_types()[type] = std::make_shared<const KurtConfig>(config);
+  }
+  register_robot_type(type, kurt_factory(config));
+}
+
+const KurtConfig* find_kurt_type(const std::string& type) {
+  std::lock_guard<std::mutex> lock(kurt_types_mutex());
+  auto found = kurt_types().find(type);
+  return found == kurt_types().end() ? nullptr : found->second.get();
 }
 
 }  // namespace macsim

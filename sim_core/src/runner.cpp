@@ -53,7 +53,7 @@ bool Runner::execute(const Command& command) {
       if (const auto& run = executors_[static_cast<std::size_t>(command.source)]) {
         acted = run(command, *world_);
       } else {
-        std::cerr << "macsim: nobody runs " << describe(command) << "; dropped" << std::endl;
+        say("macsim: nobody runs " + describe(command) + "; dropped");
       }
   }
   if (acted && recording_) recording_->command(steps_run_, command);
@@ -164,7 +164,7 @@ std::size_t Runner::apply_commands() {
         try {
           execute(*command);
         } catch (const std::exception& e) {  // a command's own errors are its replies
-          std::cerr << "macsim: a command failed and was dropped: " << e.what() << std::endl;
+          say(std::string("macsim: a command failed and was dropped: ") + e.what());
         }
         ++ran_now;
         continue;
@@ -347,6 +347,14 @@ void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHo
     }
   }
   hooks_ = nullptr;
+}
+
+void Runner::say(const std::string& warning) const {
+  if (settings_.warn) {
+    settings_.warn(warning);
+  } else {
+    std::cerr << warning << std::endl;
+  }
 }
 
 }  // namespace macsim

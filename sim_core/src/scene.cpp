@@ -11,7 +11,7 @@ Scene capture_scene(const World& world) {
   for (const auto& robot : world.robots()) {
     const Pose base = robot->base_link_pose();
     RobotView view{robot->name(), base, false, base, base};
-    if (const auto& cameras = robot->config().cameras) {
+    if (const auto cameras = robot->cameras()) {
       view.has_cameras = true;
       view.left_camera = base * cameras->left;
       view.right_camera = base * cameras->right;

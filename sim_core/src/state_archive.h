@@ -204,4 +204,22 @@ class StateReader {
   std::size_t at_ = 0;
 };
 
+/// `value`'s bytes by its field list (a robot's part of the state, say).
+template <class T>
+std::vector<uint8_t> to_bytes(const T& value) {
+  StateWriter<ByteSink> writer;
+  writer(value);
+  return {writer.sink().data(), writer.sink().data() + writer.sink().size()};
+}
+
+/// The value to_bytes() wrote; throws std::runtime_error on damaged or trailing bytes.
+template <class T>
+T from_bytes(const std::vector<uint8_t>& bytes) {
+  T value;
+  StateReader reader(bytes);
+  reader(value);
+  if (!reader.at_end()) throw std::runtime_error("the snapshot has bytes after its end");
+  return value;
+}
+
 }  // namespace macsim::detail

@@ -6,7 +6,6 @@
 #include <cstdarg>
 #include <cstring>
 
-#include "macsim/sim_core/robot_types.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
@@ -169,6 +168,7 @@ void World::wire_doors() {
 void World::clear_ode() {
   if (!world_) return;
   robots_.clear();
+  robot_tags_.clear();
   for (auto& joint : joints_) {
     if (joint->joint) dJointDestroy(joint->joint);
     joint->joint = nullptr;
@@ -227,11 +227,18 @@ void World::build() {
   for (auto& joint : joints_) build_joint(*joint);
   int group = kRobotGroupBase;
   for (const auto& robot : spec_.robots) {
-    KurtConfig config = *find_robot_type(robot.type);
-    config.noise_seed = spec_.physics.seed + static_cast<uint32_t>(robots_.size());
-    config.drive.frame_period = 1.0 / robot.encoder_rate;
-    robots_.push_back(
-        std::unique_ptr<KurtRobot>(new KurtRobot(world_, space_, robot, group--, config)));
+    const uint32_t seed = spec_.physics.seed + static_cast<uint32_t>(robots_.size());
+    robots_.push_back(build_robot(robot, {world_, space_, group, seed}));
+    // A plug-in knows nothing of the world's geom tags: its untagged geoms get its group. A
+    // robot is driven: its bodies never fall asleep (a sleeping body ignores its motors).
+    robot_tags_.push_back(std::make_unique<GeomTag>(GeomTag{group, 1.0, 0.0, 0.1, nullptr}));
+    for (dBodyID body : robots_.back()->bodies()) {
+      dBodySetAutoDisableFlag(body, 0);
+      for (dGeomID geom = dBodyGetFirstGeom(body); geom; geom = dBodyGetNextGeom(geom)) {
+        if (!dGeomGetData(geom)) dGeomSetData(geom, robot_tags_.back().get());
+      }
+    }
+    --group;
   }
   refresh_bodies();
 }
@@ -404,7 +411,7 @@ void World::build_joint(Joint& j) {
   detail::set_body_state(moving->body, now);
 }
 
-KurtRobot* World::robot(const std::string& name) {
+RobotModel* World::robot(const std::string& name) {
   for (auto& r : robots_) {
     if (r->name() == name) return r.get();
   }
@@ -635,10 +642,7 @@ bool World::step() {
   const bool stable = check_stability();
   for (auto& robot : robots_) {
     robot->after_step(time(), spec_.physics.step);
-    for (auto& [type, detail] : robot->take_events()) {
-      emit(type == "attached" ? WorldEvent::Type::ObjectAttached : WorldEvent::Type::ObjectReleased,
-           robot->name(), detail);
-    }
+    for (auto& event : robot->take_events()) events_.push_back(std::move(event));
   }
   for (auto& door : doors_) {
     const DoorGap before = door->flags.gap;

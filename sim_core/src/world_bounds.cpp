@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/robot_model.h"
 #include "macsim/sim_core/world_loader.h"
 
 namespace macsim::bounds {
@@ -186,7 +186,7 @@ std::optional<std::string> joint_problem(const JointSpec& j) {
 }
 
 std::optional<std::string> robot_problem(const RobotSpec& r) {
-  if (!find_robot_type(r.type)) {
+  if (!robot_type_known(r.type)) {
     std::string known;
     for (const auto& name : robot_type_names()) known += (known.empty() ? "" : ", ") + name;
     return "unknown robot type '" + r.type + "' (known: " + known + ")";

@@ -23,7 +23,7 @@ struct Owner {
   const void* key = nullptr;
   std::size_t rank = 0;
   const ObjectSpec* object = nullptr;
-  const KurtRobot* robot = nullptr;
+  const RobotModel* robot = nullptr;
   bool movable = false;
 };
 
@@ -43,7 +43,7 @@ struct OverlapSearch {
   const detail::GeomTag* ground = nullptr;
   std::size_t ground_rank = 0;
   std::unordered_map<const detail::GeomTag*, std::size_t> object_rank;  // by the object's tag
-  std::unordered_map<dBodyID, std::pair<const KurtRobot*, std::size_t>> robot_of;
+  std::unordered_map<dBodyID, std::pair<const RobotModel*, std::size_t>> robot_of;
   std::set<std::pair<std::string, std::string>> joined;  // object names joined by a joint
   std::unordered_map<std::pair<const void*, const void*>, std::size_t, PairHash> index;
   std::vector<Found> found;

@@ -57,56 +57,6 @@ void archive(Ar& ar, BodyState& b) {
   ar(b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.enabled);
 }
 template <class Ar>
-void archive(Ar& ar, WheelSpeeds& w) {
-  ar(w.left, w.right);
-}
-template <class Ar>
-void archive(Ar& ar, EncoderCounter& e) {
-  e.fields(ar);
-}
-template <class Ar>
-void archive(Ar& ar, KurtOdometry& o) {
-  o.fields(ar);
-}
-template <class Ar>
-void archive(Ar& ar, CraneCommand& c) {
-  ar(c.slew, c.lift, c.hoist);
-}
-template <class Ar>
-void archive(Ar& ar, RangeReading& r) {
-  // The sensor is one of the robot's eight: stored as its index.
-  const auto& sensors = kurt_range_sensors();
-  int32_t index = r.sensor ? static_cast<int32_t>(r.sensor - sensors.data()) : -1;
-  ar(index, r.range);
-  if constexpr (Ar::kReading) {
-    if (index < -1 || index >= static_cast<int32_t>(sensors.size())) {
-      throw std::runtime_error("the snapshot names an unknown range sensor");
-    }
-    r.sensor = index < 0 ? nullptr : &sensors[static_cast<std::size_t>(index)];
-  }
-}
-template <class Ar>
-void archive(Ar& ar, ImuReading& i) {
-  ar(i.yaw, i.yaw_rate, i.roll, i.pitch, i.yaw_variance);
-}
-template <class Ar>
-void archive(Ar& ar, LaserScan& s) {
-  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges, s.rotunit_angle,
-     s.origin);
-}
-template <class Ar>
-void archive(Ar& ar, PointCloud& c) {
-  ar(c.stamp, c.points);
-}
-template <class Ar>
-void archive(Ar& ar, KurtRobot::State& s) {
-  ar(s.commanded, s.active, s.last_command_time, s.encoder_angle, s.last_hinge_angle, s.encoders,
-     s.odometry, s.next_frame_time, s.frames, s.yaw_unwrapped, s.last_yaw, s.start_yaw, s.crane,
-     s.magnet_on, s.held_object, s.rotunit_speed, s.rotunit_angle, s.cloud_start_angle,
-     s.next_scan_time, s.scans, s.clouds, s.noise_rng, s.ranges, s.imu, s.scan, s.cloud,
-     s.cloud_in_progress);
-}
-template <class Ar>
 void archive(Ar& ar, WorldState& s) {
   ar(s.steps, s.random_seed, s.next_id, s.objects, s.joints, s.doors, s.door_flags, s.bodies,
      s.robots);
@@ -167,7 +117,7 @@ WorldState World::state() const {
     s.door_flags.push_back(d->flags);
   }
   for (dBodyID body : bodies_) s.bodies.push_back(detail::body_state(body));
-  for (const auto& r : robots_) s.robots.push_back(r->state());
+  for (const auto& r : robots_) s.robots.push_back(r->save_state());
   return s;
 }
 
@@ -202,10 +152,10 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     if (fresh_robots) continue;
     for (dBodyID b : robots_[i]->bodies()) detail::set_body_state(b, s.bodies[body++]);
-    robots_[i]->set_state(s.robots[i]);
-    if (!s.robots[i].held_object.empty()) {
-      if (auto held = find_object(s.robots[i].held_object)) robots_[i]->reattach(find(*held)->body);
-    }
+    robots_[i]->load_state(s.robots[i], [this](const std::string& object) -> dBodyID {
+      const auto id = find_object(object);
+      return id ? find(*id)->body : nullptr;
+    });
   }
   refresh_bodies();
   steps_ = s.steps;
@@ -241,14 +191,6 @@ std::optional<std::string> state_problem(const WorldState& s) {
     if (!detail::plausible(b) || b.orientation.norm() < 1e-9)
       return std::string("a body that is not plausible");
   }
-  for (const auto& r : s.robots) {
-    const bool finite = std::isfinite(r.commanded.left) && std::isfinite(r.commanded.right) &&
-                        std::isfinite(r.active.left) && std::isfinite(r.active.right) &&
-                        std::isfinite(r.crane.slew) && std::isfinite(r.crane.lift) &&
-                        std::isfinite(r.crane.hoist) && std::isfinite(r.rotunit_speed) &&
-                        std::isfinite(r.rotunit_angle);
-    if (!finite) return std::string("a robot whose commands are not finite");
-  }
   return std::nullopt;
 }
 }  // namespace
@@ -266,6 +208,16 @@ Status World::restore(const WorldSnapshot& snapshot) {
   }
   if (auto p = state_problem(s)) {
     return Status::error(ErrorCode::InvalidArgument, "cannot restore a damaged snapshot: " + *p);
+  }
+  if (s.robots.size() != robots_.size()) {
+    return Status::error(ErrorCode::InvalidArgument, "the snapshot's parts do not fit this world");
+  }
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (auto p = robots_[i]->state_problem(s.robots[i])) {
+      return Status::error(ErrorCode::InvalidArgument,
+                           "cannot restore a damaged snapshot: robot '" + robots_[i]->name() +
+                               "': " + *p);
+    }
   }
   std::size_t portable = 0;
   for (const auto& object : s.objects) portable += object.second.portable ? 1 : 0;

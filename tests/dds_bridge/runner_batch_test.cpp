@@ -7,9 +7,10 @@
 #include <thread>
 
 #include "macsim/client/supervisor_requests.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulated_kurt.h"
+#include "simulated_robot.h"
 #include "supervisor_dispatch.h"
 #include "support/world_helpers.h"
 
@@ -46,7 +47,7 @@ TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
   mm::SupervisorReply_ destroyed, restored, hashed;
   supervise(rq::destroy_object(box), &destroyed);
   // As RobotNode posts a cmd_vel: a command calling the simulated KURT's interface.
-  SimulatedKurt kurt(runner, "kurt");
+  SimulatedRobot kurt(runner, "kurt");
   EXPECT_TRUE(runner.push([&kurt](World&) { kurt.command_twist(0.3, 0.0); }));
   supervise(rq::restore_snapshot("before"), &restored);
   supervise(rq::state_hash(), &hashed);
@@ -56,14 +57,14 @@ TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
   EXPECT_EQ(runner.generation(), 1u);
   EXPECT_EQ(runner.world().steps(), 0u);  // the new world
   EXPECT_EQ(destroyed.code(), mm::ERR_OK) << destroyed.message();
-  EXPECT_EQ(runner.world().object(box), nullptr);  // destroyed in the new world
-  EXPECT_GT(runner.world().robot("kurt")->state().commanded.left, 0.0);
+  EXPECT_EQ(runner.world().objects().object(box), nullptr);  // destroyed in the new world
+  EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->state().commanded.left, 0.0);
   // The old world's named snapshot went with it.
   EXPECT_EQ(restored.code(), mm::ERR_INVALID_ARGUMENT);
   EXPECT_NE(restored.message().find("no snapshot named 'before'"), std::string::npos);
   EXPECT_EQ(hashed.hash(), runner.world().state_hash());
   runner.step();  // and the new world steps with the command
-  EXPECT_GT(runner.world().robot("kurt")->active_wheel_speeds().left, 0.0);
+  EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->active_wheel_speeds().left, 0.0);
 }
 
 TEST(RunnerBatch, ARefusedLoadLeavesLaterCommandsOnTheOldWorld) {
@@ -84,7 +85,7 @@ TEST(RunnerBatch, ARefusedLoadLeavesLaterCommandsOnTheOldWorld) {
   EXPECT_NE(loaded->error.find("no_such.xml"), std::string::npos) << loaded->error;
   EXPECT_EQ(runner.generation(), 0u);
   EXPECT_EQ(destroyed.code(), mm::ERR_OK);
-  EXPECT_EQ(runner.world().object(box), nullptr);
+  EXPECT_EQ(runner.world().objects().object(box), nullptr);
 }
 
 }  // namespace

@@ -60,7 +60,7 @@ TEST(SimInterfacesDispatch, AnEnvironmentOfSeveralObjectsSpawnsAsAGroupAndIsDele
 TEST(SimInterfacesDispatch, BadSpawnsSayWhyAndChangeNothing) {
   World world(shipped_world("small_room.xml"));
   const uint64_t hash = world.state_hash();
-  const int objects = world.object_count();
+  const int objects = world.objects().object_count();
   auto code = [&](const ss::SpawnEntity_Request_& q) {
     return sim::spawn_entity(q, world).result().result();
   };
@@ -81,7 +81,7 @@ TEST(SimInterfacesDispatch, BadSpawnsSayWhyAndChangeNothing) {
   namespaced.entity_namespace("/robot2");
   EXPECT_EQ(code(namespaced), sc::NAMESPACE_INVALID);
   EXPECT_EQ(world.state_hash(), hash);
-  EXPECT_EQ(world.object_count(), objects);
+  EXPECT_EQ(world.objects().object_count(), objects);
 }
 
 TEST(SimInterfacesDispatch, AStateIsSetWhollyOrNotAtAll) {
@@ -117,7 +117,7 @@ TEST(SimInterfacesDispatch, AStateIsSetWhollyOrNotAtAll) {
   where.entity("pair/a");
   EXPECT_NEAR(sim::get_entity_state(where, world).state().pose().position().x(), 1.8, 1e-9);
   // frozen: the pose may change, a twist is refused before anything moves
-  ASSERT_TRUE(world.set_frozen(*world.find_object("pair/a"), true).ok());
+  ASSERT_TRUE(world.edit().set_frozen(*world.objects().find_object("pair/a"), true).ok());
   const uint64_t frozen = world.state_hash();
   q.state().pose().position().x(0.6);
   q.state().twist().linear().x(0.5);

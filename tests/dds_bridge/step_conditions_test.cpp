@@ -14,7 +14,7 @@
 
 #include "macsim/client/supervisor_client.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulated_kurt.h"
+#include "simulated_robot.h"
 #include "simulation_dispatch.h"
 #include "support/child_process.h"
 
@@ -35,7 +35,7 @@ RunSettings lockstep() {
 /// keeps them (merged after every step).
 struct Stepper {
   Runner runner{load_world_file(test::source("worlds/small_room.xml")), lockstep()};
-  SimulatedKurt kurt{runner, "kurt"};
+  SimulatedRobot kurt{runner, "kurt"};
   robot::Readings latest;
 
   /// Serves one SIM_STEP request to its reply (or the refusal).

@@ -28,7 +28,7 @@ TEST(SupervisorCodec, AnObjectMessageCarriesTheWorldsView) {
   EXPECT_EQ(o.kind(), mm::KIND_RAMP);
   EXPECT_FALSE(o.portable());
   EXPECT_EQ(o.mass(), 0.0);
-  EXPECT_EQ(o.ramp()[0], world.object(id)->ramp->width);
+  EXPECT_EQ(o.ramp()[0], world.objects().object(id)->ramp->width);
   EXPECT_EQ(o.components().size(), 1u);
   EXPECT_EQ(o.components()[0].shape(), mm::SHAPE_BOX);
   EXPECT_TRUE(codec::object_message(world, 999999).name().empty());  // unknown: empty

@@ -72,21 +72,21 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_LIST_OBJECTS, "list",
        [](Fixture& f) {
          const Reply r = f.ok(rq::list_objects());
-         EXPECT_EQ(r.count(), f.world.object_count());
-         ASSERT_EQ(r.object_ids().size(), static_cast<std::size_t>(f.world.object_count()));
-         EXPECT_EQ(r.object_ids()[3], *f.world.object_at(3));
-         EXPECT_EQ(r.names()[3], f.world.object(*f.world.object_at(3))->name);
+         EXPECT_EQ(r.count(), f.world.objects().object_count());
+         ASSERT_EQ(r.object_ids().size(), static_cast<std::size_t>(f.world.objects().object_count()));
+         EXPECT_EQ(r.object_ids()[3], *f.world.objects().object_at(3));
+         EXPECT_EQ(r.names()[3], f.world.objects().object(*f.world.objects().object_at(3))->name);
        }},
       {mm::OP_FIND_OBJECT, "find",
        [](Fixture& f) {
          const Reply r = f.ok(rq::find_object(kBox));
          EXPECT_EQ(r.object_id(), f.id(kBox));
-         EXPECT_EQ(r.index(), *f.world.index_of(f.id(kBox)));
+         EXPECT_EQ(r.index(), *f.world.objects().index_of(f.id(kBox)));
        }},
       {mm::OP_FIND_BY_USER_DATA, "find by user data",
        [](Fixture& f) {
          const Reply r = f.ok(rq::find_by_user_data("box"));
-         EXPECT_EQ(r.object_ids(), f.world.find_by_user_data("box"));
+         EXPECT_EQ(r.object_ids(), f.world.objects().find_by_user_data("box"));
          EXPECT_EQ(r.count(), 3);
        }},
       {mm::OP_GET_OBJECT, "get",
@@ -100,86 +100,86 @@ std::vector<OperationCase> operation_cases() {
        }},
       {mm::OP_CREATE_OBJECT, "create",
        [](Fixture& f) {
-         const int before = f.world.object_count();
+         const int before = f.world.objects().object_count();
          const Reply r = f.ok(rq::create_object(sphere_at(0, -1.0, 0.5, 0.07)));
-         EXPECT_EQ(f.world.object_count(), before + 1);
-         ASSERT_NE(f.world.object(r.object_id()), nullptr);
-         EXPECT_EQ(f.world.object(r.object_id())->components[0].shape, Shape::Sphere);
-         EXPECT_EQ(f.world.object(r.object_id())->components[0].size.x(), 0.07);
+         EXPECT_EQ(f.world.objects().object_count(), before + 1);
+         ASSERT_NE(f.world.objects().object(r.object_id()), nullptr);
+         EXPECT_EQ(f.world.objects().object(r.object_id())->components[0].shape, Shape::Sphere);
+         EXPECT_EQ(f.world.objects().object(r.object_id())->components[0].size.x(), 0.07);
        }},
       {mm::OP_IMPORT_ENVIRONMENT, "import",
        [](Fixture& f) {
-         const int before = f.world.object_count();
+         const int before = f.world.objects().object_count();
          const Reply r = f.ok(rq::import_environment(
              source("worlds/DemoEnvironment_v1/objects/blocks.xml"), "more", {0, -4, 0}));
-         EXPECT_EQ(f.world.object_count(), before + static_cast<int>(r.object_ids().size()));
+         EXPECT_EQ(f.world.objects().object_count(), before + static_cast<int>(r.object_ids().size()));
          ASSERT_FALSE(r.object_ids().empty());
-         EXPECT_EQ(f.world.object(r.object_ids()[0])->name.rfind("more/", 0), 0u);
+         EXPECT_EQ(f.world.objects().object(r.object_ids()[0])->name.rfind("more/", 0), 0u);
        }},
       {mm::OP_DESTROY_OBJECT, "destroy",
        [](Fixture& f) {
          const ObjectId box = f.id(kBox);
          f.ok(rq::destroy_object(box));
-         EXPECT_EQ(f.world.object(box), nullptr);
+         EXPECT_EQ(f.world.objects().object(box), nullptr);
        }},
       {mm::OP_DESTROY_BY_USER_DATA, "destroy by user data",
        [](Fixture& f) {
          EXPECT_EQ(f.ok(rq::destroy_by_user_data("box")).count(), 3);
-         EXPECT_TRUE(f.world.find_by_user_data("box").empty());
+         EXPECT_TRUE(f.world.objects().find_by_user_data("box").empty());
        }},
       {mm::OP_DESTROY_ALL, "destroy all",
        [](Fixture& f) {
-         const int all = f.world.object_count();
+         const int all = f.world.objects().object_count();
          const int portable = f.ok(rq::destroy_all(mm::DESTROY_PORTABLE_OBJECTS)).count();
          EXPECT_GT(portable, 0);
-         EXPECT_EQ(f.world.object_count(), all - portable);
-         for (ObjectId each : f.world.object_ids()) EXPECT_FALSE(f.world.object(each)->portable);
+         EXPECT_EQ(f.world.objects().object_count(), all - portable);
+         for (ObjectId each : f.world.objects().object_ids()) EXPECT_FALSE(f.world.objects().object(each)->portable);
          EXPECT_EQ(f.ok(rq::destroy_all(mm::DESTROY_FIXED_OBJECTS)).count(), all - portable);
          f.ok(rq::create_object(sphere_at(0, -1.0, 0.5, 0.07)));
          EXPECT_EQ(f.ok(rq::destroy_all(mm::DESTROY_EVERY_OBJECT)).count(), 1);
-         EXPECT_EQ(f.world.object_count(), 0);
+         EXPECT_EQ(f.world.objects().object_count(), 0);
        }},
       {mm::OP_SET_POSE, "set pose",
        [](Fixture& f) {
          const double s = std::sin(M_PI / 8), c = std::cos(M_PI / 8);
          f.ok(rq::set_pose(f.id(kBox), {0.3, 0.0, 0.05}, {0, 0, s, c}));
-         const Pose p = f.world.object_state(f.id(kBox)).value.pose;
+         const Pose p = f.world.objects().object_state(f.id(kBox)).value.pose;
          EXPECT_TRUE(p.position.isApprox(Eigen::Vector3d(0.3, 0.0, 0.05), 1e-12));
          EXPECT_NEAR(std::abs(p.orientation.dot(Eigen::Quaterniond(c, 0, 0, s))), 1.0, 1e-12);
        }},
       {mm::OP_SET_POSITION, "set position",
        [](Fixture& f) {
          f.ok(rq::set_position(f.id(kBox), {0.3, 0.0, 0.05}));
-         EXPECT_TRUE(f.world.object_state(f.id(kBox))
+         EXPECT_TRUE(f.world.objects().object_state(f.id(kBox))
                          .value.pose.position.isApprox(Eigen::Vector3d(0.3, 0.0, 0.05), 1e-12));
        }},
       {mm::OP_SET_ORIENTATION, "set orientation",
        [](Fixture& f) {
          f.ok(rq::set_orientation(f.id(kBall), {0, 0, 1, 0}));  // a half turn about z
-         const Eigen::Quaterniond q = f.world.object_state(f.id(kBall)).value.pose.orientation;
+         const Eigen::Quaterniond q = f.world.objects().object_state(f.id(kBall)).value.pose.orientation;
          EXPECT_NEAR(std::abs(q.z()), 1.0, 1e-12);
        }},
       {mm::OP_SET_BOX_SIZE, "set box size",
        [](Fixture& f) {
          f.ok(rq::set_box_size(f.id(kBox), 0, {0.2, 0.1, 0.1}, true));
-         EXPECT_EQ(f.world.object(f.id(kBox))->components[0].size, Eigen::Vector3d(0.2, 0.1, 0.1));
+         EXPECT_EQ(f.world.objects().object(f.id(kBox))->components[0].size, Eigen::Vector3d(0.2, 0.1, 0.1));
        }},
       {mm::OP_SET_CYLINDER_SIZE, "set cylinder size",
        [](Fixture& f) {
          const ObjectId post = f.id(kPost);
          f.ok(rq::set_cylinder_size(post, 0, 0.05, 0.3, true));
-         EXPECT_EQ(f.world.object(post)->components[0].size.x(), 0.05);
-         EXPECT_EQ(f.world.object(post)->components[0].size.z(), 0.3);
+         EXPECT_EQ(f.world.objects().object(post)->components[0].size.x(), 0.05);
+         EXPECT_EQ(f.world.objects().object(post)->components[0].size.z(), 0.3);
        }},
       {mm::OP_SET_SPHERE_SIZE, "set sphere size",
        [](Fixture& f) {
          f.ok(rq::set_sphere_size(f.id(kBall), 0, 0.1, true));
-         EXPECT_EQ(f.world.object(f.id(kBall))->components[0].size.x(), 0.1);
+         EXPECT_EQ(f.world.objects().object(f.id(kBall))->components[0].size.x(), 0.1);
        }},
       {mm::OP_SET_RAMP, "set ramp",
        [](Fixture& f) {
          f.ok(rq::set_ramp(f.id(kRamp), 1.0, 0.1, 0.2, true));
-         const auto& ramp = f.world.object(f.id(kRamp))->ramp;
+         const auto& ramp = f.world.objects().object(f.id(kRamp))->ramp;
          ASSERT_TRUE(ramp.has_value());
          EXPECT_EQ(ramp->width, 1.0);
          EXPECT_EQ(ramp->height, 0.1);
@@ -188,110 +188,110 @@ std::vector<OperationCase> operation_cases() {
       {mm::OP_SET_COLOR, "set colour",
        [](Fixture& f) {
          f.ok(rq::set_color(f.id(kBox), {0.1f, 0.2f, 0.3f, 1.0f}));
-         EXPECT_EQ(f.world.object(f.id(kBox))->components[0].color,
+         EXPECT_EQ(f.world.objects().object(f.id(kBox))->components[0].color,
                    (Color{0.1f, 0.2f, 0.3f, 1.0f}));
        }},
       {mm::OP_SET_TEXTURE, "set texture",
        [](Fixture& f) {
          f.ok(
              rq::set_texture(f.id(kBox), source("worlds/DemoEnvironment_v1/textures/checker.bmp")));
-         EXPECT_NE(f.world.object(f.id(kBox))->components[0].texture.find("checker.bmp"),
+         EXPECT_NE(f.world.objects().object(f.id(kBox))->components[0].texture.find("checker.bmp"),
                    std::string::npos);
        }},
       {mm::OP_SET_MASS, "set mass",
        [](Fixture& f) {
          f.ok(rq::set_mass(f.id(kBox), 0.5));
-         EXPECT_NEAR(f.world.object_mass(f.id(kBox)).value, 0.5, 1e-12);
+         EXPECT_NEAR(f.world.objects().object_mass(f.id(kBox)).value, 0.5, 1e-12);
        }},
       {mm::OP_SET_DENSITY, "set density",
        [](Fixture& f) {
          f.ok(rq::set_density(f.id(kBox), 200));
-         EXPECT_NEAR(f.world.object_mass(f.id(kBox)).value, 0.2, 1e-12);
+         EXPECT_NEAR(f.world.objects().object_mass(f.id(kBox)).value, 0.2, 1e-12);
        }},
       {mm::OP_SET_LINEAR_VELOCITY, "set linear velocity",
        [](Fixture& f) {
          f.ok(rq::set_linear_velocity(f.id(kBall), {0.1, 0.2, 0.3}));
-         EXPECT_EQ(f.world.object_state(f.id(kBall)).value.linear_velocity,
+         EXPECT_EQ(f.world.objects().object_state(f.id(kBall)).value.linear_velocity,
                    Eigen::Vector3d(0.1, 0.2, 0.3));
        }},
       {mm::OP_SET_ANGULAR_VELOCITY, "set angular velocity",
        [](Fixture& f) {
          f.ok(rq::set_angular_velocity(f.id(kBall), {0.0, 0.0, 2.0}));
-         EXPECT_EQ(f.world.object_state(f.id(kBall)).value.angular_velocity,
+         EXPECT_EQ(f.world.objects().object_state(f.id(kBall)).value.angular_velocity,
                    Eigen::Vector3d(0, 0, 2));
        }},
       {mm::OP_ADD_FORCE, "add force",
        [](Fixture& f) {
          f.ok(rq::add_force(f.id(kBall), {3, 0, 0}));
-         EXPECT_EQ(f.world.object_wrench(f.id(kBall)).value.first, Eigen::Vector3d(3, 0, 0));
+         EXPECT_EQ(f.world.objects().object_wrench(f.id(kBall)).value.first, Eigen::Vector3d(3, 0, 0));
        }},
       {mm::OP_ADD_TORQUE, "add torque",
        [](Fixture& f) {
          f.ok(rq::add_torque(f.id(kBall), {0, 0, 0.5}));
-         EXPECT_EQ(f.world.object_wrench(f.id(kBall)).value.second, Eigen::Vector3d(0, 0, 0.5));
+         EXPECT_EQ(f.world.objects().object_wrench(f.id(kBall)).value.second, Eigen::Vector3d(0, 0, 0.5));
        }},
       {mm::OP_SET_FROZEN, "set frozen",
        [](Fixture& f) {
          f.ok(rq::set_frozen(f.id(kBall), true));
-         EXPECT_TRUE(f.world.object(f.id(kBall))->frozen);
+         EXPECT_TRUE(f.world.objects().object(f.id(kBall))->frozen);
        }},
       {mm::OP_SET_MAGNETIZABLE, "set magnetizable",
        [](Fixture& f) {
          f.ok(rq::set_magnetizable(f.id(kBall), true));
-         EXPECT_TRUE(f.world.object(f.id(kBall))->magnetizable);
+         EXPECT_TRUE(f.world.objects().object(f.id(kBall))->magnetizable);
        }},
       {mm::OP_SET_USER_DATA, "set user data",
        [](Fixture& f) {
          f.ok(rq::set_user_data(f.id(kBall), "round"));
-         EXPECT_EQ(f.world.object(f.id(kBall))->user_data, "round");
+         EXPECT_EQ(f.world.objects().object(f.id(kBall))->user_data, "round");
        }},
       {mm::OP_SET_USER_LABELS, "set user labels",
        [](Fixture& f) {
          f.ok(rq::set_user_labels(f.id(kBall), 4, 7));
-         EXPECT_EQ(f.world.object(f.id(kBall))->user_color, 4);
-         EXPECT_EQ(f.world.object(f.id(kBall))->user_shape, 7);
+         EXPECT_EQ(f.world.objects().object(f.id(kBall))->user_color, 4);
+         EXPECT_EQ(f.world.objects().object(f.id(kBall))->user_shape, 7);
        }},
       {mm::OP_DOOR_COUNT, "door count",
-       [](Fixture& f) { EXPECT_EQ(f.ok(rq::door_count()).count(), f.world.door_count()); }},
+       [](Fixture& f) { EXPECT_EQ(f.ok(rq::door_count()).count(), f.world.doors().door_count()); }},
       {mm::OP_GET_DOOR, "get door",
        [](Fixture& f) {
          const Reply r = f.ok(rq::get_door(0));
-         EXPECT_EQ(r.door().name(), f.world.door_name(0));
+         EXPECT_EQ(r.door().name(), f.world.doors().door_name(0));
          EXPECT_EQ(r.door().gap(), mm::GAP_CLOSED);
-         const DoorParts parts = f.world.door_parts(0).value;
+         const DoorParts parts = f.world.doors().door_parts(0).value;
          EXPECT_EQ(r.object_ids(),
                    (std::vector<uint32_t>{parts.leaf, parts.frame, *parts.platform, *parts.base}));
        }},
       {mm::OP_GET_DOOR_BY_NAME, "get door by name",
        [](Fixture& f) {
-         const int last = f.world.door_count() - 1;
-         const Reply r = f.ok(rq::get_door_by_name(f.world.door_name(last)));
+         const int last = f.world.doors().door_count() - 1;
+         const Reply r = f.ok(rq::get_door_by_name(f.world.doors().door_name(last)));
          EXPECT_EQ(r.index(), last);
-         EXPECT_EQ(r.door().name(), f.world.door_name(last));
-         const DoorParts parts = f.world.door_parts(last).value;
+         EXPECT_EQ(r.door().name(), f.world.doors().door_name(last));
+         const DoorParts parts = f.world.doors().door_parts(last).value;
          EXPECT_EQ(r.object_ids(),
                    (std::vector<uint32_t>{parts.leaf, parts.frame, *parts.platform, *parts.base}));
        }},
       {mm::OP_SET_SWITCH_TRIGGERED, "trigger switch",
        [](Fixture& f) {
          f.ok(rq::set_switch_triggered(0, true));
-         EXPECT_TRUE(f.world.door_state(0).value.virtually_triggered);
+         EXPECT_TRUE(f.world.doors().door_state(0).value.virtually_triggered);
        }},
       {mm::OP_SET_DOOR_POSITION, "move door",
        [](Fixture& f) {
-         const ObjectId leaf = f.world.door_parts(0).value.leaf;
+         const ObjectId leaf = f.world.doors().door_parts(0).value.leaf;
          const Eigen::Vector3d to =
-             f.world.object_state(leaf).value.pose.position + Eigen::Vector3d(0, 0.5, 0);
+             f.world.objects().object_state(leaf).value.pose.position + Eigen::Vector3d(0, 0.5, 0);
          f.ok(rq::set_door_position(0, {to.x(), to.y(), to.z()}));
-         EXPECT_TRUE(f.world.object_state(leaf).value.pose.position.isApprox(to, 1e-9));
+         EXPECT_TRUE(f.world.objects().object_state(leaf).value.pose.position.isApprox(to, 1e-9));
        }},
       {mm::OP_SET_SWITCH_POSITION, "move switch",
        [](Fixture& f) {
-         const ObjectId platform = *f.world.door_parts(0).value.platform;
+         const ObjectId platform = *f.world.doors().door_parts(0).value.platform;
          const Eigen::Vector3d to =
-             f.world.object_state(platform).value.pose.position + Eigen::Vector3d(0.3, 0, 0);
+             f.world.objects().object_state(platform).value.pose.position + Eigen::Vector3d(0.3, 0, 0);
          f.ok(rq::set_switch_position(0, {to.x(), to.y(), to.z()}));
-         EXPECT_TRUE(f.world.object_state(platform).value.pose.position.isApprox(to, 1e-9));
+         EXPECT_TRUE(f.world.objects().object_state(platform).value.pose.position.isApprox(to, 1e-9));
        }},
       {mm::OP_RESET, "reset",
        [](Fixture& f) {
@@ -302,7 +302,7 @@ std::vector<OperationCase> operation_cases() {
          EXPECT_EQ(f.world.state_hash(), loaded);
          f.ok(rq::create_object(sphere_at(0, -1.0, 0.5, 0.07)));
          f.ok(rq::reset(mm::RESET_POSES));
-         EXPECT_EQ(f.world.object_count(), 25);  // spawned objects stay
+         EXPECT_EQ(f.world.objects().object_count(), 25);  // spawned objects stay
          f.ok(rq::reset(mm::RESET_EVERYTHING));
          EXPECT_EQ(f.world.state_hash(), loaded);
        }},
@@ -418,7 +418,7 @@ std::vector<ErrorCase> error_cases() {
        "fixed"},
       {mm::ERR_PENETRATION, "into the post",
        [](Fixture& f) {
-         const Eigen::Vector3d post = f.world.object_state(f.id(kPost)).value.pose.position;
+         const Eigen::Vector3d post = f.world.objects().object_state(f.id(kPost)).value.pose.position;
          return rq::set_position(f.id(kBox), {post.x(), post.y(), 0.1});
        },
        "post"},
@@ -509,16 +509,16 @@ TEST(SupervisorDispatch, AComponentsQuaternionIsNormalizedBeforeItReachesOde) {
   o.components()[0].size({0.1, 0.1, 0.1});
   o.components()[0].pose().orientation(dds::quaternion(0.7071, 0, 0, 0));  // not unit length
   const Reply r = f.ok(rq::create_object(o));
-  const Eigen::Quaterniond q = f.world.object(r.object_id())->components[0].pose.orientation;
+  const Eigen::Quaterniond q = f.world.objects().object(r.object_id())->components[0].pose.orientation;
   EXPECT_NEAR(q.norm(), 1.0, 1e-12);
   run_for(f.world, 0.2);
-  EXPECT_TRUE(f.world.object_state(r.object_id()).value.pose.position.allFinite());
-  EXPECT_NEAR(f.world.object_mass(r.object_id()).value, 0.1, 1e-9);
+  EXPECT_TRUE(f.world.objects().object_state(r.object_id()).value.pose.position.allFinite());
+  EXPECT_NEAR(f.world.objects().object_mass(r.object_id()).value, 0.1, 1e-9);
 }
 
 TEST(SupervisorDispatch, PenetrationWhenAllowedIsAppliedAndReported) {
   Fixture f;
-  const Eigen::Vector3d post = f.world.object_state(f.id(kPost)).value.pose.position;
+  const Eigen::Vector3d post = f.world.objects().object_state(f.id(kPost)).value.pose.position;
   const Reply r = f.call(rq::set_position(f.id(kBox), {post.x(), post.y(), 0.1}, true));
   EXPECT_EQ(r.code(), mm::ERR_OK) << r.message();
   ASSERT_EQ(r.names().size(), 1u);

@@ -33,7 +33,7 @@ mm::SupervisorRequest_ request_for(const Action& a, const World& world, std::str
   auto uniform = [&](double lo, double hi) {
     return std::uniform_real_distribution<>(lo, hi)(rng);
   };
-  const auto ids = world.object_ids();
+  const auto ids = world.objects().object_ids();
   const uint32_t id = ids.empty() ? 0 : ids[rng() % ids.size()];
   const rq::Vec3 place{uniform(-1.5, 1.5), uniform(-1.5, 1.5), uniform(0.05, 1.0)};
   std::ostringstream text;
@@ -172,13 +172,13 @@ TEST(SupervisorProperty, TheShrinkerFindsTheShortestFailingSequence) {
   for (int i = 0; i < 20; ++i) actions.push_back({i % 3 == 0 ? 1 : 8, uint32_t(i)});
   auto fails = [](const std::vector<Action>& a) {
     World world(shipped_world("DemoWorld_v1.xml"));
-    const int count = world.object_count();
+    const int count = world.objects().object_count();
     SnapshotStore snapshots;
     for (const auto& action : a) {
       std::string said;
       dispatch(request_for(action, world, said), world, snapshots);
     }
-    return world.object_count() < count;
+    return world.objects().object_count() < count;
   };
   ASSERT_TRUE(fails(actions));
   const std::vector<Action> shortest = shrink(actions, fails);

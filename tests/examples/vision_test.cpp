@@ -10,6 +10,7 @@
 
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/scene.h"
 #include "support/world_helpers.h"
 
@@ -39,7 +40,7 @@ client::StereoFrame stereo(const World& world) {
   frame.focal = in.focal();
   frame.cx = in.width / 2.0;
   frame.cy = in.height / 2.0;
-  frame.baseline = world.robots().front()->config().cameras->baseline();
+  frame.baseline = world.robots().front()->cameras()->baseline();
   return frame;
 }
 
@@ -71,7 +72,7 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
           "<OBJECT><ID>yellow_box</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.12</DIMS>"
           "<POS>2.4,0.9,0.06</POS><COLOR>0.95,0.85,0.1</COLOR></OBJECT></WORLD>",
       "vision.xml"));
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   kurt.command_crane({M_PI / 2, 0.6, 0.0});
   run_for(world, 2.5);
   const Pose base = kurt.base_link_pose();

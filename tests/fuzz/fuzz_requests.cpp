@@ -77,8 +77,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     // not: a step that pauses the runner (a body put back) must not stop the fuzzer.
     for (int i = 0; i < 1 + record.kind / 64; ++i) runner.step(macsim::StepHooks{});
     if (auto broken = macsim::test::invariant_violation(runner.world())) finding(*broken);
-    for (const macsim::ObjectId id : runner.world().object_ids()) {
-      const std::string& name = runner.world().object(id)->name;
+    for (const macsim::ObjectId id : runner.world().objects().object_ids()) {
+      const std::string& name = runner.world().objects().object(id)->name;
       auto [known, fresh] = names.try_emplace(id, name);
       if (!fresh && known->second != name) finding("object " + std::to_string(id) + " was renamed");
     }

@@ -104,9 +104,9 @@ int main(int argc, char** argv) {
   }
 
   const macsim::World world(macsim::load_world_file((worlds / "DemoWorld_v1.xml").string()));
-  const uint32_t box = *world.find_object("environment_01/box_red_small");
-  const uint32_t ball = *world.find_object("environment_01/ball_green");
-  const uint32_t ramp = *world.find_object("environment_02/ramp_00");
+  const uint32_t box = *world.objects().find_object("environment_01/box_red_small");
+  const uint32_t ball = *world.objects().find_object("environment_01/ball_green");
+  const uint32_t ramp = *world.objects().find_object("environment_02/ramp_00");
   mm::Object_ copy = macsim::codec::object_message(world, ball);
   copy.name("seed/ball");
   copy.pose().position().y(-1.0);

@@ -13,7 +13,7 @@
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "macsim/robot/mock_robot.h"
-#include "macsim/sim_core/command_queue.h"
+#include "macsim/robot/command_queue.h"
 #include "support/child_process.h"
 #include "support/latest_sample.h"
 #include "support/test_domain.h"
@@ -93,9 +93,11 @@ TEST(RobotNode, ServesWhatTheRobotHasAndNamesWhatItLacks) {
   EXPECT_FALSE(served("rt/kurt/crane/command"));
   EXPECT_FALSE(served("rt/kurt/ground_truth"));
   const auto lacking = s.node.lacking_topics();
-  EXPECT_EQ(lacking,
-            (std::vector<std::string>{"rt/kurt/crane/command", "rt/kurt/ground_truth",
-                                      "rt/kurt/scan360", "rt/kurt/points", "rt/kurt/crane/state"}));
+  // The mock has no description either: no rt/kurt/robot_description.
+  EXPECT_EQ(lacking, (std::vector<std::string>{"rt/kurt/crane/command", "rt/kurt/ground_truth",
+                                               "rt/kurt/scan360", "rt/kurt/points",
+                                               "rt/kurt/crane/state",
+                                               "rt/kurt/robot_description"}));
 }
 
 TEST(RobotNode, CraneCommandsReachARobotWithACrane) {

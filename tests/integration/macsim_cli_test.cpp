@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
@@ -193,7 +194,8 @@ TEST(MacsimCli, NoProgramActsOnHelpABadArgumentOrWithoutADomain) {
 TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
   for (const char* program :
        {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
-        "examples_tests", "asan_tests", "affordance_tests", "topic_tests", "integration_tests"}) {
+        "examples_tests", "asan_tests", "affordance_tests", "topic_tests", "process_tests",
+        "integration_tests"}) {
     ChildProcess p({bin(program), "--bogus"});
     EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();
     EXPECT_NE(p.output().find("unknown argument '--bogus'"), std::string::npos) << p.output();
@@ -279,7 +281,7 @@ TEST(MacsimCli, ValidateNamesObjectsThatStartInsideEachOtherAndStrictRefusesThem
   ChildProcess validate({bin("macsim"), "--world", world, "--validate"});
   ASSERT_EQ(validate.wait_for_exit(20s), 0) << validate.output();
   const std::string out = validate.output();
-  for (const std::string line :
+  for (const std::string& line :
        {world + ":14: warning: 'box_a' and 'box_b' start inside each other, 0.100 m deep",
         world + ":22: warning: 'box_in_kurt' and 'kurt' start inside each other, 0.155 m deep",
         world + ":26: warning: 'sunk_ball' and 'ground' start inside each other, 0.050 m deep",
@@ -380,6 +382,30 @@ TEST(MacsimCli, RunsForADurationAsFastAsPossibleAndReportsTheStepRate) {
   EXPECT_NE(p.output().find("rt/kurt/cmd_vel"), std::string::npos) << p.output();
   EXPECT_NE(p.output().find("stopped at sim time 2.000 s after 2000 steps"), std::string::npos)
       << p.output();
+}
+
+// The log's levels: --quiet keeps warnings and errors only (the banner, the step rate and the
+// summary are information), --log-timestamps puts the time and level before each line.
+TEST(MacsimCli, QuietLeavesOnlyWarningsAndTimestampsMarkEachLine) {
+  const std::string domain = std::to_string(unique_test_domain());
+  ChildProcess quiet({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                      domain, "--as-fast-as-possible", "--duration", "0.2", "--cameras", "off",
+                      "--quiet"});
+  ASSERT_EQ(quiet.wait_for_exit(60s), 0) << quiet.output();
+  EXPECT_EQ(quiet.output().find("stepping"), std::string::npos) << quiet.output();
+  EXPECT_EQ(quiet.output().find("stopped at sim time"), std::string::npos) << quiet.output();
+  ChildProcess stamped({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                        domain, "--as-fast-as-possible", "--duration", "0.2", "--cameras", "off",
+                        "--log-timestamps"});
+  ASSERT_EQ(stamped.wait_for_exit(60s), 0) << stamped.output();
+  EXPECT_TRUE(std::regex_search(
+      stamped.output(), std::regex(R"(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3} info  macsim: stepping)")))
+      << stamped.output();
+  // A usage error is an error: --quiet does not hide it.
+  ChildProcess bad({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain", domain,
+                    "--seed", "-5", "--quiet"});
+  EXPECT_EQ(bad.wait_for_exit(30s), 2);
+  EXPECT_NE(bad.output().find("--seed must be 0 or more"), std::string::npos) << bad.output();
 }
 
 // Running unpaced, the simulation waits for a busy renderer: every stereo pair due in sim time

@@ -12,6 +12,7 @@
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
+#include "macsim/msg/std_msgsPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/latest_sample.h"
 #include "support/test_domain.h"
@@ -163,6 +164,64 @@ TEST_F(RobotTopics, StereoImagesAndCalibrationArrive) {
   EXPECT_GT(values.size(), 20u);  // a picture, not a blank
   // Right camera: P[3] = -f * baseline (0.12 m).
   EXPECT_NEAR(info->p()[3], -info->k()[0] * 0.12, 1e-9);
+}
+
+// A second robot type beside the KURT3D (worlds/two_robots.xml): the diff-drive "rover" is
+// served by the same node on rt/rover/*: its description, its planar laser, its odometry, and
+// cmd_vel drives it towards the wall 3 m ahead.
+TEST(TwoRobotTypes, TheDiffDriveRoverIsServedBesideTheKurt) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/two_robots.xml"), "--domain",
+                       std::to_string(domain), "--rtf", "2"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping", 30s)) << macsim.output();
+  {
+    dds::Participant participant(dds::ParticipantOptions{domain, "", "rover_test"});
+    Samples<std_msgs::msg::dds_::String_PubSubType> description(
+        participant, dds::topics::robot_description("rover"), 10, dds::QosFamily::Latched);
+    Samples<std_msgs::msg::dds_::String_PubSubType> kurt_description(
+        participant, dds::topics::robot_description("kurt"), 10, dds::QosFamily::Latched);
+    Samples<sm::LaserScan_PubSubType> scans(participant, dds::topics::scan("rover", false), 5);
+    Samples<nav_msgs::msg::dds_::Odometry_PubSubType> odom(participant,
+                                                           dds::topics::odom("rover"), 5);
+    Samples<nav_msgs::msg::dds_::Odometry_PubSubType> kurt_odom(participant,
+                                                                dds::topics::odom("kurt"), 5);
+    dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> cmd_vel(
+        participant, dds::topics::cmd_vel("rover"), dds::QosFamily::Command);
+
+    auto text = description.wait_for([](const auto&) { return true; }, 20s);
+    ASSERT_TRUE(text) << "no rt/rover/robot_description";
+    EXPECT_EQ(text->data().rfind("robot diff_drive\n", 0), 0u) << text->data();
+    auto kurt_text = kurt_description.wait_for([](const auto&) { return true; }, 20s);
+    ASSERT_TRUE(kurt_text);
+    EXPECT_EQ(kurt_text->data().rfind("robot kurt3d\n", 0), 0u);
+
+    // The wall's face is 3.0 m ahead of the rover's centre; the laser sits 0.10 m ahead of it.
+    auto first = scans.wait_for([](const auto&) { return true; }, 20s);
+    ASSERT_TRUE(first) << "no scan on rt/rover/scan";
+    EXPECT_EQ(first->header().frame_id(), "laser");
+    ASSERT_EQ(first->ranges().size(), 241u);
+    const std::size_t ahead = first->ranges().size() / 2;
+    EXPECT_NEAR(first->ranges()[ahead], 2.9, 0.03);
+
+    // Driven at 0.5 m/s (cmd_vel repeated, as a controller does) until 1 m was covered.
+    std::optional<nav_msgs::msg::dds_::Odometry_> moved;
+    for (int i = 0; i < 200 && !moved; ++i) {
+      cmd_vel.write(dds::planar_twist(0.5, 0.0));
+      moved = odom.wait_for([](const auto& o) { return o.pose().pose().position().x() > 1.0; },
+                            50ms);
+    }
+    ASSERT_TRUE(moved) << "the rover did not drive 1 m";
+    EXPECT_NEAR(moved->pose().pose().position().y(), 0.0, 0.05);
+    auto nearer = scans.wait_for(
+        [](const auto& s) { return s.ranges()[s.ranges().size() / 2] < 1.95; }, 5s);
+    ASSERT_TRUE(nearer) << "the laser did not see the wall come nearer";
+    // The KURT beside it was not commanded: it stays where it is.
+    auto still = kurt_odom.wait_for([](const auto&) { return true; }, 5s);
+    ASSERT_TRUE(still);
+    EXPECT_NEAR(still->pose().pose().position().x(), 0.0, 0.01);
+  }
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
 }
 
 }  // namespace

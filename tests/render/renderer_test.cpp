@@ -111,7 +111,7 @@ TEST(Renderer, TheStereoPairSeesDisparity) {
   // A tall blue marker 1.5 m ahead of the robot's cameras.
   ObjectSpec marker = primitive(Shape::Box, {0.1, 0.1, 1.0}, {-0.45, 0.0, 0.5}, false);
   marker.components[0].color = {0.05f, 0.05f, 1.0f, 1};
-  ASSERT_TRUE(world.create_object(marker).ok());
+  ASSERT_TRUE(world.edit().create_object(marker).ok());
   const Scene scene = capture_scene(world);
   OffscreenRenderer renderer(320, 240);
   CameraIntrinsics in;

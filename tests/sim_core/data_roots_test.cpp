@@ -182,12 +182,12 @@ TEST_F(DataRootsTest, TheLoaderAndTheWorldsOperationsAnswerWithTheRefusal) {
     EXPECT_EQ(e.line(), 1);
     EXPECT_EQ(e.message(), DataRoots::outside_message(secret));
   }
-  const ObjectId box = world.find_object("box").value();
+  const ObjectId box = world.objects().find_object("box").value();
   for (const std::string& path : {secret, (outside_ / "missing.bmp").string(),
                                   (root_ / "fifo.xml").string(), std::string("/dev/zero")}) {
-    const Status texture = world.set_texture(box, path);
+    const Status texture = world.edit().set_texture(box, path);
     EXPECT_EQ(texture.code, ErrorCode::BadFile) << path << ": " << texture.message;
-    const auto imported = world.import_environment(path, "x", Pose{});
+    const auto imported = world.edit().import_environment(path, "x", Pose{});
     EXPECT_EQ(imported.status.code, ErrorCode::BadFile) << path << ": " << imported.status.message;
     if (path.rfind(outside_.string(), 0) == 0) {
       EXPECT_EQ(texture.message, DataRoots::outside_message(path));
@@ -198,10 +198,10 @@ TEST_F(DataRootsTest, TheLoaderAndTheWorldsOperationsAnswerWithTheRefusal) {
   EXPECT_EQ(world.state_hash(), hash);
   // Inside the roots the operations go on as before; a texture is kept as the file checked,
   // in one spelling (what the renderer reads later is what was checked).
-  EXPECT_TRUE(world.import_environment((root_ / "inside.xml").string(), "in", Pose{}).ok());
+  EXPECT_TRUE(world.edit().import_environment((root_ / "inside.xml").string(), "in", Pose{}).ok());
   ASSERT_TRUE(cv::imwrite((root_ / "tex.bmp").string(), cv::Mat(4, 4, CV_8UC3, cv::Scalar(1, 2, 3))));
-  EXPECT_TRUE(world.set_texture(box, (root_ / "sub" / ".." / "." / "tex.bmp").string()).ok());
-  EXPECT_EQ(world.object_texture(box).value.second, (fs::canonical(root_) / "tex.bmp").string());
+  EXPECT_TRUE(world.edit().set_texture(box, (root_ / "sub" / ".." / "." / "tex.bmp").string()).ok());
+  EXPECT_EQ(world.objects().object_texture(box).value.second, (fs::canonical(root_) / "tex.bmp").string());
 }
 
 }  // namespace

@@ -11,31 +11,31 @@ constexpr double kG = 9.81;
 class DoorSwitch : public ::testing::Test {
  protected:
   World world{shipped_world("DemoWorld_v1.xml")};
-  DoorParts parts = world.door_parts(0).value;
+  DoorParts parts = world.doors().door_parts(0).value;
 
-  double platform_mass() { return world.object_mass(*parts.platform).value; }
+  double platform_mass() { return world.objects().object_mass(*parts.platform).value; }
 
   // Sets a 5 cm cube of `mass` kg gently on the platform, lets it settle for `seconds`.
   void load_platform(double mass, double seconds) {
     run_for(world, 0.2);
-    const Eigen::Vector3d top = world.object_state(*parts.platform).value.pose.position +
+    const Eigen::Vector3d top = world.objects().object_state(*parts.platform).value.pose.position +
                                 Eigen::Vector3d(0, 0, 0.070 + 0.025 + 0.001);
     ObjectSpec cube = primitive(Shape::Box, Eigen::Vector3d::Constant(0.05), top);
     cube.density = mass / (0.05 * 0.05 * 0.05);
-    ASSERT_TRUE(world.create_object(cube).ok());
+    ASSERT_TRUE(world.edit().create_object(cube).ok());
     run_for(world, seconds);
   }
 };
 
 TEST_F(DoorSwitch, TheDemoDoorIsFoundByTheSeedsNamingConvention) {
-  ASSERT_EQ(world.door_count(), 1);
-  EXPECT_EQ(world.door_name(0), "doors/door_00");
-  EXPECT_EQ(world.find_door("doors/door_00"), 0);
-  EXPECT_EQ(world.object(parts.leaf)->name, "doors/door_00/door_component/leaf");
-  EXPECT_EQ(world.object(parts.leaf)->kind, ObjectKind::DoorLeaf);
-  EXPECT_EQ(world.object(*parts.platform)->kind, ObjectKind::SwitchPlatform);
-  EXPECT_EQ(world.object(*parts.base)->kind, ObjectKind::SwitchBase);
-  EXPECT_EQ(world.object(parts.frame)->kind, ObjectKind::DoorFrame);
+  ASSERT_EQ(world.doors().door_count(), 1);
+  EXPECT_EQ(world.doors().door_name(0), "doors/door_00");
+  EXPECT_EQ(world.doors().find_door("doors/door_00"), 0);
+  EXPECT_EQ(world.objects().object(parts.leaf)->name, "doors/door_00/door_component/leaf");
+  EXPECT_EQ(world.objects().object(parts.leaf)->kind, ObjectKind::DoorLeaf);
+  EXPECT_EQ(world.objects().object(*parts.platform)->kind, ObjectKind::SwitchPlatform);
+  EXPECT_EQ(world.objects().object(*parts.base)->kind, ObjectKind::SwitchBase);
+  EXPECT_EQ(world.objects().object(parts.frame)->kind, ObjectKind::DoorFrame);
 }
 
 TEST_F(DoorSwitch, TriggerMassIsMaxForceOverGMinusThePlatform) {
@@ -47,7 +47,7 @@ TEST_F(DoorSwitch, TriggerMassIsMaxForceOverGMinusThePlatform) {
 
 TEST_F(DoorSwitch, ABoxTwentyPercentUnderTheThresholdLeavesTheDoorShut) {
   load_platform(0.8 * (0.5 / kG - platform_mass()), 4.0);
-  const DoorState state = world.door_state(0).value;
+  const DoorState state = world.doors().door_state(0).value;
   EXPECT_FALSE(state.triggered);
   EXPECT_LT(state.switch_travel, 0.5);
   EXPECT_EQ(state.gap, DoorGap::Closed);
@@ -56,13 +56,13 @@ TEST_F(DoorSwitch, ABoxTwentyPercentUnderTheThresholdLeavesTheDoorShut) {
 
 TEST_F(DoorSwitch, ABoxTwentyPercentOverTheThresholdOpensTheDoor) {
   load_platform(1.2 * (0.5 / kG - platform_mass()), 4.0);
-  const DoorState state = world.door_state(0).value;
+  const DoorState state = world.doors().door_state(0).value;
   EXPECT_TRUE(state.triggered);
   EXPECT_FALSE(state.virtually_triggered);
   EXPECT_GT(state.switch_travel, 0.9);
   EXPECT_EQ(state.gap, DoorGap::Open);
   // The leaf slid 0.85 m along the wall (+y).
-  EXPECT_NEAR(world.object_state(parts.leaf).value.pose.position.y(), 0.85, 0.01);
+  EXPECT_NEAR(world.objects().object_state(parts.leaf).value.pose.position.y(), 0.85, 0.01);
   bool triggered = false, opened = false;
   for (const auto& e : world.take_events()) {
     triggered |= e.type == WorldEvent::Type::SwitchTriggered && e.subject == "doors/door_00";
@@ -73,21 +73,21 @@ TEST_F(DoorSwitch, ABoxTwentyPercentOverTheThresholdOpensTheDoor) {
 }
 
 TEST_F(DoorSwitch, DoorPassesThroughHalfOpenAndClosesWhenTheLoadGoes) {
-  ASSERT_TRUE(world.set_switch_triggered(0, true).ok());
+  ASSERT_TRUE(world.doors().set_switch_triggered(0, true).ok());
   run_for(world, 1.0);  // 0.3 m/s for 1 s: about a third of 0.85 m
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Half);
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Half);
   run_for(world, 3.0);
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Open);
-  ASSERT_TRUE(world.set_switch_triggered(0, false).ok());
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Open);
+  ASSERT_TRUE(world.doors().set_switch_triggered(0, false).ok());
   run_for(world, 4.0);
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Closed);
-  EXPECT_FALSE(world.door_state(0).value.triggered);
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Closed);
+  EXPECT_FALSE(world.doors().door_state(0).value.triggered);
 }
 
 TEST_F(DoorSwitch, VirtualTriggerOpensTheDoorWithoutPressingTheSwitch) {
-  ASSERT_TRUE(world.set_switch_triggered(0, true).ok());
+  ASSERT_TRUE(world.doors().set_switch_triggered(0, true).ok());
   run_for(world, 4.0);
-  const DoorState state = world.door_state(0).value;
+  const DoorState state = world.doors().door_state(0).value;
   EXPECT_TRUE(state.triggered);
   EXPECT_TRUE(state.virtually_triggered);
   EXPECT_LT(state.switch_travel, 0.1);  // the platform stays up
@@ -95,33 +95,33 @@ TEST_F(DoorSwitch, VirtualTriggerOpensTheDoorWithoutPressingTheSwitch) {
 }
 
 TEST_F(DoorSwitch, MovingTheSwitchMovesItsBaseAlongAndItStillWorks) {
-  const Eigen::Vector3d base0 = world.object_state(*parts.base).value.pose.position;
-  const Eigen::Vector3d platform0 = world.object_state(*parts.platform).value.pose.position;
+  const Eigen::Vector3d base0 = world.objects().object_state(*parts.base).value.pose.position;
+  const Eigen::Vector3d platform0 = world.objects().object_state(*parts.platform).value.pose.position;
   const Eigen::Vector3d target = platform0 + Eigen::Vector3d(-0.5, -1.5, 0);
-  ASSERT_TRUE(world.set_switch_position(0, target).ok());
-  EXPECT_TRUE(world.object_state(*parts.platform).value.pose.position.isApprox(target, 1e-9));
-  EXPECT_TRUE(world.object_state(*parts.base).value.pose.position.isApprox(
+  ASSERT_TRUE(world.doors().set_switch_position(0, target).ok());
+  EXPECT_TRUE(world.objects().object_state(*parts.platform).value.pose.position.isApprox(target, 1e-9));
+  EXPECT_TRUE(world.objects().object_state(*parts.base).value.pose.position.isApprox(
       base0 + (target - platform0), 1e-9));
   load_platform(0.1, 4.0);
-  EXPECT_TRUE(world.door_state(0).value.triggered);
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Open);
+  EXPECT_TRUE(world.doors().door_state(0).value.triggered);
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Open);
 }
 
 TEST_F(DoorSwitch, MovingTheDoorMovesItsFrameAlongAndItStillSlides) {
-  const Eigen::Vector3d frame0 = world.object_state(parts.frame).value.pose.position;
-  const Eigen::Vector3d leaf0 = world.object_state(parts.leaf).value.pose.position;
+  const Eigen::Vector3d frame0 = world.objects().object_state(parts.frame).value.pose.position;
+  const Eigen::Vector3d leaf0 = world.objects().object_state(parts.leaf).value.pose.position;
   const Eigen::Vector3d delta(-0.3, 0.0, 0.0);
-  ASSERT_TRUE(world.set_door_position(0, leaf0 + delta).ok());
-  EXPECT_TRUE(world.object_state(parts.frame).value.pose.position.isApprox(frame0 + delta, 1e-9));
-  ASSERT_TRUE(world.set_switch_triggered(0, true).ok());
+  ASSERT_TRUE(world.doors().set_door_position(0, leaf0 + delta).ok());
+  EXPECT_TRUE(world.objects().object_state(parts.frame).value.pose.position.isApprox(frame0 + delta, 1e-9));
+  ASSERT_TRUE(world.doors().set_switch_triggered(0, true).ok());
   run_for(world, 4.0);
-  const Eigen::Vector3d leaf = world.object_state(parts.leaf).value.pose.position;
+  const Eigen::Vector3d leaf = world.objects().object_state(parts.leaf).value.pose.position;
   EXPECT_NEAR(leaf.x(), leaf0.x() + delta.x(), 1e-3);
   EXPECT_NEAR(leaf.y(), leaf0.y() + 0.85, 0.01);
 }
 
 TEST_F(DoorSwitch, DoorPartsCannotBeMovedOneByOne) {
-  const Status s = world.set_position(parts.leaf, {0, 0, 1});
+  const Status s = world.edit().set_position(parts.leaf, {0, 0, 1});
   EXPECT_EQ(s.code, ErrorCode::NotApplicable);
   EXPECT_NE(s.message.find("set_door_position"), std::string::npos);
 }
@@ -130,25 +130,25 @@ TEST(DoorOrientation, ARotatedDoorSwitchStructureWorksAlongItsOwnAxes) {
   World world(shipped_world("DemoWorld_v1.xml"));
   // A second door-switch structure turned by -90 degrees: its leaf slides along world +x.
   const Pose pose{{-2.6, -0.4, 0}, Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()))};
-  auto ids = world.import_environment(source("worlds/DemoEnvironment_v1/doors/door_switch.xml"),
+  auto ids = world.edit().import_environment(source("worlds/DemoEnvironment_v1/doors/door_switch.xml"),
                                       "door_01", pose);
   ASSERT_TRUE(ids.ok()) << ids.status.message;
-  const int door = *world.find_door("door_01");
-  const DoorParts parts = world.door_parts(door).value;
-  const Eigen::Vector3d leaf0 = world.object_state(parts.leaf).value.pose.position;
+  const int door = *world.doors().find_door("door_01");
+  const DoorParts parts = world.doors().door_parts(door).value;
+  const Eigen::Vector3d leaf0 = world.objects().object_state(parts.leaf).value.pose.position;
   // Its switch is turned with it: 1 m in front of the door and 0.8 m aside, in its own frame.
-  const Eigen::Vector3d platform = world.object_state(*parts.platform).value.pose.position;
+  const Eigen::Vector3d platform = world.objects().object_state(*parts.platform).value.pose.position;
   EXPECT_TRUE(platform.isApprox(pose.position + pose.orientation * Eigen::Vector3d(-1.0, 0.8, 0), 1e-9));
   // Press it with 0.1 kg.
   ObjectSpec weight = primitive(Shape::Box, Eigen::Vector3d::Constant(0.05), platform + Eigen::Vector3d(0, 0, 0.097));
   weight.density = 0.1 / (0.05 * 0.05 * 0.05);
-  ASSERT_TRUE(world.create_object(weight).ok());
+  ASSERT_TRUE(world.edit().create_object(weight).ok());
   run_for(world, 4.0);
-  EXPECT_TRUE(world.door_state(door).value.triggered);
-  EXPECT_EQ(world.door_state(door).value.gap, DoorGap::Open);
-  const Eigen::Vector3d moved = world.object_state(parts.leaf).value.pose.position - leaf0;
+  EXPECT_TRUE(world.doors().door_state(door).value.triggered);
+  EXPECT_EQ(world.doors().door_state(door).value.gap, DoorGap::Open);
+  const Eigen::Vector3d moved = world.objects().object_state(parts.leaf).value.pose.position - leaf0;
   EXPECT_TRUE(moved.isApprox(pose.orientation * Eigen::Vector3d(0, 0.85, 0), 0.02)) << moved.transpose();
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Closed);  // the other door is not involved
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Closed);  // the other door is not involved
 }
 
 TEST(DoorHinge, AHingeJointInTheDoorFileMakesASwingingDoor) {
@@ -165,13 +165,13 @@ TEST(DoorHinge, AHingeJointInTheDoorFileMakesASwingingDoor) {
     <IMPORT><ID>door_00</ID><NAME>door_switch.xml</NAME><POS>1,0,0</POS></IMPORT></ENVIRONMENT>)");
   write_file(dir / "world.xml", R"(<WORLD><IMPORT><ID>doors</ID><NAME>doors.xml</NAME></IMPORT></WORLD>)");
   World world(load_world_file((dir / "world.xml").string()));
-  ASSERT_EQ(world.door_count(), 1);
-  EXPECT_FALSE(world.door_parts(0).value.platform.has_value());  // a door without a switch
-  ASSERT_TRUE(world.set_switch_triggered(0, true).ok());
+  ASSERT_EQ(world.doors().door_count(), 1);
+  EXPECT_FALSE(world.doors().door_parts(0).value.platform.has_value());  // a door without a switch
+  ASSERT_TRUE(world.doors().set_switch_triggered(0, true).ok());
   run_for(world, 3.0);
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Open);
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Open);
   // Swung 90 degrees about the hinge: the leaf's long side now points along x.
-  const Pose leaf = world.object_state(world.door_parts(0).value.leaf).value.pose;
+  const Pose leaf = world.objects().object_state(world.doors().door_parts(0).value.leaf).value.pose;
   const Eigen::Vector3d along = leaf.orientation * Eigen::Vector3d::UnitY();
   EXPECT_NEAR(std::fabs(along.x()), 1.0, 0.02);
   EXPECT_NEAR(leaf.position.y(), -0.42, 0.02);

@@ -1,7 +1,7 @@
 // The crane arm with its electromagnet: what it lifts, what it cannot, what it never holds.
 #include <gtest/gtest.h>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -23,14 +23,14 @@ class Crane : public ::testing::Test {
     can.pose.position = kUnderMagnet;
     can.density = density;
     can.magnetizable = magnetizable;
-    auto id = world->create_object(can);
+    auto id = world->edit().create_object(can);
     ASSERT_TRUE(id.ok()) << id.status.message;
     can_id = id.value;
-    kurt = world->robot("kurt");
+    kurt = world->robot_as<KurtRobot>("kurt");
     run_for(*world, 0.5);
   }
 
-  double can_z() { return world->object_state(can_id).value.pose.position.z(); }
+  double can_z() { return world->objects().object_state(can_id).value.pose.position.z(); }
 
   // Lowers the magnet onto the can's top, switches it on, hoists back up.
   void pick() {
@@ -68,7 +68,7 @@ TEST_F(Crane, LiftsALightMagnetizableCanCarriesItAndDropsItOnATarget) {
   run_for(*world, 1.5);
   EXPECT_TRUE(event(WorldEvent::Type::ObjectReleased));
   EXPECT_TRUE(kurt->crane_state().held_object.empty());
-  const Eigen::Vector3d landed = world->object_state(can_id).value.pose.position;
+  const Eigen::Vector3d landed = world->objects().object_state(can_id).value.pose.position;
   EXPECT_NEAR(landed.x(), target.x(), 0.06);
   EXPECT_NEAR(landed.y(), target.y(), 0.06);
   EXPECT_GT(landed.y(), 0.35);          // carried well to the robot's left
@@ -92,9 +92,9 @@ TEST_F(Crane, ANonMagnetizableCanIsNeverAttached) {
 }
 
 TEST_F(Crane, TheMagnetLetsGoAboveItsHoldingForce) {
-  KurtConfig weak = *find_robot_type("kurt3d");
+  KurtConfig weak = *find_kurt_type("kurt3d");
   weak.crane_params.holding_force = 3.0;  // N: less than a 0.45 kg can weighs
-  register_robot_type("kurt3d_weak_magnet", weak);
+  register_kurt_type("kurt3d_weak_magnet", weak);
   load(0.45 / (M_PI * 0.033 * 0.033 * 0.115 + 4.0 / 3 * M_PI * std::pow(0.02, 3)), true,
        "kurt3d_weak_magnet");
   pick();
@@ -110,7 +110,7 @@ TEST_F(Crane, DestroyingTheHeldObjectReleasesIt) {
   load(190, true);
   pick();
   ASSERT_EQ(kurt->crane_state().held_object, "can");
-  ASSERT_TRUE(world->destroy_object(can_id).ok());
+  ASSERT_TRUE(world->edit().destroy_object(can_id).ok());
   EXPECT_TRUE(kurt->crane_state().held_object.empty());
   run_for(*world, 0.5);  // and nothing dangles
 }
@@ -122,7 +122,7 @@ TEST_F(Crane, AHeldObjectIsPartOfTheSnapshot) {
   kurt->command_magnet(false);
   run_for(*world, 1.0);
   ASSERT_TRUE(world->restore(held).ok());
-  kurt = world->robot("kurt");
+  kurt = world->robot_as<KurtRobot>("kurt");
   EXPECT_EQ(kurt->crane_state().held_object, "can");
   run_for(*world, 1.0);
   EXPECT_GT(can_z(), 0.1);  // still up on the magnet

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
 
@@ -26,7 +26,7 @@ double yaw_of(const Pose& p) {
 
 // Steps `seconds` of sim time, repeating the twist every 0.1 s like a controller would.
 void drive(World& world, double linear, double angular, double seconds) {
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
   for (long i = 0; i < steps; ++i) {
     if (i % 100 == 0) kurt.command_twist(linear, angular, world.time());
@@ -42,7 +42,7 @@ void idle(World& world, double seconds) {
 TEST(KurtRobot, RestsOnItsWheels) {
   World world(flat_world());
   idle(world, 1.0);
-  const KurtRobot& kurt = *world.robot("kurt");
+  const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const Pose p = kurt.base_footprint_pose();
   EXPECT_NEAR(p.position.z(), 0.0, 0.005);  // sinks at most a few mm into the soft contact
   EXPECT_NEAR(p.position.x(), 0.0, 1e-3);
@@ -55,7 +55,7 @@ TEST(KurtRobot, PositiveSpeedDrivesForwardAtTheCommandedSpeed) {
   World world(flat_world());
   idle(world, 0.5);
   drive(world, 0.3, 0.0, 3.0);
-  const KurtRobot& kurt = *world.robot("kurt");
+  const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   EXPECT_NEAR(kurt.linear_velocity().x(), 0.3, 0.01);
   const Pose p = kurt.base_footprint_pose();
   EXPECT_GT(p.position.x(), 0.85);  // 0.9 m minus the acceleration phase
@@ -70,7 +70,7 @@ TEST(KurtRobot, EncoderOdometryAgreesWithGroundTruthOnAStraightRun) {
   const double x0 = world.robot("kurt")->base_footprint_pose().position.x();
   drive(world, 0.3, 0.0, 3.5);
   idle(world, 1.0);
-  const KurtRobot& kurt = *world.robot("kurt");
+  const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const double truth = kurt.base_footprint_pose().position.x() - x0;
   const auto odom = kurt.odometry();
   // Rolling without slip on a rigid floor: the only error sources are the contact's
@@ -83,14 +83,14 @@ TEST(KurtRobot, EncoderOdometryAgreesWithGroundTruthOnAStraightRun) {
 TEST(KurtRobot, EncoderFramesComeEveryTenMilliseconds) {
   World world(flat_world());
   idle(world, 1.0);
-  EXPECT_EQ(world.robot("kurt")->odometry_frames(), 100u);
+  EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->odometry_frames(), 100u);
 }
 
 TEST(KurtRobot, PositiveAngularTwistTurnsCounterClockwise) {
   World world(flat_world());
   idle(world, 0.5);
   drive(world, 0.0, 0.5, 2.0);
-  const KurtRobot& kurt = *world.robot("kurt");
+  const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const Pose p = kurt.base_footprint_pose();
   EXPECT_GT(yaw_of(p), 0.3);
   EXPECT_LT(p.position.head<2>().norm(), 0.05);  // turns in place
@@ -100,7 +100,7 @@ TEST(KurtRobot, PositiveAngularTwistTurnsCounterClockwise) {
 TEST(KurtRobot, StopsWhenCommandsStopForTheTimeout) {
   World world(flat_world());
   idle(world, 0.5);
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   kurt.command_twist(0.4, 0.0, world.time());
   idle(world, 0.55);
   EXPECT_DOUBLE_EQ(kurt.active_wheel_speeds().left, 0.4);  // still within 0.6 s
@@ -117,8 +117,8 @@ TEST(KurtRobot, SeveralRobotsShareAWorldAndObeyTheirOwnCommands) {
       <ROBOT><ID>beta</ID><TYPE>kurt2</TYPE><POS>0,2,0</POS><ROT>0,0,90</ROT></ROBOT></WORLD>)",
                                 "two.xml"));
   ASSERT_EQ(world.robots().size(), 2u);
-  EXPECT_TRUE(world.robot("alpha")->config().crane);
-  EXPECT_FALSE(world.robot("beta")->config().crane);
+  EXPECT_TRUE(world.robot_as<KurtRobot>("alpha")->config().crane);
+  EXPECT_FALSE(world.robot_as<KurtRobot>("beta")->config().crane);
   for (int i = 0; i < 2000; ++i) {
     if (i % 100 == 0) world.robot("beta")->command_twist(0.3, 0.0, world.time());
     world.step();
@@ -155,8 +155,8 @@ TEST(KurtRobot, EncoderRateSetsHowOftenFramesComeAndIsChecked) {
     fast.step();
     standard.step();
   }
-  EXPECT_NEAR(static_cast<double>(fast.robot("kurt")->odometry_frames()), 100.0, 1.0);
-  EXPECT_NEAR(static_cast<double>(standard.robot("kurt")->odometry_frames()), 10.0, 1.0);
+  EXPECT_NEAR(static_cast<double>(fast.robot_as<KurtRobot>("kurt")->odometry_frames()), 100.0, 1.0);
+  EXPECT_NEAR(static_cast<double>(standard.robot_as<KurtRobot>("kurt")->odometry_frames()), 10.0, 1.0);
   // The odometry integrates with the frame period as its time step: both see the same motion.
   EXPECT_NEAR(fast.robot("kurt")->odometry().x, standard.robot("kurt")->odometry().x, 0.005);
   EXPECT_GT(fast.robot("kurt")->odometry().x, 0.01);
@@ -179,7 +179,7 @@ double climb(const std::string& type, double degrees) {
                                     "</WIDTH><HEIGHT>0.2</HEIGHT><ANGLE>" +
                                     std::to_string(degrees) + "</ANGLE></RAMP></WORLD>",
                                 "ramp.xml"));
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   double highest = 0;
   for (int i = 0; i < 10000; ++i) {
     if (i % 100 == 0) kurt.command_twist(0.3, 0.0, world.time());
@@ -196,9 +196,9 @@ TEST(KurtRobot, ClimbsAFifteenDegreeRamp) {
 TEST(KurtRobot, WheelTorqueLimitsTheSlopeItCanClimb) {
   // With 1 N m per wheel the six motors push 6 / 0.0603 = 99.5 N; the 19.7 kg robot needs
   // m g sin(theta) of it on a slope: the limit is asin(99.5 / 193) = 31 degrees.
-  KurtConfig weak = *find_robot_type("kurt3d");
+  KurtConfig weak = *find_kurt_type("kurt3d");
   weak.body.wheel_torque = 1.0;
-  register_robot_type("kurt3d_weak_motors", weak);
+  register_kurt_type("kurt3d_weak_motors", weak);
   EXPECT_GT(climb("kurt3d_weak_motors", 20), 0.195);
   EXPECT_LT(climb("kurt3d_weak_motors", 36), 0.1);  // stalls on the slope
   // The shipped robot (4 N m per wheel, mu 1) climbs 40 degrees; friction and tipping, not
@@ -209,7 +209,7 @@ TEST(KurtRobot, WheelTorqueLimitsTheSlopeItCanClimb) {
 TEST(KurtRobot, OdometryErrorOverAMetreSquareIsWhatTheSlipFactorPredicts) {
   World world(flat_world());
   idle(world, 0.5);
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   // How much does this robot skid when it turns? Turning in place at w = 0.4 commands wheel
   // speeds -+0.28 w: kinematically 2 w; the true rate over the kinematic one is the slip.
   drive(world, 0.0, 0.4, 1.0);  // spin up

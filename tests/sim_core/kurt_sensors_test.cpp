@@ -2,7 +2,7 @@
 // assembled cloud, the gyro and tilt, and the real driver's conversions.
 #include <gtest/gtest.h>
 
-#include "macsim/sim_core/robot_types.h"
+#include "macsim/sim_core/kurt_robot.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -56,7 +56,7 @@ TEST(KurtDriverConversions, IrAndSonarAsTheDriverComputesThem) {
 TEST(KurtRanges, SonarAndIrMeasureTheDistanceToAWall) {
   World world = world_with("kurt3d", wall(0.717) + wall(0.565, true));
   run_for(world, 0.2);
-  const KurtRobot& kurt = *world.robot("kurt");
+  const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   // ultrasound_front sits at x = 0.217: the wall face is 0.5 m ahead of it.
   EXPECT_NEAR(reading(kurt, "ultrasound_front").range, 0.5, 0.011);  // whole centimetres
   // ir_left sits at y = 0.165: the side wall is 0.4 m away.
@@ -69,13 +69,13 @@ TEST(KurtRanges, SonarAndIrMeasureTheDistanceToAWall) {
 TEST(KurtRanges, TooCloseIsInvalidToo) {
   World world = world_with("kurt3d", wall(0.217 + 0.05));
   run_for(world, 0.2);
-  EXPECT_EQ(reading(*world.robot("kurt"), "ultrasound_front").range, kInvalidRange);
+  EXPECT_EQ(reading(*world.robot_as<KurtRobot>("kurt"), "ultrasound_front").range, kInvalidRange);
 }
 
 TEST(KurtLaser, AFixedLms200ScansTheHorizontalPlane) {
   World world = world_with("kurt2", wall(2.145) + wall(1.5, true));
   run_for(world, 0.5);
-  const LaserScan& scan = world.robot("kurt")->laser_scan();
+  const LaserScan& scan = world.robot_as<KurtRobot>("kurt")->laser_scan();
   ASSERT_EQ(scan.ranges.size(), 181u);
   EXPECT_NEAR(scan.angle_min, -M_PI / 2, 1e-15);
   EXPECT_NEAR(scan.angle_increment, M_PI / 180, 1e-15);
@@ -88,12 +88,12 @@ TEST(KurtLaser, AFixedLms200ScansTheHorizontalPlane) {
   }
   EXPECT_NEAR(scan.ranges[180], 1.5, 0.025);  // +90 degrees: the side wall
   EXPECT_TRUE(std::isinf(scan.ranges[0]));    // -90 degrees: nothing within 10 m
-  EXPECT_EQ(world.robot("kurt")->laser_scans(), 37u);  // 75 Hz for 0.5 s
+  EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->laser_scans(), 37u);  // 75 Hz for 0.5 s
 }
 
 TEST(KurtLaser, TheRotatingScannerSeesTheFloorAndAssemblesA3dCloud) {
   World world = world_with("kurt3d", wall(2.0));
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   kurt.command_rotunit(M_PI / 6);
   const double speed = rotunit_speed_from_command(42);
   run_for(world, 2 * M_PI / speed + 0.2);
@@ -120,7 +120,7 @@ TEST(KurtLaser, TheRotatingScannerSeesTheFloorAndAssemblesA3dCloud) {
 
 TEST(KurtImu, GyroYawFollowsTheTurnAndDriftsWhenAsked) {
   World world = world_with("kurt3d");
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   for (int i = 0; i < 2000; ++i) {
     if (i % 100 == 0) kurt.command_twist(0.0, 0.6, world.time());
     world.step();
@@ -130,12 +130,12 @@ TEST(KurtImu, GyroYawFollowsTheTurnAndDriftsWhenAsked) {
   EXPECT_GT(kurt.imu().yaw, 0.5);
   EXPECT_NEAR(kurt.imu().roll, 0.0, 0.01);
 
-  KurtConfig drifting = *find_robot_type("kurt3d");
+  KurtConfig drifting = *find_kurt_type("kurt3d");
   drifting.gyro_drift = 0.01;
-  register_robot_type("kurt3d_drifting_gyro", drifting);
+  register_kurt_type("kurt3d_drifting_gyro", drifting);
   World still = world_with("kurt3d_drifting_gyro");
   run_for(still, 10.0);
-  EXPECT_NEAR(still.robot("kurt")->imu().yaw, 0.1, 0.005);  // 0.01 rad/s for 10 s
+  EXPECT_NEAR(still.robot_as<KurtRobot>("kurt")->imu().yaw, 0.1, 0.005);  // 0.01 rad/s for 10 s
 }
 
 TEST(KurtImu, GyroYawIsRelativeToTheStartHeading) {
@@ -143,7 +143,7 @@ TEST(KurtImu, GyroYawIsRelativeToTheStartHeading) {
   World world(load_world_string(
       "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE><ROT>0,0,120</ROT></ROBOT></WORLD>",
       "turned.xml"));
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   run_for(world, 0.05);
   EXPECT_NEAR(kurt.imu().yaw, 0.0, 1e-3);
   for (int i = 0; i < 1500; ++i) {

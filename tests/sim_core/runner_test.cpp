@@ -1,6 +1,7 @@
 // The runner: queued commands run at the step with the world current then, runs are
 // deterministic, a world is parsed off the simulation thread and swapped in between batches,
 // and what belongs to one world (named snapshots, generation) goes with it.
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/runner.h"
 
 #include <gtest/gtest.h>
@@ -90,8 +91,8 @@ TEST(Runner, CommandsAfterALoadInTheSameBatchActOnTheNewWorld) {
   EXPECT_EQ(seen[1], &runner.world());  // the world current when it ran: the new one
   EXPECT_EQ(runner.world().steps(), 0u);
   EXPECT_EQ(runner.generation(), 1u);
-  EXPECT_EQ(runner.world().robot("kurt")->active_wheel_speeds().left, 0.0);  // set at the step
-  EXPECT_GT(runner.world().robot("kurt")->state().commanded.left, 0.0);
+  EXPECT_EQ(runner.world().robot_as<KurtRobot>("kurt")->active_wheel_speeds().left, 0.0);  // set at the step
+  EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->state().commanded.left, 0.0);
 }
 
 TEST(Runner, ALoadStillParsingHoldsLaterCommandsWhileTheWorldRunsOn) {
@@ -255,7 +256,7 @@ TEST(Runner, AStepRequestThatHoldsCommandsKeepsTheRobotDrivingPastTheCommandTime
   auto travelled = [](bool hold) {
     Runner runner(small_room(), RunSettings{true, 0.0});
     std::atomic<bool> stop{false};
-    KurtRobot& robot = *runner.world().robots().front();
+    KurtRobot& robot = dynamic_cast<KurtRobot&>(*runner.world().robots().front());
     const double x0 = robot.base_footprint_pose().position.x();
     robot.command_twist(0.3, 0.0, runner.world().time());
     StepRequest request;
@@ -332,8 +333,8 @@ TEST(Runner, AWorldGoneNonFiniteAtRunTimePausesWithAnEventNamingTheObject) {
     if (w.steps() == 10) {
       // The largest force a request may give, on a light ball: beyond 1000 m/s in one step.
       EXPECT_TRUE(runner.push([](World& world) {
-        const ObjectId ball = *world.find_object("green_ball");
-        ASSERT_TRUE(world.add_force(ball, {0, 0, bounds::kMaxForce}).ok());
+        const ObjectId ball = *world.objects().find_object("green_ball");
+        ASSERT_TRUE(world.edit().add_force(ball, {0, 0, bounds::kMaxForce}).ok());
       }));
     }
     if (w.steps() == 50) stop = true;  // reached only if the runner ran on
@@ -350,7 +351,8 @@ TEST(Runner, AWorldGoneNonFiniteAtRunTimePausesWithAnEventNamingTheObject) {
   EXPECT_EQ(events[0].type, WorldEvent::Type::Instability);
   EXPECT_EQ(events[0].subject, "green_ball");
   EXPECT_TRUE(runner.world()
-                  .object_state(*runner.world().find_object("green_ball"))
+                  .objects()
+                  .object_state(*runner.world().objects().find_object("green_ball"))
                   .value.pose.position.allFinite());
 }
 

@@ -79,11 +79,11 @@ TEST(WorldBounds, NamesFollowOneRuleEverywhere) {
   World world(shipped_world("DemoWorld_v1.xml"));
   ObjectSpec spec = box_object({0, -1.0, 0.3}, {0.1, 0.1, 0.1});
   spec.name = "a//b";
-  EXPECT_EQ(world.create_object(spec).status.code, ErrorCode::InvalidArgument);
+  EXPECT_EQ(world.edit().create_object(spec).status.code, ErrorCode::InvalidArgument);
   spec.name = "mine/box";
-  EXPECT_TRUE(world.create_object(spec).ok());
+  EXPECT_TRUE(world.edit().create_object(spec).ok());
   EXPECT_EQ(
-      world.import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"), "..", Pose{})
+      world.edit().import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"), "..", Pose{})
           .status.code,
       ErrorCode::InvalidArgument);
 }
@@ -96,26 +96,26 @@ TEST(WorldBounds, HostileRequestsAreRefusedAndChangeNothing) {
   const uint64_t hash = world.state_hash();
   const double huge = 1e308, tiny = 1e-300;
   std::vector<std::pair<const char*, Status>> refused{
-      {"mass huge", world.set_mass(box, huge)},
-      {"mass tiny", world.set_mass(box, tiny)},
-      {"density huge", world.set_density(box, huge)},
-      {"box huge", world.set_box_size(box, 0, {huge, 0.1, 0.1}, PenetrationPolicy::Allow)},
-      {"box tiny", world.set_box_size(box, 0, {tiny, 0.1, 0.1}, PenetrationPolicy::Allow)},
-      {"sphere huge", world.set_sphere_size(ball, 0, huge, PenetrationPolicy::Allow)},
-      {"position far", world.set_position(box, {huge, 0, 0}, PenetrationPolicy::Allow)},
-      {"orientation zero", world.set_orientation(box, Eigen::Quaterniond(0, 0, 0, 0))},
-      {"orientation tiny", world.set_orientation(box, Eigen::Quaterniond(tiny, 0, 0, 0))},
-      {"velocity huge", world.set_linear_velocity(ball, {huge, 0, 0})},
-      {"spin huge", world.set_angular_velocity(ball, {0, 0, 1e6})},
-      {"force huge", world.add_force(ball, {0, huge, 0})},
-      {"torque huge", world.add_torque(ball, {0, 0, huge})},
-      {"switch far", world.set_switch_position(0, {huge, 0, 0})},
-      {"door far", world.set_door_position(0, {0, huge, 0})},
-      {"import far", world
+      {"mass huge", world.edit().set_mass(box, huge)},
+      {"mass tiny", world.edit().set_mass(box, tiny)},
+      {"density huge", world.edit().set_density(box, huge)},
+      {"box huge", world.edit().set_box_size(box, 0, {huge, 0.1, 0.1}, PenetrationPolicy::Allow)},
+      {"box tiny", world.edit().set_box_size(box, 0, {tiny, 0.1, 0.1}, PenetrationPolicy::Allow)},
+      {"sphere huge", world.edit().set_sphere_size(ball, 0, huge, PenetrationPolicy::Allow)},
+      {"position far", world.edit().set_position(box, {huge, 0, 0}, PenetrationPolicy::Allow)},
+      {"orientation zero", world.edit().set_orientation(box, Eigen::Quaterniond(0, 0, 0, 0))},
+      {"orientation tiny", world.edit().set_orientation(box, Eigen::Quaterniond(tiny, 0, 0, 0))},
+      {"velocity huge", world.edit().set_linear_velocity(ball, {huge, 0, 0})},
+      {"spin huge", world.edit().set_angular_velocity(ball, {0, 0, 1e6})},
+      {"force huge", world.edit().add_force(ball, {0, huge, 0})},
+      {"torque huge", world.edit().add_torque(ball, {0, 0, huge})},
+      {"switch far", world.doors().set_switch_position(0, {huge, 0, 0})},
+      {"door far", world.doors().set_door_position(0, {0, huge, 0})},
+      {"import far", world.edit()
                          .import_environment(source("worlds/DemoEnvironment_v1/objects/blocks.xml"),
                                              "far", Pose{{huge, 0, 0}, {1, 0, 0, 0}})
                          .status},
-      {"create dense", world
+      {"create dense", world.edit()
                            .create_object([huge] {
                              ObjectSpec s = box_object({0, -1.0, 0.3}, {0.1, 0.1, 0.1});
                              s.density = huge;
@@ -123,7 +123,7 @@ TEST(WorldBounds, HostileRequestsAreRefusedAndChangeNothing) {
                            }())
                            .status},
       {"create huge portable",
-       world.create_object(box_object({0, -1.0, 0.3}, {500, 500, 500})).status},
+       world.edit().create_object(box_object({0, -1.0, 0.3}, {500, 500, 500})).status},
   };
   for (const auto& [what, status] : refused) {
     EXPECT_EQ(status.code, ErrorCode::InvalidArgument) << what << ": " << status.message;
@@ -131,7 +131,7 @@ TEST(WorldBounds, HostileRequestsAreRefusedAndChangeNothing) {
   }
   EXPECT_EQ(world.state_hash(), hash);
   run_for(world, 0.1);  // and it steps on
-  EXPECT_TRUE(world.object_state(box).value.pose.position.allFinite());
+  EXPECT_TRUE(world.objects().object_state(box).value.pose.position.allFinite());
 }
 
 TEST(WorldBounds, ImportsNestAndFanOutWithinLimits) {

@@ -117,8 +117,8 @@ TEST_F(WorldImport, MaterialsGiveFrictionBounceAndDefaultDensity) {
   bool rubber_landed = false, stone_landed = false;
   for (int i = 0; i < 1500; ++i) {
     world.step();
-    const double r = world.object_state(*world.find_object("ball")).value.pose.position.z();
-    const double s = world.object_state(*world.find_object("stone")).value.pose.position.z();
+    const double r = world.objects().object_state(*world.objects().find_object("ball")).value.pose.position.z();
+    const double s = world.objects().object_state(*world.objects().find_object("stone")).value.pose.position.z();
     rubber_landed |= r < 0.11;
     stone_landed |= s < 0.11;
     if (rubber_landed) rubber_peak = std::max(rubber_peak, r);
@@ -187,9 +187,9 @@ TEST_F(WorldImport, BrokenDoorConventionsAreWarnedAboutAndEverythingStaysReachab
   EXPECT_NE(warnings[1].find("not inside a <ID>doors</ID> container"), std::string::npos)
       << warnings[1];
   World world(spec);
-  EXPECT_TRUE(world.find_object("doors/front_door/door_component/leaf").has_value());
-  EXPECT_TRUE(world.find_object("my_environment/door_component/leaf").has_value());
-  EXPECT_EQ(world.find_door("my_environment"), 1);
+  EXPECT_TRUE(world.objects().find_object("doors/front_door/door_component/leaf").has_value());
+  EXPECT_TRUE(world.objects().find_object("my_environment/door_component/leaf").has_value());
+  EXPECT_EQ(world.doors().find_door("my_environment"), 1);
 }
 
 TEST_F(WorldImport, TheShippedWorldsLoadWithoutWarnings) {

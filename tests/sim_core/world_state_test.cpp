@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "support/world_helpers.h"
+#include "macsim/sim_core/kurt_robot.h"
 
 namespace macsim::test {
 namespace {
@@ -14,15 +15,15 @@ void trial(World& world, double seconds) {
   const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
   for (long i = 0; i < steps; ++i) {
     if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.3, world.time());
-    if (i == 200) world.set_switch_triggered(0, true);
-    if (i == 300) world.add_force(id_of(world, "environment_01/ball_green"), {0, 300, 0});
+    if (i == 200) world.doors().set_switch_triggered(0, true);
+    if (i == 300) world.edit().add_force(id_of(world, "environment_01/ball_green"), {0, 300, 0});
     world.step();
   }
 }
 
 /// Changes exactly one part of the robot's state through set_state().
 void change_robot(World& world, const std::function<void(KurtRobot::State&)>& change) {
-  KurtRobot& kurt = *world.robot("kurt");
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   KurtRobot::State s = kurt.state();
   change(s);
   kurt.set_state(s);
@@ -69,28 +70,28 @@ std::vector<StateChange> single_part_changes() {
       {"wheel command", [](World& w) { w.robot("kurt")->command_twist(0.2, 0.0, w.time()); }},
       {"door gap",
        [](World& w) { change_world(w, [](auto& s) { s.door_flags[0].gap = DoorGap::Half; }); }},
-      {"door switch", [](World& w) { ASSERT_TRUE(w.set_switch_triggered(0, true).ok()); }},
+      {"door switch", [](World& w) { ASSERT_TRUE(w.doors().set_switch_triggered(0, true).ok()); }},
       {"next object id", [](World& w) { change_world(w, [](auto& s) { ++s.next_id; }); }},
       {"ODE random seed", [](World& w) { change_world(w, [](auto& s) { ++s.random_seed; }); }},
       {"time", [](World& w) { change_world(w, [](auto& s) { ++s.steps; }); }},
       {"a colour",
        [](World& w) {
-         ASSERT_TRUE(w.set_color(id_of(w, "environment_00/can_00"), {0, 1, 0, 1}).ok());
+         ASSERT_TRUE(w.edit().set_color(id_of(w, "environment_00/can_00"), {0, 1, 0, 1}).ok());
        }},
       {"a size",
        [](World& w) {
-         ASSERT_TRUE(w.set_cylinder_size(id_of(w, "environment_00/can_00"), 0, 0.031, 0.12,
+         ASSERT_TRUE(w.edit().set_cylinder_size(id_of(w, "environment_00/can_00"), 0, 0.031, 0.12,
                                          PenetrationPolicy::Allow)
                          .ok());
        }},
       {"user data",
-       [](World& w) { ASSERT_TRUE(w.set_user_data(id_of(w, "environment_00/can_00"), "x").ok()); }},
+       [](World& w) { ASSERT_TRUE(w.edit().set_user_data(id_of(w, "environment_00/can_00"), "x").ok()); }},
       {"a frozen flag",
-       [](World& w) { ASSERT_TRUE(w.set_frozen(id_of(w, "environment_00/can_00"), true).ok()); }},
+       [](World& w) { ASSERT_TRUE(w.edit().set_frozen(id_of(w, "environment_00/can_00"), true).ok()); }},
       {"a body's velocity",
        [](World& w) {
          ASSERT_TRUE(
-             w.set_linear_velocity(id_of(w, "environment_01/ball_green"), {0, 0, 1e-9}).ok());
+             w.edit().set_linear_velocity(id_of(w, "environment_01/ball_green"), {0, 0, 1e-9}).ok());
        }},
   };
 }
@@ -159,8 +160,19 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
             ErrorCode::InvalidArgument);
   EXPECT_EQ(damaged([](WorldState& s) { s.door_flags[0].gap = static_cast<DoorGap>(9); }).code,
             ErrorCode::InvalidArgument);
-  EXPECT_EQ(damaged([](WorldState& s) { s.robots[0].crane.slew = INFINITY; }).code,
-            ErrorCode::InvalidArgument);
+  {  // a robot's part: its own bytes, with a crane target that is not finite
+    KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
+    const KurtRobot::State good = kurt.state();
+    KurtRobot::State bad = good;
+    bad.crane.slew = INFINITY;
+    kurt.set_state(bad);
+    const std::vector<uint8_t> bad_bytes = kurt.save_state();
+    kurt.set_state(good);
+    const uint64_t before = world.state_hash();
+    EXPECT_EQ(damaged([&](WorldState& s) { s.robots[0] = bad_bytes; }).code,
+              ErrorCode::InvalidArgument);
+    EXPECT_EQ(world.state_hash(), before);
+  }
   WorldSnapshot bad_flag =
       snapshot;  // the last body's sleep flag is its last byte before the robots
   const WorldState decoded = deserialize(bad_flag.bytes);
@@ -190,26 +202,26 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
   World world(shipped_world("DemoWorld_v1.xml"));
   trial(world, 1.0);
   // Structural changes before the snapshot must be restored too.
-  auto spawned = world.create_object(primitive(Shape::Box, {0.1, 0.1, 0.1}, {-0.5, 0.3, 0.4}));
+  auto spawned = world.edit().create_object(primitive(Shape::Box, {0.1, 0.1, 0.1}, {-0.5, 0.3, 0.4}));
   ASSERT_TRUE(spawned.ok());
-  ASSERT_TRUE(world.destroy_object(id_of(world, "environment_01/box_yellow")).ok());
+  ASSERT_TRUE(world.edit().destroy_object(id_of(world, "environment_01/box_yellow")).ok());
   const WorldSnapshot saved = world.snapshot();
   const WorldState snapshot = deserialize(saved.bytes);
   trial(world, 1.0);
   const WorldState after_first_run = world.state();
 
   // Change a lot, then go back.
-  world.destroy_all_portable_objects();
-  world.set_switch_triggered(0, false);
+  world.edit().destroy_all_portable_objects();
+  world.doors().set_switch_triggered(0, false);
   ASSERT_TRUE(world.restore(saved).ok());
   EXPECT_EQ(world.time(), 1.0);
-  EXPECT_EQ(world.object_ids(), [&] {
+  EXPECT_EQ(world.objects().object_ids(), [&] {
     std::vector<ObjectId> ids;
     for (const auto& o : snapshot.objects) ids.push_back(o.first);
     return ids;
   }());
-  EXPECT_FALSE(world.find_object("environment_01/box_yellow").has_value());
-  EXPECT_TRUE(world.door_state(0).value.virtually_triggered);
+  EXPECT_FALSE(world.objects().find_object("environment_01/box_yellow").has_value());
+  EXPECT_TRUE(world.doors().door_state(0).value.virtually_triggered);
   const WorldState restored = world.state();
   ASSERT_EQ(restored.bodies.size(), snapshot.bodies.size());
   for (std::size_t i = 0; i < restored.bodies.size(); ++i) {
@@ -234,17 +246,17 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
 TEST(WorldState, ResetEverythingGivesTheLoadedWorldBack) {
   World world(shipped_world("DemoWorld_v1.xml"));
   const uint64_t loaded = world.state_hash();
-  const auto ids = world.object_ids();
+  const auto ids = world.objects().object_ids();
   trial(world, 1.0);
-  world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5}));
-  world.destroy_object(id_of(world, "environment_01/post"));
-  world.set_color(id_of(world, "environment_00/can_00"), {0, 1, 0, 1});
+  world.edit().create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5}));
+  world.edit().destroy_object(id_of(world, "environment_01/post"));
+  world.edit().set_color(id_of(world, "environment_00/can_00"), {0, 1, 0, 1});
   world.reset(ResetScope::Everything);
   EXPECT_EQ(world.state_hash(), loaded);
-  EXPECT_EQ(world.object_ids(), ids);
+  EXPECT_EQ(world.objects().object_ids(), ids);
   EXPECT_EQ(world.time(), 0.0);
-  EXPECT_NE(world.object(id_of(world, "environment_00/can_00"))->components[0].color[1], 1.0f);
-  EXPECT_EQ(world.door_state(0).value.gap, DoorGap::Closed);
+  EXPECT_NE(world.objects().object(id_of(world, "environment_00/can_00"))->components[0].color[1], 1.0f);
+  EXPECT_EQ(world.doors().door_state(0).value.gap, DoorGap::Closed);
   // And the next trial is the same as the first one.
   World fresh(shipped_world("DemoWorld_v1.xml"));
   trial(world, 1.0);
@@ -255,16 +267,16 @@ TEST(WorldState, ResetEverythingGivesTheLoadedWorldBack) {
 TEST(WorldState, ResetPosesKeepsSpawnedObjectsAndTime) {
   World world(shipped_world("DemoWorld_v1.xml"));
   const ObjectId ball = id_of(world, "environment_01/ball_green");
-  const Pose ball_at_load = world.object_state(ball).value.pose;
+  const Pose ball_at_load = world.objects().object_state(ball).value.pose;
   trial(world, 1.0);
-  auto spawned = world.create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5}));
+  auto spawned = world.edit().create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5}));
   ASSERT_TRUE(spawned.ok());
   const double time = world.time();
   world.reset(ResetScope::Poses);
   EXPECT_EQ(world.time(), time);
-  EXPECT_TRUE(world.object(spawned.value) != nullptr);
-  EXPECT_TRUE(world.object_state(ball).value.pose.position.isApprox(ball_at_load.position, 1e-12));
-  EXPECT_EQ(world.object_state(ball).value.linear_velocity, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(world.objects().object(spawned.value) != nullptr);
+  EXPECT_TRUE(world.objects().object_state(ball).value.pose.position.isApprox(ball_at_load.position, 1e-12));
+  EXPECT_EQ(world.objects().object_state(ball).value.linear_velocity, Eigen::Vector3d::Zero());
   EXPECT_NEAR(world.robot("kurt")->base_footprint_pose().position.x(), -2.0, 1e-3);
   EXPECT_EQ(world.robot("kurt")->odometry().x, 0.0);
 }
@@ -273,7 +285,7 @@ TEST(WorldState, ResetPosesAndTimeRewindsTheClockAndTheRandomSeed) {
   World world(shipped_world("DemoWorld_v1.xml"));
   const uint64_t loaded = world.state_hash();
   trial(world, 1.0);
-  world.set_switch_triggered(0, false);  // the door closes again by itself
+  world.doors().set_switch_triggered(0, false);  // the door closes again by itself
   run_for(world, 4.0);
   world.reset(ResetScope::PosesAndTime);
   EXPECT_EQ(world.time(), 0.0);
@@ -287,7 +299,7 @@ TEST(WorldState, ASnapshotOfAnotherWorldIsRefused) {
       <ROBOT><ID>b</ID><TYPE>kurt3d</TYPE><POS>2,0,0</POS></ROBOT></WORLD>)",
                                      "two.xml"));
   EXPECT_EQ(demo.restore(two_robots.snapshot()).code, ErrorCode::InvalidArgument);
-  EXPECT_EQ(demo.object_count(), 24);  // untouched
+  EXPECT_EQ(demo.objects().object_count(), 24);  // untouched
 }
 
 }  // namespace

@@ -1,12 +1,11 @@
-// A child process for integration tests: started with fork/exec, output captured, always reaped.
+// Integration tests' helpers: the child processes they start (always reaped), paths of the
+// build and the sources, temporary directories, environment variables for the children.
 #pragma once
 
-#include <sys/types.h>
-
-#include <chrono>
 #include <optional>
 #include <string>
-#include <vector>
+
+#include "macsim/process/child_process.h"
 
 namespace macsim::test {
 
@@ -15,31 +14,11 @@ std::string bin(const std::string& program);
 /// Path of a file in the source tree.
 std::string source(const std::string& relative);
 
-/// Runs a program; stdout and stderr go to one temporary file. The destructor terminates
-/// (SIGTERM, then SIGKILL after 5 s) and reaps the process if it is still running.
-class ChildProcess {
- public:
-  explicit ChildProcess(std::vector<std::string> argv);
-  ~ChildProcess();
-  ChildProcess(const ChildProcess&) = delete;
-  ChildProcess& operator=(const ChildProcess&) = delete;
-
-  /// Exit code (or 128 + signal) once the process ended within `timeout`, else nullopt.
-  std::optional<int> wait_for_exit(std::chrono::milliseconds timeout);
-  /// Sends a signal (SIGTERM, SIGINT, SIGKILL ...) if the process still runs.
-  void signal(int signal_number);
-  bool running();
-  /// Everything the process printed so far.
-  std::string output() const;
-  /// Waits until `text` appears in the output (or the process ends, or the timeout passes).
-  bool wait_for_output(const std::string& text, std::chrono::milliseconds timeout);
-  pid_t pid() const { return pid_; }
-
- private:
-  pid_t pid_ = -1;
-  std::optional<int> exit_code_;
-  std::string output_path_;
-};
+/// The programs under test run as children: macsim::process::ChildProcess, by default with
+/// stdout and stderr captured in one temporary file (output(), wait_for_output()), stopped
+/// (SIGTERM, then SIGKILL after 5 s), reaped and its output removed by the destructor, and sent
+/// SIGTERM if the test process dies first.
+using ChildProcess = macsim::process::ChildProcess;
 
 /// A fresh directory under /tmp (named `prefix` + random), removed with everything in it.
 class TempDir {

@@ -43,7 +43,7 @@ inline ObjectSpec primitive(Shape shape, const Eigen::Vector3d& size, const Eige
 
 /// The id of a named object, failing the test if it is missing.
 inline ObjectId id_of(const World& world, const std::string& name) {
-  auto id = world.find_object(name);
+  auto id = world.objects().find_object(name);
   if (!id) throw std::runtime_error("no object named " + name);
   return *id;
 }
@@ -51,7 +51,7 @@ inline ObjectId id_of(const World& world, const std::string& name) {
 /// Height of an object's frame once it has settled.
 inline double settled_z(World& world, ObjectId id, double seconds = 1.5) {
   run_for(world, seconds);
-  return world.object_state(id).value.pose.position.z();
+  return world.objects().object_state(id).value.pose.position.z();
 }
 
 /// A fresh temporary directory for test files.

@@ -9,11 +9,11 @@ namespace macsim::test {
 
 std::optional<std::string> invariant_violation(const World& world) {
   if (!std::isfinite(world.time())) return "the time is not finite";
-  for (const ObjectId id : world.object_ids()) {
-    const ObjectSpec* spec = world.object(id);
+  for (const ObjectId id : world.objects().object_ids()) {
+    const ObjectSpec* spec = world.objects().object(id);
     if (!spec) return "object " + std::to_string(id) + " is listed but has no description";
     const std::string name = "'" + spec->name + "': ";
-    const auto state = world.object_state(id);
+    const auto state = world.objects().object_state(id);
     if (!state.ok()) return name + "no state: " + state.status.message;
     const ObjectState& s = state.value;
     if (!s.pose.position.allFinite() || !s.linear_velocity.allFinite() ||
@@ -24,7 +24,7 @@ std::optional<std::string> invariant_violation(const World& world) {
       return name + "the orientation is not a unit quaternion";
     }
     if (!spec->portable) continue;
-    const auto mass = world.object_mass(id);
+    const auto mass = world.objects().object_mass(id);
     if (!mass.ok() || !(mass.value > 0) || !std::isfinite(mass.value)) {
       return name + "the mass is not positive and finite";
     }
@@ -32,7 +32,7 @@ std::optional<std::string> invariant_violation(const World& world) {
       return name + "the mass " + std::to_string(mass.value) + " kg is not density x volume (" +
              std::to_string(spec->mass()) + " kg)";
     }
-    const auto inertia = world.object_inertia(id);
+    const auto inertia = world.objects().object_inertia(id);
     if (!inertia.ok() || !inertia.value.allFinite() ||
         !(inertia.value.selfadjointView<Eigen::Lower>().eigenvalues().minCoeff() > 0)) {
       return name + "the inertia is not finite and positive definite";

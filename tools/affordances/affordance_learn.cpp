@@ -7,6 +7,7 @@
 
 #include "learning.h"
 #include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
 
 int main(int argc, char** argv) {
   using namespace affordances;
@@ -28,8 +29,9 @@ int main(int argc, char** argv) {
              &min_accuracy);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (in.empty() || out.empty()) {
-    std::cerr << "affordance_learn: say which rows and where the plots go: --in FILE.csv --out "
-                 "DIR (see --help)\n";
+    macsim::log::error(
+        "affordance_learn: say which rows and where the plots go: --in FILE.csv --out DIR (see "
+        "--help)");
     return 2;
   }
   std::vector<std::string> features;
@@ -42,15 +44,15 @@ int main(int argc, char** argv) {
     try {
       sets = datasets(table, features);
     } catch (const std::exception& e) {
-      std::cerr << "affordance_learn: " << in << ": " << e.what() << "\n";
+      macsim::log::error("affordance_learn: {}: {}", in, e.what());
       return 2;
     }
   } catch (const std::exception& e) {
-    std::cerr << "affordance_learn: " << e.what() << "\n";
+    macsim::log::error("affordance_learn: {}", e.what());
     return 2;
   }
   if (sets.empty()) {
-    std::cerr << "affordance_learn: " << in << " has no trial rows\n";
+    macsim::log::error("affordance_learn: {} has no trial rows", in);
     return 2;
   }
   std::filesystem::create_directories(out);
@@ -80,7 +82,7 @@ int main(int argc, char** argv) {
                           out + "/" + affordance + "_learning_curve.png");
       plot_scatter(data, x, y, out + "/" + affordance + "_scatter.png");
     } catch (const std::exception& err) {
-      std::cerr << "affordance_learn: " << err.what() << "\n";
+      macsim::log::error("affordance_learn: {}", err.what());
       return 2;
     }
     std::printf("  plots: %s/%s_learning_curve.png, %s/%s_scatter.png\n", out.c_str(),

@@ -18,14 +18,16 @@
 #include <set>
 #include <sstream>
 
-#include "macsim/client/child_program.h"
+#include "csv_writer.h"
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/data_files.h"
+#include "macsim/dds/log.h"
 #include "trial_pool.h"
 
 namespace {
 
 using namespace affordances;
+namespace log = macsim::log;
 using Clock = std::chrono::steady_clock;
 
 /// One updating line on a terminal, a plain line every 10 s otherwise (a cluster task's output
@@ -78,32 +80,33 @@ std::vector<int> parse_domains(const std::string& list) {
   return domains;
 }
 
-/// The row's key: affordance, generator, seed (the first three columns).
+/// The row's key: affordance, generator, seed (the first three columns), as trial_key().
 std::string key_of(const std::string& row) {
-  std::size_t comma = 0;
-  for (int i = 0; i < 3 && comma != std::string::npos; ++i) comma = row.find(',', comma + 1);
-  return row.substr(0, comma);
+  auto fields = csv::split(row);
+  fields.resize(3);
+  return csv::join(fields);
 }
 
 /// Rows sorted by affordance, generator and seed.
 void sort_rows(std::vector<std::string>& rows) {
-  auto key = [](const std::string& row) {
-    std::stringstream in(row);
-    std::string a, g, seed;
-    std::getline(in, a, ',');
-    std::getline(in, g, ',');
-    std::getline(in, seed, ',');
-    return std::make_tuple(a, g, std::stoull(seed));
-  };
-  std::stable_sort(rows.begin(), rows.end(),
-                   [&](const std::string& x, const std::string& y) { return key(x) < key(y); });
+  using Key = std::tuple<std::string, std::string, unsigned long long>;
+  std::vector<std::pair<Key, std::string>> keyed;
+  keyed.reserve(rows.size());
+  for (auto& row : rows) {
+    auto fields = csv::split(row);
+    fields.resize(3);
+    keyed.emplace_back(Key{fields[0], fields[1], std::stoull(fields[2])}, std::move(row));
+  }
+  std::stable_sort(keyed.begin(), keyed.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = std::move(keyed[i].second);
 }
 
 /// A row without its last two columns (instance, wall time): what must repeat bit for bit.
 std::string result_part(const std::string& row) {
-  auto cut = row.rfind(',');
-  cut = row.rfind(',', cut - 1);
-  return row.substr(0, cut);
+  auto fields = csv::split(row);
+  fields.resize(fields.size() < 2 ? 0 : fields.size() - 2);
+  return csv::join(fields);
 }
 
 /// A whole number in `text` (nothing else), or nullopt.
@@ -145,13 +148,6 @@ std::string seed_range(uint64_t first, uint64_t end) {
   return std::to_string(first) + "-" + std::to_string(end - 1);
 }
 
-/// The header of a CSV file's first line (read_csv's split), joined again.
-std::string joined(const std::vector<std::string>& fields) {
-  std::string line;
-  for (std::size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + fields[i];
-  return line;
-}
-
 /// `affordance_trials merge`: joins the files of shards (or of any runs) into one, sorted by
 /// affordance, generator and seed; refuses files of other columns (2) and rows of one trial
 /// that differ (3); reports the seeds missing from S..S+T-1, shard by shard (1).
@@ -186,8 +182,7 @@ int merge(int argc, char** argv) {
   if (auto code = cli.parse(argc, argv)) return *code;
 
   auto usage = [](const std::string& message) {
-    std::cerr << "affordance_trials merge: " << message
-              << " (see affordance_trials merge --help)\n";
+    log::error("affordance_trials merge: {} (see affordance_trials merge --help)", message);
     return 2;
   };
   const auto first_seed = whole_number<uint64_t>(seed_text);
@@ -215,7 +210,7 @@ int merge(int argc, char** argv) {
   for (const auto& path : inputs) {
     if (std::filesystem::is_regular_file(path) && std::filesystem::file_size(path) == 0) {
       // A task killed before it wrote anything: no rows (its seeds are reported missing).
-      std::cerr << "affordance_trials merge: " << path << " is empty (no rows)\n";
+      log::warn("affordance_trials merge: {} is empty (no rows)", path);
       continue;
     }
     CsvTable table;
@@ -224,32 +219,32 @@ int merge(int argc, char** argv) {
         throw std::runtime_error(path + ": no such file");
       table = read_csv(path);
     } catch (const std::exception& e) {
-      std::cerr << "affordance_trials merge: " << e.what() << "\n";
+      log::error("affordance_trials merge: {}", e.what());
       return 2;
     }
     // One header for every file: that of an affordance this version writes.
-    const std::string columns = joined(table.columns);
+    const std::string columns = csv::join(table.columns);
     bool known = false;
     for (auto a : {Affordance::Lift, Affordance::Stack, Affordance::Traverse})
       known = known || columns == csv_header(a);
     if (!affordance_name.empty())  // the columns of the affordance named
       known = columns == csv_header(*affordance_from_name(affordance_name));
     if (!known || (!header.empty() && columns != header)) {
-      std::cerr << "affordance_trials merge: " << path
-                << (known ? " has other columns than the files before it"
-                    : affordance_name.empty()
-                        ? " has other columns than this version writes"
-                        : " has other columns than " + affordance_name + " rows (--affordance)")
-                << " (its header: " << columns.substr(0, 120) << "...)\n";
+      log::error("affordance_trials merge: {}{} (its header: {}...)", path,
+                 known                    ? " has other columns than the files before it"
+                 : affordance_name.empty() ? " has other columns than this version writes"
+                                           : " has other columns than " + affordance_name +
+                                                 " rows (--affordance)",
+                 columns.substr(0, 120));
       return 2;
     }
     header = columns;
     for (std::size_t i = 0; i < table.rows.size(); ++i) {
-      const std::string row = joined(table.rows[i]);
+      const std::string row = csv::join(table.rows[i]);
       const auto seed = whole_number<uint64_t>(table.rows[i][2]);
       if (!seed) {
-        std::cerr << "affordance_trials merge: " << path << ": row " << i + 1
-                  << " has no whole-number seed: '" << table.rows[i][2] << "'\n";
+        log::error("affordance_trials merge: {}: row {} has no whole-number seed: '{}'", path,
+                   i + 1, table.rows[i][2]);
         return 2;
       }
       ++read;
@@ -261,16 +256,17 @@ int merge(int argc, char** argv) {
         continue;
       }
       ++conflicts;
-      std::cerr << "affordance_trials merge: " << table.rows[i][0] << "," << table.rows[i][1]
-                << " seed " << *seed << " differs between " << at->second.file << " and " << path
-                << ":\n  " << result_part(at->second.row) << "\n  " << result_part(row) << "\n";
+      log::error("affordance_trials merge: {},{} seed {} differs between {} and {}:\n  {}\n  {}",
+                 table.rows[i][0], table.rows[i][1], *seed, at->second.file, path,
+                 result_part(at->second.row), result_part(row));
     }
   }
   if (conflicts > 0) {
-    std::cerr << "affordance_trials merge: " << conflicts
-              << " row(s) differ from another row of the same trial; nothing written (a trial "
-                 "gives the same row wherever it runs: were the files made by different "
-                 "versions or worlds?)\n";
+    log::error(
+        "affordance_trials merge: {} row(s) differ from another row of the same trial; nothing "
+        "written (a trial gives the same row wherever it runs: were the files made by different "
+        "versions or worlds?)",
+        conflicts);
     return 3;
   }
 
@@ -346,14 +342,14 @@ int merge(int argc, char** argv) {
     file.close();
     if (!file) {
       std::filesystem::remove(temporary);
-      std::cerr << "affordance_trials merge: cannot write " << temporary << "\n";
+      log::error("affordance_trials merge: cannot write {}", temporary);
       return 2;
     }
   }
   std::error_code error;
   std::filesystem::rename(temporary, out, error);
   if (error) {
-    std::cerr << "affordance_trials merge: cannot write " << out << ": " << error.message() << "\n";
+    log::error("affordance_trials merge: cannot write {}: {}", out, error.message());
     return 2;
   }
   std::printf(
@@ -435,7 +431,7 @@ int main(int argc, char** argv) {
   const std::vector<int> attached = attach.empty() ? std::vector<int>{} : parse_domains(attach);
   const std::optional<Shard> shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
   auto usage = [](const std::string& message) {
-    std::cerr << "affordance_trials: " << message << " (see --help)\n";
+    log::error("affordance_trials: {} (see --help)", message);
     return 2;
   };
   if (!affordance)
@@ -471,22 +467,17 @@ int main(int argc, char** argv) {
   if (std::filesystem::exists(out) && std::filesystem::file_size(out) > 0) {
     try {
       const CsvTable table = read_csv(out);
-      std::string joined;
-      for (std::size_t i = 0; i < table.columns.size(); ++i)
-        joined += (i ? "," : "") + table.columns[i];
-      if (joined != csv_header(*affordance)) {
-        std::cerr << "affordance_trials: " << out
-                  << " has other columns than this version writes\n";
+      if (csv::join(table.columns) != csv_header(*affordance)) {
+        log::error("affordance_trials: {} has other columns than this version writes", out);
         return 2;
       }
       for (const auto& fields : table.rows) {
-        std::string row;
-        for (std::size_t i = 0; i < fields.size(); ++i) row += (i ? "," : "") + fields[i];
+        const std::string row = csv::join(fields);
         have.insert(key_of(row));
         rows.push_back(row);
       }
     } catch (const std::exception& e) {
-      std::cerr << "affordance_trials: " << e.what() << "\n";
+      log::error("affordance_trials: {}", e.what());
       return 2;
     }
   }
@@ -503,7 +494,7 @@ int main(int argc, char** argv) {
   }
   const int already = wanted - static_cast<int>(todo.size()) / repeat;
   if (already > 0)
-    std::fprintf(stderr, "affordance_trials: %d trials already in %s\n", already, out.c_str());
+    log::info("affordance_trials: {} trials already in {}", already, out);
 
   // The file as it stands (a row cut short by a kill is dropped), then a row per trial done.
   {
@@ -511,7 +502,7 @@ int main(int argc, char** argv) {
     file << csv_header(*affordance) << "\n";
     for (const auto& row : rows) file << row << "\n";
     if (!file) {
-      std::cerr << "affordance_trials: cannot write " << out << "\n";
+      log::error("affordance_trials: cannot write {}", out);
       return 2;
     }
   }
@@ -539,11 +530,10 @@ int main(int argc, char** argv) {
   const std::string shard_name =
       sharded ? "shard " + std::to_string(shard->index) + "/" + std::to_string(shard->count) : "";
   if (sharded)
-    std::fprintf(stderr, "affordance_trials: %s: seeds %s, %d to run\n", shard_name.c_str(),
-                 seed_range(first + static_cast<uint64_t>(first_trial),
-                            first + static_cast<uint64_t>(end_trial))
-                     .c_str(),
-                 static_cast<int>(todo.size()) / repeat);
+    log::info("affordance_trials: {}: seeds {}, {} to run", shard_name,
+              seed_range(first + static_cast<uint64_t>(first_trial),
+                         first + static_cast<uint64_t>(end_trial)),
+              static_cast<int>(todo.size()) / repeat);
   Progress progress(wanted * repeat, already * repeat, sharded ? shard_name + ": " : "");
   std::map<std::string, std::string> first_result;  // --repeat: the first row of each trial
   int mismatches = 0, done = 0;
@@ -563,8 +553,8 @@ int main(int argc, char** argv) {
       rows.push_back(row);
     } else if (seen->second != result_part(row)) {
       ++mismatches;
-      std::fprintf(stderr, "\naffordance_trials: trial %s differs when repeated:\n  %s\n  %s\n",
-                   key.c_str(), seen->second.c_str(), result_part(row).c_str());
+      log::warn("\naffordance_trials: trial {} differs when repeated:\n  {}\n  {}", key,
+                seen->second, result_part(row));
     }
     sim_seconds += record.sim_time;
     // When the earliest trial began: the simulators' start-up and first look came before.
@@ -593,16 +583,15 @@ int main(int argc, char** argv) {
     if (sorted) std::filesystem::rename(temporary, out, error);
     if (!sorted || error) {
       std::filesystem::remove(temporary, error);
-      std::cerr << "affordance_trials: cannot write the sorted rows; " << out
-                << " keeps them in the order they came\n";
+      log::warn("affordance_trials: cannot write the sorted rows; {} keeps them in the order they "
+                "came",
+                out);
     }
   }
   std::map<std::string, int> labels;
   for (const auto& row : rows) {
-    std::stringstream in(row);
-    std::string field;
-    for (int i = 0; i < 4; ++i) std::getline(in, field, ',');
-    ++labels[field];
+    const auto fields = csv::split(row);
+    ++labels[fields.size() > 3 ? fields[3] : std::string()];
   }
   std::printf(
       "affordance_trials: %s%s%d trials run in %.1f s on %zu instance(s), %.0f trials/min, "

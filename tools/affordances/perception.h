@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "macsim/client/robot_devices.h"
+#include "macsim/robot/kurt3d_description.h"
 #include "trial_spec.h"
 
 namespace affordances {
@@ -41,10 +42,12 @@ struct Percept {
   double corridor_nearest = 0;  ///< m ahead to the nearest such point above 3 cm (0: none)
 };
 
-/// Where the sensors sit on the KURT3D (base_link: x ahead, y left, z up).
+/// Where the sensors sit on the KURT3D (base_link: x ahead, y left, z up), from its description.
 struct SensorMount {
-  double base_height = 0.167;              ///< base_link above the floor, m
-  double laser_x = -0.10, laser_z = 0.35;  ///< the scanner's origin on the rotating unit
+  double base_height = macsim::robot::kurt3d::kBaseHeight;  ///< base_link above the floor, m
+  /// The scanner's origin on the rotating unit, m.
+  double laser_x = macsim::robot::kurt3d::kRotatingLaser[0],
+         laser_z = macsim::robot::kurt3d::kRotatingLaser[2];
 };
 
 /// Adds the cameras' view: the largest saturated blob of the left image, matched in the right.

@@ -8,7 +8,8 @@
 #include <mutex>
 #include <thread>
 
-#include "macsim/client/child_program.h"
+#include "macsim/dds/log.h"
+#include "macsim/process/child_process.h"
 
 namespace affordances {
 
@@ -79,15 +80,14 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
   }
 
   auto worker = [&](int index, int domain) {
-    std::unique_ptr<macsim::client::ChildProgram> simulator;
+    std::unique_ptr<macsim::process::ChildProcess> simulator;
     auto say = [&](const std::string& text) {
       std::lock_guard<std::mutex> lock(report);
-      std::cerr << "\naffordance_trials: instance " << index << " (domain " << domain
-                << "): " << text << "\n";
+      macsim::log::warn("\naffordance_trials: instance {} (domain {}): {}", index, domain, text);
     };
     try {
       if (options_.attach.empty()) {
-        std::vector<std::string> argv{macsim::client::sibling_program("macsim"),
+        std::vector<std::string> argv{macsim::process::sibling_program("macsim"),
                                       "--world",
                                       options_.world,
                                       "--domain",
@@ -100,8 +100,10 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
         if (!options_.instance.profile.empty()) {
           argv.insert(argv.end(), {"--profile", options_.instance.profile});
         }
-        simulator = std::make_unique<macsim::client::ChildProgram>(
-            argv, options_.log_dir + "/macsim_domain_" + std::to_string(domain) + ".log");
+        macsim::process::Options output;
+        output.output = macsim::process::Output::file(options_.log_dir + "/macsim_domain_" +
+                                                      std::to_string(domain) + ".log");
+        simulator = std::make_unique<macsim::process::ChildProcess>(argv, output);
       }
       InstanceOptions o = options_.instance;
       o.domain = domain;
@@ -132,9 +134,11 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
       std::string ended;
       if (simulator && !simulator->running()) {
         // How it ended and its last words, so that a lost instance can be understood later.
-        ended = " (the simulator ended with exit code " +
-                std::to_string(simulator->wait(std::chrono::milliseconds(0)).value_or(-1)) +
-                "; the end of " + simulator->log() + ":\n" + log_tail(simulator->log(), 20) + ")";
+        ended =
+            " (the simulator ended with exit code " +
+            std::to_string(simulator->wait_for_exit(std::chrono::milliseconds(0)).value_or(-1)) +
+            "; the end of " + simulator->output_path() + ":\n" +
+            log_tail(simulator->output_path(), 20) + ")";
       }
       say(std::string("lost: ") + e.what() + ended + "; its trials go to the other instances");
       std::lock_guard<std::mutex> lock(report);

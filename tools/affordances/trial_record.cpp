@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "csv_writer.h"
+
 namespace affordances {
 
 namespace {
@@ -22,61 +24,106 @@ std::string hex(uint64_t v) {
   return buffer;
 }
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string field;
-  while (std::getline(in, field, ',')) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
+std::string flag(bool v) { return v ? "1" : "0"; }
+
+/// What a row is written from: the record and its perceived features (computed once a row).
+struct RowSource {
+  const TrialRecord& t;
+  std::vector<double> features;
+};
+using Columns = csv::Columns<RowSource>;
+
+/// A column of a number the record holds at `get`.
+template <class Get>
+Columns::Field numeric(Get get) {
+  return [get](const RowSource& r) { return number(get(r.t)); };
+}
+
+/// The columns of an affordance's rows: lift, push and climb share theirs; stack and traverse
+/// add their features, what they put down and what they measure. Instance and wall time last.
+Columns make_columns(Affordance a) {
+  Columns c;
+  c.add("affordance", [](const RowSource& r) { return std::string(name(r.t.spec.affordance)); })
+      .add("generator", [](const RowSource& r) { return std::string(name(r.t.spec.generator)); })
+      .add("seed", [](const RowSource& r) { return std::to_string(r.t.spec.seed); })
+      .add("label", [](const RowSource& r) { return r.t.outcome.label; });
+  const auto& names = feature_names(a);
+  for (std::size_t i = 0; i < names.size(); ++i)
+    c.add(names[i], [i](const RowSource& r) { return number(r.features.at(i)); });
+  c.add("seen", [](const RowSource& r) { return flag(r.t.percept.seen); })
+      .add("laser_hit", [](const RowSource& r) { return flag(r.t.percept.laser_hit); })
+      .add("shape", [](const RowSource& r) { return std::string(name(r.t.spec.shape)); });
+  for (std::size_t i = 0; i < 3; ++i)
+    c.add(std::string("size_") + "xyz"[i], numeric([i](const TrialRecord& t) { return t.spec.size[i]; }));
+  c.add("material", [](const RowSource& r) { return r.t.spec.material; })
+      .add("density", numeric([](const TrialRecord& t) { return t.spec.density; }))
+      .add("mass", numeric([](const TrialRecord& t) { return t.spec.mass; }))
+      .add("friction", numeric([](const TrialRecord& t) { return t.spec.friction; }))
+      .add("magnetizable", [](const RowSource& r) { return flag(r.t.spec.magnetizable); });
+  for (std::size_t i = 0; i < 3; ++i)
+    c.add(std::string("colour_") + "rgb"[i],
+          numeric([i](const TrialRecord& t) { return t.spec.colour[i]; }));
+  c.add("x", numeric([](const TrialRecord& t) { return t.spec.x; }))
+      .add("y", numeric([](const TrialRecord& t) { return t.spec.y; }))
+      .add("ramp_width", numeric([](const TrialRecord& t) { return t.spec.ramp_width; }))
+      .add("ramp_height", numeric([](const TrialRecord& t) { return t.spec.ramp_height; }))
+      .add("ramp_angle", numeric([](const TrialRecord& t) { return t.spec.ramp_angle; }));
+  if (a == Affordance::Stack) {
+    c.add("carried_shape",
+          [](const RowSource& r) { return std::string(name(r.t.spec.carried.shape)); });
+    for (std::size_t i = 0; i < 3; ++i)
+      c.add(std::string("carried_size_") + "xyz"[i],
+            numeric([i](const TrialRecord& t) { return t.spec.carried.size[i]; }));
+    c.add("carried_mass", numeric([](const TrialRecord& t) { return t.spec.carried.mass; }));
+  }
+  if (a == Affordance::Traverse) {
+    c.add("yaw", numeric([](const TrialRecord& t) { return t.spec.yaw; }))
+        .add("fixed", [](const RowSource& r) { return flag(r.t.spec.fixed); })
+        .add("gap", numeric([](const TrialRecord& t) { return t.spec.gap; }));
+  }
+  c.add("raised", numeric([](const TrialRecord& t) { return t.outcome.raised; }))
+      .add("moved", numeric([](const TrialRecord& t) { return t.outcome.moved; }))
+      .add("rolled", numeric([](const TrialRecord& t) { return t.outcome.rolled; }))
+      .add("rise", numeric([](const TrialRecord& t) { return t.outcome.rise; }))
+      .add("progress", numeric([](const TrialRecord& t) { return t.outcome.progress; }));
+  if (a == Affordance::Stack) {
+    c.add("offset", numeric([](const TrialRecord& t) { return t.outcome.offset; }))
+        .add("settle", numeric([](const TrialRecord& t) { return t.outcome.settle; }))
+        .add("a_tilt", numeric([](const TrialRecord& t) { return t.outcome.a_tilt; }))
+        .add("b_tilt", numeric([](const TrialRecord& t) { return t.outcome.b_tilt; }));
+  }
+  if (a == Affordance::Traverse)
+    c.add("passed", numeric([](const TrialRecord& t) { return t.outcome.passed; }));
+  c.add("sim_time", numeric([](const TrialRecord& t) { return t.sim_time; }))
+      .add("steps", [](const RowSource& r) { return std::to_string(r.t.steps); })
+      .add("final_hash", [](const RowSource& r) { return hex(r.t.final_hash); })
+      .add("trace", [](const RowSource& r) { return hex(r.t.trace); })
+      .add("instance", [](const RowSource& r) { return std::to_string(r.t.instance); })
+      .add("wall_time", numeric([](const TrialRecord& t) { return t.wall_time; }));
+  return c;
+}
+
+const Columns& columns(Affordance a) {
+  static const std::map<Affordance, Columns> kColumns = [] {
+    std::map<Affordance, Columns> all;
+    for (auto each : {Affordance::Lift, Affordance::Push, Affordance::Climb, Affordance::Stack,
+                      Affordance::Traverse})
+      all.emplace(each, make_columns(each));
+    return all;
+  }();
+  return kColumns.at(a);
 }
 
 }  // namespace
 
-std::string csv_header(Affordance a) {
-  std::string h = "affordance,generator,seed,label";
-  for (const auto& f : feature_names(a)) h += "," + f;
-  h += ",seen,laser_hit,shape,size_x,size_y,size_z,material,density,mass,friction,magnetizable,"
-       "colour_r,colour_g,colour_b,x,y,ramp_width,ramp_height,ramp_angle";
-  if (a == Affordance::Stack)
-    h += ",carried_shape,carried_size_x,carried_size_y,carried_size_z,carried_mass";
-  if (a == Affordance::Traverse) h += ",yaw,fixed,gap";
-  h += ",raised,moved,rolled,rise,progress";
-  if (a == Affordance::Stack) h += ",offset,settle,a_tilt,b_tilt";
-  if (a == Affordance::Traverse) h += ",passed";
-  h += ",sim_time,steps,final_hash,trace,instance,wall_time";
-  return h;
+std::string csv_header(Affordance a) { return columns(a).header(); }
+
+std::vector<std::string> csv_fields(const TrialRecord& t) {
+  const Affordance a = t.spec.affordance;
+  return columns(a).fields(RowSource{t, features(t.percept, a)});
 }
 
-std::string csv_row(const TrialRecord& t) {
-  const TrialSpec& s = t.spec;
-  const Affordance a = s.affordance;
-  std::string row = std::string(name(a)) + "," + name(s.generator) + "," + std::to_string(s.seed) +
-                    "," + t.outcome.label;
-  for (double f : features(t.percept, a)) row += "," + number(f);
-  row += std::string(",") + (t.percept.seen ? "1" : "0") + "," + (t.percept.laser_hit ? "1" : "0");
-  row += std::string(",") + name(s.shape);
-  for (double v : s.size) row += "," + number(v);
-  row += "," + s.material + "," + number(s.density) + "," + number(s.mass) + "," +
-         number(s.friction) + "," + (s.magnetizable ? "1" : "0");
-  for (float c : s.colour) row += "," + number(c);
-  for (double v : {s.x, s.y, s.ramp_width, s.ramp_height, s.ramp_angle}) row += "," + number(v);
-  if (a == Affordance::Stack) {
-    row += std::string(",") + name(s.carried.shape);
-    for (double v : s.carried.size) row += "," + number(v);
-    row += "," + number(s.carried.mass);
-  }
-  if (a == Affordance::Traverse)
-    row += "," + number(s.yaw) + "," + (s.fixed ? "1" : "0") + "," + number(s.gap);
-  const Outcome& o = t.outcome;
-  for (double v : {o.raised, o.moved, o.rolled, o.rise, o.progress}) row += "," + number(v);
-  if (a == Affordance::Stack)
-    for (double v : {o.offset, o.settle, o.a_tilt, o.b_tilt}) row += "," + number(v);
-  if (a == Affordance::Traverse) row += "," + number(o.passed);
-  row += "," + number(t.sim_time) + "," + std::to_string(t.steps) + "," + hex(t.final_hash) + "," +
-         hex(t.trace) + "," + std::to_string(t.instance) + "," + number(t.wall_time);
-  return row;
-}
+std::string csv_row(const TrialRecord& t) { return csv::join(csv_fields(t)); }
 
 const std::vector<std::string>& labels(Affordance a) {
   static const std::map<Affordance, std::vector<std::string>> kLabels{
@@ -96,40 +143,29 @@ std::optional<std::size_t> CsvTable::column(const std::string& n) const {
 }
 
 CsvTable read_csv(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open");
+  std::stringstream text;
+  text << in.rdbuf();
+  auto records = csv::parse(text.str());
+  if (records.empty()) throw std::runtime_error(path + ": empty (no header line)");
   CsvTable table;
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty (no header line)");
-  table.columns = split(line);
-  int number_of_line = 1;
-  std::vector<std::pair<int, std::string>> lines;
-  while (std::getline(in, line)) {
-    ++number_of_line;
-    if (line.empty()) continue;
-    lines.emplace_back(number_of_line, line);
-  }
-  const bool ended_cleanly = [&] {
-    std::ifstream again(path, std::ios::binary | std::ios::ate);
-    if (again.tellg() <= 0) return true;
-    again.seekg(-1, std::ios::end);
-    return again.get() == '\n';
-  }();
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    auto fields = split(lines[i].second);
-    if (fields.size() != table.columns.size()) {
-      if (i + 1 == lines.size() && !ended_cleanly) break;  // a row cut short by a kill
-      throw std::runtime_error(path + ":" + std::to_string(lines[i].first) + ": " +
-                               std::to_string(fields.size()) + " fields, the header has " +
+  table.columns = std::move(records.front().fields);
+  for (std::size_t i = 1; i < records.size(); ++i) {
+    auto& record = records[i];
+    if (record.fields.size() != table.columns.size()) {
+      if (i + 1 == records.size() && !record.ended) break;  // a row cut short by a kill
+      throw std::runtime_error(path + ":" + std::to_string(record.line) + ": " +
+                               std::to_string(record.fields.size()) + " fields, the header has " +
                                std::to_string(table.columns.size()));
     }
-    table.rows.push_back(std::move(fields));
+    table.rows.push_back(std::move(record.fields));
   }
   return table;
 }
 
 std::string trial_key(const std::string& affordance, const std::string& generator, uint64_t seed) {
-  return affordance + "," + generator + "," + std::to_string(seed);
+  return csv::join({affordance, generator, std::to_string(seed)});
 }
 
 }  // namespace affordances

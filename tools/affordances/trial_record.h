@@ -1,6 +1,7 @@
 // One trial's result as a CSV row: what it was (the spec), what the robot perceived, what
 // happened (the label from the world state) and what it cost. Rows are read back to resume a
-// run and to learn.
+// run and to learn. Header and rows come from one list of columns (csv_writer.h), quoted as
+// RFC 4180 has it.
 #pragma once
 
 #include <cstdint>
@@ -46,9 +47,12 @@ struct TrialRecord {
 /// The CSV header line of an affordance's rows (no newline): lift, push and climb share one;
 /// stack and traverse add their features, what they put down and what they measure.
 std::string csv_header(Affordance affordance = Affordance::Lift);
-/// A row (no newline). Columns instance and wall_time come last; every other column is the
-/// same for the same trial wherever and whenever it runs.
+/// A row (no newline), of the columns of csv_header(record.spec.affordance). Columns instance
+/// and wall_time come last; every other column is the same for the same trial wherever and
+/// whenever it runs.
 std::string csv_row(const TrialRecord& record);
+/// The row's fields, unquoted.
+std::vector<std::string> csv_fields(const TrialRecord& record);
 /// The labels an affordance's trials can have.
 const std::vector<std::string>& labels(Affordance affordance);
 
@@ -59,11 +63,13 @@ struct CsvTable {
   /// Index of a column, or nullopt.
   std::optional<std::size_t> column(const std::string& name) const;
 };
-/// Reads a CSV of trial rows; throws std::runtime_error naming the file and line of a row whose
-/// field count does not match the header. A last line cut short (a killed run) is dropped.
+/// Reads a CSV of trial rows (quoted fields too); throws std::runtime_error naming the file and
+/// line of a row whose field count does not match the header. A last row cut short (a killed
+/// run) is dropped.
 CsvTable read_csv(const std::string& path);
 
-/// The key of a trial in a file: its first three columns (affordance, generator, seed).
+/// The key of a trial in a file: its first three columns (affordance, generator, seed) as a
+/// row writes them.
 std::string trial_key(const std::string& affordance, const std::string& generator, uint64_t seed);
 
 }  // namespace affordances

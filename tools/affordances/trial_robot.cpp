@@ -14,6 +14,7 @@
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/robot/kurt3d_description.h"
 
 namespace affordances {
 
@@ -44,11 +45,13 @@ constexpr double kFrameWindow = 0.008;
 constexpr double kPerceiveAt = 0.806;
 constexpr double kScanWindow = 0.012;
 
-// The KURT3D's crane (what its robot description says).
-constexpr double kBaseHeight = 0.167;
-constexpr double kPivotX = 0.05, kPivotZ = 0.16, kBoom = 0.5;
-constexpr double kLiftMin = -0.6, kLiftMax = 0.8;
-constexpr double kMagnetBelowTip = 0.05;
+// The KURT3D's crane, from its description.
+namespace description = macsim::robot::kurt3d;
+constexpr double kBaseHeight = description::kBaseHeight;
+constexpr double kPivotX = description::kPivotX, kPivotZ = description::kPivotHeight,
+                 kBoom = description::kBoomLength;
+constexpr double kLiftMin = description::kLiftMin, kLiftMax = description::kLiftMax;
+constexpr double kMagnetBelowTip = description::kMagnetBelowTip;
 // Out of the laser's plane while it looks (the boom ahead would shadow the sweep).
 constexpr double kAsideSlew = -0.75;
 
@@ -395,7 +398,8 @@ struct TrialRobot::Impl {
   Reach reach(const Percept& p, double lift) const {
     const double depth = p.width_m > 0 ? std::clamp(p.width_m, 0.03, 0.15) : 0.08;
     const double x = p.laser_range + depth / 2;
-    const double y = std::tan(p.bearing) * (x - 0.05) + 0.06;
+    const double y = std::tan(p.bearing) * (x - description::kLeftCamera[0]) +
+                     description::kLeftCamera[1];
     const double radius = kBoom * std::cos(lift);
     const double ahead = std::sqrt(std::max(0.0, radius * radius - y * y));
     return {std::atan2(y, ahead), x - kPivotX - ahead};

@@ -21,6 +21,7 @@
 #include "cdr_yaml.h"
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/dynamic_types.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/rosgraph_msgsPubSubTypes.h"
 #include "raw_endpoints.h"
@@ -30,6 +31,7 @@
 namespace {
 
 namespace dds = macsim::dds;
+namespace log = macsim::log;
 namespace topic = macsim::topic;
 using Clock = std::chrono::steady_clock;
 constexpr int kUsage = 2;
@@ -80,10 +82,9 @@ std::optional<topic::TopicSummary> find_topic(Session& session, const std::strin
   for (const auto& [n, t] : session.graph.topics()) {
     if (!t.writers.empty()) names.push_back(n);
   }
-  std::cerr << "macsim_topic: no writer of '" << dds_name << "' on domain " << domain << " after "
-            << wait << " s; topics with writers: "
-            << (names.empty() ? "none (is a simulator running on this domain?)" : join(names))
-            << "\n";
+  log::error("macsim_topic: no writer of '{}' on domain {} after {:g} s; topics with writers: {}",
+             dds_name, domain, wait,
+             names.empty() ? "none (is a simulator running on this domain?)" : join(names));
   return std::nullopt;
 }
 
@@ -92,8 +93,8 @@ topic::WireTypePtr known_type(const std::string& dds_type) {
   if (!type) {
     std::vector<std::string> names;
     for (const auto& n : dds::idl_type_names()) names.push_back(dds::ros_type_name(n));
-    std::cerr << "macsim_topic: '" << dds_type
-              << "' is not a type of the project's IDL; types: " << join(names) << "\n";
+    log::error("macsim_topic: '{}' is not a type of the project's IDL; types: {}", dds_type,
+               join(names));
   }
   return type;
 }
@@ -136,7 +137,10 @@ int run_list(int argc, char** argv) {
   cli.flag("t", "show types only beside names (as ros2 topic list -t)", &types);
   cli.option("wait", "SECONDS", "how long to listen to discovery (default 2)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (!(wait > 0)) return std::cerr << "macsim_topic list: --wait must be positive\n", kUsage;
+  if (!(wait > 0)) {
+    log::error("macsim_topic list: --wait must be positive");
+    return kUsage;
+  }
   Session session(participant);
   if (!sleep_for(wait)) return 130;
   for (const auto& [name, t] : session.graph.topics()) {
@@ -167,7 +171,10 @@ int run_info(int argc, char** argv) {
   cli.flag("v", "verbose: every writer and reader with its QoS", &verbose);
   cli.option("wait", "SECONDS", "how long to listen to discovery (default 2)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (args.size() != 1) return std::cerr << "macsim_topic info: give one TOPIC\n", kUsage;
+  if (args.size() != 1) {
+    log::error("macsim_topic info: give one TOPIC");
+    return kUsage;
+  }
   Session session(participant);
   if (!sleep_for(wait)) return 130;
   const std::string name = dds::dds_topic_name(args[0]);
@@ -175,8 +182,8 @@ int run_info(int argc, char** argv) {
   if (!t) {
     std::vector<std::string> names;
     for (const auto& [n, s] : session.graph.topics()) names.push_back(n);
-    std::cerr << "macsim_topic info: no topic '" << name << "' on domain " << participant.domain
-              << "; topics: " << (names.empty() ? "none" : join(names)) << "\n";
+    log::error("macsim_topic info: no topic '{}' on domain {}; topics: {}", name,
+               participant.domain, names.empty() ? "none" : join(names));
     return 1;
   }
   std::vector<std::string> type_names;
@@ -252,10 +259,13 @@ int run_echo(int argc, char** argv) {
   cli.option("timeout", "SECONDS", "exit 1 if no sample came for this long (default: wait on)",
              &timeout);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (args.size() != 1) return std::cerr << "macsim_topic echo: give one TOPIC\n", kUsage;
+  if (args.size() != 1) {
+    log::error("macsim_topic echo: give one TOPIC");
+    return kUsage;
+  }
   if (count < 0 || !(wait > 0) || timeout < 0) {
-    return std::cerr << "macsim_topic echo: --count, --wait and --timeout must be positive\n",
-           kUsage;
+    log::error("macsim_topic echo: --count, --wait and --timeout must be positive");
+    return kUsage;
   }
   if (once) count = 1;
   Session session(participant);
@@ -275,7 +285,7 @@ int run_echo(int argc, char** argv) {
     auto sample = queue.pop(std::chrono::milliseconds(100));
     if (!sample) {
       if (timeout > 0 && Clock::now() - last > std::chrono::duration<double>(timeout)) {
-        std::cerr << "macsim_topic echo: no sample on " << t->name << " for " << timeout << " s\n";
+        log::error("macsim_topic echo: no sample on {} for {:g} s", t->name, timeout);
         return 1;
       }
       continue;
@@ -284,7 +294,7 @@ int run_echo(int argc, char** argv) {
     try {
       std::cout << topic::sample_to_yaml(sample->bytes, *type, style) << "---\n" << std::flush;
     } catch (const topic::SampleError& e) {
-      std::cerr << "macsim_topic echo: " << e.what() << "\n";
+      log::error("macsim_topic echo: {}", e.what());
       if (!field.empty()) return 1;  // a field that does not exist stays so
     }
     ++printed;
@@ -327,10 +337,13 @@ int run_timing(int argc, char** argv, bool bandwidth) {
   cli.option("duration", "SECONDS", "stop after this long and print the final figures", &duration);
   cli.option("wait", "SECONDS", "how long to wait for a writer of the topic (default 5)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (args.size() != 1) return std::cerr << verb << ": give one TOPIC\n", kUsage;
+  if (args.size() != 1) {
+    log::error("{}: give one TOPIC", verb);
+    return kUsage;
+  }
   if (window < 2 || !(wait > 0) || duration < 0) {
-    return std::cerr << verb << ": --window must be 2 or more, --wait and --duration positive\n",
-           kUsage;
+    log::error("{}: --window must be 2 or more, --wait and --duration positive", verb);
+    return kUsage;
   }
   Session session(participant);
   auto t = find_topic(session, args[0], wait, participant.domain);
@@ -405,10 +418,12 @@ int run_pub(int argc, char** argv) {
   cli.option("wait", "SECONDS", "wait this long for a reader before publishing (default 3)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (args.size() < 2 || args.size() > 3) {
-    return std::cerr << "macsim_topic pub: give TOPIC TYPE [YAML] (see --help)\n", kUsage;
+    log::error("macsim_topic pub: give TOPIC TYPE [YAML] (see --help)");
+    return kUsage;
   }
   if (rate < 0 || times < 0 || wait < 0 || (rate > 0 && !std::isfinite(rate))) {
-    return std::cerr << "macsim_topic pub: --rate, --times and --wait must be positive\n", kUsage;
+    log::error("macsim_topic pub: --rate, --times and --wait must be positive");
+    return kUsage;
   }
   const std::string topic_name = dds::dds_topic_name(args[0]);
   const std::string dds_type = dds::dds_type_name(args[1]);
@@ -418,10 +433,10 @@ int run_pub(int argc, char** argv) {
   try {
     sample = topic::sample_from_yaml(YAML::Load(args.size() == 3 ? args[2] : "{}"), *type);
   } catch (const YAML::Exception& e) {
-    std::cerr << "macsim_topic pub: the YAML does not parse: " << e.what() << "\n";
+    log::error("macsim_topic pub: the YAML does not parse: {}", e.what());
     return kUsage;
   } catch (const topic::SampleError& e) {
-    std::cerr << "macsim_topic pub: " << e.what() << "\n";
+    log::error("macsim_topic pub: {}", e.what());
     return kUsage;
   }
   Session session(participant);
@@ -433,8 +448,8 @@ int run_pub(int argc, char** argv) {
   if (auto t = session.graph.topic(topic_name)) {
     for (const auto& type_name : t->types) {
       if (type_name != dds_type) {
-        std::cerr << "macsim_topic pub: " << topic_name << " carries " << type_for_people(type_name)
-                  << ", not " << type_for_people(dds_type) << "\n";
+        log::error("macsim_topic pub: {} carries {}, not {}", topic_name,
+                   type_for_people(type_name), type_for_people(dds_type));
         return kUsage;
       }
     }
@@ -446,8 +461,8 @@ int run_pub(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (writer.matched() == 0) {
-    std::cerr << "macsim_topic pub: no reader of " << topic_name << " after " << wait
-              << " s; publishing anyway\n";
+    log::warn("macsim_topic pub: no reader of {} after {:g} s; publishing anyway", topic_name,
+              wait);
   }
   if (times > 0 && rate == 0) rate = 10;
   const int total = rate > 0 ? times : 1;
@@ -455,7 +470,7 @@ int run_pub(int argc, char** argv) {
   auto next = Clock::now();
   while (!g_stop.load() && (total == 0 || sent < total)) {
     if (!writer.write(sample)) {
-      std::cerr << "macsim_topic pub: the write was refused\n";
+      log::error("macsim_topic pub: the write was refused");
       return 1;
     }
     ++sent;
@@ -548,12 +563,17 @@ int run_record(int argc, char** argv) {
   cli.option("o", "DIR", "the bag directory to create (required)", &out);
   cli.option("duration", "SECONDS", "stop after this long (default: until Ctrl-C)", &duration);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (out.empty())
-    return std::cerr << "macsim_topic record: give the bag directory: -o DIR\n", kUsage;
-  if (duration < 0)
-    return std::cerr << "macsim_topic record: --duration must be positive\n", kUsage;
+  if (out.empty()) {
+    log::error("macsim_topic record: give the bag directory: -o DIR");
+    return kUsage;
+  }
+  if (duration < 0) {
+    log::error("macsim_topic record: --duration must be positive");
+    return kUsage;
+  }
   if (all && !args.empty()) {
-    return std::cerr << "macsim_topic record: give -a or topics, not both\n", kUsage;
+    log::error("macsim_topic record: give -a or topics, not both");
+    return kUsage;
   }
   std::set<std::string> wanted;
   for (const auto& a : args) wanted.insert(dds::dds_topic_name(a));
@@ -561,7 +581,7 @@ int run_record(int argc, char** argv) {
   try {
     bag = std::make_unique<topic::BagWriter>(out);
   } catch (const topic::BagError& e) {
-    std::cerr << "macsim_topic record: " << e.what() << "\n";
+    log::error("macsim_topic record: {}", e.what());
     return 1;
   }
   Session session(participant);
@@ -575,8 +595,8 @@ int run_record(int argc, char** argv) {
         if (t.writers.empty() || recorder.has(name) || dds::ros_topic_name(name).empty()) continue;
         if (!wanted.empty() && wanted.count(name) == 0) continue;
         recorder.add(*session.participant, t);
-        std::fprintf(stderr, "macsim_topic record: recording %s (%s)\n", name.c_str(),
-                     dds::ros_type_name(t.writers.front().type).c_str());
+        log::info("macsim_topic record: recording {} ({})", name,
+                  dds::ros_type_name(t.writers.front().type));
       }
     }
     recorder.drain(std::chrono::milliseconds(50));
@@ -596,8 +616,7 @@ int run_record(int argc, char** argv) {
       static_cast<double>(bag->bytes_written()) * 1e-6 / seconds, bag->database_path().c_str(),
       static_cast<unsigned long long>(recorder.lost()));
   for (const auto& w : wanted) {
-    if (!recorder.has(w))
-      std::fprintf(stderr, "macsim_topic record: %s never had a writer\n", w.c_str());
+    if (!recorder.has(w)) log::warn("macsim_topic record: {} never had a writer", w);
   }
   return 0;
 }
@@ -623,9 +642,13 @@ int run_play(int argc, char** argv) {
   cli.option("clock-rate", "HZ", "rate of --clock (default 100)", &clock_hz);
   cli.option("wait", "SECONDS", "wait this long for readers before starting (default 1)", &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (args.size() != 1) return std::cerr << "macsim_topic play: give one BAG_DIR\n", kUsage;
+  if (args.size() != 1) {
+    log::error("macsim_topic play: give one BAG_DIR");
+    return kUsage;
+  }
   if (!(rate > 0) || !std::isfinite(rate) || clock_hz < 0 || wait < 0) {
-    return std::cerr << "macsim_topic play: --rate and --clock-rate must be positive\n", kUsage;
+    log::error("macsim_topic play: --rate and --clock-rate must be positive");
+    return kUsage;
   }
   if (clock_hz > 0) clock = true;
   if (clock && clock_hz == 0) clock_hz = 100;
@@ -633,7 +656,7 @@ int run_play(int argc, char** argv) {
   try {
     bag = std::make_unique<topic::BagReader>(args[0]);
   } catch (const topic::BagError& e) {
-    std::cerr << "macsim_topic play: " << e.what() << "\n";
+    log::error("macsim_topic play: {}", e.what());
     return 1;
   }
   Session session(participant);
@@ -702,13 +725,14 @@ int run_bag(int argc, char** argv) {
   cli.arguments("info BAG_DIR", &args);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (args.size() != 2 || args[0] != "info") {
-    return std::cerr << "macsim_topic bag: give: info BAG_DIR\n", kUsage;
+    log::error("macsim_topic bag: give: info BAG_DIR");
+    return kUsage;
   }
   try {
     topic::BagReader bag(args[1]);
     std::cout << topic::bag_summary(bag);
   } catch (const std::exception& e) {
-    std::cerr << "macsim_topic bag info: " << e.what() << "\n";
+    log::error("macsim_topic bag info: {}", e.what());
     return 1;
   }
   return 0;
@@ -737,7 +761,10 @@ int run_types(int argc, char** argv) {
   cli.arguments("[TYPE]", &args);
   cli.flag("msg", "print TYPE as a ROS 2 .msg definition", &msg);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (args.size() > 1) return std::cerr << "macsim_topic types: give at most one TYPE\n", kUsage;
+  if (args.size() > 1) {
+    log::error("macsim_topic types: give at most one TYPE");
+    return kUsage;
+  }
   if (args.empty()) {
     for (const auto& n : dds::idl_type_names()) {
       auto t = topic::wire_type(n);
@@ -750,7 +777,7 @@ int run_types(int argc, char** argv) {
   if (msg) {
     const std::string definition = topic::ros2_msg_definition(*type);
     if (definition.empty()) {
-      std::cerr << "macsim_topic types: " << args[0] << " has a union: .msg cannot express it\n";
+      log::error("macsim_topic types: {} has a union: .msg cannot express it", args[0]);
       return 1;
     }
     std::cout << definition;
@@ -778,7 +805,7 @@ const char* kUsageText =
     "  bag info DIR              summarise a bag\n"
     "  types [TYPE]              the IDL's types, or one type's members\n\n"
     "common options: --domain N (0..232, default 0; pub and play require it), --profile FILE,\n"
-    "--help\n";
+    "--quiet (warnings and errors only), --verbose, --log-timestamps, --help\n";
 
 }  // namespace
 
@@ -807,14 +834,16 @@ int main(int argc, char** argv) {
       {"types", run_types}};
   auto found = verbs.find(verb);
   if (found == verbs.end()) {
-    std::cerr << "macsim_topic: unknown verb '" << verb
-              << "' (list, info, echo, hz, bw, pub, record, play, bag, types; see --help)\n";
+    log::error(
+        "macsim_topic: unknown verb '{}' (list, info, echo, hz, bw, pub, record, play, bag, "
+        "types; see --help)",
+        verb);
     return kUsage;
   }
   try {
     return found->second(argc - 1, argv + 1);
   } catch (const std::exception& e) {
-    std::cerr << "macsim_topic " << verb << ": " << e.what() << "\n";
+    log::error("macsim_topic {}: {}", verb, e.what());
     return 1;
   }
 }

@@ -16,8 +16,9 @@
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/world_state.h"
 #include "macsim/dds/command_line.h"
-#include "macsim/dds/data_files.h"
 #include "macsim/dds/convert.h"
+#include "macsim/dds/data_files.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/topics.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
@@ -99,7 +100,8 @@ int main(int argc, char** argv) {
   cli.option("image-rate", "HZ", "camera images per second to each browser (default 5; 0: none)",
              &image_rate);
   cli.option("robot", "NAME", "the robot to show (default kurt)", &robot);
-  cli.option("root", "DIR", "the page's files (default: share/macsim/web beside this program's bin/)",
+  cli.option("root", "DIR",
+             "the page's files (default: share/macsim/web beside this program's bin/)",
              &server.root);
   int max_clients = int(server.max_clients);
   cli.option("max-clients", "N",
@@ -109,8 +111,9 @@ int main(int argc, char** argv) {
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(rate > 0 && rate <= 240) || !(image_rate >= 0 && image_rate <= 60) || server.port < 0 ||
       server.port > 65535 || max_clients < 1) {
-    std::cerr << "macsim_web: --rate is 0..240 Hz, --image-rate 0..60 Hz, --port 0..65535, "
-                 "--max-clients at least 1\n";
+    macsim::log::error(
+        "macsim_web: --rate is 0..240 Hz, --image-rate 0..60 Hz, --port 0..65535, "
+        "--max-clients at least 1");
     return 2;
   }
   server.max_clients = std::size_t(max_clients);
@@ -220,7 +223,7 @@ int main(int argc, char** argv) {
     std::printf("macsim_web: stopped (%zu frames skipped for busy browsers)\n",
                 web.frames_skipped());
   } catch (const std::exception& e) {
-    std::cerr << "macsim_web: " << e.what() << "\n";
+    macsim::log::error("macsim_web: {}", e.what());
     return 1;
   }
   return 0;

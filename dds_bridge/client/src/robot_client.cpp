@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "macsim/dds/convert.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/topics.h"
 
 namespace macsim::client {
@@ -45,12 +46,13 @@ std::optional<RobotClient::Odometry> RobotClient::wait_for_odometry(
 RobotClient::Next RobotClient::next_odometry(std::chrono::milliseconds silence,
                                              std::chrono::milliseconds patience) {
   if (auto odometry = wait_for_odometry(silence)) return {odometry, false};
-  std::cerr << "macsim client: robot '" << robot_name_ << "' went silent (no odometry for "
-            << silence.count() / 1000.0 << " s); waiting up to " << patience.count() / 1000.0
-            << " s for it to come back" << std::endl;
+  log::warn(
+      "macsim client: robot '{}' went silent (no odometry for {} s); waiting up to {} s for it "
+      "to come back",
+      robot_name_, silence.count() / 1000.0, patience.count() / 1000.0);
   auto odometry = wait_for_odometry(patience);
   if (odometry) {
-    std::cerr << "macsim client: robot '" << robot_name_ << "' is back" << std::endl;
+    log::info("macsim client: robot '{}' is back", robot_name_);
   }
   return {odometry, odometry.has_value()};
 }

@@ -37,7 +37,7 @@ macsim::client::Laser::Scan sweep(const std::vector<std::array<double, 4>>& segm
   return scan;
 }
 
-constexpr double kFloor = -0.167;
+const double kFloor = -SensorMount{}.base_height;
 
 TEST(Perception, TheLaserFindsABoxItsRangeHeightAndSteepFace) {
   // A box 8 cm high from x = 1.0 to 1.1.

@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "macsim/kurt/can_frame.h"
-#include "macsim/sim_core/kurt_drive.h"
+#include "macsim/robot/kurt_drive.h"
 
 namespace macsim::kurt {
 

@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "macsim/kurt/kurt_can.h"
-#include "macsim/sim_core/kurt_drive.h"
+#include "macsim/robot/kurt_drive.h"
 
 namespace macsim::kurt {
 

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "macsim/sim_core/kurt_drive.h"
+#include "macsim/robot/kurt3d_description.h"
+#include "macsim/robot/kurt_drive.h"
 #include "macsim/sim_core/kurt_sensors.h"
-#include "macsim/sim_core/ode_handles.h"
-#include "macsim/sim_core/world_spec.h"
+#include "macsim/sim_core/robot_model.h"
 
 namespace macsim {
 
@@ -25,14 +25,14 @@ class RayCaster;
 
 /// Physical parameters of the simulated KURT3D (see sim_core/README.md for the sources).
 struct KurtBodyParams {
-  double base_mass = 15.6;                                      ///< kg, URDF base_link
-  Eigen::Vector3d base_inertia{0.1185, 0.1928, 0.2402};         ///< kg m^2 about the CoM, URDF
-  Eigen::Vector3d base_size{0.43, 0.325, 0.215};                ///< m, URDF collision box
-  double com_below_base_link = 0.0404;                          ///< m, URDF CoM z = -0.0404
-  double wheel_axle_below_base_link = kBaseLinkAboveWheelAxle;  ///< m, URDF wheel joint z
-  double wheel_x = 0.14;                                        ///< m, front/rear axle from centre
-  double wheel_y = 0.14;                                        ///< m, half track
-  double wheel_width = 0.035;                                   ///< m, indoor URDF
+  double base_mass = robot::kurt3d::kBaseMass;  ///< kg
+  Eigen::Vector3d base_inertia{robot::kurt3d::kBaseInertia.data()};  ///< kg m^2 about the CoM
+  Eigen::Vector3d base_size{robot::kurt3d::kBaseSize.data()};  ///< m, collision box
+  double com_below_base_link = robot::kurt3d::kComBelowBaseLink;  ///< m
+  double wheel_axle_below_base_link = robot::kurt3d::kBaseLinkAboveWheelAxle;  ///< m
+  double wheel_x = robot::kurt3d::kWheelX;  ///< m, front/rear axle from centre
+  double wheel_y = robot::kurt3d::kWheelY;  ///< m, half track
+  double wheel_width = robot::kurt3d::kWheelWidth;  ///< m
   double wheel_mass = 0.3;                                      ///< kg (URDF: 0.075; see README)
   double wheel_friction = 1.0;                                  ///< Coulomb mu of the tyres
   double wheel_torque = 4.0;  ///< N m per wheel motor (Gazebo plugin)
@@ -50,33 +50,24 @@ Eigen::Vector3d laser_origin(LaserMount mount);
 
 /// The crane (our model: the MACS KURT3D's crane is not documented; see sim_core/README.md).
 struct CraneParams {
-  double boom_length = 0.5;        ///< m, slew axis to boom tip
-  double pivot_height = 0.16;      ///< m above base_link
-  double pivot_x = 0.05;           ///< m ahead of base_link
-  double max_hoist = 0.32;         ///< m the magnet can be lowered
+  double boom_length = robot::kurt3d::kBoomLength;  ///< m, pivot to boom tip
+  double pivot_height = robot::kurt3d::kPivotHeight;  ///< m above base_link
+  double pivot_x = robot::kurt3d::kPivotX;  ///< m ahead of base_link
+  double max_hoist = robot::kurt3d::kMaxHoist;  ///< m the magnet can be lowered
   double slew_torque = 3.0;        ///< N m
   double lift_torque = 8.0;        ///< N m
   double hoist_force = 7.0;        ///< N: with the 0.2 kg magnet, lifts up to about 0.5 kg
   double slew_speed = 1.0;         ///< rad/s
   double lift_speed = 0.5;         ///< rad/s
   double hoist_speed = 0.15;       ///< m/s
-  double magnet_radius = 0.035;    ///< m
+  double magnet_radius = robot::kurt3d::kMagnetRadius;  ///< m
   double magnet_mass = 0.2;        ///< kg
   double holding_force = 30.0;     ///< N; the magnet lets go above it
   double capture_distance = 0.01;  ///< m; a magnetizable object this close is grabbed
 };
 
-/// A stereo camera pair: optical centres in base_link (x forward, y left, z up).
-struct StereoMount {
-  /// Ours for the KURT3D: a 0.12 m baseline on a mast 0.42 m above base_link, looking 15
-  /// degrees down over the crane.
-  Pose left{{0.05, 0.06, 0.42},
-            Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
-  Pose right{{0.05, -0.06, 0.42},
-             Eigen::Quaterniond(Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d::UnitY()))};
-  /// Distance between the optical centres, m.
-  double baseline() const { return (left.position - right.position).norm(); }
-};
+/// The KURT3D's stereo pair (its description): a baseline on a mast, looking down over the crane.
+StereoMount kurt3d_cameras();
 
 /// Everything a robot type fixes: drive, body, sensors, cameras, crane, noise.
 struct KurtConfig {
@@ -85,9 +76,9 @@ struct KurtConfig {
   bool crane = true;
   CraneParams crane_params;
   bool range_sensors = true;  ///< IR and sonar, read with every encoder frame (100 Hz)
-  std::optional<StereoMount> cameras = StereoMount{};  ///< none on a robot without a stereo pair
+  std::optional<StereoMount> cameras = kurt3d_cameras();  ///< none without a stereo pair
   LaserMount laser = LaserMount::Rotating;
-  double laser_rate = 75.0;    ///< Hz, LMS200 sweeps
+  double laser_rate = robot::kurt3d::kLaserRate;  ///< Hz, LMS200 sweeps
   double laser_noise = 0.005;  ///< m, Gaussian sigma of each beam
   double rotunit_speed = 0.0;  ///< rad/s at start (the driver's default is pi/6 when used)
   double gyro_noise = 0.0;     ///< rad, Gaussian sigma of each yaw reading
@@ -95,9 +86,10 @@ struct KurtConfig {
   uint32_t noise_seed = 1;
 };
 
-/// One KURT in an ODE world. Commands are set-points; motors act in before_step(), sensors
-/// are read in after_step(), both on the simulation thread.
-class KurtRobot {
+/// One KURT in an ODE world, a RobotModel of type "kurt3d", "kurt2" or one registered with
+/// register_kurt_type(). Commands are set-points; motors act in before_step(), sensors are read
+/// in after_step(), both on the simulation thread.
+class KurtRobot final : public RobotModel {
  public:
   /// Everything of the robot that changes besides its bodies: commands, encoders, odometry,
   /// gyro, crane, magnet, rotunit, the noise generator and the last readings of every sensor.
@@ -131,49 +123,52 @@ class KurtRobot {
     PointCloud cloud, cloud_in_progress;
   };
 
-  ~KurtRobot();
-  KurtRobot(const KurtRobot&) = delete;
-  KurtRobot& operator=(const KurtRobot&) = delete;
+  /// Builds the robot at its spec's pose (encoder frames at the spec's encoder rate).
+  KurtRobot(const RobotSpec& spec, const RobotBuild& build, const KurtConfig& config);
+  ~KurtRobot() override;
 
-  const std::string& name() const { return name_; }
-  const RobotSpec& spec() const { return spec_; }
   const KurtConfig& config() const { return config_; }
 
   // ---- commands -------------------------------------------------------------------------
   /// cmd_vel at sim time `now`: mapped to wheel speeds as the real driver maps it.
-  void command_twist(double linear, double angular, double now);
+  void command_twist(double linear, double angular, double now) override;
   /// Wheel rim speeds (m/s) at sim time `now`, sent as SPEED_CM like the real driver.
-  void command_wheel_speeds(WheelSpeeds speeds, double now);
+  void command_wheel_speeds(WheelSpeeds speeds, double now) override;
   /// Crane joint targets; the joints move there as fast as their motors allow.
-  void command_crane(const CraneCommand& target);
+  bool command_crane(const CraneCommand& target) override;
   /// Switches the magnet; off releases what it holds.
-  void command_magnet(bool on);
+  bool command_magnet(bool on) override;
   /// Rotating unit speed (rad/s), quantized as the real driver sends it.
-  void command_rotunit(double speed);
-  /// A drive command still in force at sim time `now` is renewed as if sent again then.
-  void keep_command(double now);
+  bool command_rotunit(double speed) override;
+  void keep_command(double now) override;
 
   // ---- stepping -------------------------------------------------------------------------
-  /// Applies the motor set-points (zero after the command timeout); call before each step.
-  void before_step(double now);
-  /// Reads encoders, gyro, ranges and the laser, and runs the magnet; call after each step
-  /// of `step` seconds that ended at sim time `now`.
-  void after_step(double now, double step);
-  /// Events since the last call: {type, detail}, type "attached" or "released".
-  std::vector<std::pair<std::string, std::string>> take_events();
+  /// Applies the motor set-points (zero after the command timeout).
+  void before_step(double now) override;
+  /// Reads encoders, gyro, ranges and the laser, and runs the magnet.
+  void after_step(double now, double step) override;
+  /// ObjectAttached and ObjectReleased since the last call.
+  std::vector<WorldEvent> take_events() override;
 
   // ---- ground truth ---------------------------------------------------------------------
-  /// Ground truth pose of base_footprint (on the floor below the robot's centre).
-  Pose base_footprint_pose() const;
-  /// Ground truth pose of base_link.
-  Pose base_link_pose() const;
-  /// Ground truth linear (m/s) and angular (rad/s) velocity of the chassis, world frame.
-  Eigen::Vector3d linear_velocity() const;
-  Eigen::Vector3d angular_velocity() const;
+  Pose base_footprint_pose() const override;
+  Pose base_link_pose() const override;
+  Eigen::Vector3d linear_velocity() const override;
+  Eigen::Vector3d angular_velocity() const override;
+
+  // ---- what the node serves -------------------------------------------------------------
+  robot::Capabilities capabilities() const override;
+  /// base_link above base_footprint, the IR/sonar sensors, the stereo cameras (and their
+  /// optical frames), the laser, the crane.
+  robot::Frames frames() const override;
+  /// Odometry, ground truth, IMU, ranges and crane with every encoder frame, a scan (and the
+  /// rotunit) with every sweep, a cloud with every revolution.
+  robot::Readings read(ReadMark& mark, double now) const override;
+  std::optional<StereoMount> cameras() const override { return config_.cameras; }
 
   // ---- proprioception and sensors ------------------------------------------------------
   /// Odometry from the simulated encoders, as the real driver computes it.
-  PlanarOdometry odometry() const { return state_.odometry.estimate(); }
+  PlanarOdometry odometry() const override { return state_.odometry.estimate(); }
   /// Number of ENCODER frames so far; new odometry, ranges and IMU exist when it grows.
   uint64_t odometry_frames() const { return state_.frames; }
   /// Wheel speeds the motors currently try to hold (m/s; zero after a timeout).
@@ -200,23 +195,25 @@ class KurtRobot {
   Pose magnet_pose() const;
 
   /// The robot's shapes where they are now, for drawing.
-  std::vector<ShapeView> shapes() const;
+  std::vector<ShapeView> shapes() const override;
   /// The robot's state besides its bodies.
   const State& state() const { return state_; }
-  /// Puts the state back (a held object is re-attached by reattach()).
-  void set_state(const State& state);
+  /// Puts the state back; the magnet holds `held` (the state's held object's body) if given.
+  void set_state(const State& state, dxBody* held = nullptr);
+
+  // ---- its part of the world's state ------------------------------------------------------
+  std::vector<uint8_t> save_state() const override;
+  std::optional<std::string> state_problem(const std::vector<uint8_t>& bytes) const override;
+  void load_state(const std::vector<uint8_t>& bytes, const BodyByName& body_of) override;
+
+  // ---- ODE's side -------------------------------------------------------------------------
+  /// Every body: the chassis, the six wheels, then the crane's (turret, boom, magnet).
+  std::vector<dxBody*> bodies() const override;
+  /// Lets go of `body` if the magnet holds it.
+  void forget_body(dxBody* body) override;
 
  private:
-  // ---- ODE's side, for the World that owns the robot ------------------------------------
-  friend class World;
-  /// Builds the robot at its spec's pose; geoms carry `collision_group` (no self-contacts).
-  KurtRobot(dxWorld* world, dxSpace* space, const RobotSpec& spec, int collision_group,
-            const KurtConfig& config);
-  /// Every body: the chassis, the six wheels, then the crane's (turret, boom, magnet).
-  std::vector<dxBody*> bodies() const;
-  /// The body of an object about to be destroyed: let go of it if the magnet holds it.
-  void forget_body(dxBody* body);
-  /// After a restore: hold `body` (the state's held_object) with the magnet again.
+  /// Hold `body` with the magnet.
   void reattach(dxBody* body);
 
   void build_crane(dxWorld* world, dxSpace* space, const Pose& base_link);
@@ -225,9 +222,8 @@ class KurtRobot {
   void sweep_laser(double now);
   void run_magnet();
   void release(const std::string& why);
+  void emit(WorldEvent::Type type, std::string detail);
 
-  std::string name_;
-  RobotSpec spec_;
   KurtConfig config_;
   dxWorld* world_;
   dxSpace* space_;
@@ -248,9 +244,21 @@ class KurtRobot {
   dxBody* held_body_ = nullptr;
   std::unique_ptr<dJointFeedback> hold_feedback_;
   std::unique_ptr<detail::RayCaster> rays_;
-  std::vector<std::pair<std::string, std::string>> events_;
+  std::vector<WorldEvent> events_;
+  double now_ = 0.0;  // sim time of the last step, for events
 
   State state_;
 };
+
+/// The built-in KURT types: "kurt3d" (crane with magnet, LMS200 on a rotating unit, stereo
+/// pair) and "kurt2" (no crane, no cameras, LMS200 fixed at the front).
+KurtConfig kurt3d_config();
+KurtConfig kurt2_config();
+/// Builds KURTs of that configuration (for register_robot_type()).
+RobotFactory kurt_factory(KurtConfig config);
+/// Registers (or replaces) a KURT type by its configuration.
+void register_kurt_type(const std::string& type, const KurtConfig& config);
+/// The configuration of a KURT type, or nullptr if there is no KURT type of that name.
+const KurtConfig* find_kurt_type(const std::string& type);
 
 }  // namespace macsim

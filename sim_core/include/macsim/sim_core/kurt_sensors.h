@@ -7,23 +7,20 @@
 #include <string>
 #include <vector>
 
+#include "macsim/robot/kurt3d_description.h"
+
 namespace macsim {
 
-/// Height of base_link above the wheel axles, m (kurt_driver's URDF wheel joints).
-inline constexpr double kBaseLinkAboveWheelAxle = 0.107;
+/// Height of base_link above the wheel axles, m (the KURT3D's description).
+inline constexpr double kBaseLinkAboveWheelAxle = robot::kurt3d::kBaseLinkAboveWheelAxle;
 
-/// One of the KURT's eight distance sensors, in base_link (kurt_driver's infrared_sonar.urdf).
-struct RangeSensorSpec {
-  const char* frame;     ///< e.g. "ir_left_front", "ultrasound_front"
-  double x, y, yaw;      ///< m, m, rad in base_link (z = 0)
-  bool sonar;            ///< ultrasound (Baumer) or infrared (Sharp GP2D12)
-  double min_range;      ///< m
-  double max_range;      ///< m
-  double field_of_view;  ///< rad, full cone angle
-};
+/// One of the KURT's eight distance sensors, in base_link (the KURT3D's description).
+using RangeSensorSpec = robot::kurt3d::RangeSensor;
 
 /// The eight sensors of the real robot, in its driver's order of frames.
-const std::array<RangeSensorSpec, 8>& kurt_range_sensors();
+inline const std::array<RangeSensorSpec, 8>& kurt_range_sensors() {
+  return robot::kurt3d::kRangeSensors;
+}
 
 /// One distance reading: metres, or kInvalidRange (-0.01) as the real driver reports it.
 struct RangeReading {

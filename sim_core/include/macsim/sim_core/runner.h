@@ -53,7 +53,8 @@ struct RunSettings {
   /// A world swapped in by load() whose objects start inside each other (World::overlaps()):
   /// refused (BadFile, naming them) when true; either way `warn` gets one line per pair.
   bool refuse_overlaps = false;
-  std::function<void(const std::string&)> warn = nullptr;  ///< warnings about a loaded world
+  /// Warnings (a loaded world's, a command dropped); standard error when not set.
+  std::function<void(const std::string&)> warn = nullptr;
   /// Commands and loads queued and not yet run at most: push() and load() refuse more.
   std::size_t max_queued_commands = kDefaultMaxQueuedCommands;
 };
@@ -176,6 +177,8 @@ class Runner {
   SnapshotStore& snapshots() { return snapshots_; }
 
  private:
+  /// A warning to RunSettings::warn, or to standard error without one.
+  void say(const std::string& warning) const;
   struct Load {
     std::shared_future<WorldSpec> spec;
     std::function<void(const LoadOutcome&)> done;

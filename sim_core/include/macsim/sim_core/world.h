@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "macsim/sim_core/data_roots.h"
-#include "macsim/sim_core/kurt_robot.h"
+#include "macsim/sim_core/robot_model.h"
+#include "macsim/sim_core/world_event.h"
 #include "macsim/sim_core/ode_handles.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_overlaps.h"
@@ -86,29 +87,154 @@ struct DoorParts {
   std::optional<ObjectId> platform, base;  ///< absent for a door without a switch
 };
 
-/// Something that happened during a step or an operation, for the supervisor's clients.
-struct WorldEvent {
-  enum class Type {
-    SwitchTriggered,
-    SwitchReleased,
-    DoorOpened,
-    DoorClosed,
-    Penetration,
-    Instability,
-    ObjectAttached,  ///< a robot's magnet grabbed an object (subject: robot, detail: object)
-    ObjectReleased,  ///< a robot's magnet let go (detail: object and why)
-  };
-  Type type;
-  double time = 0.0;
-  std::string subject;  ///< object or door name
-  std::string detail;
-};
 
 /// How much reset() puts back.
 enum class ResetScope {
   Poses,         ///< poses and velocities of loaded objects and robots; time goes on
   PosesAndTime,  ///< that, plus sim time 0 and the random seed
   Everything,    ///< the world as loaded: spawned objects removed, destroyed ones back
+};
+
+class World;
+
+/// The world's objects, read: found by list index, id, name or user data; their descriptions,
+/// states, masses and textures (World::objects()).
+class WorldObjects {
+ public:
+  WorldObjects(const WorldObjects&) = delete;
+  WorldObjects& operator=(const WorldObjects&) = delete;
+
+  /// How many objects the world holds.
+  int object_count() const;
+  /// Id of the object at a list index (indices shift when objects are destroyed).
+  std::optional<ObjectId> object_at(int index) const;
+  /// List index of an object.
+  std::optional<int> index_of(ObjectId id) const;
+  /// Id of the object with that name (e.g. "doors/door_00/door_component/leaf").
+  std::optional<ObjectId> find_object(const std::string& name) const;
+  /// Ids of the objects with that user data, in list order.
+  std::vector<ObjectId> find_by_user_data(const std::string& user_data) const;
+  /// Ids of every object, in list order.
+  std::vector<ObjectId> object_ids() const;
+
+  /// The object's current description (components, density, colours, flags), or nullptr.
+  const ObjectSpec* object(ObjectId id) const;
+  /// Pose and velocities.
+  Result<ObjectState> object_state(ObjectId id) const;
+  /// Mass in kg (portable objects).
+  Result<double> object_mass(ObjectId id) const;
+  /// Inertia tensor about the centre of mass, world-aligned object frame (portable objects).
+  Result<Eigen::Matrix3d> object_inertia(ObjectId id) const;
+  /// Centre of mass in the object's frame.
+  Result<Eigen::Vector3d> object_center_of_mass(ObjectId id) const;
+  /// Force and torque accumulated for the next step (world frame).
+  Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> object_wrench(ObjectId id) const;
+  /// Texture id (unique per file, 0: none) and file of a component.
+  Result<std::pair<int, std::string>> object_texture(ObjectId id, int component = 0) const;
+
+  /// Ok if the object is a free rigid body that takes velocities, forces and torques (not
+  /// fixed, frozen, or driven by its door's joint); the error says which and names `what`.
+  Status free_body(ObjectId id, const std::string& what) const;
+
+ private:
+  friend class World;
+  explicit WorldObjects(const World& world) : world_(world) {}
+  const World& world_;
+};
+
+/// The world's objects, changed: created, imported, destroyed, moved, resized, re-coloured,
+/// pushed (World::edit()). On error the world is unchanged.
+class WorldEditor {
+ public:
+  WorldEditor(const WorldEditor&) = delete;
+  WorldEditor& operator=(const WorldEditor&) = delete;
+
+  /// Adds a basic, composite or ramp object (name made unique if empty).
+  Result<ObjectId> create_object(ObjectSpec spec,
+                                 PenetrationPolicy policy = PenetrationPolicy::Allow);
+  /// Adds every object, joint and door of an environment file, as an <IMPORT> with that id
+  /// and pose would; returns the new objects' ids. All or nothing.
+  Result<std::vector<ObjectId>> import_environment(const std::string& file, const std::string& id,
+                                                   const Pose& pose);
+  /// Adds the objects, joints and doors of an environment already loaded (names made by its
+  /// import id), placed at `pose`; returns the new objects' ids. All or nothing.
+  Result<std::vector<ObjectId>> add_environment(WorldSpec environment, const Pose& pose);
+  Status destroy_object(ObjectId id);
+  /// Destroys the objects with that user data; returns how many.
+  int destroy_objects(const std::string& user_data);
+  int destroy_all_objects();
+  int destroy_all_portable_objects();
+  int destroy_all_fixed_objects();
+
+  Status set_pose(ObjectId id, const Pose& pose,
+                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_position(ObjectId id, const Eigen::Vector3d& position,
+                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
+                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// Sizes of a box component (full sizes, m).
+  Status set_box_size(ObjectId id, int component, const Eigen::Vector3d& size,
+                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_cylinder_size(ObjectId id, int component, double radius, double height,
+                           PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_sphere_size(ObjectId id, int component, double radius,
+                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// A ramp's width, height and angle (depth follows: height / tan angle).
+  Status set_ramp(ObjectId id, const RampGeometry& ramp,
+                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// Colour of one component, or of all (component -1).
+  Status set_color(ObjectId id, const Color& color, int component = -1);
+  /// Texture of one component, or of all (component -1); empty path removes it.
+  Status set_texture(ObjectId id, const std::string& path, int component = -1);
+  /// Mass (kg); the density follows, mass and inertia are recomputed exactly.
+  Status set_mass(ObjectId id, double mass);
+  /// Density (kg/m^3); the mass follows, mass and inertia are recomputed exactly.
+  Status set_density(ObjectId id, double density);
+  Status set_linear_velocity(ObjectId id, const Eigen::Vector3d& velocity);
+  Status set_angular_velocity(ObjectId id, const Eigen::Vector3d& velocity);
+  /// A force (N, world frame, at the centre of mass) acting during the next step only.
+  Status add_force(ObjectId id, const Eigen::Vector3d& force);
+  /// A torque (N m, world frame) acting during the next step only.
+  Status add_torque(ObjectId id, const Eigen::Vector3d& torque);
+  /// Frozen objects stay where they are (others still collide with them).
+  Status set_frozen(ObjectId id, bool frozen);
+  Status set_magnetizable(ObjectId id, bool magnetizable);
+  Status set_user_data(ObjectId id, const std::string& user_data);
+  /// User-defined colour and shape labels (need not match the object's looks).
+  Status set_user_labels(ObjectId id, int user_color, int user_shape);
+
+ private:
+  friend class World;
+  explicit WorldEditor(World& world) : world_(world) {}
+  World& world_;
+};
+
+/// The world's door-switch structures: read, triggered, moved (World::doors()).
+class WorldDoors {
+ public:
+  WorldDoors(const WorldDoors&) = delete;
+  WorldDoors& operator=(const WorldDoors&) = delete;
+
+  /// How many door-switch structures the world holds.
+  int door_count() const;
+  /// The index of the door of that name, or nothing.
+  std::optional<int> find_door(const std::string& name) const;
+  /// The index of the door of that name, or UnknownObject naming the name.
+  Result<int> get_door_by_name(const std::string& name) const;
+  Result<DoorState> door_state(int door) const;
+  Result<DoorParts> door_parts(int door) const;
+  const std::string& door_name(int door) const;
+  /// Presses the switch virtually (the door opens) or hands it back to physics.
+  Status set_switch_triggered(int door, bool triggered);
+  /// Moves the door's leaf there (position of the leaf's frame); the frame moves along.
+  Status set_door_position(int door, const Eigen::Vector3d& position);
+  /// Moves the switch's platform there; the base moves along.
+  Status set_switch_position(int door, const Eigen::Vector3d& position);
+
+ private:
+  friend class World;
+  explicit WorldDoors(World& world) : world_(world) {}
+  World& world_;
 };
 
 /// The ODE world of one simulation.
@@ -140,111 +266,22 @@ class World {
 
   // ---- robots --------------------------------------------------------------------------
   /// The robot of that name, or nullptr.
-  KurtRobot* robot(const std::string& name);
-  const std::vector<std::unique_ptr<KurtRobot>>& robots() const { return robots_; }
+  RobotModel* robot(const std::string& name);
+  /// The robot of that name if it is a T (e.g. KurtRobot), or nullptr.
+  template <class T>
+  T* robot_as(const std::string& name) {
+    return dynamic_cast<T*>(robot(name));
+  }
+  const std::vector<std::unique_ptr<RobotModel>>& robots() const { return robots_; }
 
-  // ---- objects: finding ----------------------------------------------------------------
-  int object_count() const { return static_cast<int>(objects_.size()); }
-  /// Id of the object at a list index (indices shift when objects are destroyed).
-  std::optional<ObjectId> object_at(int index) const;
-  /// List index of an object.
-  std::optional<int> index_of(ObjectId id) const;
-  /// Id of the object with that name (e.g. "doors/door_00/door_component/leaf").
-  std::optional<ObjectId> find_object(const std::string& name) const;
-  /// Ids of the objects with that user data, in list order.
-  std::vector<ObjectId> find_by_user_data(const std::string& user_data) const;
-  /// Ids of every object, in list order.
-  std::vector<ObjectId> object_ids() const;
-
-  // ---- objects: reading ----------------------------------------------------------------
-  /// The object's current description (components, density, colours, flags), or nullptr.
-  const ObjectSpec* object(ObjectId id) const;
-  /// Pose and velocities.
-  Result<ObjectState> object_state(ObjectId id) const;
-  /// Mass in kg (portable objects).
-  Result<double> object_mass(ObjectId id) const;
-  /// Inertia tensor about the centre of mass, world-aligned object frame (portable objects).
-  Result<Eigen::Matrix3d> object_inertia(ObjectId id) const;
-  /// Centre of mass in the object's frame.
-  Result<Eigen::Vector3d> object_center_of_mass(ObjectId id) const;
-  /// Force and torque accumulated for the next step (world frame).
-  Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> object_wrench(ObjectId id) const;
-  /// Texture id (unique per file, 0: none) and file of a component.
-  Result<std::pair<int, std::string>> object_texture(ObjectId id, int component = 0) const;
-
-  // ---- objects: creating and destroying ------------------------------------------------
-  /// Adds a basic, composite or ramp object (name made unique if empty).
-  Result<ObjectId> create_object(ObjectSpec spec,
-                                 PenetrationPolicy policy = PenetrationPolicy::Allow);
-  /// Adds every object, joint and door of an environment file, as an <IMPORT> with that id
-  /// and pose would; returns the new objects' ids. All or nothing.
-  Result<std::vector<ObjectId>> import_environment(const std::string& file, const std::string& id,
-                                                   const Pose& pose);
-  /// Adds the objects, joints and doors of an environment already loaded (names made by its
-  /// import id), placed at `pose`; returns the new objects' ids. All or nothing.
-  Result<std::vector<ObjectId>> add_environment(WorldSpec environment, const Pose& pose);
-  Status destroy_object(ObjectId id);
-  /// Destroys the objects with that user data; returns how many.
-  int destroy_objects(const std::string& user_data);
-  int destroy_all_objects();
-  int destroy_all_portable_objects();
-  int destroy_all_fixed_objects();
-
-  // ---- objects: changing ---------------------------------------------------------------
-  Status set_pose(ObjectId id, const Pose& pose,
-                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_position(ObjectId id, const Eigen::Vector3d& position,
-                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
-                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  /// Sizes of a box component (full sizes, m).
-  Status set_box_size(ObjectId id, int component, const Eigen::Vector3d& size,
-                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_cylinder_size(ObjectId id, int component, double radius, double height,
-                           PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_sphere_size(ObjectId id, int component, double radius,
-                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  /// A ramp's width, height and angle (depth follows: height / tan angle).
-  Status set_ramp(ObjectId id, const RampGeometry& ramp,
-                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  /// Colour of one component, or of all (component -1).
-  Status set_color(ObjectId id, const Color& color, int component = -1);
-  /// Texture of one component, or of all (component -1); empty path removes it.
-  Status set_texture(ObjectId id, const std::string& path, int component = -1);
-  /// Mass (kg); the density follows, mass and inertia are recomputed exactly.
-  Status set_mass(ObjectId id, double mass);
-  /// Density (kg/m^3); the mass follows, mass and inertia are recomputed exactly.
-  Status set_density(ObjectId id, double density);
-  /// Ok if the object is a free rigid body that takes velocities, forces and torques (not
-  /// fixed, frozen, or driven by its door's joint); the error says which and names `what`.
-  Status free_body(ObjectId id, const std::string& what) const;
-  Status set_linear_velocity(ObjectId id, const Eigen::Vector3d& velocity);
-  Status set_angular_velocity(ObjectId id, const Eigen::Vector3d& velocity);
-  /// A force (N, world frame, at the centre of mass) acting during the next step only.
-  Status add_force(ObjectId id, const Eigen::Vector3d& force);
-  /// A torque (N m, world frame) acting during the next step only.
-  Status add_torque(ObjectId id, const Eigen::Vector3d& torque);
-  /// Frozen objects stay where they are (others still collide with them).
-  Status set_frozen(ObjectId id, bool frozen);
-  Status set_magnetizable(ObjectId id, bool magnetizable);
-  Status set_user_data(ObjectId id, const std::string& user_data);
-  /// User-defined colour and shape labels (need not match the object's looks).
-  Status set_user_labels(ObjectId id, int user_color, int user_shape);
-
-  // ---- doors ---------------------------------------------------------------------------
-  int door_count() const { return static_cast<int>(doors_.size()); }
-  std::optional<int> find_door(const std::string& name) const;
-  /// The index of the door of that name, or UnknownObject naming the name.
-  Result<int> get_door_by_name(const std::string& name) const;
-  Result<DoorState> door_state(int door) const;
-  Result<DoorParts> door_parts(int door) const;
-  const std::string& door_name(int door) const;
-  /// Presses the switch virtually (the door opens) or hands it back to physics.
-  Status set_switch_triggered(int door, bool triggered);
-  /// Moves the door's leaf there (position of the leaf's frame); the frame moves along.
-  Status set_door_position(int door, const Eigen::Vector3d& position);
-  /// Moves the switch's platform there; the base moves along.
-  Status set_switch_position(int door, const Eigen::Vector3d& position);
+  // ---- objects and doors -----------------------------------------------------------------
+  /// Finding and reading objects.
+  const WorldObjects& objects() const { return objects_view_; }
+  /// Creating, destroying and changing objects.
+  WorldEditor& edit() { return editor_; }
+  /// The door-switch structures.
+  WorldDoors& doors() { return doors_view_; }
+  const WorldDoors& doors() const { return doors_view_; }
 
   /// Every object's and robot's shapes as they stand now, with their looks (for renderers).
   std::vector<ShapeView> shapes() const;
@@ -290,6 +327,111 @@ class World {
   struct Joint;
   struct Door;
   friend struct WorldAccess;
+  friend class WorldObjects;
+  friend class WorldEditor;
+  friend class WorldDoors;
+
+  // ---- what objects(), edit() and doors() serve (world_supervisor.cpp) ----------------------
+  int object_count() const { return static_cast<int>(objects_.size()); }
+  /// Id of the object at a list index (indices shift when objects are destroyed).
+  std::optional<ObjectId> object_at(int index) const;
+  /// List index of an object.
+  std::optional<int> index_of(ObjectId id) const;
+  /// Id of the object with that name (e.g. "doors/door_00/door_component/leaf").
+  std::optional<ObjectId> find_object(const std::string& name) const;
+  /// Ids of the objects with that user data, in list order.
+  std::vector<ObjectId> find_by_user_data(const std::string& user_data) const;
+  /// Ids of every object, in list order.
+  std::vector<ObjectId> object_ids() const;
+
+  /// The object's current description (components, density, colours, flags), or nullptr.
+  const ObjectSpec* object(ObjectId id) const;
+  /// Pose and velocities.
+  Result<ObjectState> object_state(ObjectId id) const;
+  /// Mass in kg (portable objects).
+  Result<double> object_mass(ObjectId id) const;
+  /// Inertia tensor about the centre of mass, world-aligned object frame (portable objects).
+  Result<Eigen::Matrix3d> object_inertia(ObjectId id) const;
+  /// Centre of mass in the object's frame.
+  Result<Eigen::Vector3d> object_center_of_mass(ObjectId id) const;
+  /// Force and torque accumulated for the next step (world frame).
+  Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> object_wrench(ObjectId id) const;
+  /// Texture id (unique per file, 0: none) and file of a component.
+  Result<std::pair<int, std::string>> object_texture(ObjectId id, int component = 0) const;
+
+  /// Ok if the object is a free rigid body that takes velocities, forces and torques (not
+  /// fixed, frozen, or driven by its door's joint); the error says which and names `what`.
+  Status free_body(ObjectId id, const std::string& what) const;
+  /// Adds a basic, composite or ramp object (name made unique if empty).
+  Result<ObjectId> create_object(ObjectSpec spec,
+                                 PenetrationPolicy policy = PenetrationPolicy::Allow);
+  /// Adds every object, joint and door of an environment file, as an <IMPORT> with that id
+  /// and pose would; returns the new objects' ids. All or nothing.
+  Result<std::vector<ObjectId>> import_environment(const std::string& file, const std::string& id,
+                                                   const Pose& pose);
+  /// Adds the objects, joints and doors of an environment already loaded (names made by its
+  /// import id), placed at `pose`; returns the new objects' ids. All or nothing.
+  Result<std::vector<ObjectId>> add_environment(WorldSpec environment, const Pose& pose);
+  Status destroy_object(ObjectId id);
+  /// Destroys the objects with that user data; returns how many.
+  int destroy_objects(const std::string& user_data);
+  int destroy_all_objects();
+  int destroy_all_portable_objects();
+  int destroy_all_fixed_objects();
+
+  Status set_pose(ObjectId id, const Pose& pose,
+                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_position(ObjectId id, const Eigen::Vector3d& position,
+                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
+                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// Sizes of a box component (full sizes, m).
+  Status set_box_size(ObjectId id, int component, const Eigen::Vector3d& size,
+                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_cylinder_size(ObjectId id, int component, double radius, double height,
+                           PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  Status set_sphere_size(ObjectId id, int component, double radius,
+                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// A ramp's width, height and angle (depth follows: height / tan angle).
+  Status set_ramp(ObjectId id, const RampGeometry& ramp,
+                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
+  /// Colour of one component, or of all (component -1).
+  Status set_color(ObjectId id, const Color& color, int component = -1);
+  /// Texture of one component, or of all (component -1); empty path removes it.
+  Status set_texture(ObjectId id, const std::string& path, int component = -1);
+  /// Mass (kg); the density follows, mass and inertia are recomputed exactly.
+  Status set_mass(ObjectId id, double mass);
+  /// Density (kg/m^3); the mass follows, mass and inertia are recomputed exactly.
+  Status set_density(ObjectId id, double density);
+  Status set_linear_velocity(ObjectId id, const Eigen::Vector3d& velocity);
+  Status set_angular_velocity(ObjectId id, const Eigen::Vector3d& velocity);
+  /// A force (N, world frame, at the centre of mass) acting during the next step only.
+  Status add_force(ObjectId id, const Eigen::Vector3d& force);
+  /// A torque (N m, world frame) acting during the next step only.
+  Status add_torque(ObjectId id, const Eigen::Vector3d& torque);
+  /// Frozen objects stay where they are (others still collide with them).
+  Status set_frozen(ObjectId id, bool frozen);
+  Status set_magnetizable(ObjectId id, bool magnetizable);
+  Status set_user_data(ObjectId id, const std::string& user_data);
+  /// User-defined colour and shape labels (need not match the object's looks).
+  Status set_user_labels(ObjectId id, int user_color, int user_shape);
+
+  int door_count() const { return static_cast<int>(doors_.size()); }
+  std::optional<int> find_door(const std::string& name) const;
+  /// The index of the door of that name, or UnknownObject naming the name.
+  Result<int> get_door_by_name(const std::string& name) const;
+  Result<DoorState> door_state(int door) const;
+  Result<DoorParts> door_parts(int door) const;
+  const std::string& door_name(int door) const;
+  /// Presses the switch virtually (the door opens) or hands it back to physics.
+  Status set_switch_triggered(int door, bool triggered);
+  /// Moves the door's leaf there (position of the leaf's frame); the frame moves along.
+  Status set_door_position(int door, const Eigen::Vector3d& position);
+  /// Moves the switch's platform there; the base moves along.
+  Status set_switch_position(int door, const Eigen::Vector3d& position);
+
+
+  // ---- the rest ----------------------------------------------------------------------------
 
   // The one factory of each record, and the one wiring of doors to their joints and parts.
   Object& add_object_record(ObjectId id, ObjectSpec spec);
@@ -346,7 +488,8 @@ class World {
   std::vector<std::unique_ptr<Object>> objects_;  // list order = the seed's indices
   std::vector<std::unique_ptr<Joint>> joints_;
   std::vector<std::unique_ptr<Door>> doors_;
-  std::vector<std::unique_ptr<KurtRobot>> robots_;
+  std::vector<std::unique_ptr<RobotModel>> robots_;
+  std::vector<std::unique_ptr<detail::GeomTag>> robot_tags_;  // for geoms a robot left untagged
   std::vector<dxBody*> bodies_;          // every body, for the stability check
   std::vector<std::string> body_names_;  // owner of each body, for reports
   std::vector<BodyState> last_good_;
@@ -361,6 +504,9 @@ class World {
   ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
   int contacts_ = 0;
+  WorldObjects objects_view_{*this};
+  WorldEditor editor_{*this};
+  WorldDoors doors_view_{*this};
 };
 
 }  // namespace macsim

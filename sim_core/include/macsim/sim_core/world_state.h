@@ -6,9 +6,9 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <utility>
+#include <string>
 #include <vector>
 
-#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world_spec.h"
 
 namespace macsim {
@@ -42,7 +42,7 @@ struct WorldState {
   std::vector<DoorSpec> doors;
   std::vector<DoorFlags> door_flags;     ///< one per door
   std::vector<BodyState> bodies;         ///< portable objects' then robots' bodies
-  std::vector<KurtRobot::State> robots;  ///< one per robot, in world order
+  std::vector<std::vector<uint8_t>> robots;  ///< each robot's own state (RobotModel::save_state)
 };
 
 /// A world's complete state, serialised, marked with the world it belongs to.

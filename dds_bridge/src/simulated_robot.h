@@ -1,0 +1,46 @@
+// Any robot of a runner's world behind the one robot interface: what RobotNode serves for the
+// simulator. Call its commands and read() on the simulation thread (from runner commands and
+// hooks): they act on the robot of that name in the world current at that moment.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "macsim/robot/robot_interface.h"
+#include "macsim/sim_core/runner.h"
+
+namespace macsim {
+
+/// A simulated robot (kurt3d, kurt2, diff_drive, ...) as a RobotInterface.
+class SimulatedRobot : public robot::RobotInterface {
+ public:
+  /// The robot `name` of the runner's world (it must be there).
+  SimulatedRobot(Runner& runner, std::string name);
+
+  std::string name() const override { return name_; }
+  robot::Capabilities capabilities() const override { return capabilities_; }
+  void command_twist(double linear, double angular) override;
+  void command_wheel_speeds(double left, double right) override;
+  void command_rotunit(double speed) override;
+  void command_crane(double slew, double lift, double hoist) override;
+  void command_magnet(bool on) override;
+  /// What the steps since the last call produced (RobotModel::read); after a reset or a new
+  /// world, everything the robot has.
+  robot::Readings read() override;
+  /// From the robot's description (RobotModel::frames).
+  robot::Frames frames() const override { return frame_tree_; }
+
+ private:
+  /// The robot in the current world, or nullptr.
+  RobotModel* robot() { return runner_.world().robot(name_); }
+
+  Runner& runner_;
+  std::string name_;
+  robot::Capabilities capabilities_;
+  robot::Frames frame_tree_;
+  uint64_t generation_ = 0;  // of the world the mark below belongs to
+  double last_time_ = 0.0;
+  ReadMark mark_;  // what was read last
+};
+
+}  // namespace macsim

@@ -1,0 +1,115 @@
+#include "macsim/dds/participant.h"
+
+#include <algorithm>
+#include <cctype>
+#include <iostream>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+#include "macsim/dds/log.h"
+#include "macsim/msg/rmw_dds_commonPubSubTypes.h"
+
+namespace macsim::dds {
+
+namespace {
+
+namespace rdc = rmw_dds_common::msg::dds_;
+
+/// A ROS 2 node name from a participant name: letters, digits and '_', not starting with a digit.
+std::string node_name_of(const std::string& name) {
+  std::string node;
+  for (char c : name) node += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  if (node.empty() || std::isdigit(static_cast<unsigned char>(node[0]))) node = "_" + node;
+  return node;
+}
+
+rdc::Gid_ gid_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
+  rdc::Gid_ gid;
+  std::copy(guid.guidPrefix.value, guid.guidPrefix.value + 12, gid.data().begin());
+  std::copy(guid.entityId.value, guid.entityId.value + 4, gid.data().begin() + 12);
+  return gid;
+}
+
+}  // namespace
+
+Participant::Participant(const ParticipantOptions& options) : domain_(options.domain) {
+  if (options.domain < 0 || options.domain > kMaxDomainId) {
+    throw DdsError("domain id " + std::to_string(options.domain) + " is outside 0.." +
+                   std::to_string(kMaxDomainId));
+  }
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  // Profiles load lazily: load them before taking the default QoS, or the XML is ignored.
+  if (!options.profile_file.empty() &&
+      factory->load_XML_profiles_file(options.profile_file) != ReturnCode_t::RETCODE_OK) {
+    throw DdsError("cannot load the Fast DDS profile file '" + options.profile_file + "'");
+  }
+  factory->load_profiles();
+  fdds::DomainParticipantQos qos;
+  factory->get_default_participant_qos(qos);
+  qos.name(options.name);
+  if (options.ros_node) {
+    // What a ROS 2 Jazzy participant carries: its security enclave, the root one.
+    const std::string enclave = "enclave=/;";
+    qos.user_data().data_vec(
+        std::vector<eprosima::fastrtps::rtps::octet>(enclave.begin(), enclave.end()));
+  }
+  // StatusMask::none(): discovery callbacks still come, data callbacks stay with the readers.
+  participant_ =
+      factory->create_participant(options.domain, qos, options.listener, fdds::StatusMask::none());
+  if (!participant_)
+    throw DdsError("cannot create a participant on domain " + std::to_string(options.domain));
+  publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (!publisher_ || !subscriber_) throw DdsError("cannot create a publisher or subscriber");
+  if (options.ros_node) {
+    node_name_ = node_name_of(options.name);
+    graph_writer_ = publisher_->create_datawriter(
+        topic<rdc::ParticipantEntitiesInfo_PubSubType>("ros_discovery_info"),
+        writer_qos(QosFamily::Latched, publisher_));
+    if (graph_writer_) {
+      endpoints_changed();
+    } else {  // e.g. refused by DDS Security permissions: the participant works on unannounced
+      log::warn("{}: not in the ROS 2 graph (cannot create the ros_discovery_info writer)",
+                options.name);
+    }
+  }
+}
+
+void Participant::endpoints_changed() {
+  if (!graph_writer_) return;
+  std::lock_guard<std::mutex> lock(graph_mutex_);
+  std::vector<fdds::DataWriter*> writers;
+  std::vector<fdds::DataReader*> readers;
+  publisher_->get_datawriters(writers);
+  subscriber_->get_datareaders(readers);
+  rdc::NodeEntitiesInfo_ node;
+  node.node_namespace("/");
+  node.node_name(node_name_);
+  for (fdds::DataWriter* w : writers) {
+    if (w != graph_writer_) node.writer_gid_seq().push_back(gid_of(w->guid()));
+  }
+  for (fdds::DataReader* r : readers) node.reader_gid_seq().push_back(gid_of(r->guid()));
+  rdc::ParticipantEntitiesInfo_ info;
+  info.gid(gid_of(participant_->guid()));
+  info.node_entities_info_seq().push_back(std::move(node));
+  graph_writer_->write(&info);
+}
+
+Participant::~Participant() {
+  if (!participant_) return;
+  participant_->delete_contained_entities();
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+fdds::Topic* Participant::make_topic(const std::string& name, fdds::TypeSupport type) {
+  if (participant_->find_type(type.get_type_name()) == nullptr &&
+      type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
+    throw DdsError("cannot register type " + type.get_type_name());
+  }
+  fdds::Topic* topic =
+      participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (!topic) throw DdsError("cannot create topic " + name + " of type " + type.get_type_name());
+  topics_.emplace(name, topic);
+  return topic;
+}
+
+}  // namespace macsim::dds

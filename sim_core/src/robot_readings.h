@@ -1,0 +1,28 @@
+// What every robot model shares in making its readings and frames for the robot node.
+#pragma once
+
+#include <string>
+
+#include "macsim/sim_core/kurt_sensors.h"
+#include "macsim/sim_core/robot_model.h"
+
+namespace macsim::detail {
+
+/// A fixed transform from `parent` to `child`.
+robot::Mount robot_mount(const std::string& parent, const std::string& child,
+                         const Eigen::Vector3d& position,
+                         const Eigen::Quaterniond& orientation = Eigen::Quaterniond::Identity());
+/// The stereo pair's camera frames on base_link and their optical frames (z ahead, x right,
+/// y down: REP-103).
+void add_stereo_frames(const StereoMount& cameras, robot::Frames& frames);
+/// Odometry as the node serves it: the estimate and the wheels' angles wrapped to (-pi, pi].
+robot::Odometry odometry_reading(const PlanarOdometry& odometry, double left_wheel,
+                                 double right_wheel);
+/// Where the robot's base_footprint is (world) and how it moves (robot frame).
+robot::GroundTruth ground_truth_reading(const RobotModel& robot);
+/// A box, sphere or cylinder geom where it is now, in `color`, for drawing.
+ShapeView shape_view(dxGeom* geom, const Color& color);
+/// A sweep as the node serves it.
+robot::Scan scan_reading(const LaserScan& scan, const std::string& frame, double scan_time);
+
+}  // namespace macsim::detail
