@@ -21,10 +21,12 @@ except ImportError as error:
     sys.exit(f"liftability: cannot import macsim ({error}): build the project and set "
              "PYTHONPATH=build/python")
 
-# The KURT3D's crane (its robot description): base height, boom pivot, boom length, and how far
+# The KURT3D's crane, from its description: base height, boom pivot, boom length, and how far
 # the magnet hangs below the boom's tip with the hoist in. The robot starts at the origin,
 # facing +x.
-BASE_HEIGHT, PIVOT_X, PIVOT_Z, BOOM, MAGNET_BELOW_TIP = 0.167, 0.05, 0.16, 0.5, 0.05
+KURT = macsim.kurt3d_description()
+BASE_HEIGHT, PIVOT_X, PIVOT_Z = KURT["base_height"], KURT["pivot_x"], KURT["pivot_height"]
+BOOM, MAGNET_BELOW_TIP = KURT["boom_length"], KURT["magnet_below_tip"]
 STEP = 0.002  # s, the physics step of worlds/affordance_trials.xml
 
 # name, shape, size (m), mass (kg), magnetizable, colour

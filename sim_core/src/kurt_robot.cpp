@@ -609,9 +609,9 @@ robot::Frames KurtRobot::frames() const {
 robot::Readings KurtRobot::read(ReadMark& mark, double now) const {
   robot::Readings out;
   out.stamp = now;
-  if (odometry_frames() != mark.frames) {  // every encoder frame
-    mark.frames = odometry_frames();
-    out.odometry = odometry_reading(odometry(), wheel_angle(0), wheel_angle(1));
+  if (state_.frames != mark.frames) {  // every encoder frame
+    mark.frames = state_.frames;
+    out.odometry = odometry_reading(odometry(), state_.encoder_angle[0], state_.encoder_angle[1]);
     out.ground_truth = ground_truth_reading(*this);
     const ImuReading& imu = state_.imu;
     out.imu = robot::Imu{imu.roll, imu.pitch, imu.yaw, imu.yaw_variance, imu.yaw_rate};
@@ -625,14 +625,14 @@ robot::Readings KurtRobot::read(ReadMark& mark, double now) const {
       out.crane = robot::Crane{c.slew, c.lift, c.hoist, c.magnet_on, c.held_object};
     }
   }
-  if (laser_scans() != mark.scans) {  // every sweep
-    mark.scans = laser_scans();
+  if (state_.scans != mark.scans) {  // every sweep
+    mark.scans = state_.scans;
     const bool rotating = config_.laser == LaserMount::Rotating;
     out.scan = scan_reading(state_.scan, rotating ? "laser360" : "laser", 1.0 / config_.laser_rate);
-    if (rotating) out.rotunit = robot::Rotunit{rotunit_angle(), rotunit_speed()};
+    if (rotating) out.rotunit = robot::Rotunit{rotunit_angle(), state_.rotunit_speed};
   }
-  if (point_clouds() != mark.clouds) {  // every revolution
-    mark.clouds = point_clouds();
+  if (state_.clouds != mark.clouds) {  // every revolution
+    mark.clouds = state_.clouds;
     robot::Cloud c;
     c.xyz.reserve(state_.cloud.points.size() * 3);
     for (const auto& p : state_.cloud.points) c.xyz.insert(c.xyz.end(), {p.x(), p.y(), p.z()});

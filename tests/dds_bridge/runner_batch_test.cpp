@@ -64,7 +64,7 @@ TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
   EXPECT_NE(restored.message().find("no snapshot named 'before'"), std::string::npos);
   EXPECT_EQ(hashed.hash(), runner.world().state_hash());
   runner.step();  // and the new world steps with the command
-  EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->active_wheel_speeds().left, 0.0);
+  EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->state().active.left, 0.0);
 }
 
 TEST(RunnerBatch, ARefusedLoadLeavesLaterCommandsOnTheOldWorld) {

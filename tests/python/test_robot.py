@@ -132,3 +132,17 @@ def test_the_crane_and_its_magnet(robot):
     assert state.lift == pytest.approx(0.2, abs=0.02)
     assert state.hoist == pytest.approx(0.05, abs=0.01)
     assert state.magnet_on and state.held_object == ""
+
+
+def test_the_kurt3d_description_gives_its_mounts_by_name():
+    kurt = macsim.kurt3d_description()
+    assert kurt["robot"] == "kurt3d"
+    # base_link above the floor: the axles' height plus the wheels' radius (perimeter / 2 pi).
+    assert kurt["base_height"] == pytest.approx(
+        kurt["base_link_above_wheel_axle"] + kurt["wheel_perimeter"] / (2 * math.pi))
+    assert kurt["wheel_radius"] * 2 * math.pi == pytest.approx(kurt["wheel_perimeter"])
+    assert len(kurt["left_camera"]) == 3 and kurt["left_camera"][2] > kurt["pivot_height"]
+    sensors = {k: v for k, v in kurt.items() if k.startswith("range_sensor ")}
+    assert len(sensors) == 8
+    x, y, yaw, sonar, low, high, fov = sensors["range_sensor ultrasound_front"]
+    assert sonar == 1 and x > 0 and low < high

@@ -1,5 +1,6 @@
-"""The type stubs (_macsim.pyi) match the module: every public class, method, property and
-constant the extension has is in the stubs with the same parameters, and nothing more."""
+"""The type stubs (_macsim.pyi) match the module: every public class, method, property,
+function and constant the extension has is in the stubs with the same parameters, and nothing
+more."""
 
 import ast
 import inspect
@@ -31,6 +32,11 @@ def stub_constants():
             if isinstance(node, ast.AnnAssign) and node.target.id.isupper()}
 
 
+def stub_functions():
+    return {node.name: [a.arg for a in node.args.args] for node in STUBS.body
+            if isinstance(node, ast.FunctionDef)}
+
+
 def runtime_parameters(function):
     """The parameter names pybind11 documents in the first line of a method's docstring."""
     signature = function.__doc__.splitlines()[0]
@@ -54,7 +60,13 @@ def test_every_class_and_constant_of_the_module_is_in_the_stubs():
     assert runtime == set(classes)
     constants = {n for n, v in vars(extension).items() if n.isupper() and isinstance(v, int)}
     assert constants == stub_constants()
-    assert set(macsim.__all__) == runtime | constants
+    functions = {n: v for n, v in vars(extension).items()
+                 if inspect.isbuiltin(v) and not n.startswith("_")}
+    assert set(functions) == set(stub_functions())
+    for name, function in functions.items():
+        assert runtime_parameters(function) == stub_functions()[name], name
+        assert function.__doc__, name
+    assert set(macsim.__all__) == runtime | constants | set(functions)
 
 
 def test_every_member_is_in_the_stubs_with_its_parameters():

@@ -83,7 +83,7 @@ TEST(KurtRobot, EncoderOdometryAgreesWithGroundTruthOnAStraightRun) {
 TEST(KurtRobot, EncoderFramesComeEveryTenMilliseconds) {
   World world(flat_world());
   idle(world, 1.0);
-  EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->odometry_frames(), 100u);
+  EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->state().frames, 100u);
 }
 
 TEST(KurtRobot, PositiveAngularTwistTurnsCounterClockwise) {
@@ -103,10 +103,10 @@ TEST(KurtRobot, StopsWhenCommandsStopForTheTimeout) {
   KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   kurt.command_twist(0.4, 0.0, world.time());
   idle(world, 0.55);
-  EXPECT_DOUBLE_EQ(kurt.active_wheel_speeds().left, 0.4);  // still within 0.6 s
+  EXPECT_DOUBLE_EQ(kurt.state().active.left, 0.4);  // still within 0.6 s
   idle(world, 0.1);
-  EXPECT_EQ(kurt.active_wheel_speeds().left, 0.0);  // 0.65 s after the command
-  EXPECT_EQ(kurt.active_wheel_speeds().right, 0.0);
+  EXPECT_EQ(kurt.state().active.left, 0.0);  // 0.65 s after the command
+  EXPECT_EQ(kurt.state().active.right, 0.0);
   idle(world, 0.5);
   EXPECT_LT(kurt.linear_velocity().norm(), 0.01);
 }
@@ -155,8 +155,8 @@ TEST(KurtRobot, EncoderRateSetsHowOftenFramesComeAndIsChecked) {
     fast.step();
     standard.step();
   }
-  EXPECT_NEAR(static_cast<double>(fast.robot_as<KurtRobot>("kurt")->odometry_frames()), 100.0, 1.0);
-  EXPECT_NEAR(static_cast<double>(standard.robot_as<KurtRobot>("kurt")->odometry_frames()), 10.0, 1.0);
+  EXPECT_NEAR(static_cast<double>(fast.robot_as<KurtRobot>("kurt")->state().frames), 100.0, 1.0);
+  EXPECT_NEAR(static_cast<double>(standard.robot_as<KurtRobot>("kurt")->state().frames), 10.0, 1.0);
   // The odometry integrates with the frame period as its time step: both see the same motion.
   EXPECT_NEAR(fast.robot("kurt")->odometry().x, standard.robot("kurt")->odometry().x, 0.005);
   EXPECT_GT(fast.robot("kurt")->odometry().x, 0.01);

@@ -26,7 +26,7 @@ std::string wall(double face, bool side = false) {
 }
 
 const RangeReading& reading(const KurtRobot& kurt, const std::string& frame) {
-  for (const auto& r : kurt.ranges()) {
+  for (const auto& r : kurt.state().ranges) {
     if (frame == r.sensor->frame) return r;
   }
   throw std::runtime_error("no sensor " + frame);
@@ -75,7 +75,7 @@ TEST(KurtRanges, TooCloseIsInvalidToo) {
 TEST(KurtLaser, AFixedLms200ScansTheHorizontalPlane) {
   World world = world_with("kurt2", wall(2.145) + wall(1.5, true));
   run_for(world, 0.5);
-  const LaserScan& scan = world.robot_as<KurtRobot>("kurt")->laser_scan();
+  const LaserScan& scan = world.robot_as<KurtRobot>("kurt")->state().scan;
   ASSERT_EQ(scan.ranges.size(), 181u);
   EXPECT_NEAR(scan.angle_min, -M_PI / 2, 1e-15);
   EXPECT_NEAR(scan.angle_increment, M_PI / 180, 1e-15);
@@ -88,7 +88,7 @@ TEST(KurtLaser, AFixedLms200ScansTheHorizontalPlane) {
   }
   EXPECT_NEAR(scan.ranges[180], 1.5, 0.025);  // +90 degrees: the side wall
   EXPECT_TRUE(std::isinf(scan.ranges[0]));    // -90 degrees: nothing within 10 m
-  EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->laser_scans(), 37u);  // 75 Hz for 0.5 s
+  EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->state().scans, 37u);  // 75 Hz for 0.5 s
 }
 
 TEST(KurtLaser, TheRotatingScannerSeesTheFloorAndAssemblesA3dCloud) {
@@ -97,13 +97,13 @@ TEST(KurtLaser, TheRotatingScannerSeesTheFloorAndAssemblesA3dCloud) {
   kurt.command_rotunit(M_PI / 6);
   const double speed = rotunit_speed_from_command(42);
   run_for(world, 2 * M_PI / speed + 0.2);
-  const LaserScan& scan = kurt.laser_scan();
+  const LaserScan& scan = kurt.state().scan;
   const double height = kBaseLinkHeight + scan.origin.z();
   // Beam 0 looks straight down, beam 45 down at 45 degrees: both hit the floor.
   EXPECT_NEAR(scan.ranges[0], height, 0.025);
   EXPECT_NEAR(scan.ranges[45], height / std::sin(M_PI / 4), 0.025);
-  ASSERT_EQ(kurt.point_clouds(), 1u);
-  const PointCloud& cloud = kurt.point_cloud();
+  ASSERT_EQ(kurt.state().clouds, 1u);
+  const PointCloud& cloud = kurt.state().cloud;
   EXPECT_GT(cloud.points.size(), 10000u);
   // Points on the floor lie at z = -0.1673 in base_link; the wall at x = 2 faces the robot.
   int floor = 0, on_wall = 0;
@@ -126,16 +126,16 @@ TEST(KurtImu, GyroYawFollowsTheTurnAndDriftsWhenAsked) {
     world.step();
   }
   const Eigen::Vector3d x = kurt.base_link_pose().orientation * Eigen::Vector3d::UnitX();
-  EXPECT_NEAR(kurt.imu().yaw, std::atan2(x.y(), x.x()), 1e-9);  // no noise by default
-  EXPECT_GT(kurt.imu().yaw, 0.5);
-  EXPECT_NEAR(kurt.imu().roll, 0.0, 0.01);
+  EXPECT_NEAR(kurt.state().imu.yaw, std::atan2(x.y(), x.x()), 1e-9);  // no noise by default
+  EXPECT_GT(kurt.state().imu.yaw, 0.5);
+  EXPECT_NEAR(kurt.state().imu.roll, 0.0, 0.01);
 
   KurtConfig drifting = *find_kurt_type("kurt3d");
   drifting.gyro_drift = 0.01;
   register_kurt_type("kurt3d_drifting_gyro", drifting);
   World still = world_with("kurt3d_drifting_gyro");
   run_for(still, 10.0);
-  EXPECT_NEAR(still.robot_as<KurtRobot>("kurt")->imu().yaw, 0.1, 0.005);  // 0.01 rad/s for 10 s
+  EXPECT_NEAR(still.robot_as<KurtRobot>("kurt")->state().imu.yaw, 0.1, 0.005);  // 0.01 rad/s for 10 s
 }
 
 TEST(KurtImu, GyroYawIsRelativeToTheStartHeading) {
@@ -145,15 +145,15 @@ TEST(KurtImu, GyroYawIsRelativeToTheStartHeading) {
       "turned.xml"));
   KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   run_for(world, 0.05);
-  EXPECT_NEAR(kurt.imu().yaw, 0.0, 1e-3);
+  EXPECT_NEAR(kurt.state().imu.yaw, 0.0, 1e-3);
   for (int i = 0; i < 1500; ++i) {
     if (i % 100 == 0) kurt.command_twist(0.0, 0.6, world.time());
     world.step();
   }
   const Eigen::Vector3d x = kurt.base_link_pose().orientation * Eigen::Vector3d::UnitX();
   const double turned = std::atan2(x.y(), x.x()) - 120.0 * M_PI / 180.0;
-  EXPECT_GT(kurt.imu().yaw, 0.3);
-  EXPECT_NEAR(kurt.imu().yaw, std::atan2(std::sin(turned), std::cos(turned)), 1e-6);
+  EXPECT_GT(kurt.state().imu.yaw, 0.3);
+  EXPECT_NEAR(kurt.state().imu.yaw, std::atan2(std::sin(turned), std::cos(turned)), 1e-6);
 }
 
 }  // namespace

@@ -91,7 +91,7 @@ TEST(Runner, CommandsAfterALoadInTheSameBatchActOnTheNewWorld) {
   EXPECT_EQ(seen[1], &runner.world());  // the world current when it ran: the new one
   EXPECT_EQ(runner.world().steps(), 0u);
   EXPECT_EQ(runner.generation(), 1u);
-  EXPECT_EQ(runner.world().robot_as<KurtRobot>("kurt")->active_wheel_speeds().left, 0.0);  // set at the step
+  EXPECT_EQ(runner.world().robot_as<KurtRobot>("kurt")->state().active.left, 0.0);  // set at the step
   EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->state().commanded.left, 0.0);
 }
 

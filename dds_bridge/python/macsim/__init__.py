@@ -29,6 +29,7 @@ from ._macsim import (
     Supervisor,
     SupervisorError,
     WorldState,
+    kurt3d_description,
 )
 from ._macsim import (
     DESTROY_EVERY_OBJECT,

@@ -40,6 +40,8 @@ bool python_interrupted();
 
 /// Raises TimeoutError with `message`.
 [[noreturn]] void raise_timeout(const std::string& message);
+/// The KURT3D's description, its numbers by name (macsim.kurt3d_description()).
+py::dict kurt3d_description();
 
 /// Calls `wait(slice)` with the GIL released, in slices of at most 50 ms, until it returns
 /// true (then true) or `timeout` passed (then false); Ctrl-C between slices raises.

@@ -1,8 +1,10 @@
 // The `macsim._macsim` extension: the participant, the shared helpers, and the parts bound in
 // robot.cpp, supervisor.cpp and wire_types.cpp.
 #include <cmath>
+#include <sstream>
 
 #include "bindings.h"
+#include "macsim/robot/kurt3d_description.h"
 
 namespace macsim::python {
 
@@ -20,6 +22,35 @@ bool python_interrupted() {
 }
 
 void raise_pending() { throw py::error_already_set(); }
+
+py::dict kurt3d_description() {
+  py::dict out;
+  std::istringstream lines(robot::kurt3d::description_text());
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string key, word;
+    words >> key;
+    std::vector<std::string> values;
+    while (words >> word) values.push_back(word);
+    if (key == "robot") {
+      out["robot"] = values.empty() ? "" : values.front();
+      continue;
+    }
+    if (key == "range_sensor" && !values.empty()) {  // keyed by its frame
+      key += " " + values.front();
+      values.erase(values.begin());
+    }
+    std::vector<double> numbers;
+    for (const auto& v : values) numbers.push_back(std::stod(v));
+    if (numbers.size() == 1) {
+      out[py::str(key)] = numbers.front();
+    } else {
+      out[py::str(key)] = py::tuple(py::cast(numbers));
+    }
+  }
+  return out;
+}
 
 void raise_timeout(const std::string& message) {
   PyErr_SetString(PyExc_TimeoutError, message.c_str());
@@ -58,6 +89,11 @@ PYBIND11_MODULE(_macsim, m) {
         return "<macsim.Participant domain=" + std::to_string(p.domain) + ">";
       });
 
+  m.def("kurt3d_description", &macsim::python::kurt3d_description,
+        "The KURT3D's description (what macsim publishes on rt/kurt/robot_description): its "
+        "dimensions, mounts and limits by name, in m, kg and rad ('base_height', 'pivot_x', "
+        "'boom_length', 'left_camera': (x, y, z), 'range_sensor ir_left': (x, y, yaw, sonar, "
+        "min, max, fov), ...).");
   macsim::python::bind_wire_types(m);
   macsim::python::bind_robot(m);
   macsim::python::bind_supervisor(m);

@@ -98,7 +98,7 @@ struct Tilt {
 std::optional<Tilt> decode_tilt(const CanFrame& frame);
 CanFrame encode_tilt(uint16_t left_right, uint16_t front_back);
 
-/// GETROTUNIT: the rotunit's angle in ticks (10240 per turn; byte 0 unused).
+/// GETROTUNIT: the rotunit's angle in ticks (kurt3d::kRotunitTicks per turn; byte 0 unused).
 std::optional<int> decode_rotunit_angle(const CanFrame& frame);
 CanFrame encode_rotunit_angle(int ticks);
 

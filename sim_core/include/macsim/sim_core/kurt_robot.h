@@ -169,26 +169,8 @@ class KurtRobot final : public RobotModel {
   // ---- proprioception and sensors ------------------------------------------------------
   /// Odometry from the simulated encoders, as the real driver computes it.
   PlanarOdometry odometry() const override { return state_.odometry.estimate(); }
-  /// Number of ENCODER frames so far; new odometry, ranges and IMU exist when it grows.
-  uint64_t odometry_frames() const { return state_.frames; }
-  /// Wheel speeds the motors currently try to hold (m/s; zero after a timeout).
-  WheelSpeeds active_wheel_speeds() const { return state_.active; }
-  /// Unwrapped angle (rad) of the middle wheel of the left (0) or right (1) side.
-  double wheel_angle(int side) const { return state_.encoder_angle[side]; }
-  /// The eight IR/sonar readings of the last frame.
-  const std::array<RangeReading, 8>& ranges() const { return state_.ranges; }
-  /// Gyro yaw and tilt of the last frame.
-  const ImuReading& imu() const { return state_.imu; }
-  /// The last laser sweep; a new one exists when laser_scans() grows.
-  const LaserScan& laser_scan() const { return state_.scan; }
-  uint64_t laser_scans() const { return state_.scans; }
-  /// The last assembled 3D cloud (one rotunit revolution); new when point_clouds() grows.
-  const PointCloud& point_cloud() const { return state_.cloud; }
-  uint64_t point_clouds() const { return state_.clouds; }
-  /// Rotunit angle (rad in [0, 2 pi)) as its encoder reports it, 10240 ticks per turn.
+  /// Rotunit angle (rad in [0, 2 pi)) as its encoder reports it (kRotunitTicks per turn).
   double rotunit_angle() const;
-  /// The rotunit's speed (rad/s) as its last command was quantized.
-  double rotunit_speed() const { return state_.rotunit_speed; }
   /// The crane's joints and magnet.
   CraneState crane_state() const;
   /// Pose of the magnet's underside centre (ground truth).
@@ -196,7 +178,9 @@ class KurtRobot final : public RobotModel {
 
   /// The robot's shapes where they are now, for drawing.
   std::vector<ShapeView> shapes() const override;
-  /// The robot's state besides its bodies.
+  /// The robot's state besides its bodies: its commands and the motors' speeds (`active`), encoder
+  /// frames, wheel angles, the last readings of every sensor (`ranges`, `imu`, `scan`, `cloud`)
+  /// and how many there were (`frames`, `scans`, `clouds`).
   const State& state() const { return state_; }
   /// Puts the state back; the magnet holds `held` (the state's held object's body) if given.
   void set_state(const State& state, dxBody* held = nullptr);

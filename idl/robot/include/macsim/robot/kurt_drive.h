@@ -105,12 +105,12 @@ double sonar_range_from_raw(int raw);
 /// The ADC value the ultrasound sensor gives at a distance (m).
 int sonar_raw_from_range(double range);
 
-/// Rotunit speed command as the driver sends it: speed / 2 pi * 10240 / 20, truncated, saturated
+/// Rotunit speed command as the driver sends it: speed / 2 pi * kRotunitTicks / 20, truncated, saturated
 /// to int16.
 int rotunit_speed_command(double speed);
-/// The speed (rad/s) a rotunit command value means: value * 2 pi * 20 / 10240.
+/// The speed (rad/s) a rotunit command value means: value * 2 pi * 20 / kRotunitTicks.
 double rotunit_speed_from_command(int command);
-/// Rotunit angle (rad) from its encoder value: ticks * 2 pi / 10240.
+/// Rotunit angle (rad) from its encoder value: ticks * 2 pi / kRotunitTicks (the description's ticks per turn).
 double rotunit_angle_from_ticks(int ticks);
 
 }  // namespace macsim

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "macsim/robot/kurt3d_description.h"
 #include "macsim/robot/robot_interface.h"
 
 namespace macsim::robot {
@@ -12,9 +13,10 @@ namespace macsim::robot {
 /// joints, the magnet and the rotunit speed mirror their commands; range readings stay as set.
 class MockRobot : public RobotInterface {
  public:
-  /// `track`: m between the wheel sides; commands time out after `command_timeout` s.
-  MockRobot(std::string name, Capabilities capabilities, double track = 0.28,
-            double command_timeout = 0.6);
+  /// `track`: m between the wheel sides; commands time out after `command_timeout` s (the
+  /// KURT3D's by default).
+  MockRobot(std::string name, Capabilities capabilities, double track = kurt3d::kAxisLength,
+            double command_timeout = kurt3d::kCommandTimeout);
 
   /// Moves the mock's clock to `now` (s), integrating odometry and the rotunit since the last.
   void advance(double now);
