@@ -274,11 +274,8 @@ std::vector<ShapeView> DiffDriveRobot::shapes() const {
 
 template <class Ar>
 void archive(Ar& ar, DiffDriveRobot::State& s) {
-  ar(s.commanded.left, s.commanded.right, s.last_command_time, s.wheel_angle, s.last_hinge_angle,
-     s.odometry_angle, s.odometry.x, s.odometry.y, s.odometry.yaw, s.odometry.linear,
-     s.odometry.angular, s.next_odometry_time, s.frames, s.next_scan_time, s.scans, s.noise_rng,
-     s.scan.stamp, s.scan.angle_min, s.scan.angle_increment, s.scan.range_min,
-     s.scan.range_max, s.scan.ranges, s.scan.rotunit_angle, s.scan.origin);
+  ar(s.commanded, s.last_command_time, s.wheel_angle, s.last_hinge_angle, s.odometry_angle,
+     s.odometry, s.next_odometry_time, s.frames, s.next_scan_time, s.scans, s.noise_rng, s.scan);
 }
 
 std::vector<uint8_t> DiffDriveRobot::save_state() const { return detail::to_bytes(state_); }

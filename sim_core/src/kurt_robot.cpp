@@ -644,10 +644,6 @@ robot::Readings KurtRobot::read(ReadMark& mark, double now) const {
 // ---- its part of the world's state ----------------------------------------------------------
 
 template <class Ar>
-void archive(Ar& ar, WheelSpeeds& w) {
-  ar(w.left, w.right);
-}
-template <class Ar>
 void archive(Ar& ar, EncoderCounter& e) {
   e.fields(ar);
 }
@@ -675,11 +671,6 @@ void archive(Ar& ar, RangeReading& r) {
 template <class Ar>
 void archive(Ar& ar, ImuReading& i) {
   ar(i.yaw, i.yaw_rate, i.roll, i.pitch, i.yaw_variance);
-}
-template <class Ar>
-void archive(Ar& ar, LaserScan& s) {
-  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges, s.rotunit_angle,
-     s.origin);
 }
 template <class Ar>
 void archive(Ar& ar, PointCloud& c) {

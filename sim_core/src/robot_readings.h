@@ -26,3 +26,22 @@ ShapeView shape_view(dxGeom* geom, const Color& color);
 robot::Scan scan_reading(const LaserScan& scan, const std::string& frame, double scan_time);
 
 }  // namespace macsim::detail
+
+namespace macsim {
+
+// The field lists (archive(), state_archive.h) of what robot models keep in their state.
+template <class Ar>
+void archive(Ar& ar, WheelSpeeds& w) {
+  ar(w.left, w.right);
+}
+template <class Ar>
+void archive(Ar& ar, PlanarOdometry& o) {
+  ar(o.x, o.y, o.yaw, o.linear, o.angular);
+}
+template <class Ar>
+void archive(Ar& ar, LaserScan& s) {
+  ar(s.stamp, s.angle_min, s.angle_increment, s.range_min, s.range_max, s.ranges, s.rotunit_angle,
+     s.origin);
+}
+
+}  // namespace macsim
