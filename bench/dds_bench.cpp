@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
   auto start_macsim = [&](int offset, const std::string& world, std::vector<std::string> extra) {
     std::vector<std::string> args{
         bin + "/macsim", "--world", world, "--domain", std::to_string(domain + offset),
-        "--cameras",     "off"};
+        "--cameras",     "off",  "--quiet"};  // its diagnostics would go to our stderr
     args.insert(args.end(), extra.begin(), extra.end());
     return spawn(args);
   };
