@@ -42,7 +42,7 @@ else
   sim_args+=(--status 10)
 fi
 echo "== starting the simulator: macsim ${sim_args[*]}"
-"$bin/macsim" "${sim_args[@]}" > >(grep --line-buffered -v '^  rt/') &
+"$bin/macsim" "${sim_args[@]}" > >(grep --line-buffered -v '^  rt/') 2>&1 &
 sim=$!
 trap 'kill -INT $sim 2>/dev/null || true; wait $sim 2>/dev/null || true' EXIT
 sleep 1
