@@ -2,6 +2,7 @@
 
 #include <ode/ode.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "macsim/sim_core/kurt_robot.h"
@@ -250,6 +251,37 @@ void RawOdeWorld::add_robot(const RobotSpec& robot) {
     }
     if (wheel_motors_.size() < 6) wheel_motors_.push_back(joint);
   }
+}
+
+double sleeping_bodies_rate(int n, double step) {
+  dInitODE2(0);
+  dWorldID world = dWorldCreate();
+  dWorldSetGravity(world, 0, 0, -9.81);
+  dWorldSetAutoDisableFlag(world, 1);
+  dSpaceID space = dSimpleSpaceCreate(nullptr);
+  const int side = static_cast<int>(std::ceil(std::sqrt(n)));
+  for (int i = 0; i < n; ++i) {
+    dGeomID box = dCreateBox(space, 0.1, 0.1, 0.1);
+    dBodyID body = dBodyCreate(world);
+    dMass m;
+    dMassSetBox(&m, 500, 0.1, 0.1, 0.1);
+    dBodySetMass(body, &m);
+    dBodySetPosition(body, (i % side) * 0.25, (i / side) * 0.25, 0.05);
+    dGeomSetBody(box, body);
+    dBodyDisable(body);
+  }
+  using Clock = std::chrono::steady_clock;
+  for (int i = 0; i < 100; ++i) dWorldQuickStep(world, step);
+  const auto start = Clock::now();
+  long steps = 0;
+  while (std::chrono::duration<double>(Clock::now() - start).count() < 1.0 || steps < 5) {
+    dWorldQuickStep(world, step);
+    ++steps;
+  }
+  const double rate = steps / std::chrono::duration<double>(Clock::now() - start).count();
+  dSpaceDestroy(space);
+  dWorldDestroy(world);
+  return rate;
 }
 
 }  // namespace macsim::bench

@@ -55,4 +55,8 @@ class RawOdeWorld : public PeerEngine {
   double wheel_radius_ = 0.06;
 };
 
+/// Steps per second of an ODE world holding n sleeping boxes (each a body and a geom, allocated
+/// as sim_core allocates them) and nothing else: ODE's own cost of a world that lies still.
+double sleeping_bodies_rate(int n, double step);
+
 }  // namespace macsim::bench

@@ -1,6 +1,7 @@
 // The robot's sensors and cameras against the same world without them, at a 1 ms step:
 // step rates and real-time factors (cameras: every frame due rendered, as macsim does it),
-// laser rays per second, camera frames per second.
+// the sensors' share of the step and their rays per second (from the robots' own time in each
+// step), camera frames per second.
 // Prints `name value unit` lines.
 #include <algorithm>
 #include <chrono>
@@ -47,9 +48,16 @@ macsim::WorldSpec spec_for(const macsim::WorldSpec& base, const Setup& setup) {
   return spec;
 }
 
-/// Steps the world with the robot driving an arc for `seconds` of sim time; returns steps per
-/// wall second (and prints the camera frames' shares if `report`).
-double step_rate(const macsim::WorldSpec& spec, const Setup& setup, double seconds, bool report) {
+/// What one run measured: steps per wall second, and the wall seconds per sim second the
+/// robots' own work took (drive, sensors; World::step_profile()).
+struct Run {
+  double rate = 0.0;
+  double robots = 0.0;
+};
+
+/// Steps the world with the robot driving an arc for `seconds` of sim time (and prints the
+/// camera frames' shares if `report`).
+Run step_rate(const macsim::WorldSpec& spec, const Setup& setup, double seconds, bool report) {
   macsim::World world(spec);
   // As macsim does: one render thread per eye, and when a pair is due while they still
   // render the previous one, the simulation waits (no frame due in sim time is skipped).
@@ -65,6 +73,7 @@ double step_rate(const macsim::WorldSpec& spec, const Setup& setup, double secon
     }
   }
   const long steps = static_cast<long>(seconds / world.step_size());
+  world.clear_step_profile();
   const long camera_every = static_cast<long>(1.0 / 15 / world.step_size());  // 15 Hz
   long due = 0, waited = 0;
   const auto start = Clock::now();
@@ -83,13 +92,14 @@ double step_rate(const macsim::WorldSpec& spec, const Setup& setup, double secon
   }
   for (auto& rig : rigs) rig->wait_idle();
   const double rate = steps / seconds_since(start);
+  const double robots = world.step_profile().robots / seconds;
   if (!rigs.empty() && report) {
     std::printf("camera_frames_rendered.%s %.0f %% of due\n", setup.name.c_str(),
                 100.0 * static_cast<double>(rigs[0]->rendered()) / static_cast<double>(due));
     std::printf("camera_frames_waited_for.%s %.0f %% of due\n", setup.name.c_str(),
                 100.0 * static_cast<double>(waited) / static_cast<double>(due));
   }
-  return rate;
+  return {rate, robots};
 }
 
 }  // namespace
@@ -113,22 +123,34 @@ int main(int argc, char** argv) {
   // Three runs of each set-up, taken in turn so that all see the same machine noise; medians.
   std::vector<macsim::WorldSpec> specs;
   for (const auto& setup : setups) specs.push_back(spec_for(spec, setup));
-  std::vector<std::vector<double>> runs(setups.size());
+  std::vector<std::vector<double>> runs(setups.size()), robots(setups.size());
   for (int run = 0; run < 3; ++run) {
-    for (std::size_t i = 0; i < setups.size(); ++i)
-      runs[i].push_back(step_rate(specs[i], setups[i], seconds, run == 2));
+    for (std::size_t i = 0; i < setups.size(); ++i) {
+      const Run r = step_rate(specs[i], setups[i], seconds, run == 2);
+      runs[i].push_back(r.rate);
+      robots[i].push_back(r.robots);
+    }
   }
-  std::vector<double> rates;
+  std::vector<double> rates, robot_time;
   for (std::size_t i = 0; i < setups.size(); ++i) {
     rates.push_back(median(runs[i]));
+    robot_time.push_back(median(robots[i]));
     std::printf("step_rate.%s %.0f steps/s\n", setups[i].name.c_str(), rates.back());
     std::printf("real_time_factor.%s %.1f x\n", setups[i].name.c_str(), rates.back() * 0.001);
   }
-  // Laser: 181 rays x 75 sweeps per sim second; their cost is what the laser adds per step.
-  const double laser_wall_per_sim_second = 1000.0 / rates[2] - 1000.0 / rates[1];
-  std::printf("laser_rays_per_second %.0f rays/s\n", 181 * 75 / laser_wall_per_sim_second);
-  const double ranges_wall_per_sim_second = 1000.0 / rates[1] - 1000.0 / rates[0];
-  std::printf("ir_sonar_rays_per_second %.0f rays/s\n", 8 * 3 * 100 / ranges_wall_per_sim_second);
+  std::printf("ratio.ir_sonar_laser_over_no_sensors %.3f x (goal >= 0.97)\n", rates[2] / rates[0]);
+  // The sensors' cost, from the robots' own time in each step (World::step_profile()): what
+  // the set-up with them takes beyond the one without, over the whole step.
+  for (std::size_t i : {std::size_t{1}, std::size_t{2}}) {
+    std::printf("share.%s.sensors %.2f %% of the step\n", setups[i].name.c_str(),
+                100.0 * (robot_time[i] - robot_time[0]) * rates[i] / 1000.0);
+  }
+  std::printf("robots_time.no_sensors %.2f %% of the step\n",
+              100.0 * robot_time[0] * rates[0] / 1000.0);
+  // Rays: IR/sonar 8 sensors x 3 rays x 100 frames, laser 181 rays x 75 sweeps per sim second.
+  std::printf("ir_sonar_rays_per_second %.0f rays/s\n",
+              8 * 3 * 100 / (robot_time[1] - robot_time[0]));
+  std::printf("laser_rays_per_second %.0f rays/s\n", 181 * 75 / (robot_time[2] - robot_time[1]));
 
   macsim::World world(spec);
   // Cameras: stereo pairs per second on one thread.

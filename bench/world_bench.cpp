@@ -1,5 +1,7 @@
 // sim_core step rate against raw ODE on the same bodies and geoms, step rate for 10 / 100 /
-// 1000 portable objects, the overlap check's cost, and the cost of snapshot, restore and reset.
+// 1000 portable objects, grids of resting boxes and ODE's own floor under them, tangled starts
+// against the same things apart, the overlap check's cost, and the cost of snapshot, restore and
+// reset.
 // Prints `name value unit`.
 #include <algorithm>
 #include <chrono>
@@ -13,6 +15,7 @@
 #include "bench_world_arg.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
+#include "macsim/sim_core/world_overlaps.h"
 #include "raw_ode_world.h"
 #include "scenes.h"
 
@@ -91,13 +94,20 @@ int main(int argc, char** argv) {
     }
     return median(times);
   };
+  std::map<int, double> first_half_second, ode_floor;
   for (int n : {1000, 5000, 20000}) {
     macsim::World world(macsim::bench::resting_boxes(n));
     // 2c. The overlap check macsim runs on a world it loads: each box touches the floor.
     overlap_check[n] = check_time(world);
     std::printf("overlaps.resting_boxes_%d %.2f ms\n", n, overlap_check[n] * 1e3);
-    for (int i = 0; i < 200; ++i) world.step();  // settle: they fall asleep
-    const auto start = Clock::now();
+    // Awake: their first half second, before they fall asleep (50 steps still).
+    const int half_second = static_cast<int>(0.5 / world.step_size());
+    auto start = Clock::now();
+    for (int i = 0; i < half_second; ++i) world.step();
+    first_half_second[n] = half_second / seconds_since(start);
+    std::printf("step_rate.resting_boxes_%d.first_half_second %.1f steps/s\n", n,
+                first_half_second[n]);
+    start = Clock::now();
     int steps = 0;
     while (seconds_since(start) < 1.0 || steps < 5) {
       world.step();
@@ -105,9 +115,19 @@ int main(int argc, char** argv) {
     }
     resting[n] = steps / seconds_since(start);
     std::printf("step_rate.resting_boxes_%d %.1f steps/s\n", n, resting[n]);
+    // The floor under it: ODE stepping the same number of sleeping bodies, nothing else.
+    ode_floor[n] = macsim::bench::sleeping_bodies_rate(n, world.step_size());
+    std::printf("step_rate.ode_sleeping_bodies_%d %.1f steps/s\n", n, ode_floor[n]);
   }
   std::printf("scale.resting_boxes_20000_over_5000 %.3f x (linear: 0.25)\n",
               resting[20000] / resting[5000]);
+  std::printf("scale.resting_boxes_20000_over_5000.first_half_second %.3f x (linear: 0.25)\n",
+              first_half_second[20000] / first_half_second[5000]);
+  std::printf("scale.ode_sleeping_bodies_20000_over_5000 %.3f x (linear: 0.25)\n",
+              ode_floor[20000] / ode_floor[5000]);
+  std::printf(
+      "share.resting_boxes_20000.ode_floor %.2f (of the step: ODE's own walk over its bodies)\n",
+      resting[20000] / ode_floor[20000]);
   std::printf("scale.overlaps_20000_over_5000 %.2f x (linear: 4)\n",
               overlap_check[20000] / overlap_check[5000]);
   {  // the degenerate case: 200 boxes at one point, 19,900 pairs (examined up to the cap)
@@ -115,6 +135,55 @@ int main(int argc, char** argv) {
     for (auto& box : point.objects) box.pose.position = {0, 0, 0.05};
     const macsim::World world(point);
     std::printf("overlaps.boxes_at_one_point_200 %.2f ms\n", check_time(world) * 1e3);
+  }
+
+  // 2d. Tangled starts: 200 boxes at one point and 20 KURT3Ds at one point, loaded as macsim
+  // loads them (parted on the floor, warned) and kept where they are (the physics alone),
+  // against the same things placed apart; steps/s over their first second from construction.
+  auto first_second = [](const macsim::WorldSpec& scene, double seconds) {
+    macsim::World world(scene);
+    const long steps = std::max(5L, static_cast<long>(seconds / world.step_size()));
+    const auto began = Clock::now();
+    for (long i = 0; i < steps; ++i) world.step();
+    return steps / seconds_since(began);
+  };
+  {
+    macsim::WorldSpec heap = macsim::bench::resting_boxes(200);
+    const macsim::WorldSpec apart = heap;
+    for (auto& box : heap.objects) box.pose.position = {0, 0, 0.05};
+    macsim::WorldSpec parted = heap;
+    const auto start = Clock::now();
+    macsim::part_overlaps(parted);
+    std::printf("part_overlaps.boxes_at_one_point_200 %.1f ms\n", seconds_since(start) * 1e3);
+    const double a = first_second(apart, 1.0), p = first_second(parted, 1.0);
+    std::printf("step_rate.boxes_apart_200.first_second %.0f steps/s\n", a);
+    std::printf("step_rate.boxes_at_one_point_200.parted.first_second %.0f steps/s\n", p);
+    std::printf("step_rate.boxes_at_one_point_200.kept.first_50_steps %.1f steps/s\n",
+                first_second(heap, 0.05));
+    std::printf("tangled.boxes_at_one_point_200_over_apart %.2f x (goal >= 0.1)\n", p / a);
+  }
+  {
+    macsim::WorldSpec apart = macsim::bench::empty_world("kurts_apart_20");
+    for (int i = 0; i < 20; ++i) {
+      macsim::RobotSpec robot;
+      robot.name = "kurt_" + std::to_string(i);
+      robot.type = "kurt3d";
+      robot.pose.position = {(i % 5) * 1.0, (i / 5) * 1.0, 0.0};
+      apart.robots.push_back(robot);
+    }
+    macsim::WorldSpec heap = apart;
+    heap.name = "kurts_at_one_point_20";
+    for (auto& robot : heap.robots) robot.pose.position = {0, 0, 0};
+    macsim::WorldSpec parted = heap;
+    const auto start = Clock::now();
+    macsim::part_overlaps(parted);
+    std::printf("part_overlaps.kurts_at_one_point_20 %.1f ms\n", seconds_since(start) * 1e3);
+    const double a = first_second(apart, 1.0), p = first_second(parted, 1.0);
+    std::printf("step_rate.kurts_apart_20.first_second %.0f steps/s\n", a);
+    std::printf("step_rate.kurts_at_one_point_20.parted.first_second %.0f steps/s\n", p);
+    std::printf("step_rate.kurts_at_one_point_20.kept.first_50_steps %.1f steps/s\n",
+                first_second(heap, 0.05));
+    std::printf("tangled.kurts_at_one_point_20_over_apart %.2f x (goal >= 0.1)\n", p / a);
   }
 
   // 3. Trials: snapshot, restore, reset.

@@ -128,6 +128,7 @@ struct Options {
   bool realtime = false;
   bool validate = false;
   bool strict = false;
+  bool keep_overlaps = false;
   bool paused = false;
   bool lockstep = false;
   double status_period = 0.0;
@@ -220,6 +221,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
            "refuse a world whose objects start inside each other (exit 1), also when a request "
            "loads it; without it they are warnings",
            &o.strict);
+  cli.flag("keep-overlaps",
+           "leave objects and robots that start deeply inside each other where the world file "
+           "puts them, for the physics to push apart (default: moved apart on load, warned)",
+           &o.keep_overlaps);
   cli.option("seed", "N",
              "vary the world's layout by this seed (0 or more) as its <VARIATION> says: the "
              "same seed, the same layout (default: as written)",
@@ -562,7 +567,13 @@ int main(int argc, char** argv) {
       const auto moved = macsim::vary_world(spec, static_cast<uint32_t>(o.seed));
       macsim::log::info("macsim: layout of seed {}:\n  {}", o.seed, fmt::join(moved, "\n  "));
     }
+    // Heaps of things started inside each other are parted before the first step.
+    const bool part = !o.strict && !o.keep_overlaps;
+    if (part) {
+      for (const auto& line : macsim::part_overlaps(spec)) load.warn(line);
+    }
     macsim::RunSettings settings;
+    settings.part_overlaps = part;
     settings.paused = o.paused || o.lockstep;
     settings.real_time_factor = o.as_fast_as_possible ? 0.0 : o.rtf;
     settings.refuse_overlaps = o.strict;  // for worlds loaded later by a request

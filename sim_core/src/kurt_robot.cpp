@@ -8,8 +8,8 @@
 #include <mutex>
 
 #include "ode_support.h"
-#include "robot_readings.h"
 #include "ray_caster.h"
+#include "robot_readings.h"
 #include "state_archive.h"
 
 namespace macsim {
@@ -99,8 +99,7 @@ KurtRobot::KurtRobot(const RobotSpec& spec, const RobotBuild& build, const KurtC
           std::make_unique<GeomTag>(GeomTag{build.collision_group, 0.5, 0.0, 0.1, nullptr})),
       wheel_tag_(std::make_unique<GeomTag>(
           GeomTag{build.collision_group, config.body.wheel_friction, 0.0, 0.1, nullptr})),
-      crane_tag_(
-          std::make_unique<GeomTag>(GeomTag{build.collision_group, 0.8, 0.0, 0.1, nullptr})),
+      crane_tag_(std::make_unique<GeomTag>(GeomTag{build.collision_group, 0.8, 0.0, 0.1, nullptr})),
       rays_(std::make_unique<detail::RayCaster>(build.space, build.collision_group)),
       state_{initial_state(config_)} {
   dWorldID world = build.world;
@@ -330,25 +329,37 @@ void KurtRobot::after_step(double now, double step) {
 
 void KurtRobot::read_frame_sensors(double now) {
   const Pose base = base_link_pose();
-  for (std::size_t i = 0; i < state_.ranges.size() && config_.range_sensors; ++i) {
-    const RangeSensorSpec& s = kurt_range_sensors()[i];
-    const Eigen::Vector3d origin = base.position + base.orientation * Eigen::Vector3d(s.x, s.y, 0);
-    // Three rays across the cone: the nearest echo wins, as the real sensors report.
-    double nearest = std::numeric_limits<double>::infinity();
-    for (double offset : {-s.field_of_view / 2, 0.0, s.field_of_view / 2}) {
-      const Eigen::Vector3d dir =
-          base.orientation * Eigen::Vector3d(std::cos(s.yaw + offset), std::sin(s.yaw + offset), 0);
-      if (auto hit = rays_->cast(origin, dir, s.max_range + 0.05))
-        nearest = std::min(nearest, *hit);
+  if (config_.range_sensors) {
+    // Three rays across each cone, all cast as one bundle: the nearest echo of a cone wins, as
+    // the real sensors report.
+    std::vector<detail::RayCaster::Ray> rays;
+    rays.reserve(3 * state_.ranges.size());
+    for (std::size_t i = 0; i < state_.ranges.size(); ++i) {
+      const RangeSensorSpec& s = kurt_range_sensors()[i];
+      const Eigen::Vector3d origin =
+          base.position + base.orientation * Eigen::Vector3d(s.x, s.y, 0);
+      for (double offset : {-s.field_of_view / 2, 0.0, s.field_of_view / 2}) {
+        const Eigen::Vector3d dir = base.orientation * Eigen::Vector3d(std::cos(s.yaw + offset),
+                                                                       std::sin(s.yaw + offset), 0);
+        rays.push_back({origin, dir, s.max_range + 0.05});
+      }
     }
-    // The sensor gives an ADC value and the driver converts it back (whole centimetres,
-    // invalid outside its raw window), so readings carry the real robot's quirks: IR valid
-    // from 0.10 only up to 0.53 m, ultrasound only from 0.23 m.
-    const bool echo = nearest >= s.min_range && nearest <= s.max_range;
-    const int raw = !echo     ? 0
-                    : s.sonar ? sonar_raw_from_range(nearest)
-                              : ir_raw_from_range(nearest);
-    state_.ranges[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
+    const auto hits = rays_->cast_bundle(rays);
+    for (std::size_t i = 0; i < state_.ranges.size(); ++i) {
+      const RangeSensorSpec& s = kurt_range_sensors()[i];
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 3 * i; k < 3 * i + 3; ++k) {
+        if (hits[k]) nearest = std::min(nearest, *hits[k]);
+      }
+      // The sensor gives an ADC value and the driver converts it back (whole centimetres,
+      // invalid outside its raw window), so readings carry the real robot's quirks: IR valid
+      // from 0.10 only up to 0.53 m, ultrasound only from 0.23 m.
+      const bool echo = nearest >= s.min_range && nearest <= s.max_range;
+      const int raw = !echo     ? 0
+                      : s.sonar ? sonar_raw_from_range(nearest)
+                                : ir_raw_from_range(nearest);
+      state_.ranges[i] = {&s, s.sonar ? sonar_range_from_raw(raw) : ir_range_from_raw(raw)};
+    }
   }
   double noise = 0.0;
   if (config_.gyro_noise > 0) noise = config_.gyro_noise * gaussian(state_.noise_rng);
@@ -376,12 +387,21 @@ void KurtRobot::sweep_laser(double now) {
   const Eigen::Vector3d origin = base.position + base.orientation * state_.scan.origin;
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(state_.scan.rotunit_angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  // The beams' angles never change: their cosines and sines once, the same values every sweep.
+  static const std::array<std::pair<double, double>, 181> beam = [] {
+    std::array<std::pair<double, double>, 181> table;
+    for (int i = 0; i < 181; ++i) {
+      const double a = -M_PI / 2 + i * (M_PI / 180);
+      table[i] = {std::cos(a), std::sin(a)};
+    }
+    return table;
+  }();
   std::array<Eigen::Vector3d, 181> local;
   std::vector<Eigen::Vector3d> directions(181);
   for (int i = 0; i < 181; ++i) {
-    const double a = state_.scan.angle_min + i * state_.scan.angle_increment;
-    local[i] = rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(std::cos(a), 0, std::sin(a)))
-                        : Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+    const auto [c, s] = beam[i];
+    local[i] =
+        rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(c, 0, s)) : Eigen::Vector3d(c, s, 0);
     directions[i] = base.orientation * local[i];
   }
   // One sweep, one fan: what lies off the scan plane is set aside once for all 181 rays.
@@ -594,8 +614,9 @@ robot::Frames KurtRobot::frames() const {
   } else if (config_.laser == LaserMount::Rotating) {
     // The scan plane is vertical (the frame's xy plane turned up about x); the rotunit turns
     // it about base_link's z axis.
-    f.laser = robot_mount("base_link", "laser360", laser_origin(config_.laser),
-                          Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())));
+    f.laser =
+        robot_mount("base_link", "laser360", laser_origin(config_.laser),
+                    Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())));
   }
   if (config_.crane) {
     const CraneParams& c = config_.crane_params;

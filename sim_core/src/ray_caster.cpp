@@ -153,4 +153,46 @@ std::vector<std::optional<double>> RayCaster::cast_fan(
   return hits;
 }
 
+std::vector<std::optional<double>> RayCaster::cast_bundle(const std::vector<Ray>& rays) {
+  std::vector<std::optional<double>> hits;
+  if (rays.empty()) return hits;
+  // The box that holds every ray, widened as crosses() widens boxes.
+  Eigen::Vector3d reach_lo = rays.front().origin, reach_hi = rays.front().origin;
+  for (const Ray& r : rays) {
+    const Eigen::Vector3d end = r.origin + r.max_range * r.direction;
+    reach_lo = reach_lo.cwiseMin(r.origin).cwiseMin(end);
+    reach_hi = reach_hi.cwiseMax(r.origin).cwiseMax(end);
+  }
+  reach_lo.array() -= 2e-3;
+  reach_hi.array() += 2e-3;
+  std::vector<dGeomID> all;
+  collect(space_, all);
+  std::vector<dGeomID> near, unbounded;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+  for (dGeomID g : all) {
+    Eigen::Vector3d lo, hi;
+    if (!bounds(g, lo, hi)) {
+      unbounded.push_back(g);
+      continue;
+    }
+    if ((lo.array() > reach_hi.array()).any() || (hi.array() < reach_lo.array()).any()) continue;
+    near.push_back(g);
+    boxes.emplace_back(lo, hi);
+  }
+  hits.reserve(rays.size());
+  std::vector<dGeomID> candidates;
+  for (const Ray& r : rays) {
+    candidates = unbounded;
+    for (std::size_t i = 0; i < near.size(); ++i) {
+      if (crosses(r.origin, r.direction, r.max_range, boxes[i].first, boxes[i].second))
+        candidates.push_back(near[i]);
+    }
+    dGeomRaySetLength(ray_, r.max_range);
+    dGeomRaySet(ray_, r.origin.x(), r.origin.y(), r.origin.z(), r.direction.x(), r.direction.y(),
+                r.direction.z());
+    hits.push_back(nearest_of(candidates));
+  }
+  return hits;
+}
+
 }  // namespace macsim::detail

@@ -27,6 +27,15 @@ class RayCaster {
   std::vector<std::optional<double>> cast_fan(const Eigen::Vector3d& origin,
                                               const std::vector<Eigen::Vector3d>& directions,
                                               double max_range);
+  /// One ray of a bundle: from `origin` along the unit vector `direction`, up to `max_range`.
+  struct Ray {
+    Eigen::Vector3d origin, direction;
+    double max_range;
+  };
+  /// cast() for rays from anywhere (a robot's range sensors), the same answers: the geoms
+  /// outside the box that holds all the rays are set aside once, and each ray is tested only
+  /// against the rest whose bounding box it crosses.
+  std::vector<std::optional<double>> cast_bundle(const std::vector<Ray>& rays);
 
  private:
   static void callback(void* data, dGeomID ray, dGeomID geom);

@@ -197,6 +197,11 @@ void Runner::replace_world(Load& load) {
       outcome.code = ErrorCode::InvalidArgument;
       outcome.error = "the new world must have the same robots (names and types) as this one";
     } else {
+      if (settings_.part_overlaps && !settings_.refuse_overlaps) {
+        for (const auto& line : part_overlaps(spec)) {
+          if (settings_.warn) settings_.warn(line);
+        }
+      }
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
       admit_overlaps(*world, settings_.refuse_overlaps, settings_.warn);
       world->set_data_roots(data_roots_);

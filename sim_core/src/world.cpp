@@ -2,10 +2,13 @@
 #include "macsim/sim_core/world.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstring>
+#include <unordered_set>
 
+#include "broad_phase.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
@@ -184,12 +187,34 @@ void World::clear_ode() {
 }
 
 namespace {
-/// The collision space. ODE's hash space marks the pairs it tested in an n x n bit matrix it
-/// clears every step (50 MB for 20,000 objects: 5 steps/s); a sweep and prune sorts the boxes
-/// along x once a step and tests the pairs that overlap there (measured in bench/README.md; a
-/// quadtree over the objects' footprint was slower on every size tried).
+/// The space that holds the geoms, for ray casts and one-off queries (a sweep and prune: the
+/// overlap check on load collides it whole). The step's pairs come from the BroadPhase.
 dSpaceID create_space() { return dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ); }
 }  // namespace
+
+std::vector<dGeomID> World::collision_order() const {
+  std::vector<dGeomID> order;
+  if (ground_) order.push_back(ground_);
+  for (const auto& object : objects_)
+    order.insert(order.end(), object->geoms.begin(), object->geoms.end());
+  for (const auto& robot : robots_) {
+    for (dBodyID body : robot->bodies()) {
+      for (dGeomID geom = dBodyGetFirstGeom(body); geom; geom = dBodyGetNextGeom(geom)) {
+        if (dGeomGetSpace(geom) == space_) order.push_back(geom);
+      }
+    }
+  }
+  // Whatever else lies in the space (a plug-in's geom without a body), in the space's order.
+  const std::unordered_set<dGeomID> listed(order.begin(), order.end());
+  const int n = dSpaceGetNumGeoms(space_);
+  std::vector<dGeomID> rest;
+  for (int i = 0; i < n; ++i) {
+    dGeomID g = dSpaceGetGeom(space_, i);
+    if (!listed.count(g) && !dGeomIsSpace(g)) rest.push_back(g);
+  }
+  order.insert(order.end(), rest.begin(), rest.end());
+  return order;
+}
 
 void World::build() {
   clear_ode();
@@ -215,6 +240,8 @@ void World::build() {
   dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(impl), impl);
   threading_ = impl;
   space_ = create_space();
+  if (!broad_phase_) broad_phase_ = std::make_unique<detail::BroadPhase>();
+  geoms_changed_ = true;
   contact_group_ = dJointGroupCreate(0);
 
   ground_ = dCreatePlane(space_, 0, 0, 1, 0);
@@ -269,6 +296,7 @@ void World::structure_changed() {
 }
 
 void World::build_object(Object& o) {
+  geoms_changed_ = true;
   const ObjectSpec& s = o.spec;
   const MaterialSpec* material = spec_.material(s.material);
   if (!material) material = &spec_.materials.front();
@@ -347,6 +375,7 @@ void World::build_object(Object& o) {
 }
 
 void World::destroy_ode_object(Object& o) {
+  geoms_changed_ = true;
   for (auto& robot : robots_) {
     if (o.body) robot->forget_body(o.body);
   }
@@ -377,6 +406,7 @@ void World::build_joint(Joint& j) {
   if (!j.spec.body2.empty()) {
     if (auto id2 = find_object(j.spec.body2)) other = find(*id2)->body;
   }
+  geoms_changed_ = true;  // the body is put elsewhere and back, maybe asleep
   // ODE takes a joint's zero where the bodies are when it is attached: move the moving body
   // back by the joint's position, attach, and put it where it was.
   const BodyState now = detail::body_state(moving->body);
@@ -617,18 +647,29 @@ void World::keep_robot_commands() {
 }
 
 bool World::step() {
+  using Clock = std::chrono::steady_clock;
   detail::ensure_ode_ready();
   if (!fault_.empty()) return false;
+  const auto begin = Clock::now();
   const double now = time();
   update_doors();
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
+  auto collided = begin, solved = begin;
+  const auto robots_ready = Clock::now();
   try {
-    dSpaceCollide(space_, this, &World::near_callback);
+    if (geoms_changed_) {
+      broad_phase_->track(collision_order());
+      geoms_changed_ = false;
+    }
+    dSpaceClean(space_);
+    broad_phase_->collide(this, &World::near_callback);
+    collided = Clock::now();
     // QuickStep reorders constraints with ODE's one global random generator: give it this
     // world's own state, so worlds in one process never disturb each other's runs.
     dRandSetSeed(random_seed_);
     dWorldQuickStep(world_, spec_.physics.step);
+    solved = Clock::now();
   } catch (const detail::OdeError& e) {
     // Inside a step ODE's own state may be left half-changed: this world steps no more.
     fault_ = e.what();
@@ -640,10 +681,12 @@ bool World::step() {
   dJointGroupEmpty(contact_group_);
   ++steps_;
   const bool stable = check_stability();
+  const auto checked = Clock::now();
   for (auto& robot : robots_) {
     robot->after_step(time(), spec_.physics.step);
     for (auto& event : robot->take_events()) events_.push_back(std::move(event));
   }
+  const auto sensed = Clock::now();
   for (auto& door : doors_) {
     const DoorGap before = door->flags.gap;
     door->flags.gap = door_state_of(*door).gap;
@@ -653,6 +696,13 @@ bool World::step() {
            door->spec.name);
     }
   }
+  const auto end = Clock::now();
+  auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+  ++profile_.steps;
+  profile_.robots += seconds(robots_ready - begin) + seconds(sensed - checked);
+  profile_.collision += seconds(collided - robots_ready);
+  profile_.solver += seconds(solved - collided);
+  profile_.other += seconds(checked - solved) + seconds(end - sensed);
   return stable;
 }
 

@@ -1,6 +1,7 @@
 // World::overlaps(): objects and robots that start inside each other, found by one collision
 // pass of ODE's space (its sweep and prune), and the lines that report them.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <set>
@@ -190,12 +191,11 @@ std::vector<std::string> overlap_warnings(const OverlapReport& report, std::size
                     "' start inside each other, " + depth_text(o.depth) + " deep");
   }
   if (shown < report.pairs.size() || report.truncated) {
-    lines.push_back("warning: ... and " + std::string(report.truncated ? "at least " : "") +
-                    std::to_string(report.pairs.size() - shown) +
-                    " more pairs of objects inside each other" +
-                    (report.truncated ? " (the search stops at " +
-                                            std::to_string(kMaxOverlapPairs) + " pairs)"
-                                      : ""));
+    lines.push_back(
+        "warning: ... and " + std::string(report.truncated ? "at least " : "") +
+        std::to_string(report.pairs.size() - shown) + " more pairs of objects inside each other" +
+        (report.truncated ? " (the search stops at " + std::to_string(kMaxOverlapPairs) + " pairs)"
+                          : ""));
   }
   return lines;
 }
@@ -206,8 +206,8 @@ std::string overlap_error(const OverlapReport& report, std::size_t named) {
                      (count == 1 ? " pair" : " pairs") + " of objects start inside each other";
   for (std::size_t i = 0; i < std::min(named, count); ++i) {
     const Overlap& o = report.pairs[i];
-    text += (i == 0 ? ": '" : "; '") + o.first + "' and '" + o.second + "' " +
-            depth_text(o.depth) + " deep";
+    text += (i == 0 ? ": '" : "; '") + o.first + "' and '" + o.second + "' " + depth_text(o.depth) +
+            " deep";
   }
   if (count > named && named > 0) text += "; ...";
   return text;
@@ -225,6 +225,225 @@ OverlapReport admit_overlaps(const World& world, bool refuse,
                          "refused: " + overlap_error(report));
   }
   return report;
+}
+
+}  // namespace macsim
+
+namespace macsim {
+
+namespace {
+
+/// Something that can be moved as a whole on the floor: a free portable object or a robot.
+struct Unit {
+  std::string name;
+  Eigen::Vector3d* position = nullptr;  // in the spec
+  SourceLocation source;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();  // centre of its footprint
+  double radius = 0.0;
+  bool robot = false;
+  bool tangled = false;
+  std::string partner;  // one thing it started inside, for the message
+  double depth = 0.0;
+};
+
+constexpr double kGap = 0.01;                       // m left between parted footprints
+constexpr std::size_t kMaxTangled = 2000;           // parting compares every tangled unit with all
+constexpr double kGoldenAngle = 2.399963229728653;  // rad
+
+/// The footprint of a robot as built: the circle about its base that holds all its shapes.
+double robot_radius(const RobotModel& robot, const Eigen::Vector2d& at) {
+  double radius = 0.0;
+  for (const ShapeView& s : robot.shapes()) {
+    const double half = s.shape == Shape::Box ? 0.5 * s.size.head<2>().norm() : s.size.x();
+    radius = std::max(radius, (s.pose.position.head<2>() - at).norm() + half);
+  }
+  return radius;
+}
+
+std::vector<Unit> units_of(WorldSpec& spec, const World& probe) {
+  std::set<std::string> jointed;
+  for (const auto& j : spec.joints) {
+    jointed.insert(j.body1);
+    jointed.insert(j.body2);
+  }
+  std::vector<Unit> units;
+  for (auto& o : spec.objects) {
+    if (!o.portable || o.frozen || o.kind != ObjectKind::Object || jointed.count(o.name)) continue;
+    Unit unit;
+    unit.name = o.name;
+    unit.position = &o.pose.position;
+    unit.source = o.source;
+    unit.at = o.pose.position.head<2>();
+    unit.radius = footprint_radius(o);
+    units.push_back(unit);
+  }
+  for (auto& r : spec.robots) {
+    const RobotModel* built = nullptr;
+    for (const auto& robot : probe.robots()) {
+      if (robot->name() == r.name) built = robot.get();
+    }
+    if (!built) continue;
+    Unit unit;
+    unit.name = r.name;
+    unit.position = &r.pose.position;
+    unit.source = r.source;
+    unit.at = r.pose.position.head<2>();
+    unit.radius = robot_radius(*built, unit.at);
+    unit.robot = true;
+    units.push_back(unit);
+  }
+  return units;
+}
+
+/// Marks the units deeply inside another unit; false if none is.
+bool mark_tangled(std::vector<Unit>& units, const OverlapReport& report) {
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < units.size(); ++i) index[units[i].name] = i;
+  bool any = false;
+  for (const Overlap& o : report.pairs) {
+    const auto a = index.find(o.first), b = index.find(o.second);
+    if (a == index.end() || b == index.end()) continue;
+    Unit& ua = units[a->second];
+    Unit& ub = units[b->second];
+    if (o.depth <= 0.25 * std::min(ua.radius, ub.radius)) continue;  // the physics' to part
+    for (auto [self, other] : {std::pair{&ua, &ub}, std::pair{&ub, &ua}}) {
+      if (!self->tangled || o.depth > self->depth) {
+        self->partner = other->name;
+        self->depth = o.depth;
+      }
+      self->tangled = true;
+    }
+    any = true;
+  }
+  return any;
+}
+
+/// Spreads each heap of tangled units of one kind (objects, robots) standing at one point on a
+/// sunflower spiral about it.
+void spread_heaps(std::vector<Unit>& units) {
+  std::vector<std::size_t> heap_of(units.size()), members(units.size(), 0);
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    heap_of[i] = i;
+    if (!units[i].tangled) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (units[j].tangled && units[j].robot == units[i].robot && heap_of[j] == j &&
+          (units[j].at - units[i].at).norm() < 1e-3) {
+        heap_of[i] = j;
+        break;
+      }
+    }
+  }
+  std::vector<double> widest(units.size(), 0.0);
+  for (std::size_t i = 0; i < units.size(); ++i)
+    widest[heap_of[i]] = std::max(widest[heap_of[i]], units[i].radius);
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    const std::size_t heap = heap_of[i];
+    if (heap == i) continue;
+    const double k = static_cast<double>(++members[heap]);
+    const double spacing = (2.0 * widest[heap] + kGap) / 1.5;  // neighbours ~1.77 x apart
+    units[i].at = units[heap].at +
+                  spacing * std::sqrt(k) *
+                      Eigen::Vector2d(std::cos(k * kGoldenAngle), std::sin(k * kGoldenAngle));
+  }
+}
+
+/// Pushes tangled units apart until no footprints meet: both of a pair alike, except that an
+/// object gives way to a robot and a tangled unit to one that is not (which stays).
+void push_apart(std::vector<Unit>& units) {
+  for (int round = 0; round < 1000; ++round) {
+    bool pushed = false;
+    for (std::size_t i = 0; i < units.size(); ++i) {
+      if (!units[i].tangled) continue;
+      for (std::size_t j = 0; j < units.size(); ++j) {
+        if (j == i || (units[j].tangled && j < i)) continue;  // tangled pairs once
+        Eigen::Vector2d d = units[j].at - units[i].at;
+        const double need = units[i].radius + units[j].radius + kGap;
+        const double distance = d.norm();
+        if (distance >= need) continue;
+        if (distance < 1e-9) {
+          const double a = kGoldenAngle * static_cast<double>(i + j);
+          d = Eigen::Vector2d(std::cos(a), std::sin(a));
+        } else {
+          d /= distance;
+        }
+        const double push = need - distance + 1e-6;
+        const bool i_stays = units[i].robot && !units[j].robot && units[j].tangled;
+        const bool j_stays = !units[j].tangled || (units[j].robot && !units[i].robot);
+        if (i_stays) {
+          units[j].at += push * d;
+        } else if (j_stays) {
+          units[i].at -= push * d;
+        } else {
+          units[i].at -= 0.5 * push * d;
+          units[j].at += 0.5 * push * d;
+        }
+        pushed = true;
+      }
+    }
+    if (!pushed) return;
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> part_overlaps(WorldSpec& spec, std::size_t max_lines) {
+  std::vector<std::string> lines;
+  std::vector<Unit> moved;                // as last placed, in the order first moved
+  std::vector<Eigen::Vector2d> first_at;  // where each of them stood in the file
+  for (int pass = 0; pass < 3; ++pass) {  // what a truncated report left out comes next pass
+    const World probe(spec);
+    const OverlapReport report = probe.overlaps();
+    if (report.empty()) break;
+    std::vector<Unit> units = units_of(spec, probe);
+    if (!mark_tangled(units, report)) break;
+    const auto tangled = static_cast<std::size_t>(
+        std::count_if(units.begin(), units.end(), [](const Unit& u) { return u.tangled; }));
+    if (tangled > kMaxTangled) {
+      lines.push_back("warning: " + std::to_string(tangled) +
+                      " objects and robots start deeply inside each other; more than " +
+                      std::to_string(kMaxTangled) + " are left for the physics to part");
+      break;
+    }
+    const std::vector<Unit> before = units;
+    spread_heaps(units);
+    push_apart(units);
+    for (std::size_t i = 0; i < units.size(); ++i) {
+      if (!units[i].tangled) continue;
+      units[i].position->head<2>() += units[i].at - before[i].at;
+      auto known = std::find_if(moved.begin(), moved.end(),
+                                [&](const Unit& u) { return u.name == units[i].name; });
+      if (known == moved.end()) {
+        moved.push_back(units[i]);
+        first_at.push_back(before[i].at);
+      } else {
+        known->at = units[i].at;
+      }
+    }
+  }
+  for (std::size_t i = moved.size(); i-- > 0;) {  // the centre of a heap may stay put
+    if ((moved[i].at - first_at[i]).norm() < 5e-4) {
+      moved.erase(moved.begin() + static_cast<long>(i));
+      first_at.erase(first_at.begin() + static_cast<long>(i));
+    }
+  }
+  const std::size_t shown = std::min(max_lines, moved.size());
+  for (std::size_t i = 0; i < shown; ++i) {
+    const Unit& unit = moved[i];
+    const std::string where =
+        unit.source.file.empty() ? ""
+                                 : unit.source.file + ":" + std::to_string(unit.source.line) + ": ";
+    char depth[48], distance[48];
+    std::snprintf(depth, sizeof depth, "%.3f m deep inside '", unit.depth);
+    std::snprintf(distance, sizeof distance, "': moved %.3f m apart",
+                  (unit.at - first_at[i]).norm());
+    lines.push_back(where + "warning: '" + unit.name + "' started " + depth + unit.partner +
+                    distance);
+  }
+  if (shown < moved.size()) {
+    lines.push_back("warning: ... and " + std::to_string(moved.size() - shown) +
+                    " more objects or robots moved apart");
+  }
+  return lines;
 }
 
 }  // namespace macsim

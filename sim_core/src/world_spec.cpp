@@ -1,5 +1,6 @@
 #include "macsim/sim_core/world_spec.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace macsim {
@@ -102,6 +103,16 @@ const ObjectSpec* WorldSpec::object(const std::string& object_name) const {
 void normalize_orientations(ObjectSpec& object) {
   object.pose.orientation.normalize();
   for (auto& c : object.components) c.pose.orientation.normalize();
+}
+
+double footprint_radius(const ObjectSpec& object) {
+  double radius = 0.0;
+  for (const auto& c : object.components) {
+    const double offset = c.pose.position.head<2>().norm();
+    const double half = c.shape == Shape::Box ? 0.5 * c.size.head<2>().norm() : c.size.x();
+    radius = std::max(radius, offset + half);
+  }
+  return radius;
 }
 
 }  // namespace macsim

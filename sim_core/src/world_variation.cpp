@@ -12,24 +12,13 @@ namespace macsim {
 
 namespace {
 
-/// Radius of the object's footprint about its frame's vertical axis.
-double footprint(const ObjectSpec& object) {
-  double radius = 0.0;
-  for (const auto& c : object.components) {
-    const double offset = c.pose.position.head<2>().norm();
-    const double half = c.shape == Shape::Box ? 0.5 * c.size.head<2>().norm() : c.size.x();
-    radius = std::max(radius, offset + half);
-  }
-  return radius;
-}
-
 /// Whether anything of this kind stands in the way of a placed object (walls and ramps bound
 /// the area instead; door parts stand where the area should not reach).
 bool obstacle(const ObjectSpec& object) {
   return object.kind == ObjectKind::Object || object.kind == ObjectKind::SwitchBase;
 }
 
-constexpr double kRobotRadius = 0.35;  // m: a KURT3D with its crane folded
+constexpr double kRobotRadius = 0.35;     // m: a KURT3D with its crane folded
 constexpr std::size_t kMaxPlaced = 1000;  // each placement checks all placed before it
 
 }  // namespace
@@ -56,7 +45,7 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
     if (o.portable && o.user_data == v.user_data) {
       chosen.push_back(i);
     } else if (obstacle(o)) {
-      taken.push_back({o.pose.position.head<2>(), footprint(o)});
+      taken.push_back({o.pose.position.head<2>(), footprint_radius(o)});
     }
   }
   if (chosen.size() > kMaxPlaced) {
@@ -103,7 +92,7 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   std::map<std::string, std::size_t> colour_of;
   for (std::size_t i : chosen) {
     ObjectSpec& o = spec.objects[i];
-    const Eigen::Vector2d at = place(v.area, footprint(o), "object '" + o.name + "'");
+    const Eigen::Vector2d at = place(v.area, footprint_radius(o), "object '" + o.name + "'");
     const double yaw = uniform(-M_PI, M_PI);
     o.pose.position.head<2>() = at;
     o.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * o.pose.orientation;

@@ -91,5 +91,39 @@ TEST_F(RayCasterFan, RaysNotInOnePlaneAreCastOneByOne) {
   }
 }
 
+// A robot's range sensors: rays from several origins, of several lengths, cast as one bundle.
+TEST_F(RayCasterFan, EveryRayOfABundleHitsWhatASingleRayHits) {
+  RayCaster rays(space_, 1);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> at(-3.0, 3.0), angle(-M_PI, M_PI), range(0.3, 4.0);
+  int hits = 0, misses = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    const Eigen::Vector3d centre(at(rng), at(rng), 0.15);
+    std::vector<RayCaster::Ray> bundle;
+    for (int sensor = 0; sensor < 8; ++sensor) {
+      const Eigen::Vector3d origin = centre + Eigen::Vector3d(at(rng), at(rng), 0) / 10;
+      const double yaw = angle(rng), reach = range(rng);
+      for (double offset : {-0.1, 0.0, 0.1}) {
+        bundle.push_back(
+            {origin, Eigen::Vector3d(std::cos(yaw + offset), std::sin(yaw + offset), 0), reach});
+      }
+    }
+    const auto together = rays.cast_bundle(bundle);
+    ASSERT_EQ(together.size(), bundle.size());
+    for (std::size_t i = 0; i < bundle.size(); ++i) {
+      const auto alone = rays.cast(bundle[i].origin, bundle[i].direction, bundle[i].max_range);
+      ASSERT_EQ(together[i].has_value(), alone.has_value()) << "frame " << frame << " ray " << i;
+      if (alone) {
+        EXPECT_EQ(*together[i], *alone) << "frame " << frame << " ray " << i;
+        ++hits;
+      } else {
+        ++misses;
+      }
+    }
+  }
+  EXPECT_GT(hits, 300);
+  EXPECT_GT(misses, 100);
+}
+
 }  // namespace
 }  // namespace macsim::detail

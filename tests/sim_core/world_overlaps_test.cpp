@@ -262,3 +262,79 @@ TEST(WorldOverlaps, ARunnerWarnsOfOrRefusesALoadedWorldWithOverlaps) {
 
 }  // namespace
 }  // namespace macsim::test
+
+namespace macsim::test {
+namespace {
+
+/// The deepest overlap between two of the named things in a world built from `spec`.
+double deepest_between_units(const WorldSpec& spec) {
+  const World world(spec);
+  double deepest = 0.0;
+  for (const auto& o : world.overlaps().pairs) {
+    if (o.first != "ground" && o.second != "ground") deepest = std::max(deepest, o.depth);
+  }
+  return deepest;
+}
+
+// A heap of boxes at one point is spread on the floor about it, each box clear of the others,
+// and the same heap is always spread the same way.
+TEST(PartOverlaps, AHeapOfBoxesAtOnePointIsSpreadAboutItAlwaysAlike) {
+  std::vector<ObjectSpec> heap;
+  for (int i = 0; i < 200; ++i) heap.push_back(box_object({1.0, 2.0, 0.05}, {0.1, 0.1, 0.1}));
+  WorldSpec spec = world_of(heap), again = spec;
+  const auto lines = part_overlaps(spec);
+  ASSERT_EQ(lines.size(), 21u);
+  EXPECT_NE(lines[0].find("warning: 'obj_"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("started 0.100 m deep inside 'obj_"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines.back().rfind("warning: ... and 1", 0), 0u) << lines.back();  // 179 or 180
+  EXPECT_NE(lines.back().find(" more objects or robots moved apart"), std::string::npos);
+  EXPECT_TRUE(World(spec).overlaps().empty()) << listed(World(spec).overlaps());
+  double farthest = 0.0;
+  for (const auto& o : spec.objects) {
+    EXPECT_DOUBLE_EQ(o.pose.position.z(), 0.05);  // moved on the floor only
+    farthest = std::max(farthest, (o.pose.position.head<2>() - Eigen::Vector2d(1, 2)).norm());
+  }
+  EXPECT_LT(farthest, 2.0);  // a compact disc about the point, not a line across the room
+  part_overlaps(again);
+  for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+    EXPECT_EQ(spec.objects[i].pose.position, again.objects[i].pose.position) << i;
+  }
+  // Parted once, there is nothing left to part.
+  WorldSpec parted = spec;
+  EXPECT_TRUE(part_overlaps(parted).empty());
+}
+
+// Robots at one point are parted from each other; an object inside a robot gives way, the robot
+// stays; what is only shallowly inside, fixed, frozen or jointed stays where it is.
+TEST(PartOverlaps, RobotsArePartedObjectsGiveWayAndWhatMayNotMoveStays) {
+  WorldSpec spec = world_of({box_object({0, 0, 0.17}, {0.1, 0.1, 0.1}),
+                             box_object({3.0, 0, 0.1}, {0.2, 0.2, 0.2}),
+                             box_object({3.19, 0, 0.1}, {0.2, 0.2, 0.2}),  // 1 cm in: physics
+                             box_object({-3.0, 0, 0.1}, {0.2, 0.2, 0.2}, false),
+                             box_object({-3.05, 0, 0.1}, {0.2, 0.2, 0.2})});
+  spec.objects[4].frozen = true;  // frozen inside a fixed box: neither moves
+  for (int i = 0; i < 4; ++i) {
+    RobotSpec robot;
+    robot.name = "kurt_" + std::to_string(i);
+    robot.type = "kurt3d";
+    spec.robots.push_back(robot);
+  }
+  const WorldSpec before = spec;
+  const auto lines = part_overlaps(spec);
+  EXPECT_EQ(lines.size(), 5u);  // the box and the four robots
+  EXPECT_EQ(spec.objects[1].pose.position, before.objects[1].pose.position);
+  EXPECT_EQ(spec.objects[2].pose.position, before.objects[2].pose.position);
+  EXPECT_EQ(spec.objects[3].pose.position, before.objects[3].pose.position);
+  EXPECT_EQ(spec.objects[4].pose.position, before.objects[4].pose.position);
+  EXPECT_NE(spec.objects[0].pose.position, before.objects[0].pose.position);
+  const World world(spec);
+  for (const auto& o : world.overlaps().pairs) {
+    const bool robots = o.first.rfind("kurt_", 0) == 0 && o.second.rfind("kurt_", 0) == 0;
+    EXPECT_FALSE(robots) << o.first << " " << o.second;
+    EXPECT_FALSE(o.first == "obj_0" || o.second == "obj_0") << o.first << " " << o.second;
+  }
+  EXPECT_LT(deepest_between_units(spec), 0.02);  // what is left: the shallow pair
+}
+
+}  // namespace
+}  // namespace macsim::test

@@ -53,6 +53,9 @@ struct RunSettings {
   /// A world swapped in by load() whose objects start inside each other (World::overlaps()):
   /// refused (BadFile, naming them) when true; either way `warn` gets one line per pair.
   bool refuse_overlaps = false;
+  /// A world swapped in by load(): what starts deeply inside each other is moved apart first
+  /// (part_overlaps(), its lines to `warn`), unless refused above.
+  bool part_overlaps = false;
   /// Warnings (a loaded world's, a command dropped); standard error when not set.
   std::function<void(const std::string&)> warn = nullptr;
   /// Commands and loads queued and not yet run at most: push() and load() refuse more.

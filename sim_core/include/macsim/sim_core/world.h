@@ -22,6 +22,7 @@ namespace macsim {
 
 namespace detail {
 struct GeomTag;
+class BroadPhase;
 }
 
 /// Stable id of an object: never reused while the world lives (list indices shift, ids do not).
@@ -263,6 +264,16 @@ class World {
   const WorldSpec& spec() const { return spec_; }
   /// Contact points created in the last step.
   int contact_count() const { return contacts_; }
+  /// Where the steps' wall time went since the world was built (or its profile was cleared).
+  struct StepProfile {
+    std::uint64_t steps = 0;
+    double collision = 0.0;  ///< s: pairs found and contacts made
+    double solver = 0.0;     ///< s: ODE's step (islands, QuickStep, integration)
+    double robots = 0.0;     ///< s: the robots' work before and after it (drive, sensors)
+    double other = 0.0;      ///< s: stability check, doors, events
+  };
+  const StepProfile& step_profile() const { return profile_; }
+  void clear_step_profile() { profile_ = {}; }
 
   // ---- robots --------------------------------------------------------------------------
   /// The robot of that name, or nullptr.
@@ -477,10 +488,13 @@ class World {
   void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail = "");
   Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
   static void near_callback(void* data, dxGeom* a, dxGeom* b);
+  std::vector<dxGeom*> collision_order() const;
 
   WorldSpec spec_;  // as loaded
   dxWorld* world_ = nullptr;
   dxSpace* space_ = nullptr;
+  std::unique_ptr<detail::BroadPhase> broad_phase_;
+  bool geoms_changed_ = true;  // the broad phase must take the geoms anew before a step
   dxJointGroup* contact_group_ = nullptr;
   void* threading_ = nullptr;
   dxGeom* ground_ = nullptr;
@@ -504,6 +518,7 @@ class World {
   ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
   int contacts_ = 0;
+  StepProfile profile_;
   WorldObjects objects_view_{*this};
   WorldEditor editor_{*this};
   WorldDoors doors_view_{*this};

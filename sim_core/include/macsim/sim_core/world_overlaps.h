@@ -46,4 +46,14 @@ std::string overlap_error(const OverlapReport& report, std::size_t named = 3);
 OverlapReport admit_overlaps(const World& world, bool refuse,
                              const std::function<void(const std::string&)>& warn);
 
+/// Parts what starts deeply inside each other: portable objects and robots whose pair is deeper
+/// than a quarter of the smaller one's footprint radius (and than kOverlapTolerance) are moved
+/// apart on the floor, each tangled heap spread on a sunflower spiral about where it stood and
+/// pushed apart until no two footprints meet. Objects fixed, frozen, jointed or part of a door,
+/// and whatever is not deeply tangled, stay where they are; shallower overlaps are the physics'
+/// to push apart. Returns a warning per thing moved ("FILE:LINE: warning: 'a' started 0.100 m
+/// deep inside 'b': moved 0.310 m apart"), at most `max_lines` of them and a line counting the
+/// rest; none if nothing moved. The same spec is always parted the same way.
+std::vector<std::string> part_overlaps(WorldSpec& spec, std::size_t max_lines = 20);
+
 }  // namespace macsim

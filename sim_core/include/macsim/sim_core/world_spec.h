@@ -146,6 +146,9 @@ ObjectSpec cylinder_object(const Eigen::Vector3d& position, double radius, doubl
 ObjectSpec sphere_object(const Eigen::Vector3d& position, double radius, bool portable = true,
                          const std::string& user_data = "");
 
+/// Radius (m) of an object's footprint on the floor about its frame's vertical axis.
+double footprint_radius(const ObjectSpec& object);
+
 /// A joint between two objects (or an object and the world), e.g. a switch's slider.
 struct JointSpec {
   enum class Type { Slider, Hinge };
@@ -182,11 +185,11 @@ struct RobotSpec {
 /// How a world varies with a seed (the <VARIATION> element; `macsim --seed N`): objects placed
 /// at random in an area, one colour per material drawn from a palette, the robots' start.
 struct VariationSpec {
-  std::string user_data;                ///< the objects placed are those with this user data
-  Eigen::Vector4d area{0, 0, 0, 0};     ///< x_min, y_min, x_max, y_max on the floor, m
+  std::string user_data;                      ///< the objects placed are those with this user data
+  Eigen::Vector4d area{0, 0, 0, 0};           ///< x_min, y_min, x_max, y_max on the floor, m
   std::optional<Eigen::Vector4d> robot_area;  ///< where the robots start (any heading)
-  double clearance = 0.45;              ///< m between footprints of placed objects and others
-  std::vector<Color> colors;            ///< palette for the first component of placed objects
+  double clearance = 0.45;                    ///< m between footprints of placed objects and others
+  std::vector<Color> colors;                  ///< palette for the first component of placed objects
   SourceLocation source;
 };
 
