@@ -411,9 +411,17 @@ void KurtRobot::sweep_laser(double now) {
     if (!hit || *hit < state_.scan.range_min) continue;
     const double range = *hit + config_.laser_noise * gaussian(state_.noise_rng);
     state_.scan.ranges[i] = static_cast<float>(range);
-    if (turning)
+    if (turning) {
+      if (state_.cloud_in_progress.points.empty()) {
+        // Room for a whole revolution at once: a cloud grown point by point was copied and
+        // mapped anew at every doubling.
+        const double sweeps = 2 * M_PI / std::fabs(state_.rotunit_speed) * config_.laser_rate;
+        state_.cloud_in_progress.points.reserve(
+            static_cast<std::size_t>(std::min(sweeps + 1.0, 2000.0)) * 181);
+      }
       state_.cloud_in_progress.points.push_back(
           (state_.scan.origin + local[i] * range).cast<float>());
+    }
   }
   ++state_.scans;
   if (rotating && !turning) {  // a cloud is one revolution: none is assembled while it stands

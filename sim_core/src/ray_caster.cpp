@@ -50,24 +50,25 @@ bool bounds(dGeomID geom, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
   return lo.allFinite() && hi.allFinite() && (hi - lo).maxCoeff() < 1e30;
 }
 
-/// Whether the segment origin + t * direction, t in [0, length], meets the box (slab test,
-/// widened by a millimetre so that rounding never sets aside a geom the ray touches).
-bool crosses(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double length,
-             const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+/// Where the segment origin + t * direction, t in [0, length], enters the box, if it meets it
+/// (slab test, widened by a millimetre so that rounding never sets aside a geom the ray touches):
+/// no hit on the geom inside can be nearer.
+std::optional<double> entry(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                            double length, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   double enter = 0.0, leave = length;
   for (int k = 0; k < 3; ++k) {
     const double a = lo[k] - 1e-3, b = hi[k] + 1e-3;
     if (std::fabs(direction[k]) < 1e-12) {
-      if (origin[k] < a || origin[k] > b) return false;
+      if (origin[k] < a || origin[k] > b) return std::nullopt;
       continue;
     }
     double t0 = (a - origin[k]) / direction[k], t1 = (b - origin[k]) / direction[k];
     if (t0 > t1) std::swap(t0, t1);
     enter = std::max(enter, t0);
     leave = std::min(leave, t1);
-    if (enter > leave) return false;
+    if (enter > leave) return std::nullopt;
   }
-  return true;
+  return enter;
 }
 
 }  // namespace
@@ -91,9 +92,28 @@ void RayCaster::collect(dSpaceID space, std::vector<dGeomID>& out) const {
   }
 }
 
-std::optional<double> RayCaster::nearest_of(const std::vector<dGeomID>& geoms) {
+std::optional<double> RayCaster::nearest_among(const Eigen::Vector3d& origin,
+                                               const Eigen::Vector3d& direction, double max_range,
+                                               const Candidates& geoms) {
+  dGeomRaySetLength(ray_, max_range);
+  dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), direction.x(), direction.y(),
+              direction.z());
   hit_ = false;
-  for (dGeomID g : geoms) callback(this, ray_, g);
+  for (dGeomID g : geoms.unbounded) callback(this, ray_, g);
+  // The boxes the ray crosses, nearest entry first: once a hit is nearer than the next entry,
+  // nothing further can be nearer.
+  entered_.clear();
+  for (std::size_t i = 0; i < geoms.near.size(); ++i) {
+    const auto& [lo, hi] = geoms.boxes[i];
+    if (const auto t = entry(origin, direction, max_range, lo, hi)) {
+      entered_.emplace_back(*t, i);
+    }
+  }
+  std::sort(entered_.begin(), entered_.end());
+  for (const auto& [t, i] : entered_) {
+    if (hit_ && t > nearest_) break;
+    callback(this, ray_, geoms.near[i]);
+  }
   if (!hit_) return std::nullopt;
   return nearest_;
 }
@@ -119,12 +139,11 @@ std::vector<std::optional<double>> RayCaster::cast_fan(
     }
   }
   // Set aside what no ray of the fan reaches: out of range, or (planar fan) off its plane.
-  std::vector<dGeomID> near, unbounded;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+  Candidates geoms;
   for (dGeomID g : all) {
     Eigen::Vector3d lo, hi;
     if (!bounds(g, lo, hi)) {
-      unbounded.push_back(g);
+      geoms.unbounded.push_back(g);
       continue;
     }
     const Eigen::Vector3d closest = origin.cwiseMax(lo).cwiseMin(hi);
@@ -134,29 +153,19 @@ std::vector<std::optional<double>> RayCaster::cast_fan(
       const double reach = half.dot(normal.cwiseAbs()) + 1e-3;
       if (std::fabs(normal.dot(centre - origin)) > reach) continue;
     }
-    near.push_back(g);
-    boxes.emplace_back(lo, hi);
+    geoms.near.push_back(g);
+    geoms.boxes.emplace_back(lo, hi);
   }
   std::vector<std::optional<double>> hits;
   hits.reserve(directions.size());
-  std::vector<dGeomID> candidates;
-  dGeomRaySetLength(ray_, max_range);
-  for (const auto& d : directions) {
-    candidates = unbounded;
-    for (std::size_t i = 0; i < near.size(); ++i) {
-      if (crosses(origin, d, max_range, boxes[i].first, boxes[i].second))
-        candidates.push_back(near[i]);
-    }
-    dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), d.x(), d.y(), d.z());
-    hits.push_back(nearest_of(candidates));
-  }
+  for (const auto& d : directions) hits.push_back(nearest_among(origin, d, max_range, geoms));
   return hits;
 }
 
 std::vector<std::optional<double>> RayCaster::cast_bundle(const std::vector<Ray>& rays) {
   std::vector<std::optional<double>> hits;
   if (rays.empty()) return hits;
-  // The box that holds every ray, widened as crosses() widens boxes.
+  // The box that holds every ray, widened as entry() widens boxes.
   Eigen::Vector3d reach_lo = rays.front().origin, reach_hi = rays.front().origin;
   for (const Ray& r : rays) {
     const Eigen::Vector3d end = r.origin + r.max_range * r.direction;
@@ -167,30 +176,20 @@ std::vector<std::optional<double>> RayCaster::cast_bundle(const std::vector<Ray>
   reach_hi.array() += 2e-3;
   std::vector<dGeomID> all;
   collect(space_, all);
-  std::vector<dGeomID> near, unbounded;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;
+  Candidates geoms;
   for (dGeomID g : all) {
     Eigen::Vector3d lo, hi;
     if (!bounds(g, lo, hi)) {
-      unbounded.push_back(g);
+      geoms.unbounded.push_back(g);
       continue;
     }
     if ((lo.array() > reach_hi.array()).any() || (hi.array() < reach_lo.array()).any()) continue;
-    near.push_back(g);
-    boxes.emplace_back(lo, hi);
+    geoms.near.push_back(g);
+    geoms.boxes.emplace_back(lo, hi);
   }
   hits.reserve(rays.size());
-  std::vector<dGeomID> candidates;
   for (const Ray& r : rays) {
-    candidates = unbounded;
-    for (std::size_t i = 0; i < near.size(); ++i) {
-      if (crosses(r.origin, r.direction, r.max_range, boxes[i].first, boxes[i].second))
-        candidates.push_back(near[i]);
-    }
-    dGeomRaySetLength(ray_, r.max_range);
-    dGeomRaySet(ray_, r.origin.x(), r.origin.y(), r.origin.z(), r.direction.x(), r.direction.y(),
-                r.direction.z());
-    hits.push_back(nearest_of(candidates));
+    hits.push_back(nearest_among(r.origin, r.direction, r.max_range, geoms));
   }
   return hits;
 }

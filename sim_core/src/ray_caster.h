@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace macsim::detail {
@@ -41,14 +42,22 @@ class RayCaster {
   static void callback(void* data, dGeomID ray, dGeomID geom);
   /// The geoms of `space` (and its sub-spaces) a ray may hit: enabled, not ignored.
   void collect(dSpaceID space, std::vector<dGeomID>& out) const;
-  /// The nearest hit of the ray now set in `ray_` among `geoms`, if any.
-  std::optional<double> nearest_of(const std::vector<dGeomID>& geoms);
+  /// Geoms a set of rays may hit: the unbounded ones (planes) and the rest with their boxes.
+  struct Candidates {
+    std::vector<dGeomID> unbounded, near;
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;  // of `near`
+  };
+  /// The nearest hit of one ray among `geoms`, testing the boxes it crosses nearest first.
+  std::optional<double> nearest_among(const Eigen::Vector3d& origin,
+                                      const Eigen::Vector3d& direction, double max_range,
+                                      const Candidates& geoms);
 
   dSpaceID space_;
   int ignore_group_;
   dGeomID ray_;
   double nearest_ = 0.0;
   bool hit_ = false;
+  std::vector<std::pair<double, std::size_t>> entered_;  // (entry distance, index in near)
 };
 
 }  // namespace macsim::detail
