@@ -147,20 +147,26 @@ int main(int argc, char** argv) {
     for (long i = 0; i < steps; ++i) world.step();
     return steps / seconds_since(began);
   };
-  {
-    macsim::WorldSpec heap = macsim::bench::resting_boxes(200);
-    const macsim::WorldSpec apart = heap;
-    for (auto& box : heap.objects) box.pose.position = {0, 0, 0.05};
+  // `heap` is `apart` with everything moved to one point; `name` says what it holds.
+  auto tangled = [&](const std::string& name, const macsim::WorldSpec& apart,
+                     const macsim::WorldSpec& heap) {
     macsim::WorldSpec parted = heap;
-    const auto start = Clock::now();
+    const auto began = Clock::now();
     macsim::part_overlaps(parted);
-    std::printf("part_overlaps.boxes_at_one_point_200 %.1f ms\n", seconds_since(start) * 1e3);
+    std::printf("part_overlaps.%s_at_one_point %.1f ms\n", name.c_str(),
+                seconds_since(began) * 1e3);
     const double a = first_second(apart, 1.0), p = first_second(parted, 1.0);
-    std::printf("step_rate.boxes_apart_200.first_second %.0f steps/s\n", a);
-    std::printf("step_rate.boxes_at_one_point_200.parted.first_second %.0f steps/s\n", p);
-    std::printf("step_rate.boxes_at_one_point_200.kept.first_50_steps %.1f steps/s\n",
+    std::printf("step_rate.%s_apart.first_second %.0f steps/s\n", name.c_str(), a);
+    std::printf("step_rate.%s_at_one_point.parted.first_second %.0f steps/s\n", name.c_str(), p);
+    std::printf("step_rate.%s_at_one_point.kept.first_50_steps %.1f steps/s\n", name.c_str(),
                 first_second(heap, 0.05));
-    std::printf("tangled.boxes_at_one_point_200_over_apart %.2f x (goal >= 0.1)\n", p / a);
+    std::printf("tangled.%s_at_one_point_over_apart %.2f x (goal >= 0.1)\n", name.c_str(), p / a);
+  };
+  {
+    const macsim::WorldSpec apart = macsim::bench::resting_boxes(200);
+    macsim::WorldSpec heap = apart;
+    for (auto& box : heap.objects) box.pose.position = {0, 0, 0.05};
+    tangled("boxes_200", apart, heap);
   }
   {
     macsim::WorldSpec apart = macsim::bench::empty_world("kurts_apart_20");
@@ -172,18 +178,8 @@ int main(int argc, char** argv) {
       apart.robots.push_back(robot);
     }
     macsim::WorldSpec heap = apart;
-    heap.name = "kurts_at_one_point_20";
     for (auto& robot : heap.robots) robot.pose.position = {0, 0, 0};
-    macsim::WorldSpec parted = heap;
-    const auto start = Clock::now();
-    macsim::part_overlaps(parted);
-    std::printf("part_overlaps.kurts_at_one_point_20 %.1f ms\n", seconds_since(start) * 1e3);
-    const double a = first_second(apart, 1.0), p = first_second(parted, 1.0);
-    std::printf("step_rate.kurts_apart_20.first_second %.0f steps/s\n", a);
-    std::printf("step_rate.kurts_at_one_point_20.parted.first_second %.0f steps/s\n", p);
-    std::printf("step_rate.kurts_at_one_point_20.kept.first_50_steps %.1f steps/s\n",
-                first_second(heap, 0.05));
-    std::printf("tangled.kurts_at_one_point_20_over_apart %.2f x (goal >= 0.1)\n", p / a);
+    tangled("kurts_20", apart, heap);
   }
 
   // 3. Trials: snapshot, restore, reset.

@@ -118,11 +118,26 @@ std::optional<double> RayCaster::nearest_among(const Eigen::Vector3d& origin,
   return nearest_;
 }
 
+RayCaster::Candidates RayCaster::candidates(
+    const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& reachable) const {
+  std::vector<dGeomID> all;
+  collect(space_, all);
+  Candidates geoms;
+  for (dGeomID g : all) {
+    Eigen::Vector3d lo, hi;
+    if (!bounds(g, lo, hi)) {
+      geoms.unbounded.push_back(g);
+    } else if (reachable(lo, hi)) {
+      geoms.near.push_back(g);
+      geoms.boxes.emplace_back(lo, hi);
+    }
+  }
+  return geoms;
+}
+
 std::vector<std::optional<double>> RayCaster::cast_fan(
     const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3d>& directions,
     double max_range) {
-  std::vector<dGeomID> all;
-  collect(space_, all);
   // The fan's plane, if all its rays lie in one.
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   if (directions.size() >= 2) {
@@ -139,23 +154,13 @@ std::vector<std::optional<double>> RayCaster::cast_fan(
     }
   }
   // Set aside what no ray of the fan reaches: out of range, or (planar fan) off its plane.
-  Candidates geoms;
-  for (dGeomID g : all) {
-    Eigen::Vector3d lo, hi;
-    if (!bounds(g, lo, hi)) {
-      geoms.unbounded.push_back(g);
-      continue;
-    }
+  const Candidates geoms = candidates([&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     const Eigen::Vector3d closest = origin.cwiseMax(lo).cwiseMin(hi);
-    if ((closest - origin).norm() > max_range + 1e-3) continue;
-    if (!normal.isZero()) {
-      const Eigen::Vector3d centre = (lo + hi) / 2, half = (hi - lo) / 2;
-      const double reach = half.dot(normal.cwiseAbs()) + 1e-3;
-      if (std::fabs(normal.dot(centre - origin)) > reach) continue;
-    }
-    geoms.near.push_back(g);
-    geoms.boxes.emplace_back(lo, hi);
-  }
+    if ((closest - origin).norm() > max_range + 1e-3) return false;
+    if (normal.isZero()) return true;
+    const Eigen::Vector3d centre = (lo + hi) / 2, half = (hi - lo) / 2;
+    return std::fabs(normal.dot(centre - origin)) <= half.dot(normal.cwiseAbs()) + 1e-3;
+  });
   std::vector<std::optional<double>> hits;
   hits.reserve(directions.size());
   for (const auto& d : directions) hits.push_back(nearest_among(origin, d, max_range, geoms));
@@ -174,19 +179,9 @@ std::vector<std::optional<double>> RayCaster::cast_bundle(const std::vector<Ray>
   }
   reach_lo.array() -= 2e-3;
   reach_hi.array() += 2e-3;
-  std::vector<dGeomID> all;
-  collect(space_, all);
-  Candidates geoms;
-  for (dGeomID g : all) {
-    Eigen::Vector3d lo, hi;
-    if (!bounds(g, lo, hi)) {
-      geoms.unbounded.push_back(g);
-      continue;
-    }
-    if ((lo.array() > reach_hi.array()).any() || (hi.array() < reach_lo.array()).any()) continue;
-    geoms.near.push_back(g);
-    geoms.boxes.emplace_back(lo, hi);
-  }
+  const Candidates geoms = candidates([&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    return (lo.array() <= reach_hi.array()).all() && (hi.array() >= reach_lo.array()).all();
+  });
   hits.reserve(rays.size());
   for (const Ray& r : rays) {
     hits.push_back(nearest_among(r.origin, r.direction, r.max_range, geoms));

@@ -4,6 +4,7 @@
 #include <ode/ode.h>
 
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -47,6 +48,10 @@ class RayCaster {
     std::vector<dGeomID> unbounded, near;
     std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;  // of `near`
   };
+  /// The geoms of the space rays may hit: the unbounded ones, and those whose box (min, max
+  /// corners) `reachable` keeps.
+  Candidates candidates(
+      const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& reachable) const;
   /// The nearest hit of one ray among `geoms`, testing the boxes it crosses nearest first.
   std::optional<double> nearest_among(const Eigen::Vector3d& origin,
                                       const Eigen::Vector3d& direction, double max_range,
