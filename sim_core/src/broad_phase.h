@@ -28,8 +28,6 @@ class BroadPhase {
   void collide(void* data, dNearCallback* callback);
   /// Tracked geoms filed as still after the last collide().
   std::size_t still_count() const { return still_count_; }
-  /// The grid's cell edge in metres.
-  double cell_size() const { return cell_; }
 
  private:
   struct Entry {

@@ -653,6 +653,7 @@ bool World::step() {
   const auto begin = Clock::now();
   const double now = time();
   update_doors();
+  const auto doors_updated = Clock::now();
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
   auto collided = begin, solved = begin;
@@ -699,10 +700,11 @@ bool World::step() {
   const auto end = Clock::now();
   auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
   ++profile_.steps;
-  profile_.robots += seconds(robots_ready - begin) + seconds(sensed - checked);
+  profile_.robots += seconds(robots_ready - doors_updated) + seconds(sensed - checked);
   profile_.collision += seconds(collided - robots_ready);
   profile_.solver += seconds(solved - collided);
-  profile_.other += seconds(checked - solved) + seconds(end - sensed);
+  profile_.other +=
+      seconds(doors_updated - begin) + seconds(checked - solved) + seconds(end - sensed);
   return stable;
 }
 

@@ -2,6 +2,7 @@
 // pass of ODE's space (its sweep and prune), and the lines that report them.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <set>
@@ -321,17 +322,17 @@ bool mark_tangled(std::vector<Unit>& units, const OverlapReport& report) {
 /// Spreads each heap of tangled units of one kind (objects, robots) standing at one point on a
 /// sunflower spiral about it.
 void spread_heaps(std::vector<Unit>& units) {
-  std::vector<std::size_t> heap_of(units.size()), members(units.size(), 0);
+  std::vector<std::size_t> heap_of(units.size()), members(units.size(), 0), leaders;
   for (std::size_t i = 0; i < units.size(); ++i) {
     heap_of[i] = i;
     if (!units[i].tangled) continue;
-    for (std::size_t j = 0; j < i; ++j) {
-      if (units[j].tangled && units[j].robot == units[i].robot && heap_of[j] == j &&
-          (units[j].at - units[i].at).norm() < 1e-3) {
+    for (const std::size_t j : leaders) {
+      if (units[j].robot == units[i].robot && (units[j].at - units[i].at).norm() < 1e-3) {
         heap_of[i] = j;
         break;
       }
     }
+    if (heap_of[i] == i) leaders.push_back(i);
   }
   std::vector<double> widest(units.size(), 0.0);
   for (std::size_t i = 0; i < units.size(); ++i)
@@ -347,40 +348,86 @@ void spread_heaps(std::vector<Unit>& units) {
   }
 }
 
-/// Pushes tangled units apart until no footprints meet: both of a pair alike, except that an
-/// object gives way to a robot and a tangled unit to one that is not (which stays).
-void push_apart(std::vector<Unit>& units) {
-  for (int round = 0; round < 1000; ++round) {
-    bool pushed = false;
-    for (std::size_t i = 0; i < units.size(); ++i) {
-      if (!units[i].tangled) continue;
-      for (std::size_t j = 0; j < units.size(); ++j) {
-        if (j == i || (units[j].tangled && j < i)) continue;  // tangled pairs once
-        Eigen::Vector2d d = units[j].at - units[i].at;
-        const double need = units[i].radius + units[j].radius + kGap;
-        const double distance = d.norm();
-        if (distance >= need) continue;
-        if (distance < 1e-9) {
-          const double a = kGoldenAngle * static_cast<double>(i + j);
-          d = Eigen::Vector2d(std::cos(a), std::sin(a));
-        } else {
-          d /= distance;
-        }
-        const double push = need - distance + 1e-6;
-        const bool i_stays = units[i].robot && !units[j].robot && units[j].tangled;
-        const bool j_stays = !units[j].tangled || (units[j].robot && !units[i].robot);
-        if (i_stays) {
-          units[j].at += push * d;
-        } else if (j_stays) {
-          units[i].at -= push * d;
-        } else {
-          units[i].at -= 0.5 * push * d;
-          units[j].at += 0.5 * push * d;
-        }
-        pushed = true;
+/// Units filed by square cells on the floor no narrower than two footprints and a gap, so a
+/// unit's footprint can meet only those in its cell and the eight around it.
+class FloorCells {
+ public:
+  explicit FloorCells(double cell) : cell_(cell) {}
+  void add(std::size_t unit, const Eigen::Vector2d& at) { cells_[key(at, 0, 0)].push_back(unit); }
+  /// Calls `visit(unit)` for the units filed in the nine cells about `at`.
+  template <class Visit>
+  void around(const Eigen::Vector2d& at, Visit visit) const {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        const auto cell = cells_.find(key(at, dx, dy));
+        if (cell == cells_.end()) continue;
+        for (const std::size_t unit : cell->second) visit(unit);
       }
+  }
+
+ private:
+  std::uint64_t key(const Eigen::Vector2d& at, int dx, int dy) const {
+    const auto x = static_cast<std::int64_t>(std::floor(at.x() / cell_)) + dx;
+    const auto y = static_cast<std::int64_t>(std::floor(at.y() / cell_)) + dy;
+    return (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
+  }
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells_;
+};
+
+/// Pushes tangled units apart until no footprints meet: both of a pair alike, except that an
+/// object gives way to a robot and a tangled unit to one that is not (which stays). Each round
+/// looks only at the units near each tangled one; it stops after 200 rounds if they cannot all
+/// be placed (no room among the untangled ones), leaving the rest to the physics.
+void push_apart(std::vector<Unit>& units) {
+  double widest = 0.0;
+  for (const Unit& u : units) widest = std::max(widest, u.radius);
+  const double cell = 2.0 * widest + kGap;
+  FloorCells untangled(cell);
+  std::vector<std::size_t> tangled;
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    if (units[i].tangled) {
+      tangled.push_back(i);
+    } else {
+      untangled.add(i, units[i].at);
     }
-    if (!pushed) return;
+  }
+  auto push = [&units](std::size_t i, std::size_t j) {
+    Eigen::Vector2d d = units[j].at - units[i].at;
+    const double need = units[i].radius + units[j].radius + kGap;
+    const double distance = d.norm();
+    if (distance >= need) return false;
+    if (distance < 1e-9) {
+      const double a = kGoldenAngle * static_cast<double>(i + j);
+      d = Eigen::Vector2d(std::cos(a), std::sin(a));
+    } else {
+      d /= distance;
+    }
+    const double by = need - distance + 1e-6;
+    const bool i_stays = units[i].robot && !units[j].robot && units[j].tangled;
+    const bool j_stays = !units[j].tangled || (units[j].robot && !units[i].robot);
+    if (i_stays) {
+      units[j].at += by * d;
+    } else if (j_stays) {
+      units[i].at -= by * d;
+    } else {
+      units[i].at -= 0.5 * by * d;
+      units[j].at += 0.5 * by * d;
+    }
+    return true;
+  };
+  for (int round = 0; round < 200; ++round) {
+    FloorCells moving(cell);  // where the tangled ones stand at the round's start
+    for (const std::size_t i : tangled) moving.add(i, units[i].at);
+    bool pushed = false;
+    for (const std::size_t i : tangled) {
+      const Eigen::Vector2d at = units[i].at;
+      moving.around(at, [&](std::size_t j) {
+        if (j > i) pushed = push(i, j) || pushed;  // tangled pairs once
+      });
+      untangled.around(at, [&](std::size_t j) { pushed = push(i, j) || pushed; });
+    }
+    if (!pushed) return;  // a round that moved nothing saw every pair where it stands
   }
 }
 
