@@ -58,6 +58,7 @@ void CameraRig::run() {
   } catch (const RenderError& e) {
     std::cerr << "camera rig for '" << robot_ << "': " << e.what() << std::endl;
   }
+  cv::Mat image;  // reused from frame to frame unless a callback kept the last one
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     wake_.wait(lock, [this] { return stop_ || pending_.has_value(); });
@@ -71,7 +72,8 @@ void CameraRig::run() {
         if (r.name != robot_) continue;
         for (const Eye eye : eyes_) {
           const Pose& camera = eye == Eye::Left ? r.left_camera : r.right_camera;
-          on_frame_({scene.time, robot_, eye, renderer->render(scene, camera, intrinsics_)});
+          renderer->render_into(image, scene, camera, intrinsics_);
+          on_frame_({scene.time, robot_, eye, image});
         }
       }
     }

@@ -87,6 +87,13 @@ std::string OffscreenRenderer::gl_renderer() const {
 
 cv::Mat OffscreenRenderer::render(const Scene& scene, const Pose& camera,
                                   const CameraIntrinsics& in, cv::Mat* depth) {
+  cv::Mat image;
+  render_into(image, scene, camera, in, depth);
+  return image;
+}
+
+void OffscreenRenderer::render_into(cv::Mat& image, const Scene& scene, const Pose& camera,
+                                    const CameraIntrinsics& in, cv::Mat* depth) {
   if (in.width != width_ || in.height != height_) {
     throw RenderError("this renderer draws " + std::to_string(width_) + "x" +
                       std::to_string(height_) + " images");
@@ -94,16 +101,16 @@ cv::Mat OffscreenRenderer::render(const Scene& scene, const Pose& camera,
   gl_->make_current();
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
   glViewport(0, 0, width_, height_);
-  gl_->drawer->draw(scene, camera, in);
+  // Drawn with the image's rows top-down, so the pixels are read straight into the image.
+  gl_->drawer->draw(scene, camera, in, detail::SceneDrawer::Rows::TopDown);
 
-  cv::Mat image(height_, width_, CV_8UC3);
+  if (image.u && image.u->refcount > 1) image.release();  // another holder keeps the old pixels
+  image.create(height_, width_, CV_8UC3);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_BGR, GL_UNSIGNED_BYTE, image.data);
-  cv::flip(image, image, 0);
   if (depth) {
     cv::Mat window(height_, width_, CV_32F);
     glReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, window.data);
-    cv::flip(window, window, 0);
     const float n = in.near_clip, f = in.far_clip;
     depth->create(height_, width_, CV_32F);
     for (int y = 0; y < height_; ++y) {
@@ -112,7 +119,6 @@ cv::Mat OffscreenRenderer::render(const Scene& scene, const Pose& camera,
       for (int x = 0; x < width_; ++x) z[x] = 2 * n * f / (f + n - (2 * d[x] - 1) * (f - n));
     }
   }
-  return image;
 }
 
 }  // namespace macsim::render

@@ -171,7 +171,8 @@ void SceneDrawer::trim_textures() {
   }
 }
 
-void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntrinsics& intrinsics) {
+void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntrinsics& intrinsics,
+                       Rows rows) {
   ++draws_;
   glClearColor(0.72f, 0.8f, 0.9f, 1.0f);  // a pale sky
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -181,9 +182,12 @@ void SceneDrawer::draw(const Scene& scene, const Pose& camera, const CameraIntri
   // from the camera are never seen, and not rasterising them halves the pixels shaded.
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
+  // Top-down rows mirror the image vertically, which turns every face's winding over.
+  glFrontFace(rows == Rows::TopDown ? GL_CW : GL_CCW);
 
   glMatrixMode(GL_PROJECTION);
   glLoadIdentity();
+  if (rows == Rows::TopDown) glScaled(1, -1, 1);
   const double top = intrinsics.near_clip * std::tan(intrinsics.fov_y / 2);
   const double right = top * intrinsics.width / intrinsics.height;
   glFrustum(-right, right, -top, top, intrinsics.near_clip, intrinsics.far_clip);

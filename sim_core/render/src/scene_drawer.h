@@ -21,8 +21,12 @@ class SceneDrawer {
 
   /// Needs the context it will draw into to be current.
   SceneDrawer();
+  /// Which way the framebuffer's rows run once drawn: GL's own (bottom-up, a window's) or an
+  /// image's (top-down: glReadPixels then gives an image with no flip).
+  enum class Rows { BottomUp, TopDown };
   /// Draws `scene` seen from `camera` into the current viewport of `width` x `height`.
-  void draw(const Scene& scene, const Pose& camera, const CameraIntrinsics& intrinsics);
+  void draw(const Scene& scene, const Pose& camera, const CameraIntrinsics& intrinsics,
+            Rows rows = Rows::BottomUp);
 
  private:
   unsigned texture(const std::string& path);

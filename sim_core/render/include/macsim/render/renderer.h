@@ -38,6 +38,9 @@ class OffscreenRenderer {
   /// the metric depth along the view axis (CV_32F, far_clip where nothing is).
   cv::Mat render(const Scene& scene, const Pose& camera, const CameraIntrinsics& intrinsics,
                  cv::Mat* depth = nullptr);
+  /// The same into `image`, whose storage is reused when it has the size and nobody shares it.
+  void render_into(cv::Mat& image, const Scene& scene, const Pose& camera,
+                   const CameraIntrinsics& intrinsics, cv::Mat* depth = nullptr);
   /// "llvmpipe (LLVM 15.0.6, 256 bits)" or the like.
   std::string gl_renderer() const;
 
