@@ -398,18 +398,25 @@ void KurtRobot::sweep_laser(double now) {
   }();
   std::array<Eigen::Vector3d, 181> local;
   std::vector<Eigen::Vector3d> directions(181);
+  const Eigen::Matrix3d to_world = base.orientation.toRotationMatrix();
   for (int i = 0; i < 181; ++i) {
     const auto [c, s] = beam[i];
     local[i] =
         rotating ? Eigen::Vector3d(turn * Eigen::Vector3d(c, 0, s)) : Eigen::Vector3d(c, s, 0);
-    directions[i] = base.orientation * local[i];
+    directions[i] = to_world * local[i];
   }
   // One sweep, one fan: what lies off the scan plane is set aside once for all 181 rays.
   const auto hits = rays_->cast_fan(origin, directions, state_.scan.range_max);
+  // The sweep's noise from one distribution, which uses both numbers of each pair it draws
+  // (a fresh one per beam drew two and threw one away: half the laser's cost). Made anew at
+  // each sweep, it keeps nothing past it: the generator alone stays the noise's state.
+  std::normal_distribution<double> normal;
   for (int i = 0; i < 181; ++i) {
     const auto& hit = hits[i];
     if (!hit || *hit < state_.scan.range_min) continue;
-    const double range = *hit + config_.laser_noise * gaussian(state_.noise_rng);
+    const double noise =
+        config_.laser_noise > 0 ? config_.laser_noise * normal(state_.noise_rng) : 0.0;
+    const double range = *hit + noise;
     state_.scan.ranges[i] = static_cast<float>(range);
     if (turning) {
       if (state_.cloud_in_progress.points.empty()) {

@@ -52,23 +52,36 @@ bool bounds(dGeomID geom, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
 
 /// Where the segment origin + t * direction, t in [0, length], enters the box, if it meets it
 /// (slab test, widened by a millimetre so that rounding never sets aside a geom the ray touches):
-/// no hit on the geom inside can be nearer.
-std::optional<double> entry(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+/// no hit on the geom inside can be nearer. `inverse` holds 1 / direction per axis, 0 on an
+/// axis the ray runs across (|direction| < 1e-12).
+std::optional<double> entry(const Eigen::Vector3d& origin, const Eigen::Vector3d& inverse,
                             double length, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   double enter = 0.0, leave = length;
   for (int k = 0; k < 3; ++k) {
     const double a = lo[k] - 1e-3, b = hi[k] + 1e-3;
-    if (std::fabs(direction[k]) < 1e-12) {
+    if (inverse[k] == 0.0) {
       if (origin[k] < a || origin[k] > b) return std::nullopt;
       continue;
     }
-    double t0 = (a - origin[k]) / direction[k], t1 = (b - origin[k]) / direction[k];
+    double t0 = (a - origin[k]) * inverse[k], t1 = (b - origin[k]) * inverse[k];
     if (t0 > t1) std::swap(t0, t1);
     enter = std::max(enter, t0);
     leave = std::min(leave, t1);
     if (enter > leave) return std::nullopt;
   }
   return enter;
+}
+
+/// True if the ray surely misses the plane n.x = offset (p = (n, offset)): it runs away from
+/// it, or meets it beyond `length`. Conservative by a micrometre: rays near either edge are
+/// left to the collider, whose answer alone counts.
+bool misses_plane(const Eigen::Vector4d& p, const Eigen::Vector3d& origin,
+                  const Eigen::Vector3d& direction, double length) {
+  if (!p.allFinite()) return false;
+  const double k = p.head<3>().dot(direction);
+  if (std::fabs(k) < 1e-9) return false;
+  const double t = (p[3] - p.head<3>().dot(origin)) / k;
+  return t < -1e-6 || t > length + 1e-6;
 }
 
 }  // namespace
@@ -95,38 +108,63 @@ void RayCaster::collect(dSpaceID space, std::vector<dGeomID>& out) const {
 std::optional<double> RayCaster::nearest_among(const Eigen::Vector3d& origin,
                                                const Eigen::Vector3d& direction, double max_range,
                                                const Candidates& geoms) {
-  dGeomRaySetLength(ray_, max_range);
-  dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), direction.x(), direction.y(),
-              direction.z());
+  // The ray geom is placed only once a geom is to be tested: most rays of a sweep meet no box
+  // and miss the floor, and cost no collider call at all.
+  bool placed = false;
+  auto test = [&](dGeomID g) {
+    if (!placed) {
+      dGeomRaySetLength(ray_, max_range);
+      dGeomRaySet(ray_, origin.x(), origin.y(), origin.z(), direction.x(), direction.y(),
+                  direction.z());
+      placed = true;
+    }
+    callback(this, ray_, g);
+  };
   hit_ = false;
-  for (dGeomID g : geoms.unbounded) callback(this, ray_, g);
+  for (std::size_t i = 0; i < geoms.unbounded.size(); ++i) {
+    if (!misses_plane(geoms.planes[i], origin, direction, max_range)) test(geoms.unbounded[i]);
+  }
   // The boxes the ray crosses, nearest entry first: once a hit is nearer than the next entry,
   // nothing further can be nearer.
   entered_.clear();
+  Eigen::Vector3d inverse;
+  for (int k = 0; k < 3; ++k)
+    inverse[k] = std::fabs(direction[k]) < 1e-12 ? 0.0 : 1.0 / direction[k];
   for (std::size_t i = 0; i < geoms.near.size(); ++i) {
     const auto& [lo, hi] = geoms.boxes[i];
-    if (const auto t = entry(origin, direction, max_range, lo, hi)) {
+    if (const auto t = entry(origin, inverse, max_range, lo, hi)) {
       entered_.emplace_back(*t, i);
     }
   }
-  std::sort(entered_.begin(), entered_.end());
+  if (entered_.size() > 1) std::sort(entered_.begin(), entered_.end());
   for (const auto& [t, i] : entered_) {
     if (hit_ && t > nearest_) break;
-    callback(this, ray_, geoms.near[i]);
+    test(geoms.near[i]);
   }
   if (!hit_) return std::nullopt;
   return nearest_;
 }
 
-RayCaster::Candidates RayCaster::candidates(
-    const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& reachable) const {
-  std::vector<dGeomID> all;
-  collect(space_, all);
-  Candidates geoms;
-  for (dGeomID g : all) {
+const RayCaster::Candidates& RayCaster::candidates(
+    const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& reachable) {
+  collected_.clear();
+  collect(space_, collected_);
+  Candidates& geoms = candidates_;
+  geoms.unbounded.clear();
+  geoms.near.clear();
+  geoms.planes.clear();
+  geoms.boxes.clear();
+  for (dGeomID g : collected_) {
     Eigen::Vector3d lo, hi;
     if (!bounds(g, lo, hi)) {
       geoms.unbounded.push_back(g);
+      dVector4 p;
+      if (dGeomGetClass(g) == dPlaneClass) {
+        dGeomPlaneGetParams(g, p);
+        geoms.planes.emplace_back(p[0], p[1], p[2], p[3]);
+      } else {
+        geoms.planes.push_back(Eigen::Vector4d::Constant(std::nan("")));
+      }
     } else if (reachable(lo, hi)) {
       geoms.near.push_back(g);
       geoms.boxes.emplace_back(lo, hi);
@@ -153,12 +191,26 @@ std::vector<std::optional<double>> RayCaster::cast_fan(
       }
     }
   }
-  // Set aside what no ray of the fan reaches: out of range, or (planar fan) off its plane.
-  const Candidates geoms = candidates([&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  // The half-space ahead of the fan, if no ray of it points backwards from its middle one
+  // (a scanner's fan of up to 180 degrees): what lies wholly behind is out of its reach.
+  Eigen::Vector3d ahead = Eigen::Vector3d::Zero();
+  if (!directions.empty()) {
+    ahead = directions[directions.size() / 2];
+    for (const auto& d : directions) {
+      if (!ahead.allFinite() || ahead.dot(d) < 0.0) {
+        ahead.setZero();
+        break;
+      }
+    }
+  }
+  // Set aside what no ray of the fan reaches: out of range, behind it, or (planar fan) off its
+  // plane.
+  const Candidates& geoms = candidates([&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     const Eigen::Vector3d closest = origin.cwiseMax(lo).cwiseMin(hi);
     if ((closest - origin).norm() > max_range + 1e-3) return false;
-    if (normal.isZero()) return true;
     const Eigen::Vector3d centre = (lo + hi) / 2, half = (hi - lo) / 2;
+    if (ahead.dot(centre - origin) + half.dot(ahead.cwiseAbs()) < -1e-3) return false;
+    if (normal.isZero()) return true;
     return std::fabs(normal.dot(centre - origin)) <= half.dot(normal.cwiseAbs()) + 1e-3;
   });
   std::vector<std::optional<double>> hits;
@@ -179,7 +231,7 @@ std::vector<std::optional<double>> RayCaster::cast_bundle(const std::vector<Ray>
   }
   reach_lo.array() -= 2e-3;
   reach_hi.array() += 2e-3;
-  const Candidates geoms = candidates([&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const Candidates& geoms = candidates([&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     return (lo.array() <= reach_hi.array()).all() && (hi.array() >= reach_lo.array()).all();
   });
   hits.reserve(rays.size());

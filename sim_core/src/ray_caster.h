@@ -46,12 +46,13 @@ class RayCaster {
   /// Geoms a set of rays may hit: the unbounded ones (planes) and the rest with their boxes.
   struct Candidates {
     std::vector<dGeomID> unbounded, near;
+    std::vector<Eigen::Vector4d> planes;  // of `unbounded`: (normal, offset), NaN if no plane
     std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;  // of `near`
   };
   /// The geoms of the space rays may hit: the unbounded ones, and those whose box (min, max
-  /// corners) `reachable` keeps.
-  Candidates candidates(
-      const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& reachable) const;
+  /// corners) `reachable` keeps. Filled into the caster's own lists (their storage kept).
+  const Candidates& candidates(
+      const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& reachable);
   /// The nearest hit of one ray among `geoms`, testing the boxes it crosses nearest first.
   std::optional<double> nearest_among(const Eigen::Vector3d& origin,
                                       const Eigen::Vector3d& direction, double max_range,
@@ -63,6 +64,8 @@ class RayCaster {
   double nearest_ = 0.0;
   bool hit_ = false;
   std::vector<std::pair<double, std::size_t>> entered_;  // (entry distance, index in near)
+  std::vector<dGeomID> collected_;                       // candidates()'s work list
+  Candidates candidates_;                                // what candidates() gave last
 };
 
 }  // namespace macsim::detail
