@@ -297,6 +297,15 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     }
     if (o.world_file.empty()) o.world_file = header.world_file;
     if (o.seed == -1) o.seed = static_cast<int>(header.seed);
+    // Objects started inside each other are parted or kept as they were when it was recorded.
+    if (!header.overlaps_parted) {
+      o.keep_overlaps = true;
+    } else if (o.keep_overlaps || o.strict) {
+      macsim::log::warn(
+          "macsim: replaying with {}, but the session parted objects that started "
+          "inside each other",
+          o.strict ? "--strict" : "--keep-overlaps");
+    }
   }
   {
     unsigned long long bytes = 0;
@@ -608,7 +617,8 @@ int main(int argc, char** argv) {
     try {
       runner->record(std::make_shared<macsim::SessionWriter>(
           o.record_session,
-          macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every)}));
+          macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every),
+                                !o.strict && !o.keep_overlaps}));
     } catch (const macsim::SessionFileError& e) {
       macsim::log::error("macsim: --record-session: {}", e.what());
       return 2;

@@ -20,6 +20,8 @@ namespace macsim {
 //   world <file>                         the world the session starts with
 //   seed <N>                             its layout's seed, or -1: as written
 //   hash-every <N>
+//   overlaps parted|kept                 objects started inside each other: moved apart on load
+//                                        or kept (version 2; a version 1 file reads as kept)
 //   c <step> <source> <operation> <target> <values> <message>   a command, before step+1
 //   h <step> <hash>                      the state hash after `step` steps (16 hex digits)
 //   end <steps> <commands> <hashes>      the closing line: counts of what came before
@@ -186,7 +188,8 @@ void write_all(std::FILE* file, const std::string& path, const std::string& text
 std::string header_text(const SessionHeader& header) {
   return std::string(kMagic) + " " + std::to_string(kSessionFormatVersion) + "\nworld " +
          encode(header.world_file) + "\nseed " + std::to_string(header.seed) + "\nhash-every " +
-         std::to_string(header.hash_every) + "\n";
+         std::to_string(header.hash_every) + "\noverlaps " +
+         (header.overlaps_parted ? "parted" : "kept") + "\n";
 }
 
 }  // namespace
@@ -253,6 +256,7 @@ Session read_session(const std::string& path) {
   Session session;
   std::string line;
   bool ended = false, has_world = false, has_every = false, has_seed = false;
+  bool has_overlaps = true;  // a version 2 file must say (below); version 1 had no parting
   uint64_t last_step = 0;
   while (std::getline(in, line)) {
     ++r.line;
@@ -261,15 +265,23 @@ Session read_session(const std::string& path) {
     if (r.line == 1) {
       if (f.size() != 2 || f[0] != kMagic)
         r.fail("not a macsim session file (its first line must be 'macsim-session <version>')");
-      if (f[1] != std::to_string(kSessionFormatVersion)) {
-        r.fail("session format version " + f[1] + "; this macsim reads version " +
-               std::to_string(kSessionFormatVersion) + " only");
+      if (f[1] != "1" && f[1] != std::to_string(kSessionFormatVersion)) {
+        r.fail("session format version " + f[1] + "; this macsim reads versions 1 to " +
+               std::to_string(kSessionFormatVersion));
+      }
+      if (f[1] == "1") {
+        session.header.overlaps_parted = false;  // recorded before macsim parted them
+      } else {
+        has_overlaps = false;
       }
       continue;
     }
-    const bool header_line = f[0] == "world" || f[0] == "seed" || f[0] == "hash-every";
-    if (!header_line && !(has_world && has_seed && has_every))
-      r.fail("the header needs 'world', 'seed' and 'hash-every' lines before any record");
+    const bool header_line =
+        f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps";
+    if (!header_line && !(has_world && has_seed && has_every && has_overlaps))
+      r.fail(
+          "the header needs 'world', 'seed', 'hash-every' and 'overlaps' lines before any "
+          "record");
     if (f[0] == "world" && f.size() == 2 && !has_world) {
       session.header.world_file = r.text(f[1], "the world file");
       has_world = true;
@@ -281,6 +293,11 @@ Session read_session(const std::string& path) {
       session.header.hash_every = r.number(f[1], "hash-every");
       if (session.header.hash_every == 0) r.fail("hash-every must be 1 or more");
       has_every = true;
+    } else if (f[0] == "overlaps" && f.size() == 2 && !has_overlaps) {
+      if (f[1] != "parted" && f[1] != "kept")
+        r.fail("overlaps must be 'parted' or 'kept'; got '" + f[1].substr(0, 20) + "'");
+      session.header.overlaps_parted = f[1] == "parted";
+      has_overlaps = true;
     } else if (f[0] == "c" && f.size() == 7) {
       RecordedCommand rc;
       rc.step = r.number(f[1], "a command's step");

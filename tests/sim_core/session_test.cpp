@@ -118,22 +118,22 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   const std::string bad = dir.path() + "/bad.session";
   // Another version.
   std::string other = good;
-  other.replace(0, good.find('\n'), "macsim-session 2");
+  other.replace(0, good.find('\n'), "macsim-session 3");
   EXPECT_NE(refusal(bad, other)
-                .find(bad + ":1: session format version 2; this macsim reads "
-                            "version 1"),
+                .find(bad + ":1: session format version 3; this macsim reads "
+                            "versions 1 to 2"),
             std::string::npos)
       << refusal(bad, other);
   // Cut short: half of it, ending inside a line.
   const std::string half = good.substr(0, good.size() / 2);
   EXPECT_NE(refusal(bad, half).find("cut short"), std::string::npos) << refusal(bad, half);
-  // A line whose hash is not hex, on line 5 (the first hash).
+  // A line whose hash is not hex, on line 6 (the first hash).
   std::string garbled = good;
   std::size_t at = 0;
-  for (int line = 1; line < 5; ++line) at = garbled.find('\n', at) + 1;
+  for (int line = 1; line < 6; ++line) at = garbled.find('\n', at) + 1;
   ASSERT_EQ(garbled.substr(at, 2), "h ");
   garbled.replace(garbled.find(' ', at + 2) + 1, 1, "z");
-  EXPECT_NE(refusal(bad, garbled).find(bad + ":5: a hash must be 16 hex digits"), std::string::npos)
+  EXPECT_NE(refusal(bad, garbled).find(bad + ":6: a hash must be 16 hex digits"), std::string::npos)
       << refusal(bad, garbled);
   // A line lost: the closing line's counts say so.
   std::string lost = good;
@@ -146,14 +146,50 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
             std::string::npos);
   const std::string header = good.substr(0, good.find("\nh 0 ") + 1);
   EXPECT_NE(refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n")
-                .find(":5: a command's values must be finite numbers; got 'nan'"),
+                .find(":6: a command's values must be finite numbers; got 'nan'"),
             std::string::npos)
       << refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n");
   std::string seed = good;
   seed.replace(seed.find("seed -1"), 7, "seed 99999999999");
   EXPECT_NE(refusal(bad, seed).find(":3: the seed must be"), std::string::npos)
       << refusal(bad, seed);
+  // Version 2 must say whether objects started inside each other were parted.
+  std::string no_overlaps = good;
+  no_overlaps.erase(no_overlaps.find("overlaps parted\n"), 16);
+  EXPECT_NE(refusal(bad, no_overlaps)
+                .find(":5: the header needs 'world', 'seed', 'hash-every' "
+                      "and 'overlaps' lines"),
+            std::string::npos)
+      << refusal(bad, no_overlaps);
+  std::string odd = good;
+  odd.replace(odd.find("overlaps parted"), 15, "overlaps maybe");
+  EXPECT_NE(refusal(bad, odd).find(":5: overlaps must be 'parted' or 'kept'; got 'maybe'"),
+            std::string::npos)
+      << refusal(bad, odd);
   EXPECT_EQ(refusal(bad, good), "");
+}
+
+TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  EXPECT_TRUE(read_session(path).header.overlaps_parted);
+  const std::string kept = dir.path() + "/kept.session";
+  {
+    SessionWriter writer(kept, SessionHeader{kWorld, -1, 50, false});
+    writer.finish(0);
+  }
+  EXPECT_NE(read_text(kept).find("\noverlaps kept\n"), std::string::npos) << read_text(kept);
+  EXPECT_FALSE(read_session(kept).header.overlaps_parted);
+  // Version 1 had no such line: macsim did not part them then.
+  std::string v1 = read_text(path);
+  v1.replace(0, v1.find('\n'), "macsim-session 1");
+  v1.erase(v1.find("overlaps parted\n"), 16);
+  const std::string old = dir.path() + "/v1.session";
+  std::ofstream(old, std::ios::binary) << v1;
+  const Session session = read_session(old);
+  EXPECT_FALSE(session.header.overlaps_parted);
+  EXPECT_EQ(session.hashes.size(), read_session(path).hashes.size());
 }
 
 TEST(Session, ARobotCommandOfAnUnknownRobotOrShapeDoesNothing) {

@@ -19,7 +19,8 @@ namespace macsim {
 class Runner;
 
 /// The version of the session format this build writes and reads (its first line).
-inline constexpr int kSessionFormatVersion = 1;
+/// Version 2 added the header's `overlaps` line; version 1 files are still read.
+inline constexpr int kSessionFormatVersion = 2;
 
 /// A session file that cannot be read: names the file and line.
 class SessionFileError : public std::runtime_error {
@@ -32,6 +33,9 @@ struct SessionHeader {
   std::string world_file;     ///< the world the session started with, as it was named
   int64_t seed = -1;          ///< the layout's seed (macsim --seed), or -1: as written
   uint64_t hash_every = 100;  ///< steps between two recorded state hashes
+  /// Objects that started inside each other were moved apart on load (part_overlaps()); false
+  /// when kept where the file put them (macsim --keep-overlaps or --strict, and version 1).
+  bool overlaps_parted = true;
 };
 
 /// A command and the runner's step count when it ran (before that step).
