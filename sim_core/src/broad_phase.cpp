@@ -148,35 +148,44 @@ void BroadPhase::collide(void* data, dNearCallback* callback) {
   }
 
   pairs_.clear();
-  // Moving against moving: the cells each covers, sorted by cell, and the pairs within a cell.
+  // Moving against moving: the cells each covers, hashed into twice as many buckets as there
+  // are (cell, mover) entries and grouped by a counting sort (linear: a comparison sort of
+  // them was a quarter of the broad phase with 20,000 movers); movers sharing a bucket are
+  // tested pairwise (a bucket may hold several cells: the box test sorts them out).
   cell_members_.clear();
+  huge_movers_.clear();
   for (const std::uint32_t m : moving_) {
     const std::array<int, 6> r = cell_range(entries_[m].box);
     if (cell_count(r) > kMaxQueryCells) {
-      cell_members_.push_back({~std::uint64_t{0}, m});  // huge: one cell of its own kind
+      huge_movers_.push_back(m);
       continue;
     }
     for (int x = r[0]; x <= r[1]; ++x)
       for (int y = r[2]; y <= r[3]; ++y)
         for (int z = r[4]; z <= r[5]; ++z) cell_members_.push_back({key(x, y, z), m});
   }
-  std::sort(cell_members_.begin(), cell_members_.end());
-  const std::size_t first_huge = static_cast<std::size_t>(
-      std::lower_bound(cell_members_.begin(), cell_members_.end(),
-                       std::pair<std::uint64_t, std::uint32_t>{~std::uint64_t{0}, 0}) -
-      cell_members_.begin());
-  for (std::size_t i = 0; i < first_huge;) {
-    std::size_t end = i + 1;
-    while (end < first_huge && cell_members_[end].first == cell_members_[i].first) ++end;
-    for (std::size_t a = i; a < end; ++a)
-      for (std::size_t b = a + 1; b < end; ++b) {
-        const std::uint32_t ia = cell_members_[a].second, ib = cell_members_[b].second;
-        if (overlap(entries_[ia].box, entries_[ib].box)) candidate(ia, ib);
+  int bits = 1;
+  while ((std::size_t{1} << bits) < 2 * cell_members_.size()) ++bits;
+  const std::size_t buckets = std::size_t{1} << bits;
+  auto bucket_of = [bits](std::uint64_t cell) {  // Fibonacci hashing
+    return static_cast<std::size_t>((cell * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+  };
+  bucket_start_.assign(buckets + 1, 0);
+  for (const auto& [cell, m] : cell_members_) ++bucket_start_[bucket_of(cell) + 1];
+  for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
+  by_bucket_.resize(cell_members_.size());
+  for (const auto& [cell, m] : cell_members_) by_bucket_[bucket_start_[bucket_of(cell)]++] = m;
+  // Each bucket's start moved to its end: bucket b now spans [start of b, bucket_start_[b]).
+  for (std::size_t b = 0, begin = 0; b < buckets; ++b) {
+    const std::size_t end = bucket_start_[b];
+    for (std::size_t i = begin; i < end; ++i)
+      for (std::size_t j = i + 1; j < end; ++j) {
+        const std::uint32_t ia = by_bucket_[i], ib = by_bucket_[j];
+        if (ia != ib && overlap(entries_[ia].box, entries_[ib].box)) candidate(ia, ib);
       }
-    i = end;
+    begin = end;
   }
-  for (std::size_t h = first_huge; h < cell_members_.size(); ++h) {  // huge movers: every mover
-    const std::uint32_t big = cell_members_[h].second;
+  for (const std::uint32_t big : huge_movers_) {  // huge movers: every mover
     for (const std::uint32_t m : moving_) {
       if (m != big && overlap(entries_[big].box, entries_[m].box)) candidate(big, m);
     }

@@ -53,6 +53,9 @@ class BroadPhase {
   std::vector<std::uint32_t> big_;
   std::vector<std::uint32_t> moving_;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> cell_members_;  // (cell, mover)
+  std::vector<std::uint32_t> bucket_start_;  // of each bucket in by_bucket_ (counting sort)
+  std::vector<std::uint32_t> by_bucket_;     // movers, bucket by bucket
+  std::vector<std::uint32_t> huge_movers_;   // movers over more than kMaxQueryCells cells
   std::vector<std::uint32_t> stamp_;  // last query that met each entry
   std::uint32_t query_ = 0;
   std::vector<std::uint64_t> pairs_;  // (lower index << 32) | higher index
