@@ -106,6 +106,34 @@ TEST(Renderer, TexturesNotDrawnLatelyAreDroppedBeyondTheCapAndReadAgainWhenNeede
   std::filesystem::remove_all(dir);
 }
 
+// render_into() draws into the caller's image: its storage is kept from frame to frame while
+// nobody else holds it, and an image somebody kept is never drawn over.
+TEST(Renderer, RenderingIntoAnImageReusesItsStorageButNeverOneSomebodyKept) {
+  OffscreenRenderer renderer(320, 240);
+  CameraIntrinsics in;
+  in.width = 320;
+  in.height = 240;
+  auto red_at_centre = [](const cv::Mat& image) {
+    const cv::Vec3b p = image.at<cv::Vec3b>(120, 160);  // BGR
+    return p[2] > 2 * p[1] && p[2] > 2 * p[0];
+  };
+  cv::Mat image;
+  renderer.render_into(image, box_ahead({0.9f, 0.1f, 0.1f, 1}), kCamera, in);
+  ASSERT_EQ(image.size(), cv::Size(320, 240));
+  ASSERT_TRUE(red_at_centre(image));
+  const uchar* storage = image.data;
+  renderer.render_into(image, box_ahead({0.1f, 0.1f, 0.9f, 1}), kCamera, in);
+  EXPECT_EQ(image.data, storage);  // unshared: drawn over in place
+  EXPECT_FALSE(red_at_centre(image));
+
+  renderer.render_into(image, box_ahead({0.9f, 0.1f, 0.1f, 1}), kCamera, in);
+  const cv::Mat kept = image;  // a consumer holds this frame
+  renderer.render_into(image, box_ahead({0.1f, 0.1f, 0.9f, 1}), kCamera, in);
+  EXPECT_NE(image.data, kept.data);
+  EXPECT_TRUE(red_at_centre(kept));  // still the frame it kept
+  EXPECT_FALSE(red_at_centre(image));
+}
+
 TEST(Renderer, TheStereoPairSeesDisparity) {
   World world(shipped_world("DemoWorld_v1.xml"));
   // A tall blue marker 1.5 m ahead of the robot's cameras.
