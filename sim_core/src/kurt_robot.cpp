@@ -408,8 +408,8 @@ void KurtRobot::sweep_laser(double now) {
   // One sweep, one fan: what lies off the scan plane is set aside once for all 181 rays.
   const auto hits = rays_->cast_fan(origin, directions, state_.scan.range_max);
   // The sweep's noise from one distribution, which uses both numbers of each pair it draws
-  // (a fresh one per beam drew two and threw one away: half the laser's cost). Made anew at
-  // each sweep, it keeps nothing past it: the generator alone stays the noise's state.
+  // (a fresh one per beam drew a pair and threw one number away). Made anew at each sweep, it
+  // keeps nothing past it: the generator alone stays the noise's state.
   std::normal_distribution<double> normal;
   for (int i = 0; i < 181; ++i) {
     const auto& hit = hits[i];

@@ -24,8 +24,9 @@ class RayCaster {
   std::optional<double> cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                              double max_range);
   /// cast() for a fan of rays from one origin (a laser sweep), the same answers: geoms that no
-  /// ray of a planar fan can reach (off its plane, out of range) are set aside once, and each
-  /// ray is tested only against the rest whose bounding box it crosses.
+  /// ray of the fan can reach (out of range, wholly behind a fan of up to 180 degrees, off a
+  /// planar fan's plane) are set aside once, and each ray is tested only against the rest whose
+  /// bounding box it crosses; planes a ray surely misses are not tested.
   std::vector<std::optional<double>> cast_fan(const Eigen::Vector3d& origin,
                                               const std::vector<Eigen::Vector3d>& directions,
                                               double max_range);
