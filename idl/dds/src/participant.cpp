@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <iostream>
+#include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
 
 #include "macsim/dds/log.h"
 #include "macsim/msg/rmw_dds_commonPubSubTypes.h"
@@ -22,6 +25,24 @@ std::string node_name_of(const std::string& name) {
   return node;
 }
 
+/// Fast DDS 2.9 loads XML profiles into process-wide tables without a lock (fixed upstream after
+/// 2.9): participants made at once from several threads would load them together, log "Error
+/// adding profile" and now and then crash. One participant of this process loads at a time.
+std::mutex& profile_loading() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+/// `file`, or FASTRTPS_DEFAULT_PROFILES_FILE if that names the same file: Fast DDS knows a file
+/// it has loaded by the name it was given, and would load it again under another name, logging
+/// an error for every profile already there.
+std::string same_file_as_default(const std::string& file) {
+  const char* default_file = std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE");
+  std::error_code error;
+  if (default_file && std::filesystem::equivalent(file, default_file, error)) return default_file;
+  return file;
+}
+
 rdc::Gid_ gid_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
   rdc::Gid_ gid;
   std::copy(guid.guidPrefix.value, guid.guidPrefix.value + 12, gid.data().begin());
@@ -37,9 +58,10 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
                    std::to_string(kMaxDomainId));
   }
   auto* factory = fdds::DomainParticipantFactory::get_instance();
+  std::unique_lock<std::mutex> loading(profile_loading());  // until the participant exists
   // Profiles load lazily: load them before taking the default QoS, or the XML is ignored.
-  if (!options.profile_file.empty() &&
-      factory->load_XML_profiles_file(options.profile_file) != ReturnCode_t::RETCODE_OK) {
+  if (!options.profile_file.empty() && factory->load_XML_profiles_file(same_file_as_default(
+                                           options.profile_file)) != ReturnCode_t::RETCODE_OK) {
     throw DdsError("cannot load the Fast DDS profile file '" + options.profile_file + "'");
   }
   factory->load_profiles();
@@ -55,6 +77,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
   // StatusMask::none(): discovery callbacks still come, data callbacks stay with the readers.
   participant_ =
       factory->create_participant(options.domain, qos, options.listener, fdds::StatusMask::none());
+  loading.unlock();
   if (!participant_)
     throw DdsError("cannot create a participant on domain " + std::to_string(options.domain));
   publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
