@@ -180,13 +180,10 @@ void DiffDriveRobot::sweep_laser(double now) {
       rays_->cast_fan(base.position + base.orientation * c.laser_position, directions,
                       c.laser_range_max);
   scan.ranges.assign(directions.size(), std::numeric_limits<float>::infinity());
-  // One distribution for the sweep (both numbers of each pair it draws are used), none kept
-  // past it: the generator alone stays the noise's state.
-  std::normal_distribution<double> normal;
+  detail::SweepNoise noise(state_.noise_rng, c.laser_noise);
   for (std::size_t i = 0; i < hits.size(); ++i) {
     if (!hits[i] || *hits[i] < c.laser_range_min) continue;
-    const double noise = c.laser_noise > 0 ? c.laser_noise * normal(state_.noise_rng) : 0.0;
-    scan.ranges[i] = static_cast<float>(*hits[i] + noise);
+    scan.ranges[i] = static_cast<float>(*hits[i] + noise());
   }
   ++state_.scans;
 }

@@ -407,16 +407,11 @@ void KurtRobot::sweep_laser(double now) {
   }
   // One sweep, one fan: what lies off the scan plane is set aside once for all 181 rays.
   const auto hits = rays_->cast_fan(origin, directions, state_.scan.range_max);
-  // The sweep's noise from one distribution, which uses both numbers of each pair it draws
-  // (a fresh one per beam drew a pair and threw one number away). Made anew at each sweep, it
-  // keeps nothing past it: the generator alone stays the noise's state.
-  std::normal_distribution<double> normal;
+  detail::SweepNoise noise(state_.noise_rng, config_.laser_noise);
   for (int i = 0; i < 181; ++i) {
     const auto& hit = hits[i];
     if (!hit || *hit < state_.scan.range_min) continue;
-    const double noise =
-        config_.laser_noise > 0 ? config_.laser_noise * normal(state_.noise_rng) : 0.0;
-    const double range = *hit + noise;
+    const double range = *hit + noise();
     state_.scan.ranges[i] = static_cast<float>(range);
     if (turning) {
       if (state_.cloud_in_progress.points.empty()) {

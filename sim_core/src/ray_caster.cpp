@@ -1,6 +1,7 @@
 #include "ray_caster.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <utility>
 
@@ -108,6 +109,10 @@ void RayCaster::collect(dSpaceID space, std::vector<dGeomID>& out) const {
 std::optional<double> RayCaster::nearest_among(const Eigen::Vector3d& origin,
                                                const Eigen::Vector3d& direction, double max_range,
                                                const Candidates& geoms) {
+  // Distances along the ray, the slab test's and the planes' culling, count in its direction's
+  // length: a unit one (callers rotate unit vectors) makes them metres.
+  assert(std::fabs(direction.squaredNorm() - 1.0) < 1e-9 &&
+         "a ray's direction must be a unit vector");
   // The ray geom is placed only once a geom is to be tested: most rays of a sweep meet no box
   // and miss the floor, and cost no collider call at all.
   bool placed = false;

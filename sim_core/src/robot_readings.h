@@ -1,6 +1,7 @@
 // What every robot model shares in making its readings and frames for the robot node.
 #pragma once
 
+#include <random>
 #include <string>
 
 #include "macsim/sim_core/kurt_sensors.h"
@@ -22,6 +23,20 @@ robot::Odometry odometry_reading(const PlanarOdometry& odometry, double left_whe
 robot::GroundTruth ground_truth_reading(const RobotModel& robot);
 /// A box, sphere or cylinder geom where it is now, in `color`, for drawing.
 ShapeView shape_view(dxGeom* geom, const Color& color);
+/// A sweep's range noise, N(0, sigma) (none if sigma <= 0). Made anew for each sweep: its one
+/// distribution uses both numbers of each pair it draws, and keeps nothing past the sweep, so
+/// that the generator alone stays the noise's state.
+class SweepNoise {
+ public:
+  SweepNoise(std::mt19937& rng, double sigma) : rng_(rng), sigma_(sigma) {}
+  /// The next beam's noise (m).
+  double operator()() { return sigma_ > 0 ? sigma_ * normal_(rng_) : 0.0; }
+
+ private:
+  std::mt19937& rng_;
+  double sigma_;
+  std::normal_distribution<double> normal_;
+};
 /// A sweep as the node serves it.
 robot::Scan scan_reading(const LaserScan& scan, const std::string& frame, double scan_time);
 

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "macsim/sim_core/runner.h"
 
@@ -278,10 +279,15 @@ Session read_session(const std::string& path) {
     }
     const bool header_line =
         f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps";
-    if (!header_line && !(has_world && has_seed && has_every && has_overlaps))
-      r.fail(
-          "the header needs 'world', 'seed', 'hash-every' and 'overlaps' lines before any "
-          "record");
+    if (!header_line && !(has_world && has_seed && has_every && has_overlaps)) {
+      std::string missing;  // the lines this version's header lacks, by name
+      for (const auto& [name, has] :
+           {std::pair{"world", has_world}, std::pair{"seed", has_seed},
+            std::pair{"hash-every", has_every}, std::pair{"overlaps", has_overlaps}}) {
+        if (!has) missing += std::string(missing.empty() ? "" : ", ") + "'" + name + "'";
+      }
+      r.fail("the header needs its " + missing + " line(s) before any record");
+    }
     if (f[0] == "world" && f.size() == 2 && !has_world) {
       session.header.world_file = r.text(f[1], "the world file");
       has_world = true;
