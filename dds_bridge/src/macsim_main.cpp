@@ -618,7 +618,7 @@ int main(int argc, char** argv) {
       runner->record(std::make_shared<macsim::SessionWriter>(
           o.record_session,
           macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every),
-                                !o.strict && !o.keep_overlaps}));
+                                runner->settings().part_overlaps}));
     } catch (const macsim::SessionFileError& e) {
       macsim::log::error("macsim: --record-session: {}", e.what());
       return 2;
