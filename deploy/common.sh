@@ -37,9 +37,25 @@ macsim_setup_and_build() {
   macsim_phase install
   "$MACSIM_ROOT/deploy/install_deps.sh"
   macsim_phase configure
-  cmake -S "$MACSIM_ROOT" -B "$MACSIM_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  # Ninja (it keeps both cores busy across targets: a target's objects need not wait for the
+  # libraries it links); a tree configured earlier keeps its generator.
+  local generator=()
+  if [[ ! -f "$MACSIM_BUILD/CMakeCache.txt" ]] && command -v ninja > /dev/null; then
+    generator=(-G Ninja)
+  fi
+  cmake -S "$MACSIM_ROOT" -B "$MACSIM_BUILD" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo
   macsim_phase build
   local targets=()
   for t in "$@"; do targets+=(--target "$t"); done
   cmake --build "$MACSIM_BUILD" -j "$(nproc)" "${targets[@]}"
+}
+
+# ctest starts the longest tests first when it knows their times: a fresh tree starts from the
+# times committed in tests/ctest_costs.txt (ctest keeps its own from then on).
+macsim_seed_test_costs() {
+  local costs="$MACSIM_BUILD/Testing/Temporary/CTestCostData.txt"
+  if [[ ! -f "$costs" && -f "$MACSIM_ROOT/tests/ctest_costs.txt" ]]; then
+    mkdir -p "$(dirname "$costs")"
+    cp "$MACSIM_ROOT/tests/ctest_costs.txt" "$costs"
+  fi
 }

@@ -5,8 +5,8 @@
 set -euo pipefail
 
 PACKAGES=(
-  # toolchain
-  cmake g++ make pkg-config
+  # toolchain; Ninja, ccache and the mold linker make the build faster (tests/README.md)
+  cmake g++ make pkg-config ninja-build ccache mold
   # DDS: Fast DDS 2.9 runtime, CDR, IDL generator (pulls a headless JRE), CLI tools
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   # physics, XML, math, images
@@ -24,8 +24,9 @@ PACKAGES=(
   libglut-dev xvfb xauth
   # the fuzzers' stage of the tests: clang with libFuzzer and the sanitizers' runtimes
   clang-14 libclang-rt-14-dev
-  # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test
-  libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
+  # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test; stress-ng
+  # loads the cores while the suite runs, to find tests that depend on the machine's load
+  stress-ng libgtest-dev libgmock-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
   # bench_peers only: MuJoCo 2.2.2 on the same scenes (its CMake config lists qhull's headers)
   libmujoco-dev libqhull-dev
   # profiles for bench/README.md

@@ -1,17 +1,54 @@
 #!/usr/bin/env bash
-# Sets up (Debian packages), builds, and runs the whole test suite with ctest.
+# Sets up (Debian packages), builds, and runs the whole test suite: ctest, then the fuzzers.
+#   deploy/run_tests.sh            everything (the gate: CI runs exactly this)
+#   deploy/run_tests.sh --quick    builds the unit tests only and runs those that start no
+#                                  process (ctest label `quick`): the inner loop
+# Any further arguments go to ctest (e.g. -R Runner, --schedule-random).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
+quick=0
+ctest_args=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --quick) quick=1 ;;
+    -h|--help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) ctest_args+=("$1") ;;
+  esac
+  shift
+done
 start=$(date +%s)
-macsim_setup_and_build
-macsim_phase test
 status=0
-(cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$(nproc)" --timeout 300) || status=$?
-# The fuzzers, a short run each from the seeds and the committed corpus (tests/fuzz/README.md).
-macsim_phase fuzz
-"$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" "${MACSIM_FUZZ_SECONDS:-20}" || status=$?
+# Twice as many tests at once as there are cores: most of them wait (tests/CMakeLists.txt).
+jobs=$(( 2 * $(nproc) ))
+if [[ $quick == 1 ]]; then
+  macsim_setup_and_build quick_tests
+  macsim_phase test
+  (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" -L quick "${ctest_args[@]}") ||
+    status=$?
+else
+  macsim_setup_and_build
+  macsim_seed_test_costs
+  # The fuzzers' clang tree builds at the lowest priority while ctest runs, on the time the
+  # tests leave the cores idle (waiting for discovery, for children, for real time).
+  fuzz_log="$MACSIM_BUILD/fuzz_build.log"
+  nice -n 19 "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --build-only > "$fuzz_log" 2>&1 &
+  fuzz_build=$!
+  macsim_phase test
+  (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" --timeout 300 "${ctest_args[@]}") ||
+    status=$?
+  # The fuzzers, a short run each from the seeds and the committed corpus (tests/fuzz/README.md):
+  # the three side by side for 30 s, about 20 s of a core each.
+  macsim_phase fuzz
+  if wait "$fuzz_build"; then
+    "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --no-build "${MACSIM_FUZZ_SECONDS:-30}" || status=$?
+  else
+    echo "run_tests: the fuzzers' tree did not build:"
+    tail -30 "$fuzz_log"
+    status=1
+  fi
+fi
 # Participants killed by tests leave Fast DDS shared-memory files behind.
-"$MACSIM_BUILD/bin/macsim_shm_clean" --min-age 0 || true
+[[ -x "$MACSIM_BUILD/bin/macsim_shm_clean" ]] && "$MACSIM_BUILD/bin/macsim_shm_clean" --min-age 0 || true
 macsim_phases
 echo "run_tests: finished in $(( $(date +%s) - start )) s with status $status"
 exit $status

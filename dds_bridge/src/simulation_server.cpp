@@ -36,8 +36,11 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
     if (c.operation == "answer_repeated_load") {
       progress_.end(r->client_id(), r->sequence_number());
       repeated(*r);
+      runner_.answered_repeat(c);
     } else if (c.operation == "answer_load_running") {
       send(reply_to(*r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
+    } else if (repeated(*r)) {
+      runner_.answered_repeat(c);
     } else {
       execute(*r);
     }

@@ -23,6 +23,10 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
   // On the simulation thread, live or in a replay: the request from its wire form.
   runner_.set_executor(CommandSource::Supervisor, [this](const Command& c, World& world) {
     const auto q = dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
+    if (q && answer_repeat(*q, std::any_cast<dds::RequestId>(&c.reply_to))) {
+      runner_.answered_repeat(c);
+      return false;
+    }
     return q && execute(*q, world, std::any_cast<dds::RequestId>(&c.reply_to));
   });
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later. A
@@ -67,17 +71,21 @@ Command SupervisorServer::command(const Request& q) {
   return c;
 }
 
-bool SupervisorServer::execute(const Request& q, World& world, const dds::RequestId* id) {
+bool SupervisorServer::answer_repeat(const Request& q, const dds::RequestId* id) {
   if (const Reply* again = replied_.find(q)) {  // sent again: answer, do not redo
     progress_.end(q.client_id(), q.sequence_number());
     service_.reply(*again, id);
-    return false;
+    return true;
   }
   if (replied_.forgotten(q)) {  // answered long ago: its reply is gone, it must not run again
     progress_.end(q.client_id(), q.sequence_number());
     service_.reply(replied_.forgotten_reply(q), id);
-    return false;
+    return true;
   }
+  return false;
+}
+
+bool SupervisorServer::execute(const Request& q, World& world, const dds::RequestId* id) {
   const Reply reply = dispatch(q, world, runner_.snapshots());
   progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);

@@ -41,6 +41,9 @@ class SupervisorServer {
   /// Runs a request (not one answered before); true when it reached the world. The reply
   /// names the request's sample identity `id` too, when there is one.
   bool execute(const Request& request, World& world, const dds::RequestId* id);
+  /// Answers a repeat of a request already run (its reply sent again, or that it is too old to
+  /// run again); false for a request not run before.
+  bool answer_repeat(const Request& request, const dds::RequestId* id);
   /// The request as a command value.
   static Command command(const Request& request);
   /// Answers a request that was not queued, from the listener (nothing of the world read; not

@@ -33,6 +33,11 @@ uint64_t Runner::commands_run(CommandSource source) const {
   return commands_run_[static_cast<std::size_t>(source)];
 }
 
+void Runner::answered_repeat(const Command& command) {
+  auto& count = commands_run_[static_cast<std::size_t>(command.source)];
+  if (count > 0) --count;
+}
+
 bool Runner::execute(const Command& command) {
   ++commands_run_[static_cast<std::size_t>(command.source)];
   bool acted = false;

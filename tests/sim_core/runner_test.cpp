@@ -9,6 +9,7 @@
 #include <cmath>
 #include <future>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -45,6 +46,24 @@ TEST(Runner, CommandsRunInArrivalOrderBeforeTheStep) {
   EXPECT_EQ(seen_at_step[0], 0u);  // ran before the step advanced time
   EXPECT_EQ(seen_at_step[1], 100u);
   EXPECT_EQ(runner.world().steps(), 1u);
+}
+
+TEST(Runner, ARepeatAnsweredByItsExecutorIsNotCountedAsRun) {
+  Runner runner(small_room());
+  std::set<std::string> answered;
+  runner.set_executor(CommandSource::Supervisor, [&](const Command& c, World&) {
+    if (!answered.insert(c.operation).second) runner.answered_repeat(c);  // sent again
+    return false;
+  });
+  Command first;
+  first.source = CommandSource::Supervisor;
+  first.operation = "find_object";
+  Command other = first;
+  other.operation = "add_force";
+  for (const Command& c : {first, first, other, first}) ASSERT_TRUE(runner.push(Command(c)));
+  runner.step();
+  EXPECT_EQ(runner.commands_run(CommandSource::Supervisor), 2u);  // two ran, two were repeats
+  EXPECT_EQ(runner.commands_run(CommandSource::Simulation), 0u);
 }
 
 TEST(Runner, SameWorldAndCommandsGiveBitIdenticalStates) {

@@ -14,6 +14,10 @@ std::string source(const std::string& relative) {
   return std::string(MACSIM_SOURCE_DIR) + "/" + relative;
 }
 
+std::string build_path(const std::string& relative) {
+  return std::string(MACSIM_BUILD_DIR) + "/" + relative;
+}
+
 namespace {
 // Tests talk over the shipped loopback profile even when started by hand (ctest sets it too):
 // no DDS packet leaves the machine, and every test process and child agrees on transports.

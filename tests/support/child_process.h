@@ -13,6 +13,8 @@ namespace macsim::test {
 std::string bin(const std::string& program);
 /// Path of a file in the source tree.
 std::string source(const std::string& relative);
+/// Path of a file in the build tree (what the build wrote beside bin/).
+std::string build_path(const std::string& relative);
 
 /// The programs under test run as children: macsim::process::ChildProcess, by default with
 /// stdout and stderr captured in one temporary file (output(), wait_for_output()), stopped

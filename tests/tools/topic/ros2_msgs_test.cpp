@@ -18,7 +18,7 @@ namespace macsim::topic {
 namespace {
 
 /// Where the build wrote the packages.
-const std::filesystem::path kPackages{MACSIM_ROS2_MSGS_DIR};
+const std::filesystem::path kPackages{macsim::test::build_path("ros2_msgs")};
 const std::vector<std::string> kOurPackages{"kurt_msgs", "macsim_msgs"};
 
 /// The "type name" lines of a .msg file: comments, blank lines and constants left out.

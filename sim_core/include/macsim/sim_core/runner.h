@@ -133,8 +133,11 @@ class Runner {
   bool execute(const Command& command);
   /// Steps this runner has run, over every world it ran (a session's clock).
   uint64_t steps_run() const { return steps_run_; }
-  /// Commands run so far from `source`.
+  /// Commands run so far from `source` (repeats answered with the reply sent before not counted).
   uint64_t commands_run(CommandSource source) const;
+  /// Said by an executor that answered `command` as a repeat of a request already run (a client
+  /// that did not hear its reply in time sent it again): it is not counted as run.
+  void answered_repeat(const Command& command);
   /// Runs the queued commands in arrival order, swapping in a parsed world where a load stands
   /// (a load still parsing holds it and everything after it back); returns how many ran.
   std::size_t apply_commands();
