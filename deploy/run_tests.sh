@@ -18,8 +18,11 @@ while [[ $# -gt 0 ]]; do
 done
 start=$(date +%s)
 status=0
-# Twice as many tests at once as there are cores: most of them wait (tests/CMakeLists.txt).
-jobs=$(( 2 * $(nproc) ))
+# More tests at once than there are cores, since most of them wait; those that keep a core busy
+# each hold one of the machine's cores (ctest's resource `cores`; tests/CMakeLists.txt).
+cores=$(nproc)
+jobs=$(( 2 * cores + 1 ))
+resources="$MACSIM_BUILD/ctest_resources.json"
 if [[ $quick == 1 ]]; then
   macsim_setup_and_build quick_tests
   macsim_phase test
@@ -28,14 +31,16 @@ if [[ $quick == 1 ]]; then
 else
   macsim_setup_and_build
   macsim_seed_test_costs
+  printf '{"version": {"major": 1, "minor": 0}, "local": [{"cores": [{"id": "0", "slots": %d}]}]}\n' \
+    "$cores" > "$resources"
   # The fuzzers' clang tree builds at the lowest priority while ctest runs, on the time the
   # tests leave the cores idle (waiting for discovery, for children, for real time).
   fuzz_log="$MACSIM_BUILD/fuzz_build.log"
   nice -n 19 "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --build-only > "$fuzz_log" 2>&1 &
   fuzz_build=$!
   macsim_phase test
-  (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" --timeout 300 "${ctest_args[@]}") ||
-    status=$?
+  (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" --resource-spec-file "$resources" \
+     --timeout 300 "${ctest_args[@]}") || status=$?
   # The fuzzers, a short run each from the seeds and the committed corpus (tests/fuzz/README.md):
   # the three side by side for 30 s, about 20 s of a core each.
   macsim_phase fuzz

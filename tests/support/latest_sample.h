@@ -35,6 +35,18 @@ class Samples {
     std::lock_guard<std::mutex> lock(mutex_);
     return all_;
   }
+  /// Waits until `count` samples have come (or the timeout passes); true if they did.
+  bool wait_for_count(std::size_t count, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (true) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (all_.size() >= count) return true;
+      }
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
   /// Waits until a sample satisfies `predicate` (or the timeout passes); returns it.
   std::optional<Data> wait_for(const std::function<bool(const Data&)>& predicate,
                                std::chrono::milliseconds timeout) {

@@ -164,11 +164,16 @@ class RequestReply {
     };
     std::optional<Reply> reply;
     auto resend = Clock::now();
+    auto awake = resend;  // when this loop last ran
     CallOutcome::Kind kind = CallOutcome::Kind::Replied;
     {
       const Forget forget{this, sequence};
       while (true) {
         const auto now = Clock::now();
+        // This thread did not run for a while (a machine short of cores): the threads that
+        // hear the server did not either, so that time is not the server's silence.
+        if (now - awake > kStall) pending.heard += (now - awake) - kSlice;
+        awake = now;
         if (pending.reply) {
           reply = std::move(pending.reply);
           break;
@@ -242,6 +247,8 @@ class RequestReply {
  private:
   using Clock = std::chrono::steady_clock;
   static constexpr std::chrono::milliseconds kSlice{100};
+  /// A wait of kSlice that took this long or longer is this process's stall, not the server's.
+  static constexpr std::chrono::milliseconds kStall{500};
   struct Pending {
     std::optional<Reply> reply;
     bool acknowledged = false;
