@@ -3,19 +3,20 @@
 #   deploy/run_tests.sh            everything (the gate: CI runs exactly this)
 #   deploy/run_tests.sh --quick    builds the unit tests only and runs those that start no
 #                                  process (ctest label `quick`): the inner loop
-# Any further arguments go to ctest (e.g. -R Runner, --schedule-random).
+#   deploy/run_tests.sh [--quick] -- CTEST_ARGS   e.g. -- -R Runner, -- --schedule-random
 set -euo pipefail
-source "$(dirname "$0")/common.sh"
 quick=0
 ctest_args=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --quick) quick=1 ;;
-    -h|--help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) ctest_args+=("$1") ;;
+    --) shift; ctest_args=("$@"); break ;;
+    -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run_tests.sh: unknown argument '$1' (ctest's go after --; see --help)" >&2; exit 2 ;;
   esac
   shift
 done
+source "$(dirname "$0")/common.sh"
 start=$(date +%s)
 status=0
 # More tests at once than there are cores, since most of them wait; those that keep a core busy
@@ -45,7 +46,8 @@ else
   # the three side by side for 30 s, about 20 s of a core each.
   macsim_phase fuzz
   if wait "$fuzz_build"; then
-    "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --no-build "${MACSIM_FUZZ_SECONDS:-30}" || status=$?
+    "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --no-build "${MACSIM_FUZZ_SECONDS:-30}" ||
+      status=$?
   else
     echo "run_tests: the fuzzers' tree did not build:"
     tail -30 "$fuzz_log"

@@ -160,7 +160,6 @@ bool SimulationServer::repeated(const Request& q) {
 }
 
 void SimulationServer::execute(const Request& q) {
-  if (repeated(q)) return;
   if (q.command() == mm::SIM_CANCEL) {
     send(cancel(q));
     return;

@@ -42,6 +42,7 @@ class SimulationServer {
   using Request = macsim_msgs::msg::dds_::SimulationRequest_;
   using Reply = macsim_msgs::msg::dds_::SimulationReply_;
 
+  /// Runs a request that is no repeat (the executor answers repeats with repeated()).
   void execute(const Request& request);
   /// SIM_CANCEL: ends the client's step request it names, if that is the one running.
   Reply cancel(const Request& request);

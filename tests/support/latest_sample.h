@@ -37,33 +37,38 @@ class Samples {
   }
   /// Waits until `count` samples have come (or the timeout passes); true if they did.
   bool wait_for_count(std::size_t count, std::chrono::milliseconds timeout) {
+    return poll([&] { return all_.size() >= count; }, timeout);
+  }
+  /// Waits until a sample satisfies `predicate` (or the timeout passes); returns it.
+  std::optional<Data> wait_for(const std::function<bool(const Data&)>& predicate,
+                               std::chrono::milliseconds timeout) {
+    std::optional<Data> found;
+    poll(
+        [&] {
+          for (auto it = all_.rbegin(); it != all_.rend() && !found; ++it) {
+            if (predicate(*it)) found = *it;
+          }
+          return found.has_value();
+        },
+        timeout);
+    return found;
+  }
+
+ private:
+  /// Asks `done` (under the lock) every 10 ms until it says yes or the timeout passes.
+  template <class Done>
+  bool poll(Done done, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (true) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (all_.size() >= count) return true;
+        if (done()) return true;
       }
       if (std::chrono::steady_clock::now() >= deadline) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
-  /// Waits until a sample satisfies `predicate` (or the timeout passes); returns it.
-  std::optional<Data> wait_for(const std::function<bool(const Data&)>& predicate,
-                               std::chrono::milliseconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        for (auto it = all_.rbegin(); it != all_.rend(); ++it) {
-          if (predicate(*it)) return *it;
-        }
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return std::nullopt;
-  }
 
- private:
   std::size_t keep_;
   std::mutex mutex_;
   std::vector<Data> all_;
