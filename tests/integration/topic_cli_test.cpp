@@ -228,10 +228,12 @@ TEST_F(TopicCli, RecordsWithoutLossAndPlaysEverySampleBack) {
       reader_participant, "rt/kurt/odom", dds::QosFamily::State, [&](const auto&) { ++odom; });
   dds::Reader<rosgraph_msgs::msg::dds_::Clock_PubSubType> clock_reader(
       reader_participant, "rt/clock", dds::QosFamily::State, [&](const auto&) { ++clock; });
-  const auto [play, play_code] =
-      topic_tool({"play", bag_dir, "--rate", "4", "--wait", "2"}, replay_domain, 60s);
+  // the two topics read, started once both readers match
+  const auto [play, play_code] = topic_tool(
+      {"play", bag_dir, "/kurt/odom", "/clock", "--rate", "4", "--wait", "30"}, replay_domain, 90s);
   ASSERT_EQ(play_code, 0) << play;
-  EXPECT_NE(play.find(std::to_string(bag.message_count()) + " messages"), std::string::npos)
+  EXPECT_NE(play.find(std::to_string(counts["/kurt/odom"] + counts["/clock"]) + " messages"),
+            std::string::npos)
       << play;
   EXPECT_EQ(odom.load(), counts["/kurt/odom"]);
   EXPECT_EQ(clock.load(), counts["/clock"]);

@@ -634,18 +634,22 @@ int run_play(int argc, char** argv) {
                        "required (a replayed command moves a robot: never on a domain it was not "
                        "given).");
   cli.participant_options(&participant, /*domain_required=*/true);
-  cli.arguments("BAG_DIR", &args);
+  cli.arguments("BAG_DIR [TOPIC...]", &args);
   cli.option("rate", "FACTOR", "play this many times faster (default 1)", &rate);
   cli.flag("loop", "start again at the end, until stopped", &loop);
   cli.flag("clock", "publish rt/clock from the bag's time (100 Hz) instead of a recorded clock",
            &clock);
   cli.option("clock-rate", "HZ", "rate of --clock (default 100)", &clock_hz);
-  cli.option("wait", "SECONDS", "wait this long for readers before starting (default 1)", &wait);
+  cli.option("wait", "SECONDS",
+             "wait up to this long for a reader of every topic played before starting "
+             "(default 1)",
+             &wait);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (args.size() != 1) {
-    log::error("macsim_topic play: give one BAG_DIR");
+  if (args.empty()) {
+    log::error("macsim_topic play: give BAG_DIR (and the topics to play, default all)");
     return kUsage;
   }
+  const std::set<std::string> only(args.begin() + 1, args.end());
   if (!(rate > 0) || !std::isfinite(rate) || clock_hz < 0 || wait < 0) {
     log::error("macsim_topic play: --rate and --clock-rate must be positive");
     return kUsage;
@@ -662,14 +666,24 @@ int run_play(int argc, char** argv) {
   Session session(participant);
   std::map<int, std::unique_ptr<topic::RawWriter>> writers;
   std::set<int> ids;
+  for (const auto& name : only) {
+    const auto& topics = bag->topics();
+    if (std::none_of(topics.begin(), topics.end(), [&](const auto& t) { return t.name == name; })) {
+      log::error("macsim_topic play: {} has no topic {}", args[0], name);
+      return kUsage;
+    }
+  }
   for (const auto& t : bag->topics()) {
     if (t.serialization_format != "cdr") continue;
+    if (!only.empty() && !only.count(t.name)) continue;
     const std::string topic_name = dds::dds_topic_name(t.name);
     if (clock && topic_name == dds::dds_topic_name("/clock")) continue;
     topic::RawQos qos;
     qos.reliable = t.offered_qos.empty() || t.offered_qos.front().reliable;
     qos.transient_local = !t.offered_qos.empty() && t.offered_qos.front().transient_local;
-    qos.depth = 100;
+    // A reliable topic keeps every sample until its readers have it: a slow reader slows the
+    // playback down instead of losing samples.
+    qos.depth = qos.reliable ? 0 : 100;
     writers[t.id] = std::make_unique<topic::RawWriter>(*session.participant, topic_name,
                                                        dds::dds_type_name(t.type), qos);
     ids.insert(t.id);
@@ -679,7 +693,17 @@ int run_play(int argc, char** argv) {
     clock_writer = std::make_unique<dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>>(
         *session.participant, "rt/clock", dds::QosFamily::Sensor);
   }
-  sleep_for(wait);
+  // Until every writer has a reader (a topic nobody reads waits the whole time).
+  const auto wait_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(wait));
+  auto all_read = [&] {
+    return std::all_of(writers.begin(), writers.end(),
+                       [](const auto& w) { return w.second->matched() > 0; }) &&
+           (!clock_writer || clock_writer->matched() > 0);
+  };
+  while (Clock::now() < wait_end && !all_read() && !g_stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   std::uint64_t sent = 0;
   do {
     const auto start = Clock::now();
@@ -801,7 +825,7 @@ const char* kUsageText =
     "  bw TOPIC                  bandwidth and message sizes over a window\n"
     "  pub TOPIC TYPE 'YAML'     publish once or at --rate (needs --domain)\n"
     "  record [-a | TOPIC...] -o DIR [--duration S]   record a rosbag2 bag (sqlite3)\n"
-    "  play DIR [--rate R] [--loop] [--clock]         replay a bag (needs --domain)\n"
+    "  play DIR [TOPIC...] [--rate R] [--loop] [--clock]  replay a bag (needs --domain)\n"
     "  bag info DIR              summarise a bag\n"
     "  types [TYPE]              the IDL's types, or one type's members\n\n"
     "common options: --domain N (0..232, default 0; pub and play require it), --profile FILE,\n"
