@@ -142,24 +142,30 @@ class TwoHosts : public ::testing::Test {
         dds::Participant participant({domain_, "", "loss_probe"});
         std::mutex mutex;
         bool counting = false;
-        long odometry = 0;
+        long odometry = 0, arrived = 0;
         double first = 0, last = 0;
         dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
             participant, dds::topics::odom("kurt"), dds::QosFamily::Sensor,
             [&](const nav_msgs::msg::dds_::Odometry_& o) {
               const double t = o.header().stamp().sec() + o.header().stamp().nanosec() * 1e-9;
               std::lock_guard<std::mutex> lock(mutex);
+              ++arrived;
               if (!counting) return;
               if (odometry++ == 0) first = t;
               last = std::max(last, t);
             });
         client::SupervisorClient supervisor(participant);
         if (!supervisor.wait_for_server(std::chrono::seconds(30))) _exit(4);
-        // Discovery over a lossy link takes a while: count once the odometry writer matched.
-        for (int i = 0; i < 600 && odom.matched() == 0; ++i) {
+        // Discovery over a lossy link takes a while, and the reader may know the writer well
+        // before the writer knows the reader (each learns of the other by its own, lossy,
+        // announcement): count from the first sample that came.
+        auto arrivals = [&] {
+          std::lock_guard<std::mutex> lock(mutex);
+          return arrived;
+        };
+        for (int i = 0; i < 600 && arrivals() == 0; ++i) {
           std::this_thread::sleep_for(std::chrono::milliseconds(50));
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
         {
           std::lock_guard<std::mutex> lock(mutex);
           counting = true;
