@@ -114,6 +114,49 @@ def test_a_controller_built_out_of_tree_drives_the_installed_simulator(prefix, i
     assert float(result.stdout.strip()) >= 0.45
 
 
+def test_an_out_of_tree_controller_loads_a_model_the_installed_learner_saved(prefix, installed_env,
+                                                                            tmp_path):
+    # macsim::affordances from the installed package, on a model the installed
+    # affordance_learn wrote; the installed Python package reads the same file alike.
+    models = tmp_path / "models"
+    run([prefix / "bin" / "affordance_learn", "--in",
+         SOURCE_DIR / "tests" / "tools" / "affordances" / "lift_trials.csv", "--save-model", models],
+        env=installed_env)
+    project = tmp_path / "ranker"
+    project.mkdir()
+    (project / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.22)\nproject(ranker LANGUAGES CXX)\n"
+        "set(CMAKE_CXX_STANDARD 20)\nfind_package(macsim 0.1 CONFIG REQUIRED)\n"
+        "add_executable(ranker ranker.cpp)\n"
+        "target_link_libraries(ranker PRIVATE macsim::affordances)\n")
+    (project / "ranker.cpp").write_text(
+        "#include <cstdio>\n#include \"macsim/affordances/model.h\"\n"
+        "int main(int, char** argv) {\n"
+        "  const auto model = macsim::affordances::AffordanceModel::load(argv[1]);\n"
+        "  std::vector<double> features(model.info().features.size(), 0.1);\n"
+        "  const auto p = model.predict(features);\n"
+        "  std::printf(\"%s %s %.2f\\n\", model.info().affordance.c_str(), p.label.c_str(),\n"
+        "              p.confidence);\n}\n")
+    build = tmp_path / "ranker_build"
+    run(["cmake", "-S", project, "-B", build, f"-DCMAKE_PREFIX_PATH={prefix}",
+         "-DCMAKE_BUILD_TYPE=Release"], env=installed_env)
+    run(["cmake", "--build", build], env=installed_env)
+    result = subprocess.run([build / "ranker", models / "lift.yml"], capture_output=True,
+                            text=True, env=installed_env, timeout=30)
+    assert result.returncode == 0, result.stdout + result.stderr
+    affordance, label, confidence = result.stdout.split()
+    assert affordance == "lift" and label in ("liftable", "not_liftable")
+    script = ("import macsim, sys\n"
+              "assert macsim.__file__.startswith(sys.argv[1]), macsim.__file__\n"
+              "m = macsim.affordances.load(sys.argv[2])\n"
+              "label, confidence = m.predict([0.1] * len(m.features))\n"
+              "print(label, f'{confidence:.2f}')\n")
+    python = subprocess.run(["/usr/bin/python3", "-c", script, str(prefix), str(models / "lift.yml")],
+                            capture_output=True, text=True, env=installed_env, timeout=30)
+    assert python.returncode == 0, python.stdout + python.stderr
+    assert python.stdout.split() == [label, confidence]
+
+
 def test_installed_programs_find_their_data_under_the_prefix(prefix, installed_env, tmp_path,
                                                              domain, spawn):
     # macsim_web serves the installed page.

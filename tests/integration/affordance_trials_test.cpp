@@ -228,6 +228,16 @@ TEST(AffordanceLearn, LearnsFromTrialRowsAndDrawsItsPlots) {
   EXPECT_NE(output.find("true \\ predicted"), std::string::npos) << output;
   for (const char* png : {"/plots/lift_learning_curve.png", "/plots/lift_scatter.png"})
     EXPECT_GT(std::filesystem::file_size(dir.path() + png), 2000u) << png;
+  // --save-model: the model file a controller loads, refit on every row.
+  ASSERT_EQ(run({bin("affordance_learn"), "--in", source("tests/tools/affordances/lift_trials.csv"),
+                 "--save-model", dir.path() + "/models"},
+                &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("model: " + dir.path() + "/models/lift.yml"), std::string::npos) << output;
+  EXPECT_NE(output.find("refit on all 300 rows"), std::string::npos) << output;
+  EXPECT_GT(std::filesystem::file_size(dir.path() + "/models/lift.yml"), 10000u);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() + "/models/lift_scatter.png"));
   // An accuracy it cannot reach is an exit 1; rows it cannot read an exit 2 naming the file.
   EXPECT_EQ(
       run({bin("affordance_learn"), "--in", source("tests/tools/affordances/lift_trials.csv"),

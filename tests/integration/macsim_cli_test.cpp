@@ -57,6 +57,8 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_peers"), "--repeats", "0"}, 2, "bad argument"},
            {{bin("bench_peers"), "--repeats", "5x"}, 2, "bad argument '5x'"},
            {{bin("bench_peers"), "--engine", "bullet"}, 2, "unknown engine 'bullet'"},
+           {{bin("bench_models"), "--help"}, 0, "usage: bench_models"},
+           {{bin("bench_models"), "5x"}, 2, "PREDICTIONS must be positive, not '5x'"},
            {{bin("bench_client"), "--help"}, 0, "usage: bench_client"},
            {{bin("bench_client")}, 2, "--domain"}}) {
     ChildProcess p(c.argv);

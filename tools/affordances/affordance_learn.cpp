@@ -1,6 +1,7 @@
 // affordance_learn: learns each affordance in a trial CSV (affordance_trials --out) from the
 // perceived features with a random forest (OpenCV ml); prints held-out accuracy and the
-// confusion matrix, and writes a learning curve and a feature scatter per affordance as PNGs.
+// confusion matrix, writes a learning curve and a feature scatter per affordance as PNGs, and
+// with --save-model the model a controller loads (macsim/affordances/model.h).
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -11,7 +12,7 @@
 
 int main(int argc, char** argv) {
   using namespace affordances;
-  std::string in, out, feature_list;
+  std::string in, out, feature_list, model_dir;
   double min_accuracy = 0;
   macsim::dds::CommandLine cli(
       "affordance_learn",
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
       "OpenCV ml): 30 % of the trials (by seed) are held out for testing. Prints accuracy and "
       "the confusion matrix; writes DIR/<affordance>_learning_curve.png and "
       "DIR/<affordance>_scatter.png.\nExit 0: learned; 1: an accuracy below --min-accuracy; "
-      "2: usage or unreadable rows.");
+      "2: usage, unreadable rows or a model that cannot be written.");
   cli.option("in", "FILE.csv", "trial rows (affordance_trials --out)", &in);
   cli.option("out", "DIR", "where the plots go (created)", &out);
   cli.option("features", "A,B,...",
@@ -27,11 +28,15 @@ int main(int argc, char** argv) {
              &feature_list);
   cli.option("min-accuracy", "FRACTION", "exit 1 when an affordance is learned less well",
              &min_accuracy);
+  cli.option("save-model", "DIR",
+             "write DIR/<affordance>.yml per affordance: the forest refit on every row, its "
+             "features, labels, rows, seeds and held-out accuracy (created)",
+             &model_dir);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (in.empty() || out.empty()) {
+  if (in.empty() || (out.empty() && model_dir.empty())) {
     macsim::log::error(
-        "affordance_learn: say which rows and where the plots go: --in FILE.csv --out DIR (see "
-        "--help)");
+        "affordance_learn: say which rows and where the plots or models go: --in FILE.csv "
+        "--out DIR and/or --save-model DIR (see --help)");
     return 2;
   }
   std::vector<std::string> features;
@@ -55,7 +60,15 @@ int main(int argc, char** argv) {
     macsim::log::error("affordance_learn: {} has no trial rows", in);
     return 2;
   }
-  std::filesystem::create_directories(out);
+  std::error_code made;
+  for (const auto& dir : {out, model_dir}) {
+    if (dir.empty()) continue;
+    std::filesystem::create_directories(dir, made);
+    if (made) {
+      macsim::log::error("affordance_learn: cannot create {}: {}", dir, made.message());
+      return 2;
+    }
+  }
   bool good = true;
   for (const auto& [affordance, data] : sets) {
     const Evaluation e = evaluate(data);
@@ -63,6 +76,22 @@ int main(int argc, char** argv) {
                 affordance.c_str(), data.features.rows, e.trained, e.tested, 100 * e.accuracy);
     std::printf("%s", confusion_text(data, e).c_str());
     std::printf("%s", shape_text(data, e).c_str());
+    if (!model_dir.empty()) {
+      const std::string file = model_dir + "/" + affordance + ".yml";
+      try {
+        fit(data, e).save(file);
+      } catch (const std::exception& err) {
+        macsim::log::error("affordance_learn: {}", err.what());
+        return 2;
+      }
+      std::printf("  model: %s (%.0f KB; the forest refit on all %d rows)\n", file.c_str(),
+                  static_cast<double>(std::filesystem::file_size(file)) / 1024.0,
+                  data.features.rows);
+    }
+    if (out.empty()) {
+      if (e.accuracy < min_accuracy) good = false;
+      continue;
+    }
     const auto curve = learning_curve(data);
     std::printf("  learning curve:");
     for (const auto& [n, accuracy] : curve) std::printf(" %d:%.1f%%", n, 100 * accuracy);

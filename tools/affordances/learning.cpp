@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ml.hpp>
 #include <set>
 #include <stdexcept>
 
@@ -16,15 +15,6 @@ namespace {
 
 /// Label colours of the plots (BGR): first class green, then red, blue, orange.
 const cv::Scalar kClassColours[] = {{60, 170, 40}, {40, 40, 220}, {220, 120, 30}, {0, 150, 255}};
-
-cv::Ptr<cv::ml::RTrees> forest() {
-  auto trees = cv::ml::RTrees::create();
-  trees->setMaxDepth(12);
-  trees->setMinSampleCount(2);
-  trees->setCalculateVarImportance(false);
-  trees->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, 100, 0));
-  return trees;
-}
 
 }  // namespace
 
@@ -46,7 +36,7 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
     columns.push_back(*c);
   }
   const auto label = table.column("label"), seed = table.column("seed"),
-             shape = table.column("shape");
+             shape = table.column("shape"), generator = table.column("generator");
   if (!affordance || !label || !seed)
     throw std::runtime_error("the rows lack the affordance, label or seed column");
 
@@ -80,6 +70,11 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
                                         d.classes.begin()));
     d.seeds.push_back(static_cast<uint64_t>(number(*seed)));
     if (shape) d.shapes.push_back(row[*shape]);
+    if (generator && std::find(d.generators.begin(), d.generators.end(), row[*generator]) ==
+                         d.generators.end()) {
+      d.generators.push_back(row[*generator]);
+      std::sort(d.generators.begin(), d.generators.end());
+    }
   }
   return out;
 }
@@ -112,13 +107,13 @@ Evaluation evaluate(const Dataset& data, int max_train) {
   if (train_y.empty() || test_y.empty()) return e;
   std::vector<int> predicted(test_y.size(), train_y[0]);
   if (std::set<int>(train_y.begin(), train_y.end()).size() > 1) {
-    cv::theRNG().state = 0x12345678;  // the same forest from the same rows
-    auto trees = forest();
-    trees->train(cv::ml::TrainData::create(train_x, cv::ml::ROW_SAMPLE, cv::Mat(train_y, true)));
-    cv::Mat out;
-    trees->predict(test_x, out);
-    for (int i = 0; i < out.rows; ++i)
-      predicted[i] = static_cast<int>(std::lround(out.at<float>(i, 0)));
+    // The forest a saved model has (macsim::affordances), fitted on the training trials only.
+    macsim::affordances::ModelInfo info;
+    info.affordance = data.affordance;
+    info.features = data.feature_names;
+    info.labels = data.classes;
+    predicted = macsim::affordances::AffordanceModel::train(info, train_x, train_y)
+                    .predict_rows(test_x);
   }
   e.predicted = predicted;
   int right = 0;
@@ -128,6 +123,33 @@ Evaluation evaluate(const Dataset& data, int max_train) {
   }
   e.accuracy = static_cast<double>(right) / static_cast<double>(test_y.size());
   return e;
+}
+
+macsim::affordances::AffordanceModel fit(const Dataset& data, const Evaluation& held_out) {
+  macsim::affordances::ModelInfo info;
+  info.affordance = data.affordance;
+  info.features = data.feature_names;
+  info.labels = data.classes;
+  for (const auto& g : data.generators) info.generator += (info.generator.empty() ? "" : ",") + g;
+  info.rows = data.features.rows;
+  info.seeds = seed_ranges(data.seeds);
+  info.held_out_accuracy = held_out.accuracy;
+  info.held_out_rows = held_out.tested;
+  return macsim::affordances::AffordanceModel::train(info, data.features, data.labels);
+}
+
+std::string seed_ranges(std::vector<uint64_t> seeds) {
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  std::string out;
+  for (std::size_t i = 0; i < seeds.size();) {
+    std::size_t j = i;
+    while (j + 1 < seeds.size() && seeds[j + 1] == seeds[j] + 1) ++j;
+    out += (out.empty() ? "" : ",") + std::to_string(seeds[i]);
+    if (j > i) out += "-" + std::to_string(seeds[j]);
+    i = j + 1;
+  }
+  return out;
 }
 
 std::vector<std::pair<int, double>> learning_curve(const Dataset& data) {

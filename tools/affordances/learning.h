@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "macsim/affordances/model.h"
 #include "trial_record.h"
 
 namespace affordances {
@@ -20,6 +21,7 @@ struct Dataset {
   std::vector<std::string> classes;  ///< sorted label names
   std::vector<uint64_t> seeds;
   std::vector<std::string> shapes;  ///< each trial's shape column (empty when the rows lack it)
+  std::vector<std::string> generators;  ///< the generators the rows came from, sorted
 };
 
 /// One Dataset per affordance in the table, with the named feature columns (empty: every
@@ -41,6 +43,13 @@ struct Evaluation {
 /// Trains a random forest on the first `max_train` training trials (all when < 0) and tests it
 /// on every held-out trial.
 Evaluation evaluate(const Dataset& data, int max_train = -1);
+
+/// The forest refit on every row of `data`, with what the file says of it (`held_out`: the
+/// evaluation made before). Throws macsim::affordances::ModelError with one label only.
+macsim::affordances::AffordanceModel fit(const Dataset& data, const Evaluation& held_out);
+
+/// Seeds as ranges, sorted: "1-300,401,403-410".
+std::string seed_ranges(std::vector<uint64_t> seeds);
 
 /// Accuracy against the number of training trials.
 std::vector<std::pair<int, double>> learning_curve(const Dataset& data);

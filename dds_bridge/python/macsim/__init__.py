@@ -7,11 +7,14 @@ supervise and step the simulator, all over DDS through the project's C++ client 
     kurt.cmd_vel(0.3, 0.0)
     print(kurt.odometry(timeout=5).position)
     left = kurt.image("left")            # H x W x 3 uint8 numpy array (BGR)
+    lift = macsim.affordances.load("models/lift.yml")   # a learned model (affordance_learn)
 
 Blocking calls release the GIL, hear Ctrl-C, and raise TimeoutError when nobody answers.
 """
 
 from ._macsim import (
+    AffordanceModel,
+    AffordanceModelError,
     CameraImage,
     Component,
     CraneState,
@@ -85,3 +88,5 @@ from ._macsim import (
 )
 
 __all__ = [name for name in dir() if not name.startswith("_")]
+
+from . import affordances  # noqa: E402  (macsim.affordances.load; a module, not in __all__)

@@ -71,5 +71,6 @@ inline Quat quat(const geometry_msgs::msg::dds_::Quaternion_& q) {
 void bind_wire_types(py::module_& m);
 void bind_robot(py::module_& m);
 void bind_supervisor(py::module_& m);
+void bind_affordances(py::module_& m);
 
 }  // namespace macsim::python

@@ -97,4 +97,5 @@ PYBIND11_MODULE(_macsim, m) {
   macsim::python::bind_wire_types(m);
   macsim::python::bind_robot(m);
   macsim::python::bind_supervisor(m);
+  macsim::python::bind_affordances(m);
 }

@@ -1,0 +1,22 @@
+"""Learned affordance models (affordance_learn --save-model DIR writes DIR/<affordance>.yml).
+
+    from macsim import affordances
+    lift = affordances.load("models/lift.yml")
+    label, confidence = lift.predict({"hue": 220.0, "width_m": 0.09, ...})
+
+A model refuses a missing or damaged file, another format version, features other than the
+ones asked for, and values that are not finite, with AffordanceModelError naming the file or
+the feature.
+"""
+
+from os import PathLike
+from typing import Optional, Sequence, Union
+
+from ._macsim import AffordanceModel, AffordanceModelError
+
+__all__ = ["AffordanceModel", "AffordanceModelError", "load"]
+
+
+def load(path: Union[str, PathLike], features: Optional[Sequence[str]] = None) -> AffordanceModel:
+    """The model in `path`; with `features`, refused unless it takes exactly those, in order."""
+    return AffordanceModel.load(str(path), list(features or []))

@@ -1,0 +1,73 @@
+"""macsim.affordances from Python: a model affordance_learn saved from the committed trial rows
+loads, answers as the C++ model does (its label and the share of trees that voted for it), and
+every bad file or bad feature is refused with AffordanceModelError naming the file or feature."""
+
+import csv
+import math
+import subprocess
+
+import pytest
+
+import macsim
+from macsim import affordances
+from conftest import binary, source
+
+ROWS = source("tests/tools/affordances/lift_trials.csv")
+
+
+@pytest.fixture(scope="module")
+def lift_model(tmp_path_factory):
+    directory = tmp_path_factory.mktemp("models")
+    result = subprocess.run([binary("affordance_learn"), "--in", ROWS, "--save-model",
+                             str(directory)], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return directory / "lift.yml"
+
+
+def rows():
+    with open(ROWS) as f:
+        return list(csv.DictReader(f))
+
+
+def test_a_saved_model_loads_and_ranks_what_the_robot_saw(lift_model):
+    model = affordances.load(lift_model)
+    assert model.affordance == "lift"
+    assert model.labels == ["liftable", "not_liftable"]
+    assert model.features[:4] == ["r", "g", "b", "hue"]
+    assert model.rows == 300 and model.seeds == "1-300" and model.generator == "material"
+    assert 0.95 <= model.held_out_accuracy <= 1
+    right = 0
+    for row in rows():
+        by_name = {name: float(row[name]) for name in model.features}
+        label, confidence = model.predict(by_name)
+        assert 0.5 <= confidence <= 1
+        # the same answer from a sequence in the model's order
+        assert model.predict([by_name[n] for n in model.features]) == (label, confidence)
+        right += label == row["label"]
+    assert right >= 290  # refit on these very rows
+
+
+def test_the_features_a_controller_computes_must_be_the_models(lift_model):
+    model = affordances.load(lift_model, features=affordances.load(lift_model).features)
+    with pytest.raises(affordances.AffordanceModelError, match=r"lift.yml: the model takes"):
+        affordances.load(lift_model, features=["hue", "width_m"])
+    values = [1.0] * len(model.features)
+    for bad in (math.nan, math.inf, -1e308):
+        values[3] = bad
+        with pytest.raises(macsim.AffordanceModelError, match="feature hue"):
+            model.predict(values)
+    with pytest.raises(ValueError, match="no value for feature r"):
+        model.predict({"g": 1.0})
+
+
+def test_bad_files_are_refused_naming_them(lift_model, tmp_path):
+    with pytest.raises(affordances.AffordanceModelError, match="absent.yml: no such model file"):
+        affordances.load(tmp_path / "absent.yml")
+    cut = tmp_path / "cut.yml"
+    cut.write_text(lift_model.read_text()[:5000])
+    with pytest.raises(affordances.AffordanceModelError, match="cut.yml: damaged"):
+        affordances.load(cut)
+    newer = tmp_path / "newer.yml"
+    newer.write_text(lift_model.read_text().replace("format_version: 1", "format_version: 7"))
+    with pytest.raises(affordances.AffordanceModelError, match="format version 7"):
+        affordances.load(newer)
