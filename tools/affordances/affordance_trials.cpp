@@ -369,7 +369,7 @@ int main(int argc, char** argv) {
   int trials = 100, instances = 1, repeat = 1;
   double first_seed = 1, timeout = 10;
   std::string affordance_name = "lift", generator_name = "material", out, world, attach, log_dir,
-              cameras = "320x240", shard_text;
+              cameras = "320x240", shard_text, inputs_dir;
   double camera_rate = 1.25;
   bool hash_every_step = false, bench = false;
   macsim::dds::CommandLine cli(
@@ -421,6 +421,11 @@ int main(int argc, char** argv) {
              &repeat);
   cli.flag("hash-every-step", "the trace hash covers the state hash of every step",
            &hash_every_step);
+  cli.option("keep-inputs", "DIR",
+             "write what each trial perceived from (the stereo pair as PNGs, the sweep and the "
+             "cloud) to DIR/<affordance>_<seed>*: its row's features can be computed again from "
+             "them (macsim::affordances::load_inputs)",
+             &inputs_dir);
   cli.flag("bench",
            "print trials per minute and the scoped reset's round trip as `name value unit`",
            &bench);
@@ -517,6 +522,7 @@ int main(int argc, char** argv) {
   pool.instance.profile = participant.profile_file;
   pool.instance.camera_rate = camera_rate;
   pool.instance.hash_every_step = hash_every_step;
+  pool.instance.keep_inputs = !inputs_dir.empty();
   pool.instance.timeout = std::chrono::milliseconds(static_cast<int64_t>(timeout * 1000));
   if (log_dir.empty()) {
     log_dir =
@@ -551,6 +557,11 @@ int main(int argc, char** argv) {
     if (inserted) {
       file << row << "\n" << std::flush;
       rows.push_back(row);
+      if (!inputs_dir.empty()) {
+        macsim::affordances::save_inputs(
+            record.inputs, inputs_dir,
+            std::string(name(record.spec.affordance)) + "_" + std::to_string(record.spec.seed));
+      }
     } else if (seen->second != result_part(row)) {
       ++mismatches;
       log::warn("\naffordance_trials: trial {} differs when repeated:\n  {}\n  {}", key,

@@ -1,12 +1,15 @@
-#include "perception.h"
+#include "macsim/affordances/perception.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 #include <string>
 
-namespace affordances {
+namespace macsim::affordances {
 
 namespace {
 
@@ -48,9 +51,38 @@ std::vector<Blob> blobs(const cv::Mat& bgr) {
 
 }  // namespace
 
-void perceive_image(const macsim::client::StereoFrame& frame, Percept& p) {
+const char* name(Affordance a) {
+  switch (a) {
+    case Affordance::Lift:
+      return "lift";
+    case Affordance::Push:
+      return "push";
+    case Affordance::Climb:
+      return "climb";
+    case Affordance::Stack:
+      return "stack";
+    default:
+      return "traverse";
+  }
+}
+
+std::optional<Affordance> affordance_from_name(const std::string& n) {
+  for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb, Affordance::Stack,
+                 Affordance::Traverse}) {
+    if (n == name(a)) return a;
+  }
+  return std::nullopt;
+}
+
+void perceive_image(const macsim::client::StereoFrame& frame, Percept& p,
+                    const std::optional<cv::Rect>& region) {
   if (frame.left.empty() || frame.right.empty() || !(frame.focal > 0)) return;
-  const auto in_left = blobs(frame.left);
+  auto in_left = blobs(frame.left);
+  if (region) {
+    std::erase_if(in_left, [&](const Blob& b) {
+      return !region->contains(cv::Point(static_cast<int>(b.cx), static_cast<int>(b.cy)));
+    });
+  }
   if (in_left.empty()) return;
   const Blob* left = &in_left.front();
   p.seen = true;
@@ -256,6 +288,112 @@ std::vector<double> features(const Percept& p, Affordance affordance) {
   return f;
 }
 
+Percept perceive(const SensorInputs& in, const SensorMount& mount) {
+  Percept p;
+  if (in.frame) perceive_image(*in.frame, p);
+  if (in.scan) perceive_scan(*in.scan, mount, p);
+  if (in.cloud) perceive_cloud(*in.cloud, mount, p);
+  return p;
+}
+
+void save_inputs(const SensorInputs& in, const std::string& dir, const std::string& name) {
+  std::filesystem::create_directories(dir);
+  const std::string base = dir + "/" + name;
+  cv::FileStorage fs(base + ".yml.gz", cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw std::runtime_error(base + ".yml.gz: cannot be written");
+  if (in.frame) {
+    for (const auto& [side, image] : {std::pair{"left", &in.frame->left},
+                                      std::pair{"right", &in.frame->right}}) {
+      const std::string file = base + "_" + side + ".png";
+      if (!cv::imwrite(file, *image)) throw std::runtime_error(file + ": cannot be written");
+    }
+    fs << "frame" << "{" << "stamp" << in.frame->stamp << "focal" << in.frame->focal << "cx"
+       << in.frame->cx << "cy" << in.frame->cy << "baseline" << in.frame->baseline << "}";
+  }
+  if (in.scan) {
+    const auto& sc = *in.scan;
+    fs << "scan" << "{" << "stamp_sec" << sc.header().stamp().sec() << "stamp_nanosec"
+       << static_cast<int>(sc.header().stamp().nanosec()) << "frame_id" << sc.header().frame_id()
+       << "angle_min" << sc.angle_min() << "angle_max" << sc.angle_max() << "angle_increment"
+       << sc.angle_increment() << "range_min" << sc.range_min() << "range_max" << sc.range_max()
+       << "ranges" << sc.ranges() << "}";
+  }
+  if (in.cloud) {
+    cv::Mat points(static_cast<int>(in.cloud->points.size()), 3, CV_32F);
+    for (int i = 0; i < points.rows; ++i)
+      for (int k = 0; k < 3; ++k)
+        points.at<float>(i, k) = in.cloud->points[static_cast<std::size_t>(i)][k];
+    fs << "cloud" << "{" << "stamp" << in.cloud->stamp << "points" << points << "}";
+  }
+}
+
+SensorInputs load_inputs(const std::string& dir, const std::string& name) {
+  const std::string base = dir + "/" + name;
+  const std::string file = base + ".yml.gz";
+  SensorInputs in;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) throw std::runtime_error(file + ": no such file");
+  try {
+    cv::FileStorage fs(file, cv::FileStorage::READ);
+    if (!fs.isOpened()) throw std::runtime_error(file + ": no such file");
+    if (const auto f = fs["frame"]; !f.empty()) {
+      macsim::client::StereoFrame frame;
+      f["stamp"] >> frame.stamp;
+      f["focal"] >> frame.focal;
+      f["cx"] >> frame.cx;
+      f["cy"] >> frame.cy;
+      f["baseline"] >> frame.baseline;
+      frame.left = cv::imread(base + "_left.png", cv::IMREAD_COLOR);
+      frame.right = cv::imread(base + "_right.png", cv::IMREAD_COLOR);
+      if (frame.left.empty() || frame.right.empty())
+        throw std::runtime_error(base + "_left.png or _right.png: missing or not an image");
+      in.frame = frame;
+    }
+    if (const auto f = fs["scan"]; !f.empty()) {
+      macsim::client::Laser::Scan scan;
+      int sec = 0, nanosec = 0;
+      float value = 0;
+      f["stamp_sec"] >> sec;
+      f["stamp_nanosec"] >> nanosec;
+      scan.header().stamp().sec(sec);
+      scan.header().stamp().nanosec(static_cast<uint32_t>(nanosec));
+      scan.header().frame_id(static_cast<std::string>(f["frame_id"]));
+      f["angle_min"] >> value, scan.angle_min(value);
+      f["angle_max"] >> value, scan.angle_max(value);
+      f["angle_increment"] >> value, scan.angle_increment(value);
+      f["range_min"] >> value, scan.range_min(value);
+      f["range_max"] >> value, scan.range_max(value);
+      std::vector<float> ranges;
+      f["ranges"] >> ranges;
+      scan.ranges(ranges);
+      in.scan = scan;
+    }
+    if (const auto f = fs["cloud"]; !f.empty()) {
+      macsim::client::Cloud cloud;
+      cv::Mat points;
+      f["stamp"] >> cloud.stamp;
+      f["points"] >> points;
+      if (!points.empty() && (points.cols != 3 || points.type() != CV_32F))
+        throw std::runtime_error(file + ": the cloud is not N x 3 floats");
+      for (int i = 0; i < points.rows; ++i)
+        cloud.points.push_back(
+            {points.at<float>(i, 0), points.at<float>(i, 1), points.at<float>(i, 2)});
+      in.cloud = cloud;
+    }
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(file + ": damaged: " + e.msg);
+  }
+  return in;
+}
+
+std::map<std::string, double> named_features(const Percept& percept, Affordance affordance) {
+  const auto values = features(percept, affordance);
+  const auto& names = feature_names(affordance);
+  std::map<std::string, double> out;
+  for (std::size_t i = 0; i < names.size(); ++i) out[names[i]] = values[i];
+  return out;
+}
+
 const std::vector<std::string>& feature_names(Affordance affordance) {
   static const std::vector<std::string> base{"r",           "g",           "b",
                                              "hue",         "area_px",     "width_px",
@@ -284,4 +422,4 @@ const std::vector<std::string>& feature_names(Affordance affordance) {
   }
 }
 
-}  // namespace affordances
+}  // namespace macsim::affordances

@@ -10,10 +10,20 @@
 #include <string>
 #include <vector>
 
-#include "perception.h"
+#include "macsim/affordances/perception.h"
 #include "trial_spec.h"
 
 namespace affordances {
+
+// The one perception (the SDK's: controllers compute the same features from the same code).
+using macsim::affordances::feature_names;
+using macsim::affordances::features;
+using macsim::affordances::GroundGrid;
+using macsim::affordances::Percept;
+using macsim::affordances::perceive_cloud;
+using macsim::affordances::perceive_image;
+using macsim::affordances::perceive_scan;
+using macsim::affordances::SensorMount;
 
 /// What happened, measured on the world state (ground truth), and the label it gives.
 struct Outcome {
@@ -35,6 +45,7 @@ struct Outcome {
 struct TrialRecord {
   TrialSpec spec;
   Percept percept;
+  macsim::affordances::SensorInputs inputs;  ///< what it was perceived from (keep_inputs only)
   Outcome outcome;
   double sim_time = 0;      ///< s of sim time the trial took
   uint64_t steps = 0;       ///< physics steps

@@ -192,6 +192,7 @@ struct TrialRobot::Impl {
   uint64_t steps = 0, hash = 0, trace = 0;
   bool drive_sent = false, crane_sent = false, laser_sent = false;
   double speed = 0;
+  macsim::affordances::SensorInputs inputs;  // the last look's (keep_inputs)
 
   mm::SupervisorReply_ call(const sv::Request& request, const char* what) {
     auto reply = supervisor.call(request, o.timeout);
@@ -364,6 +365,7 @@ struct TrialRobot::Impl {
     perceive_image(*frame, p);
     auto scan = newest([&] { return laser.scan(); }, kScanWindow, "laser scan");
     perceive_scan(scan, SensorMount{}, p);
+    if (o.keep_inputs) inputs = {frame, scan, std::nullopt};
     return p;
   }
 
@@ -504,6 +506,7 @@ struct TrialRobot::Impl {
       std::this_thread::sleep_for(200us);
     }
     perceive_cloud(*cloud, SensorMount{}, p);
+    if (o.keep_inputs) inputs.cloud = cloud;
     laser.rotate(0);
     laser_sent = true;
     const double far = s.x + s.reach_ahead();
@@ -693,6 +696,7 @@ TrialRecord TrialRobot::run(const TrialSpec& spec) {
       record.outcome = m.traverse(spec, record.percept);
       break;
   }
+  if (m.o.keep_inputs) record.inputs = std::move(m.inputs);
   record.sim_time = m.now;
   record.steps = m.steps;
   record.final_hash = m.hash;

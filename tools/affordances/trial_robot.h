@@ -27,6 +27,7 @@ struct InstanceOptions {
   std::string robot = "kurt";
   double camera_rate = 1.25;                 ///< Hz: the instance's --camera-rate
   bool hash_every_step = false;              ///< the trace mixes the state hash of every step
+  bool keep_inputs = false;                  ///< TrialRecord::inputs holds what was perceived
   std::chrono::milliseconds timeout{10000};  ///< wall time an answer or a sample may take
 };
 

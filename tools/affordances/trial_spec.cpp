@@ -198,20 +198,6 @@ void draw_traverse(TrialSpec& t, Draw& d, bool balanced) {
 
 const std::array<Material, 7>& materials() { return kMaterials; }
 
-const char* name(Affordance a) {
-  switch (a) {
-    case Affordance::Lift:
-      return "lift";
-    case Affordance::Push:
-      return "push";
-    case Affordance::Climb:
-      return "climb";
-    case Affordance::Stack:
-      return "stack";
-    default:
-      return "traverse";
-  }
-}
 const char* name(Generator g) {
   switch (g) {
     case Generator::Material:
@@ -245,13 +231,6 @@ const char* name(Shape s) {
   }
 }
 
-std::optional<Affordance> affordance_from_name(const std::string& n) {
-  for (auto a : {Affordance::Lift, Affordance::Push, Affordance::Climb, Affordance::Stack,
-                 Affordance::Traverse}) {
-    if (n == name(a)) return a;
-  }
-  return std::nullopt;
-}
 std::optional<Generator> generator_from_name(const std::string& n) {
   for (auto g : {Generator::Material, Generator::Figure11, Generator::Balanced}) {
     if (n == name(g)) return g;

@@ -7,10 +7,14 @@
 #include <optional>
 #include <string>
 
+#include "macsim/affordances/perception.h"
+
 namespace affordances {
 
-/// The affordances of the seed that a trial can test.
-enum class Affordance { Lift, Push, Climb, Stack, Traverse };
+/// The affordances of the seed (the perception library's: macsim/affordances/perception.h).
+using macsim::affordances::Affordance;
+using macsim::affordances::affordance_from_name;
+using macsim::affordances::name;
 /// How objects are drawn. Material: liftability follows from mass and magnetizability (each
 /// material has its colour, density and friction; sizes vary). Figure11: the seed's Figure 11,
 /// heavy objects are blue, every other colour is light, all magnetizable. Balanced: the draws
@@ -20,10 +24,8 @@ enum class Generator { Material, Figure11, Balanced };
 /// bar between two walls) and Passage (two walls) are fixed across the robot's way.
 enum class Shape { Box, Cylinder, LyingCylinder, Sphere, Ramp, Joist, Step, Doorstep, Passage };
 
-const char* name(Affordance affordance);
 const char* name(Generator generator);
 const char* name(Shape shape);
-std::optional<Affordance> affordance_from_name(const std::string& name);
 std::optional<Generator> generator_from_name(const std::string& name);
 
 /// A material of the trials (worlds/AffordanceEnvironment/materials.xml) and how it looks.

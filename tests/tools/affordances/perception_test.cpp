@@ -1,4 +1,4 @@
-#include "perception.h"
+#include "macsim/affordances/perception.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
-namespace affordances {
+namespace macsim::affordances {
 namespace {
 
 /// A sweep of the scanner standing still (plane x-z), cast against the floor and a profile of
@@ -191,4 +191,4 @@ TEST(Perception, NothingColouredIsNothingSeen) {
 }
 
 }  // namespace
-}  // namespace affordances
+}  // namespace macsim::affordances

@@ -1,16 +1,27 @@
 // What the robot perceives of the object (or ramp) before it acts, from its own sensors: colour
 // and apparent size from the stereo cameras, range, height and profile from the laser's
-// vertical sweep straight ahead.
+// vertical sweep straight ahead, the ground ahead from one turn of the rotating scanner. The one
+// perception of the project: the affordance trials write their rows from it, and controllers
+// compute the features a learned model (model.h) takes from it. find_package(macsim) ->
+// macsim::affordances; depends on the client library and the robot's description only.
 #pragma once
 
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "macsim/client/robot_devices.h"
 #include "macsim/robot/kurt3d_description.h"
-#include "trial_spec.h"
 
-namespace affordances {
+namespace macsim::affordances {
+
+/// The affordances of the seed that a trial can test and a model can be learned for.
+enum class Affordance { Lift, Push, Climb, Stack, Traverse };
+/// "lift", "push", "climb", "stack", "traverse".
+const char* name(Affordance affordance);
+/// The affordance of that name, if any.
+std::optional<Affordance> affordance_from_name(const std::string& name);
 
 /// The perceived features a learner gets (SI units; pixels where it says so).
 struct Percept {
@@ -50,14 +61,32 @@ struct SensorMount {
          laser_z = macsim::robot::kurt3d::kRotatingLaser[2];
 };
 
-/// Adds the cameras' view: the largest saturated blob of the left image, matched in the right.
-void perceive_image(const macsim::client::StereoFrame& frame, Percept& percept);
+/// Adds the cameras' view: the largest saturated blob of the left image (of those whose centre
+/// lies in `region`, when given), matched in the right.
+void perceive_image(const macsim::client::StereoFrame& frame, Percept& percept,
+                    const std::optional<cv::Rect>& region = std::nullopt);
 /// Adds the laser's: one sweep of the scanner standing still, its plane straight ahead (the
 /// top's profile too).
 void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& mount,
                    Percept& percept);
 /// Adds the 3D cloud's (points in base_link): the grid of cells ahead and the corridor.
 void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& percept);
+
+/// What the robot's sensors gave for one look (each part optional): a stereo pair, a sweep of
+/// the scanner standing still, a 3D cloud.
+struct SensorInputs {
+  std::optional<macsim::client::StereoFrame> frame;
+  std::optional<macsim::client::Laser::Scan> scan;
+  std::optional<macsim::client::Cloud> cloud;
+};
+
+/// The percept of one look: perceive_image, perceive_scan and perceive_cloud on what there is.
+Percept perceive(const SensorInputs& inputs, const SensorMount& mount = {});
+/// Writes a look to DIR/NAME_left.png and NAME_right.png (lossless) and DIR/NAME.yml.gz (the
+/// calibration, the sweep, the cloud: every number as it came). Throws std::runtime_error.
+void save_inputs(const SensorInputs& inputs, const std::string& dir, const std::string& name);
+/// Reads a look save_inputs wrote; throws std::runtime_error naming the file and the fault.
+SensorInputs load_inputs(const std::string& dir, const std::string& name);
 
 /// The grid's cells ahead of the robot: rows along x, columns along y (m, base_link).
 struct GroundGrid {
@@ -72,5 +101,7 @@ struct GroundGrid {
 /// the carried height, traverse the cloud's grid and corridor.
 std::vector<double> features(const Percept& percept, Affordance affordance = Affordance::Lift);
 const std::vector<std::string>& feature_names(Affordance affordance = Affordance::Lift);
+/// The same features by name (what AffordanceModel::predict takes).
+std::map<std::string, double> named_features(const Percept& percept, Affordance affordance);
 
-}  // namespace affordances
+}  // namespace macsim::affordances
