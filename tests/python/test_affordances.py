@@ -71,3 +71,29 @@ def test_bad_files_are_refused_naming_them(lift_model, tmp_path):
     newer.write_text(lift_model.read_text().replace("format_version: 1", "format_version: 7"))
     with pytest.raises(affordances.AffordanceModelError, match="format version 7"):
         affordances.load(newer)
+
+
+def test_python_computes_a_trials_row_from_what_the_trial_saw(domain, tmp_path):
+    # The one perception from Python: affordance_trials keeps what each trial perceived from;
+    # macsim.affordances.features on it gives the row the trial wrote, to its last %.9g digit.
+    for affordance, generator in (("lift", "material"), ("traverse", "balanced")):
+        out = tmp_path / f"{affordance}.csv"
+        result = subprocess.run(
+            [binary("affordance_trials"), "--domain", str(domain), "--affordance", affordance,
+             "--generator", generator, "--seed", "11", "--trials", "1", "--out", str(out),
+             "--keep-inputs", str(tmp_path / "inputs"), "--logs", str(tmp_path / "logs")],
+            capture_output=True, text=True, timeout=120)
+        assert result.returncode == 0, result.stdout + result.stderr
+        with open(out) as f:
+            (row,) = list(csv.DictReader(f))
+        frame, scan, points = affordances.load_inputs(str(tmp_path / "inputs"),
+                                                      f"{affordance}_{row['seed']}")
+        assert (points is not None) == (affordance == "traverse")
+        features = affordances.features(affordance, frame, scan, points)
+        assert len(features) == (14 if affordance == "lift" else 14 + 240 + 3)
+        for name, value in features.items():
+            assert "%.9g" % value == row[name], (affordance, name)
+    with pytest.raises(ValueError, match="absent.yml.gz: no such file"):
+        affordances.load_inputs(str(tmp_path), "absent")
+    with pytest.raises(ValueError, match="no affordance 'fly'"):
+        affordances.features("fly")

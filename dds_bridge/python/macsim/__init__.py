@@ -32,7 +32,9 @@ from ._macsim import (
     Supervisor,
     SupervisorError,
     WorldState,
+    affordance_features,
     kurt3d_description,
+    load_sensor_inputs,
 )
 from ._macsim import (
     DESTROY_EVERY_OBJECT,

@@ -2,7 +2,8 @@
 
     from macsim import affordances
     lift = affordances.load("models/lift.yml")
-    label, confidence = lift.predict({"hue": 220.0, "width_m": 0.09, ...})
+    seen = affordances.features("lift", robot.stereo(), robot.scan())   # the trials' perception
+    label, confidence = lift.predict(seen)
 
 A model refuses a missing or damaged file, another format version, features other than the
 ones asked for, and values that are not finite, with AffordanceModelError naming the file or
@@ -13,8 +14,10 @@ from os import PathLike
 from typing import Optional, Sequence, Union
 
 from ._macsim import AffordanceModel, AffordanceModelError
+from ._macsim import affordance_features as features
+from ._macsim import load_sensor_inputs as load_inputs
 
-__all__ = ["AffordanceModel", "AffordanceModelError", "load"]
+__all__ = ["AffordanceModel", "AffordanceModelError", "features", "load", "load_inputs"]
 
 
 def load(path: Union[str, PathLike], features: Optional[Sequence[str]] = None) -> AffordanceModel:

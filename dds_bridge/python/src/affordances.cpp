@@ -1,6 +1,8 @@
 // macsim.AffordanceModel: a learned affordance model (affordance_learn --save-model) loaded
-// from its file and asked from Python (macsim.affordances.load).
+// from its file and asked from Python (macsim.affordances.load), and the one perception that
+// gives it its features from what the robot sees (macsim.affordances.features).
 #include "macsim/affordances/model.h"
+#include "macsim/affordances/perception.h"
 
 #include <variant>
 
@@ -10,7 +12,62 @@ namespace macsim::python {
 
 namespace af = macsim::affordances;
 
+namespace {
+
+using Points = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+af::Affordance affordance_named(const std::string& name) {
+  const auto affordance = af::affordance_from_name(name);
+  if (!affordance)
+    throw py::value_error("no affordance '" + name + "' (lift, push, climb, stack, traverse)");
+  return *affordance;
+}
+
+client::Cloud cloud_of(const Points& points) {
+  if (points.ndim() != 2 || points.shape(1) != 3)
+    throw py::value_error("points must be an N x 3 array (m, base_link)");
+  client::Cloud cloud;
+  const auto view = points.unchecked<2>();
+  for (py::ssize_t i = 0; i < points.shape(0); ++i)
+    cloud.points.push_back({view(i, 0), view(i, 1), view(i, 2)});
+  return cloud;
+}
+
+}  // namespace
+
 void bind_affordances(py::module_& m) {
+  m.def(
+      "affordance_features",
+      [](const std::string& affordance, std::optional<client::StereoFrame> frame,
+         std::optional<client::Laser::Scan> scan, std::optional<Points> points) {
+        af::SensorInputs inputs{std::move(frame), std::move(scan), std::nullopt};
+        if (points) inputs.cloud = cloud_of(*points);
+        py::gil_scoped_release release;
+        return af::named_features(af::perceive(inputs), affordance_named(affordance));
+      },
+      py::arg("affordance"), py::arg("frame") = py::none(), py::arg("scan") = py::none(),
+      py::arg("points") = py::none(),
+      "The features of `affordance` (a dict by name, what AffordanceModel.predict takes) from "
+      "one look: a stereo pair (Robot.stereo()), a sweep of the scanner standing still "
+      "(Robot.scan()) and a 3D cloud (Robot.points()), each optional. The same code as the "
+      "trials' rows.");
+  m.def(
+      "load_sensor_inputs",
+      [](const std::string& dir, const std::string& name) {
+        af::SensorInputs inputs;
+        try {
+          inputs = af::load_inputs(dir, name);
+        } catch (const std::runtime_error& e) {
+          throw py::value_error(e.what());
+        }
+        std::optional<py::array> points;
+        if (inputs.cloud) points = points_array(std::move(*inputs.cloud));
+        return std::make_tuple(inputs.frame, inputs.scan, points);
+      },
+      py::arg("dir"), py::arg("name"),
+      "(frame, scan, points) of a look saved by affordance_trials --keep-inputs DIR (NAME: "
+      "<affordance>_<seed>); each None when the look lacks it. ValueError naming the file.");
+
   auto& error = py::register_exception<af::ModelError>(m, "AffordanceModelError", PyExc_ValueError);
   error.doc() =
       "A model file that cannot be loaded (missing, damaged, another format version, other "

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pybind11/pybind11.h>
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <string>
 #include <tuple>
 
+#include "macsim/client/robot_devices.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/geometry_msgs.h"
 
@@ -67,6 +69,9 @@ inline Vec3 vec3(const geometry_msgs::msg::dds_::Vector3_& v) { return {v.x(), v
 inline Quat quat(const geometry_msgs::msg::dds_::Quaternion_& q) {
   return {q.x(), q.y(), q.z(), q.w()};
 }
+
+/// A 3D cloud as an N x 3 float32 array (m, base_link) owning its points.
+py::array points_array(client::Cloud cloud);
 
 void bind_wire_types(py::module_& m);
 void bind_robot(py::module_& m);

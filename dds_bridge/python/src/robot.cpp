@@ -138,6 +138,8 @@ py::array mat_view(const cv::Mat& mat) {
 }
 
 /// A cloud's points as an N x 3 float32 array owning the decoded vector.
+}  // namespace
+
 py::array points_array(client::Cloud cloud) {
   auto* owner = new std::vector<std::array<float, 3>>(std::move(cloud.points));
   py::capsule keep(owner,
@@ -145,8 +147,6 @@ py::array points_array(client::Cloud cloud) {
   return py::array_t<float>({static_cast<py::ssize_t>(owner->size()), py::ssize_t{3}},
                             owner->empty() ? nullptr : owner->front().data(), keep);
 }
-
-}  // namespace
 
 void bind_robot(py::module_& m) {
   py::class_<CameraImage>(m, "CameraImage", "One camera image and when it was taken.")
