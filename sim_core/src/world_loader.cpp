@@ -385,6 +385,9 @@ class Loader {
         if (v.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");
       } else if (tag == "COLOR") {
         v.colors.push_back(r.color(e));
+      } else if (tag == "KEEP_COLOR") {
+        v.keep_colors.push_back(r.text(e));
+        if (v.keep_colors.back().empty()) r.fail(e, "<KEEP_COLOR> names a material");
       } else {
         r.unknown(e, "VARIATION");
       }

@@ -96,7 +96,9 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
     const double yaw = uniform(-M_PI, M_PI);
     o.pose.position.head<2>() = at;
     o.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * o.pose.orientation;
-    if (!palette.empty() && !o.components.empty()) {
+    const bool keep = std::find(v.keep_colors.begin(), v.keep_colors.end(), o.material) !=
+                      v.keep_colors.end();
+    if (!palette.empty() && !o.components.empty() && !keep) {
       const auto [entry, fresh] = colour_of.try_emplace(o.material, colour_of.size());
       o.components.front().color = palette[entry->second % palette.size()];
     }

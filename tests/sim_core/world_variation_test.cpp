@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <set>
 
 #include "macsim/sim_core/world_loader.h"
 #include "support/world_helpers.h"
@@ -74,6 +75,35 @@ TEST(WorldVariation, EverythingStaysInItsAreaClearOfTheRestAndLookAlikesShareACo
   }
 }
 
+TEST(WorldVariation, AMaterialThatKeepsItsColourKeepsItInEveryLayout) {
+  // DemoWorld_figure11: the lead cans blue in every layout, the tin cans one palette colour per
+  // layout and never blue, so a colour means the same weight across layouts.
+  const Color blue{0.1f, 0.2f, 0.9f, 1.0f};
+  std::set<Color> tin_colours;
+  for (uint32_t seed = 1; seed <= 20; ++seed) {
+    WorldSpec spec = shipped_world("DemoWorld_figure11.xml");
+    ASSERT_EQ(spec.variation->keep_colors, std::vector<std::string>{"lead"});
+    vary_world(spec, seed);
+    int heavy = 0;
+    for (const ObjectSpec* can : cans(spec)) {
+      const Color& c = can->components.front().color;
+      EXPECT_TRUE(can->magnetizable) << can->name;
+      if (can->material == "lead") {
+        ++heavy;
+        EXPECT_EQ(c, blue) << seed << " " << can->name;
+      } else {
+        EXPECT_EQ(can->material, "tin");
+        EXPECT_NE(c, blue) << seed << " " << can->name;
+        EXPECT_NE(std::find(spec.variation->colors.begin(), spec.variation->colors.end(), c),
+                  spec.variation->colors.end());
+        tin_colours.insert(c);
+      }
+    }
+    EXPECT_EQ(heavy, 3);
+  }
+  EXPECT_GE(tin_colours.size(), 3u);  // the light cans' colour does vary
+}
+
 TEST(WorldVariation, AWorldThatCannotVarySaysWhyAndWhere) {
   WorldSpec plain = load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
                                       "plain.xml");
@@ -113,7 +143,9 @@ TEST(WorldVariation, AWorldThatCannotVarySaysWhyAndWhere) {
                           "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,nan</AREA></VARIATION>",
                           "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,1e300</AREA></VARIATION>",
                           "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,1</AREA>"
-                          "<COLOR>2,0,0</COLOR></VARIATION>"}) {
+                          "<COLOR>2,0,0</COLOR></VARIATION>",
+                          "<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,1,1</AREA>"
+                          "<KEEP_COLOR></KEEP_COLOR></VARIATION>"}) {
     EXPECT_THROW(load_world_string(std::string("<WORLD>") + bad + "</WORLD>", "bad.xml"),
                  WorldFileError)
         << bad;

@@ -190,6 +190,7 @@ struct VariationSpec {
   std::optional<Eigen::Vector4d> robot_area;  ///< where the robots start (any heading)
   double clearance = 0.45;                    ///< m between footprints of placed objects and others
   std::vector<Color> colors;                  ///< palette for the first component of placed objects
+  std::vector<std::string> keep_colors;       ///< materials whose objects keep their own colour
   SourceLocation source;
 };
 
