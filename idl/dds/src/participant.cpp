@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <filesystem>
 #include <iostream>
 #include <mutex>
@@ -31,6 +32,21 @@ std::string node_name_of(const std::string& name) {
 std::mutex& profile_loading() {
   static std::mutex mutex;
   return mutex;
+}
+
+/// Fast DDS 2.9 delivers discovery data to the other participants of the same process by
+/// pointer; deleting an endpoint right after another participant of the process went away could
+/// follow a pointer to that participant's deleted discovery reader (a segfault under load seen
+/// here in two-participant tests; fixed upstream by Fast DDS PR #5034, 2.10.5 and 2.14, not in
+/// Debian 12's 2.9). Discovery data goes through the transport (shared memory) instead; user
+/// data keeps the in-process shortcut. An XML profile that turns the shortcut off stays obeyed.
+void discovery_through_the_transport() {
+  namespace xml = eprosima::fastrtps::xmlparser;
+  auto settings = xml::XMLProfileManager::library_settings();
+  if (settings.intraprocess_delivery == eprosima::fastrtps::INTRAPROCESS_FULL) {
+    settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_USER_DATA_ONLY;
+    xml::XMLProfileManager::library_settings(settings);
+  }
 }
 
 /// `file`, or FASTRTPS_DEFAULT_PROFILES_FILE if that names the same file: Fast DDS knows a file
@@ -65,6 +81,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
     throw DdsError("cannot load the Fast DDS profile file '" + options.profile_file + "'");
   }
   factory->load_profiles();
+  discovery_through_the_transport();
   fdds::DomainParticipantQos qos;
   factory->get_default_participant_qos(qos);
   qos.name(options.name);
