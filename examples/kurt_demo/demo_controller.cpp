@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "macsim/affordances/perception.h"
 #include "macsim/client/picture_client.h"
 #include "macsim/dds/convert.h"
 
@@ -41,7 +42,41 @@ std::string fmt(const char* format, ...) {
   return text;
 }
 
+/// The features the demonstrator computes of a can from where it stands: the cameras'.
+const std::vector<std::string>& camera_features() {
+  static const std::vector<std::string> names{"r",         "g",         "b",    "hue",
+                                              "area_px",   "width_px",  "height_px",
+                                              "fill",      "stereo_range", "width_m"};
+  return names;
+}
+
 }  // namespace
+
+macsim::affordances::AffordanceModel load_lift_model(const std::string& dir) {
+  const std::string file = dir + "/lift.yml";
+  try {
+    auto model = macsim::affordances::AffordanceModel::load(file);
+    if (model.info().affordance != "lift")
+      throw Failure{kUsage, file + " is a model of " + model.info().affordance + ", not lift"};
+    if (std::find(model.info().labels.begin(), model.info().labels.end(), "liftable") ==
+        model.info().labels.end())
+      throw Failure{kUsage, file + " has no label 'liftable'"};
+    std::string missing;
+    for (const auto& f : model.info().features) {
+      if (std::find(camera_features().begin(), camera_features().end(), f) ==
+          camera_features().end())
+        missing += (missing.empty() ? "" : ",") + f;
+    }
+    if (!missing.empty())
+      throw Failure{kUsage, file + " takes " + missing +
+                                ", which the demonstrator cannot compute from where it stands "
+                                "(it sees the cans with its cameras; train with "
+                                "affordance_learn --features r,g,b,hue,fill,width_m)"};
+    return model;
+  } catch (const macsim::affordances::ModelError& e) {
+    throw Failure{kUsage, e.what()};
+  }
+}
 
 struct DemoController::Pictures {
   explicit Pictures(macsim::dds::Participant& p) : client(p) {}
@@ -299,7 +334,20 @@ std::vector<std::pair<Sighting, Pose2>> DemoController::look(int frames) {
     if (auto frame = cameras_.latest(after)) {
       after = frame->stamp;
       ++taken;
-      const auto sightings = find_objects(*frame, geometry_);
+      auto sightings = find_objects(*frame, geometry_);
+      if (options_.lift_model) {
+        // What the lift model says of each can: the trials' perception of the can's blob.
+        for (auto& s : sightings) {
+          if (s.kind != Kind::Can) continue;
+          const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
+          macsim::affordances::Percept p;
+          macsim::affordances::perceive_image(*frame, p, around);
+          if (!p.seen) continue;
+          const auto said = options_.lift_model->predict(macsim::affordances::named_features(
+              p, macsim::affordances::Affordance::Lift));
+          s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
+        }
+      }
       for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
       if (!options_.debug_images.empty()) {
         cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
@@ -340,13 +388,18 @@ void DemoController::record(const std::vector<std::pair<Sighting, Pose2>>& sight
       return c.colour == s.colour && std::hypot(c.x - at.x, c.y - at.y) < 0.2;
     });
     if (same == candidates_.end()) {
-      candidates_.push_back({at.x, at.y, s.colour, 1, false, ""});
+      candidates_.push_back({at.x, at.y, s.colour, 0, false, ""});
+      same = candidates_.end() - 1;
+    } else if (same->tried) {
       continue;
     }
-    if (same->tried) continue;
     same->x = (same->x * same->seen + at.x) / (same->seen + 1);
     same->y = (same->y * same->seen + at.y) / (same->seen + 1);
     ++same->seen;
+    if (s.liftable >= 0) {
+      same->liftable = (same->liftable * same->judged + s.liftable) / (same->judged + 1);
+      ++same->judged;
+    }
   }
 }
 
@@ -467,6 +520,7 @@ bool DemoController::try_lift(Candidate& can) {
   }
 
   // Over it with the magnet, then down until the magnet holds it or rests on it.
+  ++lift_attempts_;
   const Pose2 b = to_base(can.x, can.y);
   const double dx = b.x - geometry_.pivot_x, dy = b.y;
   const double slew = std::atan2(dy, dx);
@@ -606,7 +660,21 @@ void DemoController::run() {
   search("scene 1", false);
   if (candidates_.empty()) throw Failure{kNoCan, "no can in sight after a full turn"};
   picture("scene1_cans_found");
-  // Scene 2: the nearest candidates first, colours that failed last.
+  if (options_.lift_model) {
+    const auto& info = options_.lift_model->info();
+    std::string said;
+    for (const auto& c : candidates_) {
+      said += c.judged ? fmt(" [%s at %.2f,%.2f: %s %.2f]", c.colour.c_str(), c.x, c.y,
+                             c.liftable >= 0.5 ? "liftable" : "not_liftable",
+                             c.liftable >= 0.5 ? c.liftable : 1.0 - c.liftable)
+                       : fmt(" [%s at %.2f,%.2f: not judged]", c.colour.c_str(), c.x, c.y);
+    }
+    say("scene 2", fmt("the lift model (%s rows of %s, held-out accuracy %.1f %%) says:%s",
+                       std::to_string(info.rows).c_str(), info.generator.c_str(),
+                       100 * info.held_out_accuracy, said.c_str()));
+  }
+  // Scene 2: with a lift model, the cans it finds likeliest to come up first; then (and without
+  // one) the nearest first, colours that failed last.
   bool lifted = false, looked_again = false;
   while (!lifted) {
     Candidate* next = nullptr;
@@ -615,7 +683,9 @@ void DemoController::run() {
       if (c.tried) continue;
       const double failures =
           std::count(failed_colours_.begin(), failed_colours_.end(), c.colour);
-      const double cost = std::hypot(c.x - pose_.x, c.y - pose_.y) + 10.0 * failures;
+      const double unlikely = options_.lift_model && c.judged ? 100.0 * (1.0 - c.liftable) : 0.0;
+      const double cost =
+          unlikely + std::hypot(c.x - pose_.x, c.y - pose_.y) + 10.0 * failures;
       if (cost < best) {
         best = cost;
         next = &c;

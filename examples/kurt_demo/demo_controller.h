@@ -13,6 +13,7 @@
 
 #include "kurt_geometry.h"
 #include "laser_map.h"
+#include "macsim/affordances/model.h"
 #include "macsim/client/robot_client.h"
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
@@ -46,7 +47,14 @@ struct DemoOptions {
   double discovery_timeout = 20.0;  ///< s of wall time to find the robot
   bool pictures = false;         ///< ask the simulator for an overview picture per scene
   std::string debug_images;      ///< folder for the camera images with what was seen, or empty
+  /// A lift model (affordance_learn --save-model) to rank the cans by before trying any.
+  std::optional<macsim::affordances::AffordanceModel> lift_model;
 };
+
+/// The lift model in DIR/lift.yml, if its features are ones the demonstrator computes from where
+/// it stands (the cameras': colour, blob shape, stereo size); throws Failure{kUsage} naming the
+/// file and what is wrong.
+macsim::affordances::AffordanceModel load_lift_model(const std::string& dir);
 
 /// A planar pose in the odometry frame.
 struct Pose2 {
@@ -60,6 +68,8 @@ struct Candidate {
   int seen = 0;
   bool tried = false;
   std::string outcome;
+  double liftable = 0;  ///< the lift model's mean probability of `liftable` over the sightings
+  int judged = 0;       ///< sightings the model judged
 };
 
 class DemoController {
@@ -70,6 +80,8 @@ class DemoController {
   void run();
   /// Robot time since the start, s.
   double elapsed() const { return now_ - start_; }
+  /// Cans the crane tried to lift so far.
+  int lift_attempts() const { return lift_attempts_; }
 
  private:
   // ---- the loop ---------------------------------------------------------------------------
@@ -146,6 +158,7 @@ class DemoController {
   std::vector<Candidate> candidates_;
   std::optional<Candidate> switch_;
   std::vector<std::string> failed_colours_;
+  int lift_attempts_ = 0;
   ObstacleMap obstacles_;
   int debug_count_ = 0;
 };

@@ -1,7 +1,8 @@
 // kurt_demo: the MACS final demonstrator, played by the robot's own sensing over DDS. Scene 1:
 // finds cans with its stereo cameras; scene 2: lifts one with the crane's magnet (trying the
 // next when one does not come up); scene 3: drops it on the door's floor switch; scene 4: sees
-// the door open with its 3D laser and drives through. Against macsim or the real KURT3D.
+// the door open with its 3D laser and drives through. Against macsim or the real KURT3D. With
+// --affordances DIR it ranks the cans by a learned lift model before trying any.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -36,11 +37,24 @@ int main(int argc, char** argv) {
            &options.pictures);
   cli.option("debug-images", "DIR", "write each camera image looked at, with what was seen",
              &options.debug_images);
+  std::string affordances;
+  cli.option("affordances", "DIR",
+             "rank the cans by the lift model DIR/lift.yml (affordance_learn --save-model, on "
+             "features the cameras give from where the robot stands) before trying any",
+             &affordances);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || options.robot.empty()) {
     macsim::log::error(
         "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not empty");
     return kurt_demo::kUsage;
+  }
+  if (!affordances.empty()) {
+    try {
+      options.lift_model = kurt_demo::load_lift_model(affordances);
+    } catch (const kurt_demo::Failure& failure) {
+      macsim::log::error("kurt_demo: --affordances: {}", failure.reason);
+      return kurt_demo::kUsage;
+    }
   }
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall = [&] {
@@ -52,14 +66,16 @@ int main(int argc, char** argv) {
     try {
       demo.run();
     } catch (const kurt_demo::Failure& failure) {
-      std::printf("kurt_demo: FAILED (exit %d): %s; robot time %.1f s, wall time %.1f s\n",
-                  failure.code, failure.reason.c_str(), demo.elapsed(), wall());
+      std::printf(
+          "kurt_demo: FAILED (exit %d): %s; robot time %.1f s, wall time %.1f s, lift "
+          "attempts: %d\n",
+          failure.code, failure.reason.c_str(), demo.elapsed(), wall(), demo.lift_attempts());
       return failure.code;
     }
     std::printf(
         "kurt_demo: SUCCESS: the robot is through the door; robot time %.1f s, wall time "
-        "%.1f s\n",
-        demo.elapsed(), wall());
+        "%.1f s, lift attempts: %d\n",
+        demo.elapsed(), wall(), demo.lift_attempts());
   } catch (const macsim::dds::DdsError& e) {
     macsim::log::error("kurt_demo: DDS error: {}", e.what());
     return kurt_demo::kNoRobot;

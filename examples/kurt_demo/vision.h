@@ -22,6 +22,7 @@ struct Sighting {
   double range = 0;        ///< m from the left camera
   double width = 0, height = 0;  ///< m, the blob's extent at its range
   cv::Rect box;            ///< in the left image
+  double liftable = -1;    ///< a lift model's probability of `liftable` (-1: not judged)
 };
 
 /// The cans and switch platforms in one stereo pair (pixels of saturated colour, grouped per
