@@ -238,7 +238,9 @@ def demo_world(domain, spawn, *options):
     process = start_macsim(spawn, domain, "worlds/DemoWorld_v1.xml", "--lockstep", "--cameras",
                            "off", *options)
     participant = macsim.Participant(domain=domain, name="snapshot_cap_test")
-    robot, simulation = macsim.Robot(participant), macsim.Simulation(participant)
+    # Steps of the demo world with its sweep take a while on a loaded machine: none of these is
+    # meant to be quick, so none is given up as busy after the default 10 s.
+    robot, simulation = macsim.Robot(participant), macsim.Simulation(participant, timeout=300)
     for _ in range(40):  # repeated: a command sent before the robot's reader matched is lost
         robot.rotate_laser(1.0)
         robot.wait_delivered()

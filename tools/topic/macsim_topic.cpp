@@ -440,24 +440,34 @@ int run_pub(int argc, char** argv) {
     return kUsage;
   }
   Session session(participant);
-  // readers that want a transient-local writer get one
+  // Another type on the topic is refused whenever discovery shows it, before or after this
+  // writer exists (a reader of another type never matches it: it would wait in vain).
+  auto other_type = [&]() -> std::optional<std::string> {
+    if (auto t = session.graph.topic(topic_name)) {
+      for (const auto& type_name : t->types) {
+        if (type_name != dds_type) return type_name;
+      }
+    }
+    return std::nullopt;
+  };
+  auto refuse = [&](const std::string& type_name) {
+    log::error("macsim_topic pub: {} carries {}, not {}", topic_name, type_for_people(type_name),
+               type_for_people(dds_type));
+    return kUsage;
+  };
+  // readers that want a transient-local writer get one: what discovery shows within 0.3 s
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   topic::RawQos qos;
   qos.reliable = true;
   qos.depth = 10;
+  if (auto type_name = other_type()) return refuse(*type_name);
   if (auto t = session.graph.topic(topic_name)) {
-    for (const auto& type_name : t->types) {
-      if (type_name != dds_type) {
-        log::error("macsim_topic pub: {} carries {}, not {}", topic_name,
-                   type_for_people(type_name), type_for_people(dds_type));
-        return kUsage;
-      }
-    }
     for (const auto& r : t->readers) qos.transient_local = qos.transient_local || r.transient_local;
   }
   topic::RawWriter writer(*session.participant, topic_name, dds_type, qos);
   const auto wait_end = Clock::now() + std::chrono::duration<double>(wait);
   while (writer.matched() == 0 && Clock::now() < wait_end && !g_stop.load()) {
+    if (auto type_name = other_type()) return refuse(*type_name);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (writer.matched() == 0) {
