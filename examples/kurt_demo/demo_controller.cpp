@@ -71,7 +71,7 @@ macsim::affordances::AffordanceModel load_lift_model(const std::string& dir) {
       throw Failure{kUsage, file + " takes " + missing +
                                 ", which the demonstrator cannot compute from where it stands "
                                 "(it sees the cans with its cameras; train with "
-                                "affordance_learn --features r,g,b,hue,fill,width_m)"};
+                                "affordance_learn --features hue)"};
     return model;
   } catch (const macsim::affordances::ModelError& e) {
     throw Failure{kUsage, e.what()};
@@ -343,9 +343,13 @@ std::vector<std::pair<Sighting, Pose2>> DemoController::look(int frames) {
           macsim::affordances::Percept p;
           macsim::affordances::perceive_image(*frame, p, around);
           if (!p.seen) continue;
-          const auto said = options_.lift_model->predict(macsim::affordances::named_features(
-              p, macsim::affordances::Affordance::Lift));
-          s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
+          try {
+            const auto said = options_.lift_model->predict(macsim::affordances::named_features(
+                p, macsim::affordances::Affordance::Lift));
+            s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
+          } catch (const macsim::affordances::ModelError& e) {
+            say("look", std::string("the lift model could not judge a can: ") + e.what());
+          }
         }
       }
       for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
@@ -683,7 +687,9 @@ void DemoController::run() {
       if (c.tried) continue;
       const double failures =
           std::count(failed_colours_.begin(), failed_colours_.end(), c.colour);
-      const double unlikely = options_.lift_model && c.judged ? 100.0 * (1.0 - c.liftable) : 0.0;
+      // A can the model never judged counts as even odds: after those it finds likely.
+      const double unlikely =
+          options_.lift_model ? 100.0 * (1.0 - (c.judged ? c.liftable : 0.5)) : 0.0;
       const double cost =
           unlikely + std::hypot(c.x - pose_.x, c.y - pose_.y) + 10.0 * failures;
       if (cost < best) {

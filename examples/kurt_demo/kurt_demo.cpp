@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       "kurt_demo",
       "Plays the MACS final demonstrator with a KURT3D from its own sensors: finds a can, lifts "
       "it with the crane's magnet, drops it on the door's switch, drives through the opened "
-      "door.\nExit 0: through the door; 2: usage; 3: no robot; 4: no can found; 5: no can could "
+      "door.\nExit 0: through the door; 1: an internal error; 2: usage; 3: no robot; 4: no can found; 5: no can could "
       "be lifted; 6: the door stayed closed; 7: timeout; 8: no switch found; 9: could not get "
       "through.\n--domain N is required (it moves a robot: never on a domain it was not given).");
   cli.participant_options(&participant, /*domain_required=*/true);
@@ -79,6 +79,9 @@ int main(int argc, char** argv) {
   } catch (const macsim::dds::DdsError& e) {
     macsim::log::error("kurt_demo: DDS error: {}", e.what());
     return kurt_demo::kNoRobot;
+  } catch (const std::exception& e) {
+    macsim::log::error("kurt_demo: {}", e.what());
+    return 1;
   }
   return 0;
 }

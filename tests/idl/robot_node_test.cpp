@@ -1,4 +1,5 @@
-// The robot node over real DDS (two participants in this process): it serves a mock robot's
+// The robot node over real DDS (two participants in this process, discovering each other
+// through shared memory as two processes would, so a loaded machine may take seconds): it serves a mock robot's
 // topics, hands commands to the owner's queue (dropping numbers that are not finite), publishes
 // readings, and serves only what the robot has.
 #include "macsim/robot/robot_node.h"
@@ -60,7 +61,7 @@ TEST(RobotNode, ServesAMockRobotCommandsInReadingsOut) {
   s.mock.set_ranges({{"ir_left", false, 0.3}, {"ultrasound_front", true, 0.7}});
   client::RobotClient controller(s.controller_side, "kurt");
   Samples<sm::Range_PubSubType> ranges(s.controller_side, dds::topics::range("kurt"));
-  for (int i = 0; i < 300 && !controller.commander_matched(); ++i)
+  for (int i = 0; i < 3000 && !controller.commander_matched(); ++i)
     std::this_thread::sleep_for(10ms);
   ASSERT_TRUE(controller.commander_matched());
   controller.drive(std::nan(""), 0.0);  // dropped by the node, never reaches the robot
@@ -115,7 +116,7 @@ TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
   c.slew(0.4);
   c.lift(0.1);
   c.hoist(0.05);
-  for (int i = 0; i < 300 && command.matched() == 0; ++i) std::this_thread::sleep_for(10ms);
+  for (int i = 0; i < 3000 && command.matched() == 0; ++i) std::this_thread::sleep_for(10ms);
   ASSERT_GT(command.matched(), 0u);
   command.write(c);
   std::optional<km::CraneState_> seen;

@@ -89,13 +89,27 @@ AffordanceModel AffordanceModel::train(ModelInfo info, const cv::Mat& features,
 }
 
 void AffordanceModel::save(const std::string& path) const {
+  // OpenCV's save() writes the forest, the metadata is appended: YAML only (OpenCV appends to
+  // neither compressed nor JSON files). Written beside it and renamed: a failed save leaves
+  // the model that was there.
+  if (path.size() < 4 || path.compare(path.size() - 4, 4, ".yml") != 0)
+    throw ModelError(path + ": a model file ends in .yml");
+  const std::string partial = path + ".partial.yml";
   try {
-    forest_->trees->save(path);
-    cv::FileStorage fs(path, cv::FileStorage::APPEND);
+    forest_->trees->save(partial);
+    cv::FileStorage fs(partial, cv::FileStorage::APPEND);
     if (!fs.isOpened()) throw ModelError(path + ": cannot be written");
     write_info(fs, info_);
+    fs.release();
   } catch (const cv::Exception& e) {
+    std::filesystem::remove(partial);
     throw ModelError(path + ": cannot be written: " + e.msg);
+  }
+  std::error_code ec;
+  std::filesystem::rename(partial, path, ec);
+  if (ec) {
+    std::filesystem::remove(partial);
+    throw ModelError(path + ": cannot be written: " + ec.message());
   }
 }
 
@@ -170,7 +184,10 @@ Prediction AffordanceModel::predict(const std::vector<double>& features) const {
   for (std::size_t i = 0; i < features.size(); ++i) {
     if (!std::isfinite(features[i]) || std::fabs(features[i]) > 3.0e38)
       throw ModelError(info_.affordance + " model: feature " + info_.features[i] + " is " +
-                       std::to_string(features[i]) + ", not a finite number");
+                       (std::isnan(features[i]) ? std::string("nan")
+                        : features[i] > 0       ? std::string("too large or infinite")
+                                                : std::string("too small or -infinite")) +
+                       ", not a finite number");
     row.at<float>(0, static_cast<int>(i)) = static_cast<float>(features[i]);
   }
   return vote(row).front();

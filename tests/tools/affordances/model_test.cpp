@@ -159,6 +159,16 @@ TEST(AffordanceModel, LoadingRefusesEachBadFileNamingTheFileAndTheFault) {
   ASSERT_EQ(refusal(good), "");
 
   expect_refused(dir.path() + "/absent.yml", "no such model file");
+  // Saved as YAML only; a failed save leaves the model that was there.
+  try {
+    f.model.save(dir.path() + "/lift.json");
+    ADD_FAILURE() << "saved as JSON";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("ends in .yml"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.path() + "/lift.json"));
+  EXPECT_THROW(f.model.save(dir.path() + "/no_such_folder/lift.yml"), ModelError);
+  EXPECT_EQ(refusal(good), "");
   expect_refused(written("cut.yml", text.substr(0, text.size() / 2)), "damaged");
   expect_refused(written("garbage.yml", "%YAML:1.0\n---\n{{{ not yaml"), "damaged");
   expect_refused(written("forest_only.yml", text.substr(0, text.find("macsim_affordance_model"))),

@@ -53,7 +53,7 @@ class AffordanceModel {
   /// Reads a model file; with `expected_features`, refuses a model whose features differ.
   static AffordanceModel load(const std::string& path,
                               const std::vector<std::string>& expected_features = {});
-  /// Writes the model file (`.yml`, `.xml` or `.json`, optionally `.gz`).
+  /// Writes the model file (`.yml`); a failed save leaves the file that was there.
   void save(const std::string& path) const;
 
   /// The label for one trial's features, in info().features order (finite values).
