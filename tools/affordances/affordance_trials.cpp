@@ -413,7 +413,7 @@ int main(int argc, char** argv) {
   cli.option("camera-rate", "HZ",
              "camera rate of the simulators (default 1.25: a pair at the perception instant)",
              &camera_rate);
-  cli.option("timeout", "SECONDS", "an instance silent this long (wall time) is lost (default 10)",
+  cli.option("timeout", "SECONDS", "an instance whose participant left is lost after this long (wall time); one still matched but silent, after six times it (default 10)",
              &timeout);
   cli.option("logs", "DIR", "logs of the started simulators (default a fresh /tmp directory)",
              &log_dir);

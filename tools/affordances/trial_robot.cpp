@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <thread>
 #include <vector>
@@ -23,6 +24,7 @@ namespace sv = macsim::client::supervisor;
 namespace until = macsim::client::step_until;
 using Conditions = std::vector<until::Condition>;
 using namespace std::chrono_literals;
+using namespace std::string_literals;
 using macsim::client::stamp_seconds;
 
 namespace {
@@ -194,8 +196,14 @@ struct TrialRobot::Impl {
   double speed = 0;
   macsim::affordances::SensorInputs inputs;  // the last look's (keep_inputs)
 
+  /// How many timeouts a simulator still there may take to answer or to send a sample. A
+  /// loaded machine delays, it does not lose: a simulator that left is noticed sooner (its
+  /// participant unmatched, or an acknowledged request silent: the client's Gone).
+  static constexpr int kPatience = 6;
+  std::chrono::milliseconds patience() const { return kPatience * o.timeout; }
+
   mm::SupervisorReply_ call(const sv::Request& request, const char* what) {
-    auto reply = supervisor.call(request, o.timeout);
+    auto reply = supervisor.call(request, patience());
     if (!reply) {
       throw InstanceLost(
           std::string("no supervisor reply to ") + what + ": " +
@@ -204,6 +212,36 @@ struct TrialRobot::Impl {
     if (reply->code() != 0)
       throw std::runtime_error(std::string(what) + " refused: " + reply->message());
     return *reply;
+  }
+
+  /// The simulator's participant is still there: its robot's command readers are matched (a
+  /// killed one is unmatched when its lease ends).
+  bool simulator_present() const { return drive.commander_matched() && crane.matched(); }
+
+  /// Polls `ready` until it holds: the instance is lost when its simulator left (looked at
+  /// after the timeout), or when it stays there but silent for the patience (hung).
+  template <class Ready>
+  void await(Ready ready, const std::function<std::string()>& what) {
+    const auto start = std::chrono::steady_clock::now();
+    while (!ready()) {
+      const auto waited = std::chrono::steady_clock::now() - start;
+      if (waited > o.timeout && !simulator_present())
+        throw InstanceLost(what() + ": its simulator left");
+      if (waited > patience()) {
+        throw InstanceLost(what() + " in " + std::to_string(patience().count() / 1000) +
+                           " s: its simulator is matched but silent (hung?)");
+      }
+      std::this_thread::sleep_for(200us);
+    }
+  }
+
+  /// Waits until the robot commands sent since the last step reached the simulator.
+  void deliver() {
+    constexpr auto kSlice = 200ms;
+    if (drive_sent) await([&] { return drive.wait_delivered(kSlice); }, [] { return "cmd_vel not delivered"s; });
+    if (crane_sent) await([&] { return crane.wait_delivered(kSlice); }, [] { return "crane not delivered"s; });
+    if (laser_sent) await([&] { return laser.wait_delivered(kSlice); }, [] { return "rot_vel not delivered"s; });
+    drive_sent = crane_sent = laser_sent = false;
   }
 
   /// Steps of one tick.
@@ -219,10 +257,7 @@ struct TrialRobot::Impl {
   /// command holds through it, and the cameras render only when asked.
   mm::SimulationReply_ step(int n, const Conditions& conditions = {},
                             const Conditions& samples = {}, bool render = false) {
-    if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
-    if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
-    if (laser_sent && !laser.wait_delivered(o.timeout)) throw InstanceLost("rot_vel not delivered");
-    drive_sent = crane_sent = laser_sent = false;
+    deliver();
     uint32_t options = mm::STEP_PUBLISH_AT_END | mm::STEP_HOLD_COMMANDS;
     if (!render) options |= mm::STEP_NO_CAMERAS;
     if (o.hash_every_step) options |= mm::STEP_TRACE_HASH;
@@ -233,9 +268,9 @@ struct TrialRobot::Impl {
       for (auto& c : *list) c.robot(o.robot);  // this instance's robot (objects ignore it)
     }
     // A long request takes its sim time on top of the answer's own allowance (at least real
-    // time: a slower simulator counts as lost).
+    // time).
     const auto timeout =
-        o.timeout + std::chrono::milliseconds(static_cast<int64_t>(std::ceil(n * dt * 1000)));
+        patience() + std::chrono::milliseconds(static_cast<int64_t>(std::ceil(n * dt * 1000)));
     auto reply = simulation.call(request, timeout);
     if (!reply) {
       throw InstanceLost("no step reply: " + macsim::client::describe(simulation.last_outcome(),
@@ -276,18 +311,18 @@ struct TrialRobot::Impl {
   /// The newest sample of a topic due by now: stamped after `now - window`. Waits for it.
   template <class Get>
   auto newest(Get get, double window, const char* what) -> typename decltype(get())::value_type {
-    const auto deadline = std::chrono::steady_clock::now() + o.timeout;
-    while (true) {
-      auto sample = get();
-      // Not older than the window, and not from a trial before the last reset.
-      if (sample) {
-        const double stamp = stamp_seconds(sample->header());
-        if (stamp > now - window + 1e-9 && stamp <= now + 1e-9) return *sample;
-      }
-      if (std::chrono::steady_clock::now() > deadline)
-        throw InstanceLost(std::string("no ") + what + " for sim time " + std::to_string(now));
-      std::this_thread::sleep_for(100us);
-    }
+    std::optional<typename decltype(get())::value_type> found;
+    await(
+        [&] {
+          auto sample = get();
+          // Not older than the window, and not from a trial before the last reset.
+          if (!sample) return false;
+          const double stamp = stamp_seconds(sample->header());
+          if (stamp > now - window + 1e-9 && stamp <= now + 1e-9) found = std::move(sample);
+          return found.has_value();
+        },
+        [&] { return std::string("no ") + what + " for sim time " + std::to_string(now); });
+    return *found;
   }
   kurt_msgs::msg::dds_::CraneState_ crane_state() {
     return newest([&] { return crane.state(); }, kFrameWindow, "crane state");
@@ -323,9 +358,7 @@ struct TrialRobot::Impl {
 
   void begin() {
     // Nothing of the last trial may arrive after the reset.
-    if (drive_sent && !drive.wait_delivered(o.timeout)) throw InstanceLost("cmd_vel not delivered");
-    if (crane_sent && !crane.wait_delivered(o.timeout)) throw InstanceLost("crane not delivered");
-    if (laser_sent && !laser.wait_delivered(o.timeout)) throw InstanceLost("rot_vel not delivered");
+    deliver();
     call(sv::reset(mm::RESET_EVERYTHING), "reset");
     now = 0;
     trace = 0;
@@ -355,13 +388,9 @@ struct TrialRobot::Impl {
     step(static_cast<int>(std::lround((kPerceiveAt - now) / dt)), {}, {}, true);  // the pair
     Percept p;
     const double window = 1.0 / o.camera_rate;
-    const auto deadline = std::chrono::steady_clock::now() + o.timeout;
     std::optional<macsim::client::StereoFrame> frame;
-    while (!(frame = cameras.latest(now - window + 1e-9)) || frame->stamp > now + 1e-9) {
-      if (std::chrono::steady_clock::now() > deadline)
-        throw InstanceLost("no stereo pair for sim time " + std::to_string(now));
-      std::this_thread::sleep_for(200us);
-    }
+    await([&] { return (frame = cameras.latest(now - window + 1e-9)) && frame->stamp <= now + 1e-9; },
+          [&] { return "no stereo pair for sim time " + std::to_string(now); });
     perceive_image(*frame, p);
     auto scan = newest([&] { return laser.scan(); }, kScanWindow, "laser scan");
     perceive_scan(scan, SensorMount{}, p);
@@ -497,14 +526,13 @@ struct TrialRobot::Impl {
     laser.rotate(2 * M_PI);  // a turn a second: a cloud of about 75 sweeps
     laser_sent = true;
     step(ticks_to(now + 1.04) * tick_steps());
-    const auto deadline = std::chrono::steady_clock::now() + o.timeout;
     std::optional<macsim::client::Cloud> cloud;
-    while (laser.clouds() <= seen || !(cloud = laser.cloud(look_from)) ||
-           cloud->stamp > now + 1e-9) {
-      if (std::chrono::steady_clock::now() > deadline)
-        throw InstanceLost("no 3D cloud for sim time " + std::to_string(now));
-      std::this_thread::sleep_for(200us);
-    }
+    await(
+        [&] {
+          return laser.clouds() > seen && (cloud = laser.cloud(look_from)) &&
+                 cloud->stamp <= now + 1e-9;
+        },
+        [&] { return "no 3D cloud for sim time " + std::to_string(now); });
     perceive_cloud(*cloud, SensorMount{}, p);
     if (o.keep_inputs) inputs.cloud = cloud;
     laser.rotate(0);
