@@ -168,7 +168,13 @@ void DemoController::tick(double seconds) {
     crane_.wait_delivered();
     laser_.wait_delivered();
     const auto steps = static_cast<uint64_t>(std::max(1L, std::lround(seconds / step_size_)));
-    auto reply = simulation_->step(steps);
+    // The robot's topics bring their newest sample at the tick's end (the controller reads
+    // nothing in between), and the cameras render only while it looks: most of a lock-step
+    // simulator's time would otherwise go to data nobody reads.
+    uint32_t options = mm::STEP_PUBLISH_AT_END;
+    if (!looking_) options |= mm::STEP_NO_CAMERAS;
+    auto request = macsim::client::step_until::request(steps, 0, options);
+    auto reply = simulation_->call(request);
     if (!reply) {
       throw Failure{kNoRobot, macsim::client::describe(simulation_->last_outcome(),
                                                        "simulation control")};
@@ -328,6 +334,11 @@ Pose2 DemoController::to_base(double x, double y) const {
 std::vector<std::pair<Sighting, Pose2>> DemoController::look(int frames) {
   linear_ = angular_ = 0;
   wait(0.3);  // let the chassis come to rest
+  looking_ = true;
+  struct Done {
+    bool& looking;
+    ~Done() { looking = false; }
+  } done{looking_};
   std::vector<std::pair<Sighting, Pose2>> seen;
   double after = now_ - 1e-6;
   for (int taken = 0, tries = 0; taken < frames && tries < 40; ++tries) {

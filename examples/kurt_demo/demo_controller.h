@@ -159,6 +159,7 @@ class DemoController {
   std::optional<Candidate> switch_;
   std::vector<std::string> failed_colours_;
   int lift_attempts_ = 0;
+  bool looking_ = false;  // lock-step: the cameras render only while looking
   ObstacleMap obstacles_;
   int debug_count_ = 0;
 };

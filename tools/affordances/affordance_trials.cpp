@@ -415,7 +415,7 @@ int main(int argc, char** argv) {
              &camera_rate);
   cli.option("timeout", "SECONDS", "an instance whose participant left is lost after this long (wall time); one still matched but silent, after six times it (default 10)",
              &timeout);
-  cli.option("logs", "DIR", "logs of the started simulators (default a fresh /tmp directory)",
+  cli.option("logs", "DIR", "logs of the started simulators (default a fresh /tmp directory, removed after a run where no instance was lost and no trial refused)",
              &log_dir);
   cli.option("repeat", "R", "run every trial R times and check the rows are identical (default 1)",
              &repeat);
@@ -524,7 +524,8 @@ int main(int argc, char** argv) {
   pool.instance.hash_every_step = hash_every_step;
   pool.instance.keep_inputs = !inputs_dir.empty();
   pool.instance.timeout = std::chrono::milliseconds(static_cast<int64_t>(timeout * 1000));
-  if (log_dir.empty()) {
+  const bool temporary_logs = log_dir.empty();  // removed after a run with nothing to tell
+  if (temporary_logs) {
     log_dir =
         (std::filesystem::temp_directory_path() / ("affordance_trials_" + std::to_string(getpid())))
             .string();
@@ -631,6 +632,14 @@ int main(int argc, char** argv) {
   if (summary.lost_instances > 0)
     std::printf("affordance_trials: %d instance(s) lost; their trials ran elsewhere\n",
                 summary.lost_instances);
+  const bool clean = summary.lost_instances == 0 && summary.not_run.empty() && summary.failed == 0;
+  if (temporary_logs && !todo.empty()) {
+    std::error_code ignored;
+    if (clean)
+      std::filesystem::remove_all(log_dir, ignored);
+    else
+      std::printf("affordance_trials: the simulators' logs are in %s\n", log_dir.c_str());
+  }
   if (!summary.not_run.empty() || summary.failed > 0) {
     std::printf(
         "affordance_trials: %zu trials not run (every instance lost), %d refused; run the "
