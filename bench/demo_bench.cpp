@@ -1,8 +1,10 @@
 // The final demonstrator over many layouts: for each seed, macsim --lockstep --seed N on the
 // demo world and kurt_demo --lockstep stepping it, in two processes over DDS. Prints the success
 // rate, the median and 90th percentile of the robot (sim) time and the wall time per run, and
-// their ratio (how much faster than real time a run is). `name value unit` lines.
-//   bench_demo [SEEDS [FIRST]]   (default 50 seeds from 1; from the repository root)
+// their ratio (how much faster than real time a run is), and how often the first can tried came
+// up (with a lift model, --affordances, against nearest first without). `name value unit` lines.
+//   bench_demo [--world FILE] [--affordances DIR] [SEEDS [FIRST]]
+//   (default worlds/DemoWorld_v1.xml, 50 seeds from 1; from the repository root)
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,20 +34,26 @@ double percentile(std::vector<double> v, double p) {
 
 int main(int argc, char** argv) {
   int seeds = 50, first = 1;
-  if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::printf(
-        "usage: bench_demo [SEEDS [FIRST]]\n  kurt_demo against macsim in lock-step on SEEDS "
-        "layouts of worlds/DemoWorld_v1.xml (default 50 from seed 1); prints the success "
-        "rate and the median and p90 robot and wall time per run. Run from the "
-        "repository root.\n");
+        "usage: bench_demo [--world FILE] [--affordances DIR] [SEEDS [FIRST]]\n  kurt_demo "
+        "against macsim in lock-step on SEEDS layouts of FILE (default "
+        "worlds/DemoWorld_v1.xml; 50 from seed 1), with the lift model DIR/lift.yml if given; "
+        "prints the success rate, how often the first can tried came up, the lift attempts, "
+        "and the median and p90 robot and wall time per run. Run from the repository root.\n");
     return 0;
   }
-  if ((argc > 1 && (seeds = std::atoi(argv[1])) <= 0) ||
-      (argc > 2 && (first = std::atoi(argv[2])) < 0) || argc > 3) {
+  std::string world = "worlds/DemoWorld_v1.xml", affordances;
+  while (args.size() >= 2 && (args[0] == "--world" || args[0] == "--affordances")) {
+    (args[0] == "--world" ? world : affordances) = args[1];
+    args.erase(args.begin(), args.begin() + 2);
+  }
+  if ((!args.empty() && (seeds = std::atoi(args[0].c_str())) <= 0) ||
+      (args.size() > 1 && (first = std::atoi(args[1].c_str())) < 0) || args.size() > 2) {
     std::fprintf(stderr, "bench_demo: SEEDS must be positive and FIRST not negative (--help)\n");
     return 2;
   }
-  const std::string world = "worlds/DemoWorld_v1.xml";
   if (!std::filesystem::exists(world)) {
     std::fprintf(stderr, "bench_demo: run it from the repository root (%s not found)\n",
                  world.c_str());
@@ -57,6 +65,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(logs);
   std::vector<double> sim_times, wall_times;
   std::vector<int> failed;
+  int lift_attempts = 0, first_lifts = 0;
   for (int seed = first; seed < first + seeds; ++seed) {
     const std::string domain = std::to_string(150 + seed % 80);
     const std::string sim_log = logs + "/macsim_" + std::to_string(seed) + ".log";
@@ -65,8 +74,9 @@ int main(int argc, char** argv) {
                                        "--lockstep", "--seed", std::to_string(seed)},
                                       macsim::process::Output::file(sim_log));
     const auto start = std::chrono::steady_clock::now();
-    macsim::process::ChildProcess demo({bin + "/kurt_demo", "--domain", domain, "--lockstep"},
-                                       macsim::process::Output::file(demo_log));
+    std::vector<std::string> demo_argv{bin + "/kurt_demo", "--domain", domain, "--lockstep"};
+    if (!affordances.empty()) demo_argv.insert(demo_argv.end(), {"--affordances", affordances});
+    macsim::process::ChildProcess demo(demo_argv, macsim::process::Output::file(demo_log));
     const auto ended = demo.wait_for_exit(std::chrono::seconds(600));
     const int code = ended ? *ended : demo.stop();  // stopped after 600 s
     const double wall =
@@ -79,8 +89,12 @@ int main(int argc, char** argv) {
     double sim_time = 0;
     const auto at = last.find("robot time ");
     if (at != std::string::npos) sim_time = std::atof(last.c_str() + at + 11);
-    std::fprintf(stderr, "seed %d: exit %d, robot time %.1f s, wall time %.1f s\n", seed, code,
-                 sim_time, wall);
+    const auto tries = last.find("lift attempts: ");
+    const int attempts = tries == std::string::npos ? 0 : std::atoi(last.c_str() + tries + 15);
+    lift_attempts += attempts;
+    if (code == 0 && attempts == 1) ++first_lifts;
+    std::fprintf(stderr, "seed %d: exit %d, robot time %.1f s, wall time %.1f s, lift attempts %d\n",
+                 seed, code, sim_time, wall, attempts);
     if (code != 0) {
       failed.push_back(seed);
       continue;
@@ -93,6 +107,8 @@ int main(int argc, char** argv) {
   std::printf("demo_runs %d count\n", seeds);
   std::printf("demo_successes %zu count\n", sim_times.size());
   std::printf("demo_success_rate %.3f ratio\n", static_cast<double>(sim_times.size()) / seeds);
+  std::printf("demo_first_lift_rate %.3f ratio\n", static_cast<double>(first_lifts) / seeds);
+  std::printf("demo_lift_attempts_mean %.2f count\n", static_cast<double>(lift_attempts) / seeds);
   std::printf("demo_sim_time_median %.1f s\n", percentile(sim_times, 0.5));
   std::printf("demo_sim_time_p90 %.1f s\n", percentile(sim_times, 0.9));
   std::printf("demo_wall_time_median %.1f s\n", percentile(wall_times, 0.5));

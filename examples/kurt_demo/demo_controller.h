@@ -14,9 +14,7 @@
 #include "kurt_geometry.h"
 #include "laser_map.h"
 #include "macsim/affordances/model.h"
-#include "macsim/client/robot_client.h"
-#include "macsim/client/robot_devices.h"
-#include "macsim/client/supervisor_client.h"
+#include "robot_loop.h"
 #include "vision.h"
 
 namespace kurt_demo {
@@ -41,10 +39,7 @@ struct Failure {
 };
 
 struct DemoOptions {
-  std::string robot = "kurt";
-  bool lockstep = false;         ///< step the simulation (SIM_STEP) instead of following it
-  double timeout = 400.0;        ///< s of robot time for the whole scenario
-  double discovery_timeout = 20.0;  ///< s of wall time to find the robot
+  kurt_loop::LoopOptions loop;   ///< robot, lock-step, timeouts (400 s of robot time)
   bool pictures = false;         ///< ask the simulator for an overview picture per scene
   std::string debug_images;      ///< folder for the camera images with what was seen, or empty
   /// A lift model (affordance_learn --save-model) to rank the cans by before trying any.
@@ -56,10 +51,7 @@ struct DemoOptions {
 /// file and what is wrong.
 macsim::affordances::AffordanceModel load_lift_model(const std::string& dir);
 
-/// A planar pose in the odometry frame.
-struct Pose2 {
-  double x = 0, y = 0, yaw = 0;
-};
+using kurt_loop::Pose2;
 
 /// A can candidate in the odometry frame.
 struct Candidate {
@@ -72,32 +64,22 @@ struct Candidate {
   int judged = 0;       ///< sightings the model judged
 };
 
-class DemoController {
+class DemoController : public kurt_loop::RobotLoop {
  public:
   DemoController(macsim::dds::Participant& participant, const DemoOptions& options);
-  ~DemoController();
-  /// Plays the scenario; returns when the robot is through the door or throws Failure.
+  ~DemoController() override;
+  /// Plays the scenario; returns when the robot is through the door or throws Failure (or
+  /// kurt_loop::LoopError: no robot, timeout, no cloud).
   void run();
-  /// Robot time since the start, s.
-  double elapsed() const { return now_ - start_; }
   /// Cans the crane tried to lift so far.
   int lift_attempts() const { return lift_attempts_; }
 
  private:
   // ---- the loop ---------------------------------------------------------------------------
-  void connect();
-  /// Sends the current set-points, lets `seconds` of robot time pass, reads odometry and IMU.
-  void tick(double seconds = 0.05);
-  void wait(double seconds);
   void say(const std::string& scene, const std::string& text);
   void picture(const std::string& name);
 
   // ---- motion -----------------------------------------------------------------------------
-  void turn_to(double yaw);
-  void drive_to(double x, double y, double tolerance, double speed = 0.3);
-  void drive_straight(double distance, double speed);
-  /// Moves the crane to the targets and waits until it is there (or `timeout` passed).
-  bool crane_to(double slew, double lift, double hoist, double timeout = 4.0);
   void park_crane();
   /// Lowers the magnet at `lift` onto something whose top is `height` above the floor: fast
   /// to just above it, then slowly until the magnet holds something (`until_held`) or rests.
@@ -107,8 +89,6 @@ class DemoController {
   // ---- sensing ----------------------------------------------------------------------------
   /// Stops, lets the robot settle, and returns what `frames` stereo pairs show, in odometry.
   std::vector<std::pair<Sighting, Pose2>> look(int frames = 1);
-  /// Stops and returns a laser cloud taken wholly after stopping.
-  macsim::client::Cloud take_cloud();
   void record(const std::vector<std::pair<Sighting, Pose2>>& sightings);
   /// Stops, takes a laser cloud and adds it to the obstacle map.
   void map_here();
@@ -129,37 +109,16 @@ class DemoController {
   void deliver();
   void go_through();
 
-  Pose2 to_odom(double bx, double by) const;
-  Pose2 to_base(double x, double y) const;
-
   DemoOptions options_;
   KurtGeometry geometry_;
-  macsim::dds::Participant& participant_;
-  macsim::client::RobotClient drive_;
-  macsim::client::Crane crane_;
-  macsim::client::StereoCamera cameras_;
-  macsim::client::Laser laser_;
-  macsim::client::Imu imu_;
-  std::unique_ptr<macsim::client::SimulationClient> simulation_;  // lock-step only
   struct Pictures;
   std::unique_ptr<Pictures> pictures_;
-  double step_size_ = 0.001;
-
-  // set-points, sent with every tick
-  double linear_ = 0, angular_ = 0;
-  double slew_ = 0, lift_ = 0, hoist_ = 0;
-  bool magnet_ = false;
-  double rotunit_ = 0;
 
   // what the robot knows
-  double now_ = 0, start_ = 0;
-  Pose2 pose_;
-  std::optional<std::pair<double, double>> last_position_;  // odometry's, for the distance
   std::vector<Candidate> candidates_;
   std::optional<Candidate> switch_;
   std::vector<std::string> failed_colours_;
   int lift_attempts_ = 0;
-  bool looking_ = false;  // lock-step: the cameras render only while looking
   ObstacleMap obstacles_;
   int debug_count_ = 0;
 };

@@ -23,15 +23,15 @@ int main(int argc, char** argv) {
       "be lifted; 6: the door stayed closed; 7: timeout; 8: no switch found; 9: could not get "
       "through.\n--domain N is required (it moves a robot: never on a domain it was not given).");
   cli.participant_options(&participant, /*domain_required=*/true);
-  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.robot);
+  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.loop.robot);
   cli.flag("lockstep",
            "step the simulation from here (macsim --lockstep): reproducible, as fast "
            "as the machine allows",
-           &options.lockstep);
+           &options.loop.lockstep);
   cli.option("timeout", "SECONDS", "give up after this much robot time (default 400)",
-             &options.timeout);
+             &options.loop.timeout);
   cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
-             &options.discovery_timeout);
+             &options.loop.discovery_timeout);
   cli.flag("pictures",
            "ask the simulator (macsim --pictures DIR) for an overview picture per scene",
            &options.pictures);
@@ -43,7 +43,8 @@ int main(int argc, char** argv) {
              "features the cameras give from where the robot stands) before trying any",
              &affordances);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || options.robot.empty()) {
+  if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
+      options.loop.robot.empty()) {
     macsim::log::error(
         "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not empty");
     return kurt_demo::kUsage;
@@ -63,14 +64,21 @@ int main(int argc, char** argv) {
   try {
     macsim::dds::Participant dds(participant);
     kurt_demo::DemoController demo(dds, options);
-    try {
-      demo.run();
-    } catch (const kurt_demo::Failure& failure) {
+    auto failed = [&](int code, const std::string& reason) {
       std::printf(
           "kurt_demo: FAILED (exit %d): %s; robot time %.1f s, wall time %.1f s, lift "
           "attempts: %d\n",
-          failure.code, failure.reason.c_str(), demo.elapsed(), wall(), demo.lift_attempts());
-      return failure.code;
+          code, reason.c_str(), demo.elapsed(), wall(), demo.lift_attempts());
+      return code;
+    };
+    try {
+      demo.run();
+    } catch (const kurt_demo::Failure& failure) {
+      return failed(failure.code, failure.reason);
+    } catch (const kurt_loop::LoopError& e) {
+      constexpr kurt_demo::Exit kCodes[] = {kurt_demo::kNoRobot, kurt_demo::kTimeout,
+                                            kurt_demo::kNoPassage};
+      return failed(kCodes[static_cast<int>(e.stop)], e.what());
     }
     std::printf(
         "kurt_demo: SUCCESS: the robot is through the door; robot time %.1f s, wall time "

@@ -380,6 +380,8 @@ class Loader {
         has_area = true;
       } else if (tag == "ROBOT_AREA") {
         v.robot_area = area(r, e);
+      } else if (tag == "INSIDE") {
+        v.inside = r.boolean(e);
       } else if (tag == "CLEARANCE") {
         v.clearance = r.non_negative(e);
         if (v.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");

@@ -108,8 +108,23 @@ void normalize_orientations(ObjectSpec& object) {
 double footprint_radius(const ObjectSpec& object) {
   double radius = 0.0;
   for (const auto& c : object.components) {
-    const double offset = c.pose.position.head<2>().norm();
-    const double half = c.shape == Shape::Box ? 0.5 * c.size.head<2>().norm() : c.size.x();
+    const Eigen::Quaterniond q = object.pose.orientation * c.pose.orientation;
+    const double offset = (object.pose.orientation * c.pose.position).head<2>().norm();
+    double half = 0;
+    if (c.shape == Shape::Sphere || std::fabs((q * Eigen::Vector3d::UnitZ()).z()) > 0.999) {
+      // Standing upright (turned about the vertical at most): its cross-section.
+      half = c.shape == Shape::Box ? 0.5 * c.size.head<2>().norm() : c.size.x();
+    } else {
+      // Tilted or lying (a cylinder on its side): the farthest corner of its box, seen from above.
+      const Eigen::Vector3d box = c.shape == Shape::Box
+                                      ? Eigen::Vector3d(c.size / 2)
+                                      : Eigen::Vector3d(c.size.x(), c.size.x(), c.size.z() / 2);
+      for (int k = 0; k < 8; ++k) {
+        const Eigen::Vector3d corner((k & 1 ? 1 : -1) * box.x(), (k & 2 ? 1 : -1) * box.y(),
+                                     (k & 4 ? 1 : -1) * box.z());
+        half = std::max(half, (q * corner).head<2>().norm());
+      }
+    }
     radius = std::max(radius, offset + half);
   }
   return radius;

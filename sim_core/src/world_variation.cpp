@@ -42,7 +42,7 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   std::vector<std::size_t> chosen;
   for (std::size_t i = 0; i < spec.objects.size(); ++i) {
     const ObjectSpec& o = spec.objects[i];
-    if (o.portable && o.user_data == v.user_data) {
+    if (o.kind == ObjectKind::Object && o.user_data == v.user_data) {  // portable or fixed
       chosen.push_back(i);
     } else if (obstacle(o)) {
       taken.push_back({o.pose.position.head<2>(), footprint_radius(o)});
@@ -55,7 +55,16 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
                              std::to_string(chosen.size()));
   }
   std::vector<std::string> moved;
-  auto place = [&](const Eigen::Vector4d& area, double radius, const std::string& what) {
+  // A place in `area` clear of everything taken; with `whole`, the footprint inside it too.
+  auto place = [&](Eigen::Vector4d area, double radius, const std::string& what, bool whole) {
+    if (whole) {
+      area += Eigen::Vector4d(radius, radius, -radius, -radius);
+      if (area[0] > area[2] || area[1] > area[3]) {
+        throw WorldFileError(v.source.file, v.source.line,
+                             "<VARIATION>: " + what + " (" + std::to_string(radius) +
+                                 " m from its middle) does not fit inside <AREA>");
+      }
+    }
     for (int attempt = 0; attempt < 2000; ++attempt) {
       const Eigen::Vector2d at(uniform(area[0], area[2]), uniform(area[1], area[3]));
       const bool free = std::all_of(taken.begin(), taken.end(), [&](const Placed& p) {
@@ -77,9 +86,12 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
                   at.y(), yaw * 180.0 / M_PI);
     moved.emplace_back(line);
   };
-  if (v.robot_area) {
+  if (!v.robot_area) {
+    // The robots stay where they are: nothing is placed on them.
+    for (const auto& robot : spec.robots) taken.push_back({robot.pose.position.head<2>(), kRobotRadius});
+  } else {
     for (auto& robot : spec.robots) {
-      const Eigen::Vector2d at = place(*v.robot_area, kRobotRadius, "robot '" + robot.name + "'");
+      const Eigen::Vector2d at = place(*v.robot_area, kRobotRadius, "robot '" + robot.name + "'", false);
       const double yaw = uniform(-M_PI, M_PI);
       robot.pose.position.head<2>() = at;
       robot.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
@@ -92,7 +104,7 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   std::map<std::string, std::size_t> colour_of;
   for (std::size_t i : chosen) {
     ObjectSpec& o = spec.objects[i];
-    const Eigen::Vector2d at = place(v.area, footprint_radius(o), "object '" + o.name + "'");
+    const Eigen::Vector2d at = place(v.area, footprint_radius(o), "object '" + o.name + "'", v.inside);
     const double yaw = uniform(-M_PI, M_PI);
     o.pose.position.head<2>() = at;
     o.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * o.pose.orientation;

@@ -14,37 +14,14 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "support/child_process.h"
-#include "support/latest_sample.h"
 #include "support/test_domain.h"
+#include "support/world_view.h"
 
 namespace macsim::test {
 namespace {
 
 using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
-
-/// The world as macsim last published it: objects by name, the door, the robot's ground truth.
-struct WorldView {
-  explicit WorldView(dds::Participant& p)
-      : objects_(p, dds::topics::kWorldObjects, dds::QosFamily::Latched,
-                 [this](const mm::ObjectState_& s) {
-                   std::lock_guard<std::mutex> lock(mutex_);
-                   objects[s.object().name()] = s.object();
-                 }),
-        doors(p, dds::topics::kWorldDoors),
-        truth(p, dds::topics::ground_truth("kurt")) {}
-
-  std::map<std::string, mm::Object_> snapshot() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return objects;
-  }
-
-  std::mutex mutex_;
-  std::map<std::string, mm::Object_> objects;
-  dds::Reader<mm::ObjectState_PubSubType> objects_;
-  Samples<mm::DoorState_PubSubType> doors;
-  Samples<nav_msgs::msg::dds_::Odometry_PubSubType> truth;
-};
 
 struct DemoRun {
   int exit_code = -1;

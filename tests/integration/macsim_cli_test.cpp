@@ -25,8 +25,8 @@ using namespace std::chrono_literals;
 
 TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
   for (const char* program :
-       {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest", "kurt_demo", "kurt_adapter",
-        "kurt_emulator", "bench_dds", "affordance_trials", "macsim_topic", "macsim_web"}) {
+       {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest", "kurt_demo", "kurt_navigate",
+        "kurt_adapter", "kurt_emulator", "bench_dds", "affordance_trials", "macsim_topic", "macsim_web"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
     EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();
@@ -48,8 +48,10 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_robot"), "-h"}, 0, "usage: bench_robot"},
            {{bin("bench_step_rate")}, 2, "usage: bench_step_rate"},
            {{bin("bench_step_rate"), source("worlds/small_room.xml"), "abc"}, 2, "SIM_SECONDS"},
-           {{bin("bench_demo"), "--help"}, 0, "bench_demo [SEEDS [FIRST]]"},
+           {{bin("bench_demo"), "--help"}, 0, "bench_demo [--world FILE] [--affordances DIR] [SEEDS [FIRST]]"},
            {{bin("bench_demo"), "0"}, 2, "SEEDS must be positive"},
+           {{bin("bench_navigate"), "--help"}, 0, "usage: bench_navigate --affordances DIR"},
+           {{bin("bench_navigate"), "5"}, 2, "--affordances DIR is required"},
            {{bin("bench_affordances"), "--help"}, 0, "usage: bench_affordances [TRIALS]"},
            {{bin("bench_affordances"), "0"}, 2, "TRIALS must be positive"},
            {{bin("bench_peers"), "--help"}, 0, "usage: bench_peers"},
@@ -171,6 +173,7 @@ TEST(MacsimCli, NoProgramActsOnHelpABadArgumentOrWithoutADomain) {
         {"interfaceTest", "-load", "worlds/ramps.xml"},
         {"dynamicObjectTest", "1"},
         {"kurt_demo"},
+        {"kurt_navigate", "--policy", "avoid"},
         {"kurt_adapter", "--can", "udp:47801:47802"},
         {"cyclone_drive"},
         {"cyclone_listen"},

@@ -1,5 +1,6 @@
 """The Python examples as a user runs them: hello_kurt.py against macsim and against the real
-robot's side (kurt_adapter with the KURT emulator), liftability.py against macsim --lockstep."""
+robot's side (kurt_adapter with the KURT emulator), liftability.py against macsim --lockstep,
+rank_by_lift_model.py with a model learned from Figure 11 trials."""
 
 import os
 import subprocess
@@ -9,6 +10,7 @@ from conftest import binary, source, start_macsim
 
 HELLO = source("examples/python/hello_kurt.py")
 LIFTABILITY = source("examples/python/liftability.py")
+RANK = source("examples/python/rank_by_lift_model.py")
 
 
 def run(argv, timeout=120):
@@ -55,3 +57,29 @@ def test_liftability_trials_print_their_table(domain, spawn):
     assert rows["light_wood_box"][4] == "not_liftable", done.stdout
     assert rows["heavy_iron_box"][4] == "not_liftable", done.stdout
     assert len(rows) == 4
+
+
+def test_rank_by_lift_model_ranks_what_the_cameras_see_heavy_blue_last(domain, spawn, tmp_path):
+    assert run([RANK, "--help"]).returncode == 0
+    rows, models = tmp_path / "figure11.csv", tmp_path / "models"
+    for argv in ([binary("affordance_trials"), "--domain", str(domain), "--generator", "figure11",
+                  "--trials", "24", "--out", str(rows)],
+                 [binary("affordance_learn"), "--in", str(rows), "--features", "hue",
+                  "--save-model", str(models)]):
+        made = subprocess.run(argv, capture_output=True, text=True, timeout=180)
+        assert made.returncode == 0, made.stdout + made.stderr
+    # A model of features the cameras do not give is refused before anything is asked.
+    wrong = run([RANK, "--domain", str(domain), "--model",
+                 source("tests/tools/affordances/lift_trials.csv")])
+    assert wrong.returncode == 2, wrong.stdout + wrong.stderr
+    start_macsim(spawn, domain, "worlds/DemoWorld_figure11.xml", "--seed", "2", "--lockstep")
+    done = run([RANK, "--domain", str(domain), "--model", str(models / "lift.yml"), "--lockstep"])
+    assert done.returncode == 0, done.stdout + done.stderr
+    ranked = [line.split() for line in done.stdout.splitlines() if "P(liftable)" in line]
+    assert ranked, done.stdout
+    chances = [float(words[2]) for words in ranked]
+    hues = [float(words[4]) for words in ranked]
+    assert chances == sorted(chances, reverse=True), done.stdout
+    # The blue (lead) cans in view are judged heavy, the others light.
+    blue = [p for p, hue in zip(chances, hues) if 200 <= hue <= 260]
+    assert blue and max(blue) < 0.5, done.stdout

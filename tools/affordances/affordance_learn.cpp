@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "learning.h"
+#include "macsim/affordances/perception.h"
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/log.h"
 
@@ -24,7 +25,8 @@ int main(int argc, char** argv) {
   cli.option("in", "FILE.csv", "trial rows (affordance_trials --out)", &in);
   cli.option("out", "DIR", "where the plots go (created)", &out);
   cli.option("features", "A,B,...",
-             "learn from these perceived features only (default all: r,g,b,hue,area_px,...)",
+             "learn from these perceived features only (default all: r,g,b,hue,area_px,...); a "
+             "sensor's group stands for its features: camera, sweep, top, cloud",
              &feature_list);
   cli.option("min-accuracy", "FRACTION", "exit 1 when an affordance is learned less well",
              &min_accuracy);
@@ -41,7 +43,13 @@ int main(int argc, char** argv) {
   }
   std::vector<std::string> features;
   std::stringstream list(feature_list);
-  for (std::string f; std::getline(list, f, ',');) features.push_back(f);
+  for (std::string f; std::getline(list, f, ',');) {
+    // A sensor's group stands for its features (e.g. cloud: what a navigator has).
+    if (const auto* group = macsim::affordances::feature_group(f))
+      features.insert(features.end(), group->begin(), group->end());
+    else
+      features.push_back(f);
+  }
 
   std::map<std::string, Dataset> sets;
   try {

@@ -288,9 +288,17 @@ std::vector<double> features(const Percept& p, Affordance affordance) {
   return f;
 }
 
-Percept perceive(const SensorInputs& in, const SensorMount& mount) {
+std::vector<cv::Rect> objects_in_view(const cv::Mat& bgr) {
+  std::vector<cv::Rect> boxes;
+  if (bgr.empty()) return boxes;
+  for (const Blob& b : blobs(bgr)) boxes.push_back(b.box);
+  return boxes;
+}
+
+Percept perceive(const SensorInputs& in, const SensorMount& mount,
+                 const std::optional<cv::Rect>& region) {
   Percept p;
-  if (in.frame) perceive_image(*in.frame, p);
+  if (in.frame) perceive_image(*in.frame, p, region);
   if (in.scan) perceive_scan(*in.scan, mount, p);
   if (in.cloud) perceive_cloud(*in.cloud, mount, p);
   return p;
@@ -394,24 +402,33 @@ std::map<std::string, double> named_features(const Percept& percept, Affordance 
   return out;
 }
 
+const std::vector<std::string>* feature_group(const std::string& name) {
+  static const std::map<std::string, std::vector<std::string>> groups = [] {
+    std::map<std::string, std::vector<std::string>> g;
+    g["camera"] = {"r",       "g",        "b",         "hue",  "area_px",
+                   "width_px", "height_px", "fill",     "stereo_range", "width_m"};
+    g["sweep"] = {"laser_range", "laser_height", "laser_depth", "laser_slope"};
+    g["top"] = {"top_length", "top_flatness", "top_curvature", "carried_height"};
+    g["cloud"] = grid_names();
+    g["cloud"].insert(g["cloud"].end(), {"free_width", "corridor_height", "corridor_nearest"});
+    return g;
+  }();
+  const auto found = groups.find(name);
+  return found == groups.end() ? nullptr : &found->second;
+}
+
 const std::vector<std::string>& feature_names(Affordance affordance) {
-  static const std::vector<std::string> base{"r",           "g",           "b",
-                                             "hue",         "area_px",     "width_px",
-                                             "height_px",   "fill",        "stereo_range",
-                                             "width_m",     "laser_range", "laser_height",
-                                             "laser_depth", "laser_slope"};
-  static const std::vector<std::string> stack = [] {
-    auto n = base;
-    n.insert(n.end(), {"top_length", "top_flatness", "top_curvature", "carried_height"});
-    return n;
-  }();
-  static const std::vector<std::string> traverse = [] {
-    auto n = base;
-    const auto grid = grid_names();
-    n.insert(n.end(), grid.begin(), grid.end());
-    n.insert(n.end(), {"free_width", "corridor_height", "corridor_nearest"});
-    return n;
-  }();
+  auto join = [](std::initializer_list<const char*> names) {
+    std::vector<std::string> all;
+    for (const char* n : names) {
+      const auto& group = *feature_group(n);
+      all.insert(all.end(), group.begin(), group.end());
+    }
+    return all;
+  };
+  static const std::vector<std::string> base = join({"camera", "sweep"});
+  static const std::vector<std::string> stack = join({"camera", "sweep", "top"});
+  static const std::vector<std::string> traverse = join({"camera", "sweep", "cloud"});
   switch (affordance) {
     case Affordance::Stack:
       return stack;

@@ -35,6 +35,7 @@ from ._macsim import (
     affordance_features,
     kurt3d_description,
     load_sensor_inputs,
+    objects_in_view,
 )
 from ._macsim import (
     DESTROY_EVERY_OBJECT,

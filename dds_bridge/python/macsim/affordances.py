@@ -15,9 +15,11 @@ from typing import Optional, Sequence, Union
 
 from ._macsim import AffordanceModel, AffordanceModelError
 from ._macsim import affordance_features as features
+from ._macsim import objects_in_view
 from ._macsim import load_sensor_inputs as load_inputs
 
-__all__ = ["AffordanceModel", "AffordanceModelError", "features", "load", "load_inputs"]
+__all__ = ["AffordanceModel", "AffordanceModelError", "features", "load", "load_inputs",
+           "objects_in_view"]
 
 
 def load(path: Union[str, PathLike], features: Optional[Sequence[str]] = None) -> AffordanceModel:

@@ -4,6 +4,7 @@
 #include "macsim/affordances/model.h"
 #include "macsim/affordances/perception.h"
 
+#include <tuple>
 #include <variant>
 
 #include "bindings.h"
@@ -39,18 +40,37 @@ void bind_affordances(py::module_& m) {
   m.def(
       "affordance_features",
       [](const std::string& affordance, std::optional<client::StereoFrame> frame,
-         std::optional<client::Laser::Scan> scan, std::optional<Points> points) {
+         std::optional<client::Laser::Scan> scan, std::optional<Points> points,
+         std::optional<std::tuple<int, int, int, int>> region) {
         af::SensorInputs inputs{std::move(frame), std::move(scan), std::nullopt};
         if (points) inputs.cloud = cloud_of(*points);
+        std::optional<cv::Rect> box;
+        if (region) {
+          const auto [x, y, w, h] = *region;
+          if (w <= 0 || h <= 0) throw py::value_error("region: width and height must be positive");
+          box = cv::Rect(x, y, w, h);
+        }
         py::gil_scoped_release release;
-        return af::named_features(af::perceive(inputs), affordance_named(affordance));
+        return af::named_features(af::perceive(inputs, {}, box), affordance_named(affordance));
       },
       py::arg("affordance"), py::arg("frame") = py::none(), py::arg("scan") = py::none(),
-      py::arg("points") = py::none(),
+      py::arg("points") = py::none(), py::arg("region") = py::none(),
       "The features of `affordance` (a dict by name, what AffordanceModel.predict takes) from "
       "one look: a stereo pair (Robot.stereo()), a sweep of the scanner standing still "
-      "(Robot.scan()) and a 3D cloud (Robot.points()), each optional. The same code as the "
-      "trials' rows.");
+      "(Robot.scan()) and a 3D cloud (Robot.points()), each optional; the cameras' of the "
+      "thing whose centre lies in `region` (x, y, width, height in the left image; one of "
+      "objects_in_view()), else of the largest. The same code as the trials' rows.");
+  m.def(
+      "objects_in_view",
+      [](const client::StereoFrame& frame) {
+        std::vector<std::tuple<int, int, int, int>> boxes;
+        for (const auto& b : af::objects_in_view(frame.left))
+          boxes.emplace_back(b.x, b.y, b.width, b.height);
+        return boxes;
+      },
+      py::arg("frame"),
+      "The boxes (x, y, width, height) of the things the cameras' perception looks at in the "
+      "left image, largest first: each a `region` for affordance_features().");
   m.def(
       "load_sensor_inputs",
       [](const std::string& dir, const std::string& name) {

@@ -188,6 +188,7 @@ struct VariationSpec {
   std::string user_data;                      ///< the objects placed are those with this user data
   Eigen::Vector4d area{0, 0, 0, 0};           ///< x_min, y_min, x_max, y_max on the floor, m
   std::optional<Eigen::Vector4d> robot_area;  ///< where the robots start (any heading)
+  bool inside = false;  ///< the placed objects' whole footprints lie in `area`, not only centres
   double clearance = 0.45;                    ///< m between footprints of placed objects and others
   std::vector<Color> colors;                  ///< palette for the first component of placed objects
   std::vector<std::string> keep_colors;       ///< materials whose objects keep their own colour

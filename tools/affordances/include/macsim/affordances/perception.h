@@ -80,8 +80,13 @@ struct SensorInputs {
   std::optional<macsim::client::Cloud> cloud;
 };
 
-/// The percept of one look: perceive_image, perceive_scan and perceive_cloud on what there is.
-Percept perceive(const SensorInputs& inputs, const SensorMount& mount = {});
+/// The percept of one look: perceive_image (within `region`, if given), perceive_scan and
+/// perceive_cloud on what there is.
+Percept perceive(const SensorInputs& inputs, const SensorMount& mount = {},
+                 const std::optional<cv::Rect>& region = std::nullopt);
+/// The boxes of the things perceive_image looks at in an image (saturated, not dark regions),
+/// largest first: the `region` a controller gives it to perceive each thing in view.
+std::vector<cv::Rect> objects_in_view(const cv::Mat& bgr);
 /// Writes a look to DIR/NAME_left.png and NAME_right.png (lossless) and DIR/NAME.yml.gz (the
 /// calibration, the sweep, the cloud: every number as it came). Throws std::runtime_error.
 void save_inputs(const SensorInputs& inputs, const std::string& dir, const std::string& name);
@@ -101,6 +106,10 @@ struct GroundGrid {
 /// the carried height, traverse the cloud's grid and corridor.
 std::vector<double> features(const Percept& percept, Affordance affordance = Affordance::Lift);
 const std::vector<std::string>& feature_names(Affordance affordance = Affordance::Lift);
+/// The features of one sensor, by group name: "camera" (the blob in the stereo pair), "sweep"
+/// (the laser's sweep ahead), "top" (stack: the top's profile, the carried height) or "cloud"
+/// (traverse: the grid and the corridor); nullptr for another name.
+const std::vector<std::string>* feature_group(const std::string& name);
 /// The same features by name (what AffordanceModel::predict takes).
 std::map<std::string, double> named_features(const Percept& percept, Affordance affordance);
 

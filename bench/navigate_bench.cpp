@@ -1,0 +1,164 @@
+// The navigator over many clutter layouts, both policies in the same run: for each seed,
+// macsim --lockstep --seed N on worlds/clutter_field.xml and kurt_navigate --lockstep stepping
+// it, once with the traverse model and once avoiding everything, judged from the world state
+// (the things driven through and around, tests/support/clutter_judge.h). Prints per policy the
+// success rate, the median robot time of the runs that got there, the stalls, and per kind of
+// thing how often it was driven through and around. `name value unit` lines, then the tables.
+//   bench_navigate --affordances DIR [SEEDS [FIRST]]   (default 50 seeds from 1; repository root)
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "macsim/client/supervisor_client.h"
+#include "macsim/process/child_process.h"
+#include "support/clutter_judge.h"
+#include "support/world_view.h"
+
+namespace {
+
+using namespace std::chrono_literals;
+using macsim::test::ClutterJudgement;
+
+struct Tally {
+  int runs = 0, successes = 0, stalls = 0;
+  std::vector<double> robot_times;                   // of the runs at the goal
+  std::map<std::string, std::pair<int, int>> kinds;  // through, around
+  std::vector<int> failed;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
+
+/// A number after `key` in `line`, or 0.
+double number_after(const std::string& line, const std::string& key) {
+  const auto at = line.find(key);
+  return at == std::string::npos ? 0.0 : std::atof(line.c_str() + at + key.size());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
+    std::printf(
+        "usage: bench_navigate --affordances DIR [SEEDS [FIRST]]\n  kurt_navigate against "
+        "macsim in lock-step on SEEDS layouts of worlds/clutter_field.xml (default 50 from "
+        "seed 1), with the traverse model DIR/traverse.yml and with --policy avoid; prints each "
+        "policy's success rate, median robot time, stalls, and what it drove through and around "
+        "by kind. Run from the repository root.\n");
+    return 0;
+  }
+  int seeds = 50, first = 1;
+  if (args.size() < 2 || args[0] != "--affordances" || args.size() > 4 ||
+      (args.size() > 2 && (seeds = std::atoi(args[2].c_str())) <= 0) ||
+      (args.size() > 3 && (first = std::atoi(args[3].c_str())) < 0)) {
+    std::fprintf(stderr,
+                 "bench_navigate: --affordances DIR is required; SEEDS must be positive and FIRST "
+                 "not negative (--help)\n");
+    return 2;
+  }
+  const std::string models = args[1];
+  const std::string world = "worlds/clutter_field.xml";
+  if (!std::filesystem::exists(world)) {
+    std::fprintf(stderr, "bench_navigate: run it from the repository root (%s not found)\n",
+                 world.c_str());
+    return 2;
+  }
+  const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
+  const std::string logs =
+      std::filesystem::temp_directory_path() / ("bench_navigate_" + std::to_string(getpid()));
+  std::filesystem::create_directories(logs);
+  std::map<std::string, Tally> tallies;
+  for (int seed = first; seed < first + seeds; ++seed) {
+    for (const std::string policy : {"model", "avoid"}) {
+      const int domain = 150 + (2 * seed + (policy == "avoid")) % 80;
+      const std::string tag = policy + "_" + std::to_string(seed);
+      macsim::process::ChildProcess sim(
+          {bin + "/macsim", "--world", world, "--domain", std::to_string(domain), "--lockstep",
+           "--seed", std::to_string(seed)},
+          macsim::process::Output::file(logs + "/macsim_" + tag + ".log"));
+      macsim::dds::Participant participant({domain, "", "bench_navigate"});
+      macsim::test::WorldView view(participant);
+      std::map<std::string, macsim_msgs::msg::dds_::Object_> before;
+      // The field's things before the robot moves (a lock-step simulator publishes the
+      // world's state after a step).
+      macsim::client::SimulationClient simulation(participant);
+      if (!simulation.step(1, std::chrono::seconds(30))) {
+        std::fprintf(stderr, "bench_navigate: seed %d: the simulator did not step\n", seed);
+        return 1;
+      }
+      for (int i = 0; i < 3000; ++i) {
+        before = view.snapshot();
+        int clutter = 0;
+        for (const auto& [name, o] : before) clutter += o.user_data() == "clutter";
+        if (clutter == macsim::test::kClutterFieldThings) break;
+        std::this_thread::sleep_for(10ms);
+      }
+      std::vector<std::string> argv{bin + "/kurt_navigate", "--domain", std::to_string(domain),
+                                    "--lockstep",           "--policy", policy};
+      if (policy == "model") argv.insert(argv.end(), {"--affordances", models});
+      const std::string log = logs + "/kurt_navigate_" + tag + ".log";
+      macsim::process::ChildProcess navigator(argv, macsim::process::Output::file(log));
+      const auto ended = navigator.wait_for_exit(std::chrono::seconds(600));
+      const int code = ended ? *ended : navigator.stop();
+      std::this_thread::sleep_for(300ms);
+      const auto after = view.snapshot();
+      std::vector<Eigen::Vector2d> path;
+      for (const auto& t : view.truth.all())
+        path.emplace_back(t.pose().pose().position().x(), t.pose().pose().position().y());
+      sim.stop(std::chrono::seconds(10));
+      std::ifstream in(log);
+      std::string line, last;
+      while (std::getline(in, line)) last = line;
+      const ClutterJudgement judged(before, after, path);
+      Tally& t = tallies[policy];
+      ++t.runs;
+      t.stalls += static_cast<int>(number_after(last, "stalls "));
+      if (code == 0) {
+        ++t.successes;
+        t.robot_times.push_back(number_after(last, "robot time "));
+      } else {
+        t.failed.push_back(seed);
+      }
+      for (const auto& n : judged.through) ++t.kinds[ClutterJudgement::kind(n)].first;
+      for (const auto& n : judged.around) ++t.kinds[ClutterJudgement::kind(n)].second;
+      std::fprintf(stderr,
+                   "seed %d %s: exit %d, robot time %.1f s, stalls %.0f, through %zu, around %zu\n",
+                   seed, policy.c_str(), code, number_after(last, "robot time "),
+                   number_after(last, "stalls "), judged.through.size(), judged.around.size());
+    }
+  }
+  for (const auto& [policy, t] : tallies) {
+    std::printf("navigate_%s_runs %d count\n", policy.c_str(), t.runs);
+    std::printf("navigate_%s_success_rate %.3f ratio\n", policy.c_str(),
+                static_cast<double>(t.successes) / t.runs);
+    std::printf("navigate_%s_robot_time_median %.1f s\n", policy.c_str(), median(t.robot_times));
+    std::printf("navigate_%s_stalls %d count\n", policy.c_str(), t.stalls);
+  }
+  for (const auto& [policy, t] : tallies) {
+    std::printf("\n%s: driven through / around, by kind (over %d runs)\n", policy.c_str(), t.runs);
+    for (const auto& [kind, counts] : t.kinds)
+      std::printf("  %-16s %4d %4d\n", kind.c_str(), counts.first, counts.second);
+    std::string list;
+    for (int s : t.failed) list += " " + std::to_string(s);
+    if (!list.empty()) std::printf("  not at the goal: seeds%s\n", list.c_str());
+  }
+  bool any_failed = false;
+  for (const auto& [policy, t] : tallies) any_failed |= !t.failed.empty();
+  if (any_failed)
+    std::fprintf(stderr, "bench_navigate: logs in %s\n", logs.c_str());
+  else
+    std::filesystem::remove_all(logs);
+  return 0;
+}

@@ -1,0 +1,74 @@
+// The ways a KURT3D could drive from where it stands, judged from one 3D laser cloud: by a
+// learned traverse model on the trials' own features (the cloud turned so that the way runs
+// ahead, as each trial's did), or by the baseline that keeps clear of every return above the
+// floor. And what the laser saw along the run, for the summary: things driven through or around.
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "macsim/affordances/model.h"
+#include "macsim/client/robot_devices.h"
+#include "robot_loop.h"
+
+namespace kurt_navigate {
+
+/// The cloud (base_link) in the frame of a way `heading` rad to the left of the robot's: x
+/// along the way, y to its left, z unchanged.
+macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading);
+
+/// The traverse features of a way (a cloud turned by along()), computed as a trial computes
+/// them of its cloud: the grid ahead and the corridor.
+std::map<std::string, double> way_features(const macsim::client::Cloud& way);
+
+/// How far (m, from base_link) the way runs before a return more than 3 cm above the floor and
+/// within `half_width` of its middle; `range` if none before it. The baseline's judgement.
+double free_length(const macsim::client::Cloud& way, double half_width, double range);
+
+/// A point on the floor plan, m.
+using Point2 = std::array<double, 2>;
+
+/// What stands in a cloud taken at `pose`: its points 5-60 cm above the floor, 0.6-6 m away, in
+/// the odometry frame, one per 5 cm cell (what the robot pushes is a small part of it).
+std::vector<Point2> tall_structure(const macsim::client::Cloud& cloud,
+                                   const kurt_loop::Pose2& pose);
+
+/// Laser odometry: the shift (dx, dy) that lays `now` onto `before` (both from
+/// tall_structure(); the heading comes from the IMU), by ICP (point to line where the points
+/// make a line, else point to point); nullopt when fewer
+/// than 30 points match or the walls seen leave the shift undetermined. The fit starts from no
+/// shift and from each of `guesses` (e.g. "it did not move at all"), and the one that matches
+/// the most points wins. Wheel odometry counts a
+/// track that slips against something it cannot pass as distance; this does not.
+std::optional<std::array<double, 2>> align(const std::vector<Point2>& before,
+                                           const std::vector<Point2>& now,
+                                           const std::vector<std::array<double, 2>>& guesses = {});
+
+/// The traverse model DIR/traverse.yml, when it takes only what a cloud gives
+/// (affordance_learn --features cloud); throws std::runtime_error naming the file and the fault.
+macsim::affordances::AffordanceModel load_traverse_model(const std::string& dir);
+
+/// Things above the floor the laser saw during a run (cells of 10 cm in the odometry frame,
+/// grouped into things), and the path the robot took: which things it drove through (its
+/// footprint crossed where they stood) and which around (passed within 1 m, not touching).
+class Sightings {
+ public:
+  /// Adds a cloud taken at `pose` (points up to 3 m away, 3-45 cm above the floor).
+  void add(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose);
+  /// Adds where the robot's middle was.
+  void pass(const kurt_loop::Pose2& pose);
+  struct Counts {
+    int through = 0, around = 0, seen = 0;
+  };
+  /// Things of at most 1.2 m across (walls are not counted), judged against the path.
+  Counts count(double half_width) const;
+
+ private:
+  std::map<std::pair<int, int>, int> cells_;
+  std::vector<std::pair<double, double>> path_;
+};
+
+}  // namespace kurt_navigate
