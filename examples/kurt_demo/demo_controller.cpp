@@ -42,10 +42,7 @@ std::string fmt(const char* format, ...) {
 
 /// The features the demonstrator computes of a can from where it stands: the cameras'.
 const std::vector<std::string>& camera_features() {
-  static const std::vector<std::string> names{"r",         "g",         "b",    "hue",
-                                              "area_px",   "width_px",  "height_px",
-                                              "fill",      "stereo_range", "width_m"};
-  return names;
+  return *macsim::affordances::feature_group("camera");
 }
 
 }  // namespace
