@@ -88,10 +88,12 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   };
   if (!v.robot_area) {
     // The robots stay where they are: nothing is placed on them.
-    for (const auto& robot : spec.robots) taken.push_back({robot.pose.position.head<2>(), kRobotRadius});
+    for (const auto& robot : spec.robots)
+      taken.push_back({robot.pose.position.head<2>(), kRobotRadius});
   } else {
     for (auto& robot : spec.robots) {
-      const Eigen::Vector2d at = place(*v.robot_area, kRobotRadius, "robot '" + robot.name + "'", false);
+      const Eigen::Vector2d at =
+          place(*v.robot_area, kRobotRadius, "robot '" + robot.name + "'", false);
       const double yaw = uniform(-M_PI, M_PI);
       robot.pose.position.head<2>() = at;
       robot.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
@@ -104,12 +106,13 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   std::map<std::string, std::size_t> colour_of;
   for (std::size_t i : chosen) {
     ObjectSpec& o = spec.objects[i];
-    const Eigen::Vector2d at = place(v.area, footprint_radius(o), "object '" + o.name + "'", v.inside);
+    const Eigen::Vector2d at =
+        place(v.area, footprint_radius(o), "object '" + o.name + "'", v.inside);
     const double yaw = uniform(-M_PI, M_PI);
     o.pose.position.head<2>() = at;
     o.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * o.pose.orientation;
-    const bool keep = std::find(v.keep_colors.begin(), v.keep_colors.end(), o.material) !=
-                      v.keep_colors.end();
+    const bool keep =
+        std::find(v.keep_colors.begin(), v.keep_colors.end(), o.material) != v.keep_colors.end();
     if (!palette.empty() && !o.components.empty() && !keep) {
       const auto [entry, fresh] = colour_of.try_emplace(o.material, colour_of.size());
       o.components.front().color = palette[entry->second % palette.size()];

@@ -238,9 +238,12 @@ struct TrialRobot::Impl {
   /// Waits until the robot commands sent since the last step reached the simulator.
   void deliver() {
     constexpr auto kSlice = 200ms;
-    if (drive_sent) await([&] { return drive.wait_delivered(kSlice); }, [] { return "cmd_vel not delivered"s; });
-    if (crane_sent) await([&] { return crane.wait_delivered(kSlice); }, [] { return "crane not delivered"s; });
-    if (laser_sent) await([&] { return laser.wait_delivered(kSlice); }, [] { return "rot_vel not delivered"s; });
+    if (drive_sent)
+      await([&] { return drive.wait_delivered(kSlice); }, [] { return "cmd_vel not delivered"s; });
+    if (crane_sent)
+      await([&] { return crane.wait_delivered(kSlice); }, [] { return "crane not delivered"s; });
+    if (laser_sent)
+      await([&] { return laser.wait_delivered(kSlice); }, [] { return "rot_vel not delivered"s; });
     drive_sent = crane_sent = laser_sent = false;
   }
 
@@ -389,8 +392,9 @@ struct TrialRobot::Impl {
     Percept p;
     const double window = 1.0 / o.camera_rate;
     std::optional<macsim::client::StereoFrame> frame;
-    await([&] { return (frame = cameras.latest(now - window + 1e-9)) && frame->stamp <= now + 1e-9; },
-          [&] { return "no stereo pair for sim time " + std::to_string(now); });
+    await(
+        [&] { return (frame = cameras.latest(now - window + 1e-9)) && frame->stamp <= now + 1e-9; },
+        [&] { return "no stereo pair for sim time " + std::to_string(now); });
     perceive_image(*frame, p);
     auto scan = newest([&] { return laser.scan(); }, kScanWindow, "laser scan");
     perceive_scan(scan, SensorMount{}, p);
@@ -429,8 +433,8 @@ struct TrialRobot::Impl {
   Reach reach(const Percept& p, double lift) const {
     const double depth = p.width_m > 0 ? std::clamp(p.width_m, 0.03, 0.15) : 0.08;
     const double x = p.laser_range + depth / 2;
-    const double y = std::tan(p.bearing) * (x - description::kLeftCamera[0]) +
-                     description::kLeftCamera[1];
+    const double y =
+        std::tan(p.bearing) * (x - description::kLeftCamera[0]) + description::kLeftCamera[1];
     const double radius = kBoom * std::cos(lift);
     const double ahead = std::sqrt(std::max(0.0, radius * radius - y * y));
     return {std::atan2(y, ahead), x - kPivotX - ahead};
