@@ -1,7 +1,8 @@
 // kurt_navigate: drives the KURT3D to a goal through clutter by learned traversability: it
-// scans with its rotating laser, computes the traverse trials' features for the ways it could
-// take, asks the traverse model, and drives the way nearest the goal that the model calls
-// traversable. --policy avoid is the baseline: every return above the floor is an obstacle.
+// scans with its rotating laser, stands before each thing in its way as a traverse trial stood,
+// computes the trials' features there and asks the traverse model, and drives the cheapest way
+// to the goal over the floor and what the model calls traversable. --policy avoid is the
+// baseline: every return above the floor is an obstacle.
 // Against macsim or the real KURT3D (it decides from the robot's own topics only).
 #include <chrono>
 #include <cmath>
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
   std::string goal = "6,0", policy = "model", affordances;
   cli.option("goal", "X,Y", "the goal in the odometry frame, m (default 6,0: 6 m ahead)", &goal);
   cli.option("policy", "model|avoid",
-             "judge the ways by the traverse model (default) or avoid every return above the "
+             "judge what stands in the way by the traverse model (default) or avoid every "
+             "return above the "
              "floor (the baseline)",
              &policy);
   cli.option("affordances", "DIR",

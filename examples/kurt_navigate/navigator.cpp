@@ -9,13 +9,20 @@ namespace {
 
 using kurt_loop::wrap;
 
-constexpr double kSpeed = 0.4;          // m/s, the traverse trials' speed
-constexpr double kStretch = 0.8;        // m driven before looking again
-constexpr double kHalfWidth = 0.25;     // m: half the robot's width (0.22) and a margin
-// The traverse trials' obstacle: its near side 0.62-0.75 m ahead, at most 0.6 m deep.
-constexpr double kTrialNear = 0.68, kThingDepth = 0.6;
-constexpr double kWayStep = M_PI / 12;  // the ways judged: every 15 degrees...
-constexpr int kWaysEachSide = 8;        // ...up to 120 degrees either side of the goal's bearing
+constexpr double kSpeed = 0.4;    // m/s, the traverse trials' speed
+constexpr double kStretch = 1.0;  // m of the way driven before looking again
+// Clear of what it cannot pass: half the robot's width over its tracks (0.22 m) and a margin;
+// closer than kMargin costs more.
+constexpr double kClearance = 0.3, kMargin = 0.5;
+constexpr double kLookahead = 0.35;  // m: the point of the way it steers for
+// The traverse trials' obstacle: its near side 0.62-0.75 m ahead.
+constexpr double kTrialNear = 0.68;
+constexpr double kWall = 1.2;  // m across: larger things are walls, not asked about
+// A thing is judged as a trial judged its obstacle: the robot standing before it, facing it
+// (within kFacing rad) with its near side kTrialNear ahead (give or take kNearSlack), on the cloud
+// as it came: the scanner's rings fall on the floor as they fell in the trials. The robot stops
+// where its way comes within kApproach of a thing not judged yet, and goes to stand so.
+constexpr double kFacing = 0.05, kNearSlack = 0.07, kApproach = 0.8, kJudgeRange = 1.1;
 // The traverse trials' look: the boom up and swung aside (out of the cloud), the scanner
 // turning once a second.
 constexpr double kAsideSlew = -0.75, kBoomUp = 0.6;
@@ -33,57 +40,148 @@ void Navigator::say(const std::string& text) {
 
 void Navigator::after_tick() { sightings_.pass(pose_); }
 
-std::optional<Navigator::Choice> Navigator::choose(const macsim::client::Cloud& cloud) {
-  const double goal_bearing = std::atan2(options_.goal_y - pose_.y, options_.goal_x - pose_.x);
-  const double to_goal = std::hypot(options_.goal_x - pose_.x, options_.goal_y - pose_.y);
-  std::optional<Choice> best, likeliest;
+Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
+  const Point2 goal{options_.goal_x, options_.goal_y};
+  auto things = things_in(cloud, pose_);
+  const auto key = [](const Point2& p) {
+    return std::pair<int, int>{static_cast<int>(std::floor(p[0] / 0.05)),
+                               static_cast<int>(std::floor(p[1] / 0.05))};
+  };
   std::string judged;
-  for (int k = 0; k <= 2 * kWaysEachSide; ++k) {
-    // 0, +15, -15, +30, ... degrees off the goal's bearing: the first passable is the nearest.
-    const int off = (k + 1) / 2 * (k % 2 ? 1 : -1);
-    const double heading = wrap(goal_bearing + off * kWayStep);
-    // Where a stretch stalled before, the same way is not taken again.
-    bool stalled_here = false;
-    for (const auto& [where, taken] : stalled_) {
-      stalled_here |= std::hypot(where.x - pose_.x, where.y - pose_.y) < 0.4 &&
-                      std::fabs(wrap(taken - heading)) < 0.3;
-    }
-    if (stalled_here) continue;
-    const auto way = along(cloud, wrap(heading - pose_.yaw));
-    Choice c{heading, 0, false};
-    // Free for a stretch and a margin: passable by either policy.
-    const double free = free_length(way, kHalfWidth, 2.0);
-    const bool clear = free >= std::min(kStretch, to_goal) + 0.3;
-    if (options_.policy == Policy::Model) {
-      // Something in the way: the model is asked about it as a trial saw its obstacle, its near
-      // side 0.68 m ahead and the floor beyond (what stands further is left out).
-      c.score = 1.0;
-      if (!clear) {
-        auto seen = way;
-        const double shift = kTrialNear - free;
-        std::erase_if(seen.points, [&](const auto& q) { return q[0] > free + kThingDepth; });
-        for (auto& q : seen.points) q[0] = static_cast<float>(q[0] + shift);
-        const auto said = options_.traverse_model->predict(way_features(seen));
-        c.score = said.label == "traversable" ? said.confidence : 1 - said.confidence;
-      }
-      c.passable = c.score >= 0.5;
+  for (auto& thing : things) {
+    thing.judged = true;  // the baseline: nothing is passable
+    if (options_.policy != Policy::Model || thing.across > kWall) continue;
+    bool pressed = false;  // it stalled against this before
+    for (const auto& at : pressed_)
+      for (const auto& c : thing.cells) pressed |= std::hypot(c[0] - at[0], c[1] - at[1]) < 0.2;
+    char text[80];
+    const double off =
+        wrap(std::atan2(thing.centre[1] - pose_.y, thing.centre[0] - pose_.x) - pose_.yaw);
+    double near = 1e9;  // its near side ahead, base_link
+    for (std::size_t k : thing.points)
+      near = std::min(near, static_cast<double>(cloud.points[k][0]));
+    if (pressed) {
+      thing.passable = false;
+    } else if (std::fabs(off) <= kFacing && std::fabs(near - kTrialNear) <= kNearSlack) {
+      // Before it, as a trial stood before its obstacle: the model is asked about the way
+      // ahead, and the verdict kept.
+      const auto f = way_features(without_others(cloud, things, thing));
+      const auto said = options_.traverse_model->predict(f);
+      thing.p_traversable = said.label == "traversable" ? said.confidence : 1 - said.confidence;
+      thing.passable = thing.p_traversable >= 0.5;
+      for (const auto& c : thing.cells) verdicts_[key(c)] = thing.passable;
+      std::snprintf(text, sizeof text, " (%.2f,%.2f %.2fm %.2f)", thing.centre[0], thing.centre[1],
+                    thing.across, thing.p_traversable);
+      judged += text;
     } else {
-      c.score = free;
-      c.passable = clear;
+      // Further, or aside: as judged before where it stood then, else not known yet.
+      int yes = 0, no = 0;
+      for (const auto& c : thing.cells) {
+        const auto v = verdicts_.find(key(c));
+        if (v != verdicts_.end()) ++(v->second ? yes : no);
+      }
+      thing.judged = yes + no > 0;
+      thing.passable = yes > no;
     }
-    char text[48];
-    std::snprintf(text, sizeof text, " %+.0f:%.2f", off * kWayStep * 180 / M_PI, c.score);
-    judged += text;
-    if (c.passable && !best) best = c;
-    if (!likeliest || c.score > likeliest->score) likeliest = c;
   }
-  say("ways off the goal's bearing (deg: " +
-      std::string(options_.policy == Policy::Model ? "P(traversable)" : "free m") + "):" + judged);
-  if (best) return best;
-  // None judged passable: the model's likeliest is taken at its word; the baseline takes the
-  // longest free way when it leaves room for a short stretch.
-  if (likeliest && (options_.policy == Policy::Model || likeliest->score >= 0.6)) return likeliest;
-  return std::nullopt;
+  if (options_.policy == Policy::Model && !judged.empty())
+    say("judged, standing before it (where, across, P(traversable)):" + judged);
+  Way way;
+  // Clear by the margin if it can; closer to what it cannot pass if it must.
+  for (double clearance : {kClearance, kClearance - 0.05}) {
+    FloorPlan floor({pose_.x, pose_.y}, goal);
+    for (const auto& thing : things) floor.add(thing, clearance, kMargin);
+    for (const auto& at : pressed_) floor.block(at, 0.12);
+    way.points = floor.path();
+    if (!way.points.empty()) break;
+  }
+  // It stops to look where the way comes near what it has not judged yet, as a trial looked;
+  // standing there already, it turns to face it.
+  way.stretch = std::min(kStretch, length(way.points));
+  double run = 0;
+  for (std::size_t k = 0; k < way.points.size() && run < way.stretch; ++k) {
+    const auto& p = way.points[k];
+    if (k > 0) run += std::hypot(p[0] - way.points[k - 1][0], p[1] - way.points[k - 1][1]);
+    const Thing* ahead = nullptr;
+    for (const auto& thing : things) {
+      if (thing.judged) continue;
+      for (const auto& c : thing.cells)
+        if (std::hypot(c[0] - p[0], c[1] - p[1]) < kApproach) ahead = &thing;
+      if (ahead) break;
+    }
+    if (!ahead) continue;
+    way.stretch = run;
+    if (run < 0.1 && ahead->distance <= kJudgeRange)
+      way.judge = ahead->centre;
+    else
+      way.stretch = std::max(run, 0.1);
+    break;
+  }
+  return way;
+}
+
+void Navigator::stand_before(const Point2& centre, const macsim::client::Cloud& cloud) {
+  const double bearing = std::atan2(centre[1] - pose_.y, centre[0] - pose_.x);
+  // Its near side along the bearing, from this look (the points within 0.3 m of its middle's
+  // line), then turned to face it and moved to stand where the trials stood.
+  const double c = std::cos(bearing - pose_.yaw), s = std::sin(bearing - pose_.yaw);
+  const double reach = std::hypot(centre[0] - pose_.x, centre[1] - pose_.y);
+  double near = reach;
+  for (const auto& thing : things_in(cloud, pose_)) {
+    if (std::hypot(thing.centre[0] - centre[0], thing.centre[1] - centre[1]) > 0.05) continue;
+    for (std::size_t k : thing.points) {
+      const auto& q = cloud.points[k];
+      const double x = c * q[0] + s * q[1], y = -s * q[0] + c * q[1];
+      if (std::fabs(y) < 0.3) near = std::min(near, x);
+    }
+  }
+  turn_to(bearing);
+  if (std::fabs(near - kTrialNear) > kNearSlack / 2) drive_straight(near - kTrialNear, 0.2, 1.0);
+  turn_to(std::atan2(centre[1] - pose_.y, centre[0] - pose_.x));
+}
+
+bool Navigator::follow(const std::vector<Point2>& way, double stretch) {
+  double travelled = 0, best = 0, best_at = now_;
+  kurt_loop::Pose2 last = pose_;
+  std::size_t along = 0;  // the way's point nearest the robot
+  const double give_up = now_ + 30.0;
+  bool stalled = false;
+  while (now_ < give_up) {
+    for (std::size_t k = along; k < way.size() && k < along + 20; ++k) {
+      if (std::hypot(way[k][0] - pose_.x, way[k][1] - pose_.y) <
+          std::hypot(way[along][0] - pose_.x, way[along][1] - pose_.y))
+        along = k;
+    }
+    std::size_t target = along;
+    while (target + 1 < way.size() &&
+           std::hypot(way[target][0] - pose_.x, way[target][1] - pose_.y) < kLookahead)
+      ++target;
+    const double to_end = std::hypot(way.back()[0] - pose_.x, way.back()[1] - pose_.y);
+    if (travelled >= stretch || to_end < 0.05) break;
+    const double bearing = std::atan2(way[target][1] - pose_.y, way[target][0] - pose_.x);
+    const double error = wrap(bearing - pose_.yaw);
+    if (std::fabs(error) > 0.6) {  // turn on the spot first
+      turn_to(bearing);
+      best_at = now_;
+      last = pose_;
+      continue;
+    }
+    linear_ = std::clamp(1.2 * to_end + 0.05, 0.05, kSpeed) * (1 - 0.6 * std::fabs(error));
+    angular_ = std::clamp(2.5 * error, -0.8, 0.8);
+    tick();
+    travelled += std::hypot(pose_.x - last.x, pose_.y - last.y);
+    last = pose_;
+    if (travelled > best + 0.02) {
+      best = travelled;
+      best_at = now_;
+    } else if (now_ - best_at > 1.0) {
+      stalled = true;
+      break;
+    }
+  }
+  linear_ = angular_ = 0;
+  tick();
+  return !stalled;
 }
 
 Outcome Navigator::run() {
@@ -110,9 +208,10 @@ void Navigator::drive(Outcome& out) {
   say(text);
   rotunit_ = kRotunitSpeed;
   crane_to(kAsideSlew, kBoomUp, 0.0);
-  std::vector<Point2> walls;  // the tall structure of the last look, odometry frame
-  std::optional<std::pair<kurt_loop::Pose2, double>> stretch;  // from where, which way
-  double asked = 0;
+  std::vector<Point2> walls;      // the tall structure of the last look, odometry frame
+  kurt_loop::Pose2 stretch_from;  // where the last stretch began...
+  double asked = 0;               // ...and the m its wheels made on it (0: none to judge)
+  int faced = 0;                  // turns in a row to face a thing to judge
   while (true) {
     const auto cloud = take_cloud();
     // Where the walls say it is: a track slipping against something counts as distance in the
@@ -120,7 +219,7 @@ void Navigator::drive(Outcome& out) {
     auto tall = tall_structure(cloud, pose_);
     // It may not have moved at all since the last look (stuck, its wheels slipping).
     std::vector<std::array<double, 2>> guesses;
-    if (stretch) guesses.push_back({stretch->first.x - pose_.x, stretch->first.y - pose_.y});
+    if (asked > 0) guesses.push_back({stretch_from.x - pose_.x, stretch_from.y - pose_.y});
     const auto shift = walls.empty() ? std::nullopt : align(walls, tall, guesses);
     if (shift) {
       pose_.x += (*shift)[0];
@@ -129,42 +228,50 @@ void Navigator::drive(Outcome& out) {
     }
     walls = std::move(tall);
     sightings_.add(cloud, pose_);
-    if (stretch) {
-      const double moved = std::hypot(pose_.x - stretch->first.x, pose_.y - stretch->first.y);
+    if (asked > 0.1) {
+      const double moved = std::hypot(pose_.x - stretch_from.x, pose_.y - stretch_from.y);
       if (moved < 0.3 * asked) {
         ++out.stalls;
-        stalled_.push_back(*stretch);
+        pressed_.push_back(
+            {pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)});
         std::snprintf(text, sizeof text,
                       "stalled: %.2f m of %.2f (by the laser): pressed against something it "
                       "cannot pass; backing off",
                       moved, asked);
         say(text);
         drive_straight(-0.3, 0.2, 1.0);
+        asked = 0;
+        continue;  // and looks again from there
       }
     }
     const double to_goal = std::hypot(options_.goal_x - pose_.x, options_.goal_y - pose_.y);
     if (to_goal < options_.tolerance) break;
-    const auto choice = choose(cloud);
-    if (!choice) {
+    const auto way = plan(cloud);
+    if (way.judge && faced < 3) {  // to judge what stands in its way
+      ++faced;
+      stand_before(*way.judge, cloud);
+      asked = 0;
+      continue;
+    }
+    faced = 0;
+    if (way.points.empty()) {
       out.code = kNoWay;
       out.reason = "no way judged passable from here";
       break;
     }
-    std::snprintf(text, sizeof text,
-                  "at %.2f,%.2f, %.2f m from the goal: heading %.0f deg (%s %.2f)", pose_.x,
-                  pose_.y, to_goal, choice->heading * 180 / M_PI,
-                  options_.policy == Policy::Model ? "P(traversable)" : "free m", choice->score);
+    std::snprintf(text, sizeof text, "at %.2f,%.2f, %.2f m from the goal: a way of %.2f m", pose_.x,
+                  pose_.y, to_goal, length(way.points));
     say(text);
-    turn_to(choice->heading);
     ++out.stretches;
-    // A stretch, shorter near the goal: stalled when its wheels made no 2 cm in a second (or,
-    // at the next look, when the laser says it did not get 30 % of the way).
-    asked = std::min(kStretch, to_goal);
-    stretch = {pose_, choice->heading};
-    if (!drive_straight(asked, kSpeed, 1.0)) {
+    stretch_from = pose_;
+    const kurt_loop::Pose2 before = pose_;
+    const bool went = follow(way.points, way.stretch);
+    asked = std::hypot(pose_.x - before.x, pose_.y - before.y);
+    if (!went) {
       ++out.stalls;
-      stalled_.push_back(*stretch);
-      stretch.reset();
+      pressed_.push_back(
+          {pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)});
+      asked = 0;
       say("stalled: pressed against something it cannot pass; backing off");
       drive_straight(-0.3, 0.2, 1.0);
     }

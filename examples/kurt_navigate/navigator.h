@@ -1,15 +1,17 @@
 // kurt_navigate's controller: drives the KURT3D to a goal through clutter from its own 3D laser.
-// At each stop it takes one cloud, judges the ways it could take (every 15 degrees around the
-// goal's bearing), drives a stretch of the way nearest the goal that it judges traversable, and
-// looks again. Its judgement is a learned traverse model (policy "model": into what rolls away,
-// over what is low, around the rest) or the baseline (policy "avoid": clear of every return
-// above the floor).
+// At each stop it takes one cloud, groups its returns above the floor into things, judges each
+// thing, plans the shortest way to the goal over the floor and what it judged traversable, drives
+// a stretch of it, and looks again. Its judgement is a learned traverse model, asked about each
+// thing as a trial saw its obstacle (policy "model": into what rolls away, over what is low,
+// around the rest), or the baseline (policy "avoid": clear of every return above the floor).
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 
 #include "macsim/affordances/model.h"
+#include "plan.h"
 #include "robot_loop.h"
 #include "ways.h"
 
@@ -51,13 +53,19 @@ class Navigator : public kurt_loop::RobotLoop {
   Outcome run();
 
  private:
-  struct Choice {
-    double heading = 0;  ///< odometry frame
-    double score = 0;    ///< model: P(traversable); avoid: free length, m
-    bool passable = false;
+  struct Way {
+    std::vector<Point2> points;   ///< from the robot to the goal; empty when there is none
+    double stretch = 0;           ///< m to drive before looking again
+    std::optional<Point2> judge;  ///< first stand before what has its middle here, to judge it
   };
-  /// The way to take from here, judged from `cloud`.
-  std::optional<Choice> choose(const macsim::client::Cloud& cloud);
+  /// The way to the goal from here, judged from `cloud`.
+  Way plan(const macsim::client::Cloud& cloud);
+  /// Turns to face the thing whose middle is at `centre` and moves to stand where a trial stood
+  /// before its obstacle (its near side, as `cloud` shows it, kTrialNear ahead).
+  void stand_before(const Point2& centre, const macsim::client::Cloud& cloud);
+  /// Follows `way` for `stretch` m (or to its end); false when it stalled (its wheels made no
+  /// 2 cm in a second).
+  bool follow(const std::vector<Point2>& way, double stretch);
   /// The run itself; throws kurt_loop::LoopError.
   void drive(Outcome& out);
   void say(const std::string& text);
@@ -65,7 +73,8 @@ class Navigator : public kurt_loop::RobotLoop {
 
   NavigateOptions options_;
   Sightings sightings_;
-  std::vector<std::pair<kurt_loop::Pose2, double>> stalled_;  // where, and the heading taken
+  std::vector<Point2> pressed_;  // odometry frame: where it stalled against something
+  std::map<std::pair<int, int>, bool> verdicts_;  // 5 cm cells of things judged: passable?
 };
 
 }  // namespace kurt_navigate

@@ -39,17 +39,6 @@ std::map<std::string, double> way_features(const macsim::client::Cloud& way) {
   return af::named_features(p, af::Affordance::Traverse);
 }
 
-double free_length(const macsim::client::Cloud& way, double half_width, double range) {
-  double nearest = range;
-  for (const auto& q : way.points) {
-    // Ahead of the robot's own body (its front is 0.26 m from base_link), within its width.
-    if (q[0] < 0.2 || q[0] >= nearest || std::fabs(q[1]) > half_width) continue;
-    const double h = height(q);
-    if (h > kAboveFloor && h <= af::GroundGrid::kTop) nearest = q[0];
-  }
-  return nearest;
-}
-
 std::vector<Point2> tall_structure(const macsim::client::Cloud& cloud,
                                    const kurt_loop::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);

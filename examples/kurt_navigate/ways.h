@@ -1,7 +1,6 @@
-// The ways a KURT3D could drive from where it stands, judged from one 3D laser cloud: by a
-// learned traverse model on the trials' own features (the cloud turned so that the way runs
-// ahead, as each trial's did), or by the baseline that keeps clear of every return above the
-// floor. And what the laser saw along the run, for the summary: things driven through or around.
+// What kurt_navigate takes from one 3D laser cloud: the traverse features of the way ahead (as a
+// trial computes them), the tall structure its laser odometry aligns, the traverse model it
+// takes, and what the laser saw along the run, for the summary: things driven through or around.
 #pragma once
 
 #include <array>
@@ -23,10 +22,6 @@ macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading);
 /// The traverse features of a way (a cloud turned by along()), computed as a trial computes
 /// them of its cloud: the grid ahead and the corridor.
 std::map<std::string, double> way_features(const macsim::client::Cloud& way);
-
-/// How far (m, from base_link) the way runs before a return more than 3 cm above the floor and
-/// within `half_width` of its middle; `range` if none before it. The baseline's judgement.
-double free_length(const macsim::client::Cloud& way, double half_width, double range);
 
 /// A point on the floor plan, m.
 using Point2 = std::array<double, 2>;

@@ -1,0 +1,73 @@
+// What one look of the 3D laser shows around the robot and the way to the goal across it: the
+// returns above the floor grouped into things, each thing as a traverse trial would have seen it
+// (straight ahead, its near side where the trials' obstacle stood), and the shortest way over a
+// floor plan of 5 cm cells on which the things judged not traversable are grown by the robot's
+// half-width and those judged traversable cost a little more than bare floor.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "macsim/client/robot_devices.h"
+#include "robot_loop.h"
+#include "ways.h"
+
+namespace kurt_navigate {
+
+/// Something standing on the floor in one cloud: 5 cm cells of returns 3-45 cm above it, less than
+/// 15 cm apart (more far away, where the scanner's rings lie further apart).
+struct Thing {
+  std::vector<Point2> cells;        ///< centres of its cells, odometry frame
+  std::vector<std::size_t> points;  ///< its returns: indices into the cloud
+  Point2 centre{};                  ///< mean of its cells, odometry frame
+  double across = 0;                ///< m, the diagonal of its cells' bounding box
+  double distance = 0;              ///< m from the robot's middle to its nearest cell
+  bool judged = false;              ///< judged at all (else not yet known)
+  double p_traversable = 0;         ///< the judgement, [0, 1]
+  bool passable = false;            ///< judged traversable (driven into or over)
+};
+
+/// The things of a cloud (base_link) taken at `pose`, up to `range` m away; the robot's own body
+/// is left out.
+std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose,
+                             double range = 4.0);
+
+/// The cloud without the returns of the things but `kept` (of those with 3 returns or more): what
+/// a trial saw of its one obstacle.
+macsim::client::Cloud without_others(const macsim::client::Cloud& cloud,
+                                     const std::vector<Thing>& things, const Thing& kept);
+
+/// A floor plan between the robot and its goal, and the shortest way across it.
+class FloorPlan {
+ public:
+  /// Cells of `cell` m covering `from` and `to` and `border` m around both.
+  FloorPlan(const Point2& from, const Point2& to, double border = 2.5, double cell = 0.05);
+  /// A thing on the plan: passable ones cost `passable_cost` times the floor to cross, those not
+  /// yet judged `unknown_cost`; the others block every cell within `clearance` m and make those
+  /// within `margin` m dearer.
+  void add(const Thing& thing, double clearance, double margin, double passable_cost = 2.0,
+           double unknown_cost = 3.0);
+  /// The cells within `radius` m of `at` block (something it was pressed against).
+  void block(const Point2& at, double radius);
+  /// The cheapest way from `from` to `to` (8 neighbours; the cells within `escape` m of `from`
+  /// may be left even when blocked), as cell centres from `from`; empty when there is none.
+  std::vector<Point2> path(double escape = 0.3) const;
+
+ private:
+  std::size_t index(int i, int j) const { return static_cast<std::size_t>(j) * columns_ + i; }
+  bool inside(int i, int j) const { return i >= 0 && j >= 0 && i < columns_ && j < rows_; }
+  int column(double x) const;
+  int row(double y) const;
+  Point2 centre(int i, int j) const;
+
+  Point2 from_, to_;
+  double x0_, y0_, cell_;
+  int columns_, rows_;
+  std::vector<float> cost_;  // per cell: 1 for bare floor, more for dearer cells
+  std::vector<char> blocked_;
+};
+
+/// The length (m) of a way of points.
+double length(const std::vector<Point2>& way);
+
+}  // namespace kurt_navigate

@@ -1,0 +1,132 @@
+// kurt_navigate's floor plan: the things of a synthetic cloud, and the ways the plan finds around
+// what blocks and through what is passable.
+#include "plan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "macsim/affordances/perception.h"
+
+namespace kurt_navigate {
+namespace {
+
+const double kFloor = -macsim::affordances::SensorMount{}.base_height;  // base_link z of the floor
+
+/// A post of radius 0.05 m and `height` at (x, y), base_link: points every 2 cm up and every 22.5
+/// degrees around.
+void add_post(macsim::client::Cloud& cloud, double x, double y, double height) {
+  for (double z = 0.02; z <= height; z += 0.02)
+    for (int k = 0; k < 16; ++k)
+      cloud.points.push_back({float(x + 0.05 * std::cos(k * M_PI / 8)),
+                              float(y + 0.05 * std::sin(k * M_PI / 8)), float(kFloor + z)});
+}
+
+/// A thing whose cells fill a disc of `radius` about (x, y) (odometry frame).
+Thing disc(double x, double y, double radius, bool passable) {
+  Thing t;
+  for (double dx = -radius; dx <= radius; dx += 0.05)
+    for (double dy = -radius; dy <= radius; dy += 0.05)
+      if (std::hypot(dx, dy) <= radius) t.cells.push_back({x + dx, y + dy});
+  t.centre = {x, y};
+  t.judged = true;
+  t.passable = passable;
+  return t;
+}
+
+/// A wall of cells along x at `y`, from x0 to x1.
+Thing wall(double y, double x0, double x1) {
+  Thing t;
+  for (double x = x0; x <= x1; x += 0.05) t.cells.push_back({x, y});
+  t.judged = true;
+  return t;
+}
+
+/// The way's nearest approach to (x, y).
+double nearest(const std::vector<Point2>& way, double x, double y) {
+  double d = 1e9;
+  for (const auto& p : way) d = std::min(d, std::hypot(p[0] - x, p[1] - y));
+  return d;
+}
+
+TEST(NavigatePlan, ACloudsThingsAreItsReturnsAboveTheFloorGroupedLeavingOutTheRobot) {
+  macsim::client::Cloud cloud;
+  for (double x = -2; x <= 2; x += 0.1)  // the floor
+    for (double y = -2; y <= 2; y += 0.1)
+      cloud.points.push_back({float(x), float(y), float(kFloor)});
+  add_post(cloud, 1.0, 0.5, 0.3);
+  add_post(cloud, 1.0, -0.5, 0.3);
+  add_post(cloud, 0.1, 0.0, 0.2);             // on the robot's own body
+  kurt_loop::Pose2 pose{2.0, 1.0, M_PI / 2};  // facing +y in the odometry frame
+  const auto things = things_in(cloud, pose);
+  ASSERT_EQ(things.size(), 2u);
+  for (const auto& t : things) {
+    // Base (1, +-0.5) is odometry (2 -+ 0.5, 2).
+    EXPECT_NEAR(t.centre[1], 2.0, 0.04);
+    EXPECT_NEAR(std::fabs(t.centre[0] - 2.0), 0.5, 0.04);
+    EXPECT_NEAR(t.distance, std::hypot(0.95, 0.5), 0.06);
+    EXPECT_LT(t.across, 0.3);  // 0.1 m across, over up to 3 cells each way
+    EXPECT_EQ(t.points.size(), 14u * 16u) << "all but its lowest ring (2 cm: the floor)";
+    EXPECT_FALSE(t.judged);
+  }
+}
+
+TEST(NavigatePlan, TheWayKeepsClearOfWhatBlocksAndCrossesWhatIsPassable) {
+  {
+    FloorPlan plan({0, 0}, {4, 0});
+    plan.add(disc(2, 0, 0.2, false), 0.3, 0.5);
+    const auto way = plan.path();
+    ASSERT_FALSE(way.empty());
+    EXPECT_EQ(way.front(), (Point2{0, 0}));
+    EXPECT_EQ(way.back(), (Point2{4, 0}));
+    EXPECT_GE(nearest(way, 2, 0), 0.2 + 0.3 - 0.05) << "its cells, grown by the clearance";
+    EXPECT_GT(length(way), 4.05);
+  }
+  // A corridor 1 m wide closed by a thing across it: crossed when passable, else no way.
+  for (bool passable : {true, false}) {
+    FloorPlan plan({0, 0}, {4, 0});
+    plan.add(wall(0.5, -3, 7), 0.3, 0.5);
+    plan.add(wall(-0.5, -3, 7), 0.3, 0.5);
+    Thing across;
+    for (double y = -0.5; y <= 0.5; y += 0.05) across.cells.push_back({2, y});
+    across.judged = true;
+    across.passable = passable;
+    plan.add(across, 0.3, 0.5);
+    const auto way = plan.path();
+    if (passable) {
+      ASSERT_FALSE(way.empty());
+      EXPECT_LT(nearest(way, 2, 0), 0.1);
+      EXPECT_LT(length(way), 4.1);
+    } else {
+      EXPECT_TRUE(way.empty());
+    }
+  }
+}
+
+TEST(NavigatePlan, ItLeavesWhatItStandsAgainstAndNeverEntersABlockedGoal) {
+  {
+    FloorPlan plan({0, 0}, {3, 0});
+    plan.add(disc(0.25, 0, 0.1, false), 0.3, 0.5);  // against its front
+    const auto way = plan.path();
+    ASSERT_FALSE(way.empty());
+    EXPECT_GE(nearest({way.begin() + static_cast<long>(way.size() / 2), way.end()}, 0.25, 0), 0.35);
+  }
+  {
+    FloorPlan plan({0, 0}, {3, 0});
+    plan.block({3, 0}, 0.2);
+    EXPECT_TRUE(plan.path().empty());
+  }
+}
+
+TEST(NavigatePlan, ThingsNotYetJudgedAreCrossedOnlyAtAPrice) {
+  FloorPlan plan({0, 0}, {4, 0});
+  Thing unknown = disc(2, 0, 0.3, false);
+  unknown.judged = false;
+  plan.add(unknown, 0.3, 0.5);
+  const auto way = plan.path();
+  ASSERT_FALSE(way.empty());
+  EXPECT_GE(nearest(way, 2, 0), 0.3) << "around it, where that is cheap";
+}
+
+}  // namespace
+}  // namespace kurt_navigate
