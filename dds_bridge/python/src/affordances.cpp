@@ -117,34 +117,34 @@ void bind_affordances(py::module_& m) {
           "the model; others are ignored) or a sequence in `features` order. Confidence: the "
           "share of the forest's trees that voted for the label.")
       .def_property_readonly(
-          "affordance", [](const af::AffordanceModel& m) { return m.info().affordance; },
+          "affordance", [](const af::AffordanceModel& model) { return model.info().affordance; },
           "lift, push, climb, stack or traverse.")
       .def_property_readonly(
-          "features", [](const af::AffordanceModel& m) { return m.info().features; },
+          "features", [](const af::AffordanceModel& model) { return model.info().features; },
           "The features the model takes, in order.")
       .def_property_readonly(
-          "labels", [](const af::AffordanceModel& m) { return m.info().labels; },
+          "labels", [](const af::AffordanceModel& model) { return model.info().labels; },
           "The labels it answers.")
       .def_property_readonly(
-          "generator", [](const af::AffordanceModel& m) { return m.info().generator; },
+          "generator", [](const af::AffordanceModel& model) { return model.info().generator; },
           "The trials' generator(s) its rows came from.")
       .def_property_readonly(
-          "rows", [](const af::AffordanceModel& m) { return m.info().rows; },
+          "rows", [](const af::AffordanceModel& model) { return model.info().rows; },
           "Trial rows the forest was fitted on.")
       .def_property_readonly(
-          "seeds", [](const af::AffordanceModel& m) { return m.info().seeds; },
+          "seeds", [](const af::AffordanceModel& model) { return model.info().seeds; },
           "Their seeds as ranges, e.g. '1-300'.")
       .def_property_readonly(
           "held_out_accuracy",
-          [](const af::AffordanceModel& m) { return m.info().held_out_accuracy; },
+          [](const af::AffordanceModel& model) { return model.info().held_out_accuracy; },
           "Accuracy on the held-out trials, measured before the forest was refit on all rows.")
       .def_property_readonly(
           "project_version",
-          [](const af::AffordanceModel& m) { return m.info().project_version; },
+          [](const af::AffordanceModel& model) { return model.info().project_version; },
           "The version of MACSim-DDS that wrote the file.")
-      .def("__repr__", [](const af::AffordanceModel& m) {
-        return "<macsim.AffordanceModel " + m.info().affordance + " from " +
-               std::to_string(m.info().rows) + " rows>";
+      .def("__repr__", [](const af::AffordanceModel& model) {
+        return "<macsim.AffordanceModel " + model.info().affordance + " from " +
+               std::to_string(model.info().rows) + " rows>";
       });
 }
 
