@@ -1,7 +1,8 @@
 // affordance_trials against real lock-step simulators: the rows do not depend on how many
 // instances ran them (lift, push, climb, stack, traverse), a trial repeats bit for bit under CPU
 // load with the state hash checked after every step, a killed run resumes without losing or
-// repeating a row, an instance killed mid-run is noticed and its trials run elsewhere;
+// repeating a row, an instance killed mid-run is noticed and its trials run elsewhere; the
+// committed rows are what the trials make today;
 // affordance_learn learns from the rows and draws its plots; bad arguments start nothing.
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -127,6 +128,47 @@ TEST_P(ByAffordance, OneInstanceAndThreeGiveTheSameRows) {
 
 INSTANTIATE_TEST_SUITE_P(Affordances, ByAffordance,
                          ::testing::Values("lift", "push", "climb", "stack", "traverse"));
+
+/// The committed rows (tests/tools/affordances/) and how they were made.
+struct CommittedRows {
+  const char* affordance;
+  const char* generator;
+};
+
+class CommittedRowsTest : public ::testing::TestWithParam<CommittedRows> {};
+
+TEST_P(CommittedRowsTest, AreWhatTheTrialsMakeToday) {
+  // Models of these rows judge what a controller perceives today: a change to the simulator or
+  // the perception that moves a feature must regenerate them (affordance_trials --affordance A
+  // --generator G --trials 300, or 200 for traverse).
+  const auto [affordance, generator] = GetParam();
+  const std::string file =
+      source("tests/tools/affordances/" + std::string(affordance) + "_trials.csv");
+  std::map<std::string, std::string> committed;  // by trial: its row
+  for (const auto& line : lines_of(file)) committed[key_of(line)] = result_part(line);
+  TempDir dir("affordance_rows_");
+  std::string out;
+  ASSERT_EQ(run({bin("affordance_trials"), "--domain", std::to_string(unique_test_domain()),
+                 "--affordance", affordance, "--generator", generator, "--trials", "3", "--out",
+                 dir.path() + "/today.csv"},
+                &out),
+            0)
+      << out;
+  const auto today = lines_of(dir.path() + "/today.csv");
+  ASSERT_EQ(today.size(), 4u);
+  EXPECT_EQ(result_part(today[0]), committed[key_of(lines_of(file)[0])]) << "the columns";
+  for (std::size_t i = 1; i < today.size(); ++i) {
+    ASSERT_TRUE(committed.count(key_of(today[i]))) << today[i];
+    EXPECT_EQ(result_part(today[i]), committed[key_of(today[i])])
+        << file << " is out of date: regenerate it";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Fixtures, CommittedRowsTest,
+                         ::testing::Values(CommittedRows{"lift", "material"},
+                                           CommittedRows{"stack", "balanced"},
+                                           CommittedRows{"traverse", "balanced"}),
+                         [](const auto& test) { return std::string(test.param.affordance); });
 
 TEST(AffordanceTrials, ATrialRepeatsBitForBitUnderLoadWithEveryStepHashed) {
   // Two busy loops keep both cores loaded while two instances run the same trial 20 times,
