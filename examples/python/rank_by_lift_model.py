@@ -75,8 +75,7 @@ def main():
         parser.error(str(error))
     if model.affordance != "lift" or "liftable" not in model.labels:
         parser.error(f"{args.model} is a model of {model.affordance}, not lift")
-    camera = {"r", "g", "b", "hue", "area_px", "width_px", "height_px", "fill", "stereo_range",
-              "width_m"}
+    camera = set(affordances.feature_group("camera"))
     if not set(model.features) <= camera:
         parser.error(f"{args.model} takes {sorted(set(model.features) - camera)}, which the "
                      "cameras do not give: train with --features hue (or camera)")

@@ -60,6 +60,18 @@ def test_the_features_a_controller_computes_must_be_the_models(lift_model):
         model.predict({"g": 1.0})
 
 
+def test_a_sensors_feature_group_names_the_features_it_gives(lift_model):
+    camera = affordances.feature_group("camera")
+    assert camera[:4] == ["r", "g", "b", "hue"] and "stereo_range" in camera
+    cloud = affordances.feature_group("cloud")
+    assert "corridor_height" in cloud and "cell_0_0_near" in cloud and "hue" not in cloud
+    # The lift model of the committed rows takes the camera's and the sweep's features.
+    model = affordances.load(lift_model)
+    assert set(model.features) == set(camera) | set(affordances.feature_group("sweep"))
+    with pytest.raises(ValueError, match="no feature group 'radar'"):
+        affordances.feature_group("radar")
+
+
 def test_bad_files_are_refused_naming_them(lift_model, tmp_path):
     with pytest.raises(affordances.AffordanceModelError, match="absent.yml: no such model file"):
         affordances.load(tmp_path / "absent.yml")

@@ -32,6 +32,7 @@ from ._macsim import (
     Supervisor,
     SupervisorError,
     WorldState,
+    affordance_feature_group,
     affordance_features,
     kurt3d_description,
     load_sensor_inputs,

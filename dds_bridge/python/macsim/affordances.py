@@ -14,12 +14,13 @@ from os import PathLike
 from typing import Optional, Sequence, Union
 
 from ._macsim import AffordanceModel, AffordanceModelError
+from ._macsim import affordance_feature_group as feature_group
 from ._macsim import affordance_features as features
 from ._macsim import objects_in_view
 from ._macsim import load_sensor_inputs as load_inputs
 
-__all__ = ["AffordanceModel", "AffordanceModelError", "features", "load", "load_inputs",
-           "objects_in_view"]
+__all__ = ["AffordanceModel", "AffordanceModelError", "feature_group", "features", "load",
+           "load_inputs", "objects_in_view"]
 
 
 def load(path: Union[str, PathLike], features: Optional[Sequence[str]] = None) -> AffordanceModel:

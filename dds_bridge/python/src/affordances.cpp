@@ -61,6 +61,19 @@ void bind_affordances(py::module_& m) {
       "thing whose centre lies in `region` (x, y, width, height in the left image; one of "
       "objects_in_view()), else of the largest. The same code as the trials' rows.");
   m.def(
+      "affordance_feature_group",
+      [](const std::string& name) {
+        const auto* group = af::feature_group(name);
+        if (!group)
+          throw py::value_error("no feature group '" + name +
+                                "' (camera, sweep, top or cloud)");
+        return *group;
+      },
+      py::arg("name"),
+      "The features of one sensor, in order, by group name: camera (the blob in the stereo "
+      "pair), sweep (the laser's sweep ahead), top (stack: the top's profile, the carried "
+      "height) or cloud (traverse: the grid and the corridor). ValueError for another name.");
+  m.def(
       "objects_in_view",
       [](const client::StereoFrame& frame) {
         std::vector<std::tuple<int, int, int, int>> boxes;
