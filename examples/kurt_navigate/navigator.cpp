@@ -43,10 +43,6 @@ void Navigator::after_tick() { sightings_.pass(pose_); }
 Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
   const Point2 goal{options_.goal_x, options_.goal_y};
   auto things = things_in(cloud, pose_);
-  const auto key = [](const Point2& p) {
-    return std::pair<int, int>{static_cast<int>(std::floor(p[0] / 0.05)),
-                               static_cast<int>(std::floor(p[1] / 0.05))};
-  };
   std::string judged;
   for (auto& thing : things) {
     thing.judged = true;  // the baseline: nothing is passable
@@ -69,7 +65,7 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
       const auto said = options_.traverse_model->predict(f);
       thing.p_traversable = said.label == "traversable" ? said.confidence : 1 - said.confidence;
       thing.passable = thing.p_traversable >= 0.5;
-      for (const auto& c : thing.cells) verdicts_[key(c)] = thing.passable;
+      for (const auto& c : thing.cells) verdicts_[cell_of(c)] = thing.passable;
       std::snprintf(text, sizeof text, " (%.2f,%.2f %.2fm %.2f)", thing.centre[0], thing.centre[1],
                     thing.across, thing.p_traversable);
       judged += text;
@@ -77,7 +73,7 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
       // Further, or aside: as judged before where it stood then, else not known yet.
       int yes = 0, no = 0;
       for (const auto& c : thing.cells) {
-        const auto v = verdicts_.find(key(c));
+        const auto v = verdicts_.find(cell_of(c));
         if (v != verdicts_.end()) ++(v->second ? yes : no);
       }
       thing.judged = yes + no > 0;
@@ -112,7 +108,7 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
     if (!ahead) continue;
     way.stretch = run;
     if (run < 0.1 && ahead->distance <= kJudgeRange)
-      way.judge = ahead->centre;
+      way.judge = Stand{ahead->centre, near_side(cloud, *ahead)};
     else
       way.stretch = std::max(run, 0.1);
     break;
@@ -120,24 +116,32 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
   return way;
 }
 
-void Navigator::stand_before(const Point2& centre, const macsim::client::Cloud& cloud) {
-  const double bearing = std::atan2(centre[1] - pose_.y, centre[0] - pose_.x);
-  // Its near side along the bearing, from this look (the points within 0.3 m of its middle's
-  // line), then turned to face it and moved to stand where the trials stood.
-  const double c = std::cos(bearing - pose_.yaw), s = std::sin(bearing - pose_.yaw);
-  const double reach = std::hypot(centre[0] - pose_.x, centre[1] - pose_.y);
-  double near = reach;
-  for (const auto& thing : things_in(cloud, pose_)) {
-    if (std::hypot(thing.centre[0] - centre[0], thing.centre[1] - centre[1]) > 0.05) continue;
-    for (std::size_t k : thing.points) {
-      const auto& q = cloud.points[k];
-      const double x = c * q[0] + s * q[1], y = -s * q[0] + c * q[1];
-      if (std::fabs(y) < 0.3) near = std::min(near, x);
-    }
+double Navigator::near_side(const macsim::client::Cloud& cloud, const Thing& thing) const {
+  // Along the bearing of its middle, of its returns within 0.3 m of that line.
+  const double bearing =
+      std::atan2(thing.centre[1] - pose_.y, thing.centre[0] - pose_.x) - pose_.yaw;
+  const double c = std::cos(bearing), s = std::sin(bearing);
+  double near = std::hypot(thing.centre[0] - pose_.x, thing.centre[1] - pose_.y);
+  for (std::size_t k : thing.points) {
+    const auto& q = cloud.points[k];
+    if (std::fabs(-s * q[0] + c * q[1]) < 0.3) near = std::min(near, c * q[0] + s * q[1]);
   }
-  turn_to(bearing);
-  if (std::fabs(near - kTrialNear) > kNearSlack / 2) drive_straight(near - kTrialNear, 0.2, 1.0);
-  turn_to(std::atan2(centre[1] - pose_.y, centre[0] - pose_.x));
+  return near;
+}
+
+void Navigator::stand_before(const Stand& stand) {
+  turn_to(std::atan2(stand.centre[1] - pose_.y, stand.centre[0] - pose_.x));
+  if (std::fabs(stand.near - kTrialNear) > kNearSlack / 2)
+    drive_straight(stand.near - kTrialNear, 0.2, 1.0);
+  turn_to(std::atan2(stand.centre[1] - pose_.y, stand.centre[0] - pose_.x));
+}
+
+void Navigator::back_off(Outcome& out, const std::string& why) {
+  ++out.stalls;
+  // What it stood against blocks from now on.
+  pressed_.push_back({pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)});
+  say("stalled (" + why + "): pressed against something it cannot pass; backing off");
+  drive_straight(-0.3, 0.2, 1.0);
 }
 
 bool Navigator::follow(const std::vector<Point2>& way, double stretch) {
@@ -231,15 +235,8 @@ void Navigator::drive(Outcome& out) {
     if (asked > 0.1) {
       const double moved = std::hypot(pose_.x - stretch_from.x, pose_.y - stretch_from.y);
       if (moved < 0.3 * asked) {
-        ++out.stalls;
-        pressed_.push_back(
-            {pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)});
-        std::snprintf(text, sizeof text,
-                      "stalled: %.2f m of %.2f (by the laser): pressed against something it "
-                      "cannot pass; backing off",
-                      moved, asked);
-        say(text);
-        drive_straight(-0.3, 0.2, 1.0);
+        std::snprintf(text, sizeof text, "%.2f m of %.2f (by the laser)", moved, asked);
+        back_off(out, text);
         asked = 0;
         continue;  // and looks again from there
       }
@@ -249,7 +246,7 @@ void Navigator::drive(Outcome& out) {
     const auto way = plan(cloud);
     if (way.judge && faced < 3) {  // to judge what stands in its way
       ++faced;
-      stand_before(*way.judge, cloud);
+      stand_before(*way.judge);
       asked = 0;
       continue;
     }
@@ -264,16 +261,11 @@ void Navigator::drive(Outcome& out) {
     say(text);
     ++out.stretches;
     stretch_from = pose_;
-    const kurt_loop::Pose2 before = pose_;
     const bool went = follow(way.points, way.stretch);
-    asked = std::hypot(pose_.x - before.x, pose_.y - before.y);
+    asked = std::hypot(pose_.x - stretch_from.x, pose_.y - stretch_from.y);
     if (!went) {
-      ++out.stalls;
-      pressed_.push_back(
-          {pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)});
+      back_off(out, "no headway by the wheels");
       asked = 0;
-      say("stalled: pressed against something it cannot pass; backing off");
-      drive_straight(-0.3, 0.2, 1.0);
     }
   }
   linear_ = angular_ = 0;

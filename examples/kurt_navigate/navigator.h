@@ -53,16 +53,26 @@ class Navigator : public kurt_loop::RobotLoop {
   Outcome run();
 
  private:
+  /// Where to stand to judge a thing: its middle (odometry frame) and its near side, m from the
+  /// robot along the bearing of its middle.
+  struct Stand {
+    Point2 centre{};
+    double near = 0;
+  };
   struct Way {
-    std::vector<Point2> points;   ///< from the robot to the goal; empty when there is none
-    double stretch = 0;           ///< m to drive before looking again
-    std::optional<Point2> judge;  ///< first stand before what has its middle here, to judge it
+    std::vector<Point2> points;  ///< from the robot to the goal; empty when there is none
+    double stretch = 0;          ///< m to drive before looking again
+    std::optional<Stand> judge;  ///< first stand before this thing, to judge it
   };
   /// The way to the goal from here, judged from `cloud`.
   Way plan(const macsim::client::Cloud& cloud);
-  /// Turns to face the thing whose middle is at `centre` and moves to stand where a trial stood
-  /// before its obstacle (its near side, as `cloud` shows it, kTrialNear ahead).
-  void stand_before(const Point2& centre, const macsim::client::Cloud& cloud);
+  /// The near side of `thing` (m from the robot) along the bearing of its middle, from `cloud`.
+  double near_side(const macsim::client::Cloud& cloud, const Thing& thing) const;
+  /// Turns to face the thing and moves to stand where a trial stood before its obstacle (its
+  /// near side kTrialNear ahead).
+  void stand_before(const Stand& stand);
+  /// A stall (`why`): counted, what it stood against marked as blocking, and 0.3 m backed off.
+  void back_off(Outcome& out, const std::string& why);
   /// Follows `way` for `stretch` m (or to its end); false when it stalled (its wheels made no
   /// 2 cm in a second).
   bool follow(const std::vector<Point2>& way, double stretch);

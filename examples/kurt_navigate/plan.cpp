@@ -14,13 +14,10 @@ namespace af = macsim::affordances;
 
 namespace {
 
-constexpr double kCell = 0.05;        // m: the things' cells
-constexpr double kAboveFloor = 0.03;  // m: lower returns are the floor (the trials' corridor)
+constexpr double kCell = 0.05;  // m: the things' cells
 // What lies closer than this is one thing (the scanner's rings leave wider gaps far away; the
 // robot passes no gap this narrow).
 double gap(double range) { return std::max(0.15, 0.1 * range); }
-
-double height(const std::array<float, 3>& q) { return q[2] + af::SensorMount{}.base_height; }
 
 /// The robot's own body in base_link (tracks, crane base): its returns are not things.
 bool on_body(const std::array<float, 3>& q) {
@@ -29,6 +26,10 @@ bool on_body(const std::array<float, 3>& q) {
 
 }  // namespace
 
+std::pair<int, int> cell_of(const Point2& p) {
+  return {static_cast<int>(std::floor(p[0] / kCell)), static_cast<int>(std::floor(p[1] / kCell))};
+}
+
 std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose,
                              double range) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
@@ -36,13 +37,12 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
   std::map<Key, std::vector<std::size_t>> cells;
   for (std::size_t k = 0; k < cloud.points.size(); ++k) {
     const auto& q = cloud.points[k];
-    const double h = height(q);
+    const double h = height_above_floor(q);
     if (!(h > kAboveFloor && h <= af::GroundGrid::kTop) || on_body(q) ||
         !(std::hypot(q[0], q[1]) <= range))
       continue;
     const double x = pose.x + c * q[0] - s * q[1], y = pose.y + s * q[0] + c * q[1];
-    cells[{static_cast<int>(std::floor(x / kCell)), static_cast<int>(std::floor(y / kCell))}]
-        .push_back(k);
+    cells[cell_of({x, y})].push_back(k);
   }
   std::vector<Thing> things;
   std::map<Key, bool> grouped;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "macsim/client/robot_devices.h"
@@ -26,6 +27,9 @@ struct Thing {
   double p_traversable = 0;         ///< the judgement, [0, 1]
   bool passable = false;            ///< judged traversable (driven into or over)
 };
+
+/// The 5 cm cell of the things' grid (odometry frame) that holds `p`.
+std::pair<int, int> cell_of(const Point2& p);
 
 /// The things of a cloud (base_link) taken at `pose`, up to `range` m away; the robot's own body
 /// is left out.

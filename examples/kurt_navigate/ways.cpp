@@ -13,13 +13,13 @@ namespace af = macsim::affordances;
 
 namespace {
 
-constexpr double kAboveFloor = 0.03;  // m: lower returns are the floor (the trials' corridor)
-constexpr double kCell = 0.1;         // m: the sightings' cells
-
-/// Height above the floor of a point in base_link.
-double height(const std::array<float, 3>& q) { return q[2] + af::SensorMount{}.base_height; }
+constexpr double kCell = 0.1;  // m: the sightings' cells
 
 }  // namespace
+
+double height_above_floor(const std::array<float, 3>& point) {
+  return point[2] + af::SensorMount{}.base_height;
+}
 
 macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading) {
   macsim::client::Cloud way;
@@ -44,7 +44,7 @@ std::vector<Point2> tall_structure(const macsim::client::Cloud& cloud,
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   std::map<std::pair<int, int>, Point2> cells;
   for (const auto& q : cloud.points) {
-    const double h = height(q);
+    const double h = height_above_floor(q);
     if (h < 0.05 || h > 0.6 || std::hypot(q[0], q[1]) < 0.6 || std::hypot(q[0], q[1]) > 6) continue;
     const double x = pose.x + c * q[0] - s * q[1], y = pose.y + s * q[0] + c * q[1];
     cells.try_emplace(
@@ -155,7 +155,7 @@ af::AffordanceModel load_traverse_model(const std::string& dir) {
 void Sightings::add(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   for (const auto& q : cloud.points) {
-    const double h = height(q);
+    const double h = height_above_floor(q);
     if (h <= kAboveFloor || h > af::GroundGrid::kTop || std::hypot(q[0], q[1]) > 3.0 ||
         std::hypot(q[0], q[1]) < 0.3)
       continue;

@@ -26,6 +26,11 @@ std::map<std::string, double> way_features(const macsim::client::Cloud& way);
 /// A point on the floor plan, m.
 using Point2 = std::array<double, 2>;
 
+/// Returns lower than this above the floor are the floor (the trials' corridor), m.
+inline constexpr double kAboveFloor = 0.03;
+/// Height above the floor of a cloud's point (base_link), m.
+double height_above_floor(const std::array<float, 3>& point);
+
 /// What stands in a cloud taken at `pose`: its points 5-60 cm above the floor, 0.6-6 m away, in
 /// the odometry frame, one per 5 cm cell (what the robot pushes is a small part of it).
 std::vector<Point2> tall_structure(const macsim::client::Cloud& cloud,
