@@ -106,11 +106,11 @@ int main(int argc, char** argv) {
         if (clutter == macsim::test::kClutterFieldThings) break;
         std::this_thread::sleep_for(10ms);
       }
-      std::vector<std::string> argv{bin + "/kurt_navigate", "--domain", std::to_string(domain),
-                                    "--lockstep",           "--policy", policy};
-      if (policy == "model") argv.insert(argv.end(), {"--affordances", models});
+      std::vector<std::string> command{bin + "/kurt_navigate", "--domain", std::to_string(domain),
+                                       "--lockstep",           "--policy", policy};
+      if (policy == "model") command.insert(command.end(), {"--affordances", models});
       const std::string log = logs + "/kurt_navigate_" + tag + ".log";
-      macsim::process::ChildProcess navigator(argv, macsim::process::Output::file(log));
+      macsim::process::ChildProcess navigator(command, macsim::process::Output::file(log));
       const auto ended = navigator.wait_for_exit(std::chrono::seconds(600));
       const int code = ended ? *ended : navigator.stop();
       std::this_thread::sleep_for(300ms);

@@ -30,7 +30,9 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
   const auto state = dds::writer_qos(dds::QosFamily::State, p.publisher());
   EXPECT_EQ(state.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(state.durability().kind, fdds::VOLATILE_DURABILITY_QOS);
-  EXPECT_EQ(state.history().depth, 10);
+  EXPECT_EQ(state.history().depth, 100);  // a second of 100 Hz steps for a late reader
+  EXPECT_EQ(state.resource_limits().max_samples_per_instance, 100);
+  EXPECT_EQ(dds::reader_qos(dds::QosFamily::State, p.subscriber()).history().depth, 10);
   const auto latched = dds::writer_qos(dds::QosFamily::Latched, p.publisher());
   EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(latched.history().depth, 1);
@@ -56,6 +58,8 @@ TEST(QosFamilies, AUsersProfileChangesAFamily) {
   EXPECT_EQ(latched.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   const auto state = dds::writer_qos(dds::QosFamily::State, p.publisher());
   EXPECT_EQ(state.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(state.history().depth, 100);
+  EXPECT_EQ(dds::reader_qos(dds::QosFamily::State, p.subscriber()).history().depth, 10);
   std::remove(path.c_str());
 }
 

@@ -153,8 +153,9 @@ TEST(KurtDemoAffordances, ALearnedLiftModelPicksALiftableCanFirst) {
     for (auto at = judged.find("[blue at"); at != std::string::npos;
          at = judged.find("[blue at", at + 1)) {
       const std::string one = judged.substr(at, judged.find(']', at) - at);
-      if (one.find("not judged") == std::string::npos)
+      if (one.find("not judged") == std::string::npos) {
         EXPECT_NE(one.find(": not_liftable"), std::string::npos) << one;
+      }
     }
     // The can on the platform is light (tin, not lead).
     const mm::Object_* can = can_on_platform(run);

@@ -715,6 +715,7 @@ int run_play(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   std::uint64_t sent = 0;
+  bool failed = false;
   do {
     const auto start = Clock::now();
     std::int64_t next_clock = bag->start_ns();
@@ -742,15 +743,36 @@ int run_play(int argc, char** argv) {
             std::min<Clock::duration>(due - Clock::now(), std::chrono::milliseconds(5)));
       }
       publish_clock_until(ns);
-      writers[t.id]->write(std::vector<std::uint8_t>(data, data + size));
+      // A keep-all writer refuses a sample while its history is full of samples a reader has
+      // not acknowledged (each refusal after Fast DDS's 100 ms blocking time): wait for the
+      // reader instead of dropping the sample, as long as some reader is still there.
+      const std::vector<std::uint8_t> bytes(data, data + size);
+      const auto give_up = Clock::now() + std::chrono::seconds(30);
+      while (!writers[t.id]->write(bytes)) {
+        if (g_stop.load()) return false;
+        if (writers[t.id]->matched() == 0 || Clock::now() > give_up) {
+          log::error("macsim_topic play: a sample of {} at {} ns was refused for 30 s or its "
+                     "readers left; stopping",
+                     t.name, ns);
+          failed = true;
+          return false;
+        }
+      }
       ++sent;
       return !g_stop.load();
     });
   } while (loop && !g_stop.load());
-  for (auto& [id, w] : writers) w->wait_acknowledged(std::chrono::seconds(2));
+  // What is written is not yet received: stay until the readers acknowledged every sample.
+  for (const auto& t : bag->topics()) {
+    const auto w = writers.find(t.id);
+    if (w != writers.end() && !w->second->wait_acknowledged(std::chrono::seconds(30))) {
+      log::warn("macsim_topic play: a reader of {} did not acknowledge every sample in 30 s",
+                t.name);
+    }
+  }
   std::printf("macsim_topic play: %llu messages from %s\n", static_cast<unsigned long long>(sent),
               bag->database_path().c_str());
-  return 0;
+  return failed ? 1 : 0;
 }
 
 int run_bag(int argc, char** argv) {

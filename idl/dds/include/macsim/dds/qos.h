@@ -13,7 +13,7 @@ enum class QosFamily {
   Command,  ///< controller -> robot: reliable, volatile, keep last 10
   Sensor,   ///< images, scans, clouds, ranges: best effort, volatile, keep last 5 (SensorDataQoS)
   State,    ///< odometry, IMU, joint and crane states, clock: reliable, volatile, keep last 10
-            ///< (a default ROS 2 subscription matches it; best-effort readers too)
+            ///< (writers keep 100; a default ROS 2 subscription matches; best effort too)
   Latched,  ///< state a late joiner must see: reliable, transient local, keep last 1
 };
 
