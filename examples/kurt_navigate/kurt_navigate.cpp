@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
              "floor (the baseline)",
              &policy);
   cli.option("affordances", "DIR",
-             "the traverse model DIR/traverse.yml (affordance_learn --features cloud "
+             "the traverse model DIR/traverse.yml (affordance_learn --features shape "
              "--save-model DIR); required by --policy model",
              &affordances);
   cli.option("tolerance", "METRES", "how near the goal counts as there (default 0.3)",
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   } else if (affordances.empty()) {
     macsim::log::error(
         "kurt_navigate: --policy model needs --affordances DIR (a traverse model: "
-        "affordance_learn --features cloud --save-model DIR), or use --policy avoid");
+        "affordance_learn --features shape --save-model DIR), or use --policy avoid");
     return kUsage;
   }
   if (options.policy == Policy::Model) {

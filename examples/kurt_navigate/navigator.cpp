@@ -18,11 +18,13 @@ constexpr double kLookahead = 0.35;  // m: the point of the way it steers for
 // The traverse trials' obstacle: its near side 0.62-0.75 m ahead.
 constexpr double kTrialNear = 0.68;
 constexpr double kWall = 1.2;  // m across: larger things are walls, not asked about
-// A thing is judged as a trial judged its obstacle: the robot standing before it, facing it
-// (within kFacing rad) with its near side kTrialNear ahead (give or take kNearSlack), on the cloud
-// as it came: the scanner's rings fall on the floor as they fell in the trials. The robot stops
-// where its way comes within kApproach of a thing not judged yet, and goes to stand so.
-constexpr double kFacing = 0.05, kNearSlack = 0.07, kApproach = 0.8, kJudgeRange = 1.1;
+// A thing is judged from where its near side lies kJudgeNearest-kJudgeNear m away (a trial's
+// lay 0.62-0.75 m ahead), alone in the cloud turned to face it; the look nearest kTrialNear
+// wins. The robot stops where its way comes within kApproach of a thing not judged yet; standing
+// there already (within kJudgeRange of it), it goes to stand with the near side kTrialNear
+// ahead (give or take kNearSlack / 2).
+constexpr double kNearSlack = 0.07, kApproach = 0.8, kJudgeRange = 1.1;
+constexpr double kJudgeNearest = 0.5, kJudgeNear = 0.9;
 // The traverse trials' look: the boom up and swung aside (out of the cloud), the scanner
 // turning once a second.
 constexpr double kAsideSlew = -0.75, kBoomUp = 0.6;
@@ -53,35 +55,44 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
     char text[80];
     const double off =
         wrap(std::atan2(thing.centre[1] - pose_.y, thing.centre[0] - pose_.x) - pose_.yaw);
-    double near = 1e9;  // its near side ahead, base_link
-    for (std::size_t k : thing.points)
-      near = std::min(near, static_cast<double>(cloud.points[k][0]));
     if (pressed) {
       thing.passable = false;
-    } else if (std::fabs(off) <= kFacing && std::fabs(near - kTrialNear) <= kNearSlack) {
-      // Before it, as a trial stood before its obstacle: the model is asked about the way
-      // ahead, and the verdict kept.
-      const auto f = way_features(without_others(cloud, things, thing));
-      const auto said = options_.traverse_model->predict(f);
-      thing.p_traversable = said.label == "traversable" ? said.confidence : 1 - said.confidence;
-      thing.passable = thing.p_traversable >= 0.5;
-      for (const auto& c : thing.cells) verdicts_[cell_of(c)] = thing.passable;
-      std::snprintf(text, sizeof text, " (%.2f,%.2f %.2fm %.2f)", thing.centre[0], thing.centre[1],
-                    thing.across, thing.p_traversable);
-      judged += text;
-    } else {
-      // Further, or aside: as judged before where it stood then, else not known yet.
-      int yes = 0, no = 0;
-      for (const auto& c : thing.cells) {
-        const auto v = verdicts_.find(cell_of(c));
-        if (v != verdicts_.end()) ++(v->second ? yes : no);
-      }
-      thing.judged = yes + no > 0;
-      thing.passable = yes > no;
+      continue;
     }
+    const double near = near_side(cloud, thing);
+    if (near >= kJudgeNearest && near <= kJudgeNear) {
+      // Near, as a trial's obstacle stood: the model is asked about it alone, in the frame that
+      // faces it; the verdict of the look nearest a trial's stance is kept.
+      const auto f = way_features(along(without_others(cloud, things, thing), off));
+      const auto said = options_.traverse_model->predict(f);
+      const double p = said.label == "traversable" ? said.confidence : 1 - said.confidence;
+      const double off_trial = std::fabs(near - kTrialNear);
+      int better = 0;  // cells this look judged first or from nearer a trial's stance
+      for (const auto& c : thing.cells) {
+        auto [v, fresh] = verdicts_.try_emplace(cell_of(c), Verdict{p, off_trial});
+        if (!fresh && off_trial < v->second.off_trial) v->second = Verdict{p, off_trial};
+        better += fresh || v->second.off_trial == off_trial;
+      }
+      if (2 * better <= static_cast<int>(thing.cells.size())) better = 0;
+      if (better) {
+        std::snprintf(text, sizeof text, " (%.2f,%.2f %.2fm %.2f at %.2fm)", thing.centre[0],
+                      thing.centre[1], thing.across, p, near);
+        judged += text;
+      }
+    }
+    // As the best look judged the cells it covers, else not known yet.
+    double sum = 0;
+    int n = 0;
+    for (const auto& c : thing.cells) {
+      const auto v = verdicts_.find(cell_of(c));
+      if (v != verdicts_.end()) sum += v->second.p_traversable, ++n;
+    }
+    thing.judged = n > 0;
+    thing.p_traversable = n > 0 ? sum / n : 0;
+    thing.passable = thing.judged && thing.p_traversable >= 0.5;
   }
   if (options_.policy == Policy::Model && !judged.empty())
-    say("judged, standing before it (where, across, P(traversable)):" + judged);
+    say("judged (where, across, P(traversable), near side):" + judged);
   Way way;
   // Clear by the margin if it can; closer to what it cannot pass if it must.
   for (double clearance : {kClearance, kClearance - 0.05}) {

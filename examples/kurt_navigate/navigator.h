@@ -84,7 +84,12 @@ class Navigator : public kurt_loop::RobotLoop {
   NavigateOptions options_;
   Sightings sightings_;
   std::vector<Point2> pressed_;  // odometry frame: where it stalled against something
-  std::map<std::pair<int, int>, bool> verdicts_;  // 5 cm cells of things judged: passable?
+  /// A thing's judgement, kept per 5 cm cell it covered: P(traversable), and how far the look
+  /// it came from stood from a trial's (|near side - the trials'|, m): a nearer look replaces it.
+  struct Verdict {
+    double p_traversable = 0, off_trial = 0;
+  };
+  std::map<std::pair<int, int>, Verdict> verdicts_;
 };
 
 }  // namespace kurt_navigate

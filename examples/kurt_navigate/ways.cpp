@@ -139,15 +139,18 @@ af::AffordanceModel load_traverse_model(const std::string& dir) {
   if (std::find(info.labels.begin(), info.labels.end(), "traversable") == info.labels.end())
     throw std::runtime_error(file + " has no label 'traversable'");
   const auto& cloud = *af::feature_group("cloud");
+  const auto& shape = *af::feature_group("shape");
   std::string other;
   for (const auto& f : info.features) {
-    if (std::find(cloud.begin(), cloud.end(), f) == cloud.end())
+    if (std::find(cloud.begin(), cloud.end(), f) == cloud.end() &&
+        std::find(shape.begin(), shape.end(), f) == shape.end())
       other += (other.empty() ? "" : ",") + f;
   }
   if (!other.empty()) {
     throw std::runtime_error(file + " takes " + other +
-                             ", which a cloud does not give (the navigator judges its ways from "
-                             "the 3D laser only; train with affordance_learn --features cloud)");
+                             ", which a cloud does not give (the navigator judges what stands in "
+                             "its way from the 3D laser only; train with affordance_learn "
+                             "--features shape; cloud and cloud,shape are taken too)");
   }
   return model;
 }

@@ -48,7 +48,7 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& before,
                                            const std::vector<std::array<double, 2>>& guesses = {});
 
 /// The traverse model DIR/traverse.yml, when it takes only what a cloud gives
-/// (affordance_learn --features cloud); throws std::runtime_error naming the file and the fault.
+/// (affordance_learn --features shape or cloud); throws std::runtime_error naming the file and the fault.
 macsim::affordances::AffordanceModel load_traverse_model(const std::string& dir);
 
 /// Things above the floor the laser saw during a run (cells of 10 cm in the odometry frame,

@@ -33,7 +33,7 @@ std::string models_dir() {
   static const bool made = [] {
     ChildProcess learn({bin("affordance_learn"), "--in",
                         source("tests/tools/affordances/traverse_trials.csv"), "--features",
-                        "cloud", "--save-model", dir.path()});
+                        "shape", "--save-model", dir.path()});
     EXPECT_EQ(learn.wait_for_exit(120s), 0) << learn.output();
     return true;
   }();
@@ -129,7 +129,7 @@ TEST(KurtNavigate, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
   ASSERT_EQ(learn.wait_for_exit(120s), 0) << learn.output();
   ChildProcess all({bin("kurt_navigate"), "--domain", "5", "--affordances", dir.path()});
   EXPECT_EQ(all.wait_for_exit(10s), 2) << all.output();
-  EXPECT_NE(all.output().find("--features cloud"), std::string::npos) << all.output();
+  EXPECT_NE(all.output().find("--features shape"), std::string::npos) << all.output();
   // No robot: a clear message and its own exit code, after the discovery timeout.
   ChildProcess alone({bin("kurt_navigate"), "--domain", std::to_string(unique_test_domain()),
                       "--policy", "avoid", "--discovery-timeout", "1"});

@@ -64,7 +64,9 @@ def test_a_sensors_feature_group_names_the_features_it_gives(lift_model):
     camera = affordances.feature_group("camera")
     assert camera[:4] == ["r", "g", "b", "hue"] and "stereo_range" in camera
     cloud = affordances.feature_group("cloud")
-    assert "corridor_height" in cloud and "cell_0_0_near" in cloud and "hue" not in cloud
+    assert "cell_0_0_near" in cloud and "hue" not in cloud and "corridor_height" not in cloud
+    shape = affordances.feature_group("shape")
+    assert "corridor_height" in shape and "shape_recess_max" in shape and "cell_0_0_near" not in shape
     # The lift model of the committed rows takes the camera's and the sweep's features.
     model = affordances.load(lift_model)
     assert set(model.features) == set(camera) | set(affordances.feature_group("sweep"))
@@ -102,7 +104,7 @@ def test_python_computes_a_trials_row_from_what_the_trial_saw(domain, tmp_path):
                                                       f"{affordance}_{row['seed']}")
         assert (points is not None) == (affordance == "traverse")
         features = affordances.features(affordance, frame, scan, points)
-        assert len(features) == (14 if affordance == "lift" else 14 + 240 + 3)
+        assert len(features) == (14 if affordance == "lift" else 14 + 240 + 3 + 6)
         for name, value in features.items():
             assert "%.9g" % value == row[name], (affordance, name)
     with pytest.raises(ValueError, match="absent.yml.gz: no such file"):

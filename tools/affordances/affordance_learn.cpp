@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   cli.option("out", "DIR", "where the plots go (created)", &out);
   cli.option("features", "A,B,...",
              "learn from these perceived features only (default all: r,g,b,hue,area_px,...); a "
-             "sensor's group stands for its features: camera, sweep, top, cloud",
+             "sensor's group stands for its features: camera, sweep, top, cloud, shape",
              &feature_list);
   cli.option("min-accuracy", "FRACTION", "exit 1 when an affordance is learned less well",
              &min_accuracy);

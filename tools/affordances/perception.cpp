@@ -1,6 +1,7 @@
 #include "macsim/affordances/perception.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <filesystem>
@@ -197,6 +198,63 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
   }
 }
 
+namespace {
+
+/// The shape features of the points 3-45 cm above the floor in the grid's reach.
+void perceive_shape(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& p) {
+  using G = GroundGrid;
+  constexpr double kSlice = 0.05, kTopBand = 0.01;
+  struct Slice {
+    double nearest = 1e9, highest = 0;
+    std::vector<std::array<double, 2>> points;  // x, height
+  };
+  std::map<int, Slice> slices;
+  double near = 1e9, far = -1e9, left = -1e9, right = 1e9, highest = 0;
+  std::vector<std::array<double, 2>> all;  // x, height
+  for (const auto& q : cloud.points) {
+    const double x = q[0], y = q[1], h = q[2] + mount.base_height;
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) continue;
+    if (x < G::kNear || x >= G::kNear + G::kRows * G::kRowDepth || std::fabs(y) > G::kWidth / 2 ||
+        h <= 0.03 || h > G::kTop)
+      continue;
+    near = std::min(near, x), far = std::max(far, x);
+    right = std::min(right, y), left = std::max(left, y);
+    highest = std::max(highest, h);
+    all.push_back({x, h});
+    Slice& s = slices[static_cast<int>(std::floor(y / kSlice))];
+    s.nearest = std::min(s.nearest, x);
+    s.highest = std::max(s.highest, h);
+    s.points.push_back({x, h});
+  }
+  p.shape_height = p.shape_width = p.shape_depth = 0;
+  p.shape_recess_max = p.shape_recess_median = p.shape_top_depth = 0;
+  if (all.empty()) return;
+  p.shape_height = highest;
+  p.shape_width = left - right;
+  p.shape_depth = far - near;
+  double top_near = 1e9, top_far = -1e9;
+  for (const auto& [x, h] : all) {
+    if (h < highest - kTopBand) continue;
+    top_near = std::min(top_near, x), top_far = std::max(top_far, x);
+  }
+  p.shape_top_depth = top_far - top_near;
+  std::vector<double> recesses;
+  for (const auto& [key, s] : slices) {
+    if (s.points.size() < 3) continue;  // a stray return
+    double top = 1e9;
+    for (const auto& [x, h] : s.points) {
+      if (h >= s.highest - kTopBand) top = std::min(top, x);
+    }
+    recesses.push_back(top - s.nearest);
+  }
+  if (recesses.empty()) return;
+  std::sort(recesses.begin(), recesses.end());
+  p.shape_recess_max = recesses.back();
+  p.shape_recess_median = recesses[recesses.size() / 2];
+}
+
+}  // namespace
+
 void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& p) {
   using G = GroundGrid;
   struct Cell {
@@ -236,6 +294,7 @@ void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount
     }
   }
   p.free_width = left - right;
+  perceive_shape(cloud, mount, p);
   p.grid.assign(cells.size() * G::kValues, 0.0);
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const Cell& c = cells[i];
@@ -284,6 +343,8 @@ std::vector<double> features(const Percept& p, Affordance affordance) {
         0.0);
     f.insert(f.end(), grid.begin(), grid.end());
     f.insert(f.end(), {p.free_width, p.corridor_height, p.corridor_nearest});
+    f.insert(f.end(), {p.shape_height, p.shape_width, p.shape_depth, p.shape_recess_max,
+                       p.shape_recess_median, p.shape_top_depth});
   }
   return f;
 }
@@ -405,12 +466,14 @@ std::map<std::string, double> named_features(const Percept& percept, Affordance 
 const std::vector<std::string>* feature_group(const std::string& name) {
   static const std::map<std::string, std::vector<std::string>> groups = [] {
     std::map<std::string, std::vector<std::string>> g;
-    g["camera"] = {"r",       "g",        "b",         "hue",  "area_px",
-                   "width_px", "height_px", "fill",     "stereo_range", "width_m"};
+    g["camera"] = {"r",        "g",         "b",    "hue",          "area_px",
+                   "width_px", "height_px", "fill", "stereo_range", "width_m"};
     g["sweep"] = {"laser_range", "laser_height", "laser_depth", "laser_slope"};
     g["top"] = {"top_length", "top_flatness", "top_curvature", "carried_height"};
     g["cloud"] = grid_names();
-    g["cloud"].insert(g["cloud"].end(), {"free_width", "corridor_height", "corridor_nearest"});
+    g["shape"] = {"free_width",       "corridor_height",     "corridor_nearest",
+                  "shape_height",     "shape_width",         "shape_depth",
+                  "shape_recess_max", "shape_recess_median", "shape_top_depth"};
     return g;
   }();
   const auto found = groups.find(name);
@@ -428,7 +491,7 @@ const std::vector<std::string>& feature_names(Affordance affordance) {
   };
   static const std::vector<std::string> base = join({"camera", "sweep"});
   static const std::vector<std::string> stack = join({"camera", "sweep", "top"});
-  static const std::vector<std::string> traverse = join({"camera", "sweep", "cloud"});
+  static const std::vector<std::string> traverse = join({"camera", "sweep", "cloud", "shape"});
   switch (affordance) {
     case Affordance::Stack:
       return stack;

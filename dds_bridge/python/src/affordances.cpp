@@ -66,13 +66,14 @@ void bind_affordances(py::module_& m) {
         const auto* group = af::feature_group(name);
         if (!group)
           throw py::value_error("no feature group '" + name +
-                                "' (camera, sweep, top or cloud)");
+                                "' (camera, sweep, top, cloud or shape)");
         return *group;
       },
       py::arg("name"),
       "The features of one sensor, in order, by group name: camera (the blob in the stereo "
       "pair), sweep (the laser's sweep ahead), top (stack: the top's profile, the carried "
-      "height) or cloud (traverse: the grid and the corridor). ValueError for another name.");
+      "height), cloud (traverse: the grid) or shape (traverse: the corridor and what stands in "
+      "it, measured from itself). ValueError for another name.");
   m.def(
       "objects_in_view",
       [](const client::StereoFrame& frame) {

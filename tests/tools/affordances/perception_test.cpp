@@ -145,6 +145,50 @@ TEST(Perception, TheCloudShowsWhatBlocksTheCorridorAndHowWideAPassageIs) {
   EXPECT_NEAR(passage.corridor_height, 0.39, 0.011);  // a wall within 0.2 m of the axis
 }
 
+/// The near half of a ball of `radius` on the floor centred `x` ahead: what a scanner above and
+/// behind it sees.
+macsim::client::Cloud ball(double x, double radius) {
+  auto c = cloud({});
+  for (double a = -M_PI / 2; a <= M_PI / 2; a += 0.02)    // across
+    for (double e = -M_PI / 4; e <= M_PI / 2; e += 0.02)  // up from its middle
+      c.points.push_back({float(x - radius * std::cos(e) * std::cos(a)),
+                          float(radius * std::cos(e) * std::sin(a)),
+                          float(kFloor + radius + radius * std::sin(e))});
+  return c;
+}
+
+TEST(Perception, TheShapeTellsARoundTopFromAFaceWhereverItStands) {
+  // A box 20 cm high, 30 cm deep: its top begins at its front.
+  Percept box;
+  perceive_cloud(cloud({{0.8, 1.1, -0.15, 0.15, 0.2}}), SensorMount{}, box);
+  EXPECT_NEAR(box.shape_height, 0.2, 0.011);
+  EXPECT_NEAR(box.shape_width, 0.3, 0.011);
+  EXPECT_NEAR(box.shape_depth, 0.3, 0.011);
+  EXPECT_NEAR(box.shape_top_depth, 0.3, 0.011);
+  EXPECT_LT(box.shape_recess_max, 0.011);
+  // A ball of 10 cm radius: its top lies behind its front (a radius, less the 4.4 cm the band
+  // 1 cm below its top reaches forward), and little of it is top.
+  for (double x : {0.8, 1.1}) {
+    Percept b;
+    perceive_cloud(ball(x, 0.1), SensorMount{}, b);
+    EXPECT_NEAR(b.shape_height, 0.2, 0.005) << x;
+    EXPECT_NEAR(b.shape_width, 0.2, 0.005) << x;
+    EXPECT_NEAR(b.shape_recess_max, 0.1 - std::sqrt(2 * 0.1 * 0.01), 0.01) << x;
+    EXPECT_GT(b.shape_recess_median, 0.03) << x;
+    EXPECT_LT(b.shape_top_depth, 0.05) << x;
+  }
+  // The same thing further ahead reads the same, where the grid's cells change.
+  Percept far_box;
+  perceive_cloud(cloud({{1.1, 1.4, -0.15, 0.15, 0.2}}), SensorMount{}, far_box);
+  EXPECT_NEAR(far_box.shape_depth, box.shape_depth, 1e-6);
+  EXPECT_NEAR(far_box.shape_recess_max, box.shape_recess_max, 1e-6);
+  // The floor alone has no shape.
+  Percept floor;
+  perceive_cloud(cloud({}), SensorMount{}, floor);
+  EXPECT_EQ(floor.shape_height, 0.0);
+  EXPECT_EQ(floor.shape_recess_max, 0.0);
+}
+
 TEST(Perception, TheFloorAloneIsNoHit) {
   Percept p;
   perceive_scan(sweep({}), SensorMount{}, p);

@@ -51,6 +51,17 @@ struct Percept {
                                 ///< the robot's axis (above 3 cm, in the grid's reach)
   double corridor_height = 0;   ///< m, the highest point within 0.2 m of the robot's axis
   double corridor_nearest = 0;  ///< m ahead to the nearest such point above 3 cm (0: none)
+  // Traverse: the shape of what stands in the grid's reach (its points 3-45 cm above the floor),
+  // measured from the thing itself, so that it reads the same from any place the robot stands.
+  double shape_height = 0;  ///< m above the floor, of the highest point
+  double shape_width = 0;   ///< m across (y), from the rightmost point to the leftmost
+  double shape_depth = 0;   ///< m along x, from the nearest point to the farthest
+  /// m the top lies behind the front, per 5 cm slice across: from the slice's nearest point to
+  /// the nearest of its points within 1 cm of its highest (a ball or a log lying across: its
+  /// radius r less sqrt(2 r 1 cm); a box, a post, a log seen end on: 0). The largest slice's and
+  /// the median's.
+  double shape_recess_max = 0, shape_recess_median = 0;
+  double shape_top_depth = 0;  ///< m along x of the points within 1 cm of the highest
 };
 
 /// Where the sensors sit on the KURT3D (base_link: x ahead, y left, z up), from its description.
@@ -69,7 +80,7 @@ void perceive_image(const macsim::client::StereoFrame& frame, Percept& percept,
 /// top's profile too).
 void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& mount,
                    Percept& percept);
-/// Adds the 3D cloud's (points in base_link): the grid of cells ahead and the corridor.
+/// Adds the 3D cloud's (points in base_link): the grid of cells ahead, the corridor, the shape.
 void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& percept);
 
 /// What the robot's sensors gave for one look (each part optional): a stereo pair, a sweep of
@@ -103,12 +114,13 @@ struct GroundGrid {
 
 /// The features a learner trains on for an affordance, in a fixed order, and their names:
 /// every affordance has the camera and laser-sweep features; stack adds the top's profile and
-/// the carried height, traverse the cloud's grid and corridor.
+/// the carried height, traverse the cloud's grid, corridor and shape.
 std::vector<double> features(const Percept& percept, Affordance affordance = Affordance::Lift);
 const std::vector<std::string>& feature_names(Affordance affordance = Affordance::Lift);
 /// The features of one sensor, by group name: "camera" (the blob in the stereo pair), "sweep"
-/// (the laser's sweep ahead), "top" (stack: the top's profile, the carried height) or "cloud"
-/// (traverse: the grid and the corridor); nullptr for another name.
+/// (the laser's sweep ahead), "top" (stack: the top's profile, the carried height), "cloud"
+/// (traverse: the grid, cells at fixed places ahead) or "shape" (traverse: the corridor and
+/// what stands in it, measured from itself: the same from any stance); nullptr for another name.
 const std::vector<std::string>* feature_group(const std::string& name);
 /// The same features by name (what AffordanceModel::predict takes).
 std::map<std::string, double> named_features(const Percept& percept, Affordance affordance);
