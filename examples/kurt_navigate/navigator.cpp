@@ -67,14 +67,14 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
       const auto said = options_.traverse_model->predict(f);
       const double p = said.label == "traversable" ? said.confidence : 1 - said.confidence;
       const double off_trial = std::fabs(near - kTrialNear);
-      int better = 0;  // cells this look judged first or from nearer a trial's stance
+      std::size_t taken = 0;  // cells this look judged first or from nearer a trial's stance
       for (const auto& c : thing.cells) {
         auto [v, fresh] = verdicts_.try_emplace(cell_of(c), Verdict{p, off_trial});
-        if (!fresh && off_trial < v->second.off_trial) v->second = Verdict{p, off_trial};
-        better += fresh || v->second.off_trial == off_trial;
+        const bool take = fresh || off_trial < v->second.off_trial;
+        if (take) v->second = Verdict{p, off_trial};
+        taken += take;
       }
-      if (2 * better <= static_cast<int>(thing.cells.size())) better = 0;
-      if (better) {
+      if (2 * taken > thing.cells.size()) {  // a new verdict on the most of it
         std::snprintf(text, sizeof text, " (%.2f,%.2f %.2fm %.2f at %.2fm)", thing.centre[0],
                       thing.centre[1], thing.across, p, near);
         judged += text;

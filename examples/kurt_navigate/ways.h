@@ -20,7 +20,7 @@ namespace kurt_navigate {
 macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading);
 
 /// The traverse features of a way (a cloud turned by along()), computed as a trial computes
-/// them of its cloud: the grid ahead and the corridor.
+/// them of its cloud: the grid ahead, the corridor and the shape of what stands in it.
 std::map<std::string, double> way_features(const macsim::client::Cloud& way);
 
 /// A point on the floor plan, m.
@@ -48,7 +48,8 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& before,
                                            const std::vector<std::array<double, 2>>& guesses = {});
 
 /// The traverse model DIR/traverse.yml, when it takes only what a cloud gives
-/// (affordance_learn --features shape or cloud); throws std::runtime_error naming the file and the fault.
+/// (affordance_learn --features shape or cloud); throws std::runtime_error naming the file and
+/// the fault.
 macsim::affordances::AffordanceModel load_traverse_model(const std::string& dir);
 
 /// Things above the floor the laser saw during a run (cells of 10 cm in the odometry frame,

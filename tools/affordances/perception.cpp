@@ -200,9 +200,11 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
 
 namespace {
 
-/// The shape features of the points 3-45 cm above the floor in the grid's reach.
-void perceive_shape(const macsim::client::Cloud& cloud, const SensorMount& mount, Percept& p) {
-  using G = GroundGrid;
+/// Returns higher than this above the floor stand on it, m.
+constexpr double kAboveFloor = 0.03;
+
+/// The shape features of the points (x, y, height above the floor) that stand in the grid's reach.
+void perceive_shape(const std::vector<std::array<double, 3>>& standing, Percept& p) {
   constexpr double kSlice = 0.05, kTopBand = 0.01;
   struct Slice {
     double nearest = 1e9, highest = 0;
@@ -210,17 +212,10 @@ void perceive_shape(const macsim::client::Cloud& cloud, const SensorMount& mount
   };
   std::map<int, Slice> slices;
   double near = 1e9, far = -1e9, left = -1e9, right = 1e9, highest = 0;
-  std::vector<std::array<double, 2>> all;  // x, height
-  for (const auto& q : cloud.points) {
-    const double x = q[0], y = q[1], h = q[2] + mount.base_height;
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) continue;
-    if (x < G::kNear || x >= G::kNear + G::kRows * G::kRowDepth || std::fabs(y) > G::kWidth / 2 ||
-        h <= 0.03 || h > G::kTop)
-      continue;
+  for (const auto& [x, y, h] : standing) {
     near = std::min(near, x), far = std::max(far, x);
     right = std::min(right, y), left = std::max(left, y);
     highest = std::max(highest, h);
-    all.push_back({x, h});
     Slice& s = slices[static_cast<int>(std::floor(y / kSlice))];
     s.nearest = std::min(s.nearest, x);
     s.highest = std::max(s.highest, h);
@@ -228,12 +223,12 @@ void perceive_shape(const macsim::client::Cloud& cloud, const SensorMount& mount
   }
   p.shape_height = p.shape_width = p.shape_depth = 0;
   p.shape_recess_max = p.shape_recess_median = p.shape_top_depth = 0;
-  if (all.empty()) return;
+  if (standing.empty()) return;
   p.shape_height = highest;
   p.shape_width = left - right;
   p.shape_depth = far - near;
   double top_near = 1e9, top_far = -1e9;
-  for (const auto& [x, h] : all) {
+  for (const auto& [x, y, h] : standing) {
     if (h < highest - kTopBand) continue;
     top_near = std::min(top_near, x), top_far = std::max(top_far, x);
   }
@@ -268,6 +263,7 @@ void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount
   double left = G::kWidth / 2, right = -G::kWidth / 2;
   p.corridor_height = 0;
   p.corridor_nearest = 0;
+  std::vector<std::array<double, 3>> standing;  // x, y, height of the returns above the floor
   for (const auto& q : cloud.points) {
     const double x = q[0], y = q[1], h = q[2] - floor_z;
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) continue;
@@ -284,17 +280,19 @@ void perceive_cloud(const macsim::client::Cloud& cloud, const SensorMount& mount
     ++c.n;
     c.sx += x, c.sy += y, c.sz += h;
     c.sxx += x * x, c.sxy += x * y, c.syy += y * y, c.sxz += x * h, c.syz += y * h;
-    if (h > 0.03) {
+    if (h > kAboveFloor) {
+      standing.push_back({x, y, h});
       if (y >= 0) left = std::min(left, y);
       if (y < 0) right = std::max(right, y);
     }
     if (std::fabs(y) < 0.2) {
       p.corridor_height = std::max(p.corridor_height, h);
-      if (h > 0.03 && (p.corridor_nearest == 0 || x < p.corridor_nearest)) p.corridor_nearest = x;
+      if (h > kAboveFloor && (p.corridor_nearest == 0 || x < p.corridor_nearest))
+        p.corridor_nearest = x;
     }
   }
   p.free_width = left - right;
-  perceive_shape(cloud, mount, p);
+  perceive_shape(standing, p);
   p.grid.assign(cells.size() * G::kValues, 0.0);
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const Cell& c = cells[i];
