@@ -51,11 +51,26 @@ double number_after(const std::string& line, const std::string& key) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
+  std::vector<std::string> policies{"model", "avoid"};
+  for (std::size_t k = 0; k + 1 < args.size(); ++k) {
+    if (args[k] != "--policy") continue;
+    if (args[k + 1] != "model" && args[k + 1] != "avoid") {
+      std::fprintf(stderr, "bench_navigate: --policy is model or avoid, not '%s'\n",
+                   args[k + 1].c_str());
+      return 2;
+    }
+    policies = {args[k + 1]};
+    args.erase(args.begin() + static_cast<std::ptrdiff_t>(k),
+               args.begin() + static_cast<std::ptrdiff_t>(k) + 2);
+    break;
+  }
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::printf(
-        "usage: bench_navigate --affordances DIR [SEEDS [FIRST]]\n  kurt_navigate against "
+        "usage: bench_navigate [--policy model|avoid] --affordances DIR [SEEDS [FIRST]]\n  "
+        "kurt_navigate against "
         "macsim in lock-step on SEEDS layouts of worlds/clutter_field.xml (default 50 from "
-        "seed 1), with the traverse model DIR/traverse.yml and with --policy avoid; prints each "
+        "seed 1), with the traverse model DIR/traverse.yml and with --policy avoid (or only the "
+        "one --policy names); prints each "
         "policy's success rate, median robot time, stalls, and what it drove through and around "
         "by kind. Run from the repository root.\n");
     return 0;
@@ -82,7 +97,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(logs);
   std::map<std::string, Tally> tallies;
   for (int seed = first; seed < first + seeds; ++seed) {
-    for (const std::string policy : {"model", "avoid"}) {
+    for (const std::string& policy : policies) {
       const int domain = 150 + (2 * seed + (policy == "avoid")) % 80;
       const std::string tag = policy + "_" + std::to_string(seed);
       macsim::process::ChildProcess sim(
