@@ -72,7 +72,7 @@ void Runner::set_data_roots(std::shared_ptr<const DataRoots> roots) {
 
 void Runner::set_max_objects(std::size_t max_objects) {
   max_objects_ = max_objects;
-  world_->set_max_objects(max_objects);
+  world_->edit().set_max_objects(max_objects);
 }
 
 Runner::~Runner() {
@@ -210,7 +210,7 @@ void Runner::replace_world(Load& load) {
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
       admit_overlaps(*world, settings_.refuse_overlaps, settings_.warn);
       world->set_data_roots(data_roots_);
-      world->set_max_objects(max_objects_);
+      world->edit().set_max_objects(max_objects_);
       world_ = std::move(world);
       ++generation_;
       snapshots_.clear();

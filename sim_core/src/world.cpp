@@ -125,7 +125,7 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
   detail::ensure_ode_ready();
   for (const auto& object : spec_.objects) add_object_record(next_id_++, object);
   for (const auto& joint : spec_.joints) add_joint_record(joint);
-  for (const auto& door : spec_.doors) add_door_record(door, {});
+  for (const auto& door : spec_.doors) doors_view_.add(door, {});
   random_seed_ = spec_.physics.seed;
   build();
   initial_ = state();
@@ -145,27 +145,6 @@ World::Object& World::add_object_record(ObjectId id, ObjectSpec spec) {
 World::Joint& World::add_joint_record(JointSpec spec) {
   joints_.push_back(std::make_unique<Joint>(Joint{std::move(spec), nullptr, 0.0}));
   return *joints_.back();
-}
-
-void World::add_door_record(DoorSpec spec, DoorFlags flags) {
-  auto record = std::make_unique<Door>();
-  record->spec = std::move(spec);
-  record->flags = flags;
-  doors_.push_back(std::move(record));
-}
-
-void World::wire_doors() {
-  for (auto& object : objects_) object->door = -1;
-  for (std::size_t d = 0; d < doors_.size(); ++d) {
-    Door& door = *doors_[d];
-    door.door_joint = joint_named(door.spec.door_joint);
-    door.switch_joint =
-        door.spec.switch_joint.empty() ? nullptr : joint_named(door.spec.switch_joint);
-    const DoorSpec& s = door.spec;
-    for (const std::string* part : {&s.leaf, &s.frame, &s.switch_platform, &s.switch_base}) {
-      if (auto id = find_object(*part)) find(*id)->door = static_cast<int>(d);
-    }
-  }
 }
 
 void World::clear_ode() {
@@ -249,7 +228,7 @@ void World::build() {
       std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1, nullptr});
   dGeomSetData(ground_, ground_tag_.get());
 
-  wire_doors();
+  doors_view_.wire();
   for (auto& object : objects_) build_object(*object);
   for (auto& joint : joints_) build_joint(*joint);
   int group = kRobotGroupBase;
@@ -385,6 +364,24 @@ void World::destroy_ode_object(Object& o) {
   o.body = nullptr;
 }
 
+World::Object* World::find(ObjectId id) const {
+  for (const auto& o : objects_) {
+    if (o->id == id) return o.get();
+  }
+  return nullptr;
+}
+
+Status World::check_object_id(ObjectId id, const Object*& out) const {
+  out = find(id);
+  if (!out)
+    return Status::error(ErrorCode::UnknownObject, "no object with id " + std::to_string(id));
+  return {};
+}
+
+void World::set_data_roots(std::shared_ptr<const DataRoots> roots) {
+  files_ = roots ? std::move(roots) : DataRoots::anywhere();
+}
+
 World::Joint* World::joint_named(const std::string& name) {
   for (auto& j : joints_) {
     if (j->spec.name == name) return j.get();
@@ -399,12 +396,12 @@ void World::build_joint(Joint& j) {
     dJointDestroy(j.joint);
     j.joint = nullptr;
   }
-  auto id1 = find_object(j.spec.body1);
+  auto id1 = objects_view_.find_object(j.spec.body1);
   if (!id1) return;
   Object* moving = find(*id1);
   dBodyID other = nullptr;
   if (!j.spec.body2.empty()) {
-    if (auto id2 = find_object(j.spec.body2)) other = find(*id2)->body;
+    if (auto id2 = objects_view_.find_object(j.spec.body2)) other = find(*id2)->body;
   }
   geoms_changed_ = true;  // the body is put elsewhere and back, maybe asleep
   // ODE takes a joint's zero where the bodies are when it is attached: move the moving body
@@ -595,32 +592,6 @@ std::vector<WorldEvent> World::take_events() {
   return out;
 }
 
-void World::update_doors() {
-  for (auto& door : doors_) {
-    bool pressed = false;
-    if (door->switch_joint && door->switch_joint->joint) {
-      const JointSpec& s = door->switch_joint->spec;
-      const double pos = dJointGetSliderPosition(door->switch_joint->joint);
-      pressed = pos <= s.lo + 0.1 * (s.hi - s.lo);  // pressed fully (within 10 % of travel)
-    }
-    const bool triggered = door->flags.virtual_trigger || pressed;
-    if (triggered != door->flags.triggered) {
-      door->flags.triggered = triggered;
-      emit(triggered ? WorldEvent::Type::SwitchTriggered : WorldEvent::Type::SwitchReleased,
-           door->spec.name, door->flags.virtual_trigger ? "virtual" : "pressed");
-    }
-    Joint* j = door->door_joint;
-    if (!j || !j->joint) continue;
-    const double speed = std::fabs(j->spec.velocity);
-    const double velocity = triggered ? speed : -speed;  // open towards HI, close towards LO
-    if (j->spec.type == JointSpec::Type::Slider) {
-      dJointSetSliderParam(j->joint, dParamVel, velocity);
-    } else {
-      dJointSetHingeParam(j->joint, dParamVel, velocity);
-    }
-  }
-}
-
 bool World::check_stability() {
   bool stable = true;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -652,7 +623,7 @@ bool World::step() {
   if (!fault_.empty()) return false;
   const auto begin = Clock::now();
   const double now = time();
-  update_doors();
+  doors_view_.before_step();
   const auto doors_updated = Clock::now();
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
@@ -688,15 +659,7 @@ bool World::step() {
     for (auto& event : robot->take_events()) events_.push_back(std::move(event));
   }
   const auto sensed = Clock::now();
-  for (auto& door : doors_) {
-    const DoorGap before = door->flags.gap;
-    door->flags.gap = door_state_of(*door).gap;
-    if (door->flags.gap != before && door->flags.gap != DoorGap::Half) {
-      emit(door->flags.gap == DoorGap::Open ? WorldEvent::Type::DoorOpened
-                                            : WorldEvent::Type::DoorClosed,
-           door->spec.name);
-    }
-  }
+  doors_view_.after_step();
   const auto end = Clock::now();
   auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
   ++profile_.steps;
@@ -706,28 +669,6 @@ bool World::step() {
   profile_.other +=
       seconds(doors_updated - begin) + seconds(checked - solved) + seconds(end - sensed);
   return stable;
-}
-
-DoorState World::door_state_of(const Door& door) const {
-  DoorState state;
-  state.virtually_triggered = door.flags.virtual_trigger;
-  state.triggered = door.flags.triggered;
-  if (door.switch_joint && door.switch_joint->joint) {
-    const JointSpec& s = door.switch_joint->spec;
-    const double pos = dJointGetSliderPosition(door.switch_joint->joint);
-    state.switch_travel = std::clamp((s.hi - pos) / (s.hi - s.lo), 0.0, 1.0);
-  }
-  if (door.door_joint && door.door_joint->joint) {
-    const JointSpec& s = door.door_joint->spec;
-    const double pos = s.type == JointSpec::Type::Slider
-                           ? dJointGetSliderPosition(door.door_joint->joint)
-                           : dJointGetHingeAngle(door.door_joint->joint);
-    state.opening = std::clamp((pos - s.lo) / (s.hi - s.lo), 0.0, 1.0);
-  }
-  state.gap = state.opening < 0.05   ? DoorGap::Closed
-              : state.opening > 0.95 ? DoorGap::Open
-                                     : DoorGap::Half;
-  return state;
 }
 
 }  // namespace macsim

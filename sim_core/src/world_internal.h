@@ -8,8 +8,10 @@
 
 namespace macsim {
 
+namespace detail {
+
 /// An object as ODE holds it, beside its current description.
-struct World::Object {
+struct ObjectRecord {
   ObjectId id = 0;
   ObjectSpec spec;  // pose: where it was placed (for jointed bodies: the joint's zero)
   dBodyID body = nullptr;
@@ -20,21 +22,24 @@ struct World::Object {
 };
 
 /// A joint and, while it is being rebuilt, the position it had.
-struct World::Joint {
+struct JointRecord {
   JointSpec spec;
   dJointID joint = nullptr;
   double position = 0.0;  // slider m / hinge rad, kept across a rebuild
 };
 
 /// A door-switch structure and its runtime state.
-struct World::Door {
+struct DoorRecord {
   DoorSpec spec;
-  Joint* door_joint = nullptr;
-  Joint* switch_joint = nullptr;
+  JointRecord* door_joint = nullptr;
+  JointRecord* switch_joint = nullptr;
   DoorFlags flags;
 };
 
-namespace detail {
+/// InvalidArgument with that message.
+inline Status invalid_argument(const std::string& message) {
+  return Status::error(ErrorCode::InvalidArgument, message);
+}
 
 /// Pose of a body's centre of mass and its velocities.
 BodyState body_state(dBodyID body);

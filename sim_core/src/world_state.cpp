@@ -112,7 +112,7 @@ WorldState World::state() const {
   s.next_id = next_id_;
   for (const auto& o : objects_) s.objects.emplace_back(o->id, o->spec);
   for (const auto& j : joints_) s.joints.push_back(j->spec);
-  for (const auto& d : doors_) {
+  for (const auto& d : doors_view_.doors_) {
     s.doors.push_back(d->spec);
     s.door_flags.push_back(d->flags);
   }
@@ -136,10 +136,10 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
   clear_ode();
   objects_.clear();
   joints_.clear();
-  doors_.clear();
+  doors_view_.doors_.clear();
   for (const auto& [id, spec] : s.objects) add_object_record(id, spec);
   for (const auto& spec : s.joints) add_joint_record(spec);
-  for (std::size_t i = 0; i < s.doors.size(); ++i) add_door_record(s.doors[i], s.door_flags[i]);
+  for (std::size_t i = 0; i < s.doors.size(); ++i) doors_view_.add(s.doors[i], s.door_flags[i]);
   build();  // bodies at their reference poses: joints take their zero there
   std::size_t body = 0;
   for (const auto& [id, spec] : s.objects) {
@@ -153,7 +153,7 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
     if (fresh_robots) continue;
     for (dBodyID b : robots_[i]->bodies()) detail::set_body_state(b, s.bodies[body++]);
     robots_[i]->load_state(s.robots[i], [this](const std::string& object) -> dBodyID {
-      const auto id = find_object(object);
+      const auto id = objects_view_.find_object(object);
       return id ? find(*id)->body : nullptr;
     });
   }
@@ -214,9 +214,9 @@ Status World::restore(const WorldSnapshot& snapshot) {
   }
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     if (auto p = robots_[i]->state_problem(s.robots[i])) {
-      return Status::error(ErrorCode::InvalidArgument,
-                           "cannot restore a damaged snapshot: robot '" + robots_[i]->name() +
-                               "': " + *p);
+      return Status::error(
+          ErrorCode::InvalidArgument,
+          "cannot restore a damaged snapshot: robot '" + robots_[i]->name() + "': " + *p);
     }
   }
   std::size_t portable = 0;

@@ -30,9 +30,9 @@ TEST_F(WorldObjects, IdsStayStableWhileIndicesShift) {
 }
 
 TEST_F(WorldObjects, CreatingAndImportingStopAtTheCapOnObjects) {
-  EXPECT_EQ(world.max_objects(), bounds::kMaxObjects);
+  EXPECT_EQ(world.edit().max_objects(), bounds::kMaxObjects);
   const auto count = static_cast<std::size_t>(world.objects().object_count());
-  world.set_max_objects(count + 1);
+  world.edit().set_max_objects(count + 1);
   ASSERT_TRUE(world.edit().create_object(primitive(Shape::Sphere, {0.05, 0, 0}, {-0.5, 0.3, 0.5})).ok());
   const uint64_t hash = world.state_hash();
   const auto refused =

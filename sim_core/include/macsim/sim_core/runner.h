@@ -177,7 +177,7 @@ class Runner {
   void set_data_roots(std::shared_ptr<const DataRoots> roots);
   /// Where requests may read files (anywhere until set); lives as long as the runner.
   const DataRoots& data_roots() const { return *data_roots_; }
-  /// Objects this world and every later one may hold at most (World::set_max_objects).
+  /// Objects this world and every later one may hold at most (WorldEditor::set_max_objects).
   void set_max_objects(std::size_t max_objects);
   /// The named snapshots of the current world, within their caps (emptied when it is replaced).
   SnapshotStore& snapshots() { return snapshots_; }

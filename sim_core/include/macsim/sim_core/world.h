@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "macsim/sim_core/data_roots.h"
-#include "macsim/sim_core/robot_model.h"
-#include "macsim/sim_core/world_event.h"
 #include "macsim/sim_core/ode_handles.h"
+#include "macsim/sim_core/robot_model.h"
 #include "macsim/sim_core/world_bounds.h"
+#include "macsim/sim_core/world_event.h"
 #include "macsim/sim_core/world_overlaps.h"
 #include "macsim/sim_core/world_spec.h"
 #include "macsim/sim_core/world_state.h"
@@ -23,7 +23,10 @@ namespace macsim {
 namespace detail {
 struct GeomTag;
 class BroadPhase;
-}
+struct ObjectRecord;
+struct JointRecord;
+struct DoorRecord;
+}  // namespace detail
 
 /// Stable id of an object: never reused while the world lives (list indices shift, ids do not).
 using ObjectId = uint32_t;
@@ -88,7 +91,6 @@ struct DoorParts {
   std::optional<ObjectId> platform, base;  ///< absent for a door without a switch
 };
 
-
 /// How much reset() puts back.
 enum class ResetScope {
   Poses,         ///< poses and velocities of loaded objects and robots; time goes on
@@ -141,6 +143,7 @@ class WorldObjects {
   friend class World;
   explicit WorldObjects(const World& world) : world_(world) {}
   const World& world_;
+  mutable std::vector<std::string> textures_;  // texture id - 1 -> file, in the order asked
 };
 
 /// The world's objects, changed: created, imported, destroyed, moved, resized, re-coloured,
@@ -204,10 +207,40 @@ class WorldEditor {
   /// User-defined colour and shape labels (need not match the object's looks).
   Status set_user_labels(ObjectId id, int user_color, int user_shape);
 
+  /// Objects the world may hold at most (created and imported ones included): an operation that
+  /// would pass it is refused with LimitReached. Default bounds::kMaxObjects (macsim
+  /// --max-objects).
+  void set_max_objects(std::size_t max_objects) { max_objects_ = max_objects; }
+  std::size_t max_objects() const { return max_objects_; }
+
  private:
   friend class World;
   explicit WorldEditor(World& world) : world_(world) {}
+  /// Checks a new object's description (cap, kind, bounds, textures, material, name) and puts
+  /// it in its one form (a ramp's box, normalised orientations, textures in one spelling).
+  Status validate_new_object(ObjectSpec& spec) const;
+  /// Adds a loaded fragment's objects, joints and doors; their ids go to `ids`.
+  Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
+  /// Removes an object and the joints that hold it (its door's record stays).
+  void erase_object(ObjectId id);
+  int destroy_matching(const std::function<bool(const ObjectSpec&)>& match);
+  /// Rebuilds an object from `spec` at `state`, re-attaching its joints where they were.
+  void rebuild_object(detail::ObjectRecord& object, const ObjectSpec& spec,
+                      const ObjectState& state);
+  /// Runs `change` on a copy of the object's description and rebuilds; refuses (restoring the
+  /// old description and pose) when it penetrates and the policy says so.
+  Status change_object(ObjectId id, PenetrationPolicy policy,
+                       const std::function<Status(ObjectSpec&, Pose&)>& change);
+  Status resize_component(ObjectId id, int component, Shape shape, const Eigen::Vector3d& size,
+                          PenetrationPolicy policy);
+  /// BadTexture for a file that is no usable texture, BadFile for one the roots refuse.
+  Status texture_status(const std::string& path) const;
+  /// The free body of `id`, woken, if `value` is within the bounds of `what`.
+  Status dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
+                      dxBody*& body) const;
+
   World& world_;
+  std::size_t max_objects_ = bounds::kMaxObjects;
 };
 
 /// The world's door-switch structures: read, triggered, moved (World::doors()).
@@ -232,10 +265,29 @@ class WorldDoors {
   /// Moves the switch's platform there; the base moves along.
   Status set_switch_position(int door, const Eigen::Vector3d& position);
 
+  ~WorldDoors();
+
  private:
   friend class World;
-  explicit WorldDoors(World& world) : world_(world) {}
+  friend class WorldEditor;
+  explicit WorldDoors(World& world);
+  Status check_door(int door) const;
+  /// Moves the leaf (or the switch's platform) with its fixed part and their joint.
+  Status move_door_part(int door, bool leaf, const Eigen::Vector3d& position);
+  /// A door's record; wire() ties it to its joints and objects.
+  void add(DoorSpec spec, DoorFlags flags);
+  /// Forgets a door (its objects destroyed already) and ties the rest anew.
+  void remove(int door);
+  /// Ties each door to its joints and marks its objects as its parts.
+  void wire();
+  /// Before a step: each door driven open or shut by its switch; events when a switch changes.
+  void before_step();
+  /// After a step: events for the doors that came fully open or shut.
+  void after_step();
+  static DoorState state_of(const detail::DoorRecord& door);
+
   World& world_;
+  std::vector<std::unique_ptr<detail::DoorRecord>> doors_;
 };
 
 /// The ODE world of one simulation.
@@ -327,128 +379,16 @@ class World {
   void set_data_roots(std::shared_ptr<const DataRoots> roots);
   const DataRoots& data_roots() const { return *files_; }
 
-  // ---- caps --------------------------------------------------------------------------------
-  /// Objects the world may hold at most (created and imported ones included): an operation that
-  /// would pass it is refused with LimitReached. Default bounds::kMaxObjects (macsim --max-objects).
-  void set_max_objects(std::size_t max_objects) { max_objects_ = max_objects; }
-  std::size_t max_objects() const { return max_objects_; }
-
  private:
-  struct Object;
-  struct Joint;
-  struct Door;
-  friend struct WorldAccess;
+  using Object = detail::ObjectRecord;
+  using Joint = detail::JointRecord;
   friend class WorldObjects;
   friend class WorldEditor;
   friend class WorldDoors;
 
-  // ---- what objects(), edit() and doors() serve (world_supervisor.cpp) ----------------------
-  int object_count() const { return static_cast<int>(objects_.size()); }
-  /// Id of the object at a list index (indices shift when objects are destroyed).
-  std::optional<ObjectId> object_at(int index) const;
-  /// List index of an object.
-  std::optional<int> index_of(ObjectId id) const;
-  /// Id of the object with that name (e.g. "doors/door_00/door_component/leaf").
-  std::optional<ObjectId> find_object(const std::string& name) const;
-  /// Ids of the objects with that user data, in list order.
-  std::vector<ObjectId> find_by_user_data(const std::string& user_data) const;
-  /// Ids of every object, in list order.
-  std::vector<ObjectId> object_ids() const;
-
-  /// The object's current description (components, density, colours, flags), or nullptr.
-  const ObjectSpec* object(ObjectId id) const;
-  /// Pose and velocities.
-  Result<ObjectState> object_state(ObjectId id) const;
-  /// Mass in kg (portable objects).
-  Result<double> object_mass(ObjectId id) const;
-  /// Inertia tensor about the centre of mass, world-aligned object frame (portable objects).
-  Result<Eigen::Matrix3d> object_inertia(ObjectId id) const;
-  /// Centre of mass in the object's frame.
-  Result<Eigen::Vector3d> object_center_of_mass(ObjectId id) const;
-  /// Force and torque accumulated for the next step (world frame).
-  Result<std::pair<Eigen::Vector3d, Eigen::Vector3d>> object_wrench(ObjectId id) const;
-  /// Texture id (unique per file, 0: none) and file of a component.
-  Result<std::pair<int, std::string>> object_texture(ObjectId id, int component = 0) const;
-
-  /// Ok if the object is a free rigid body that takes velocities, forces and torques (not
-  /// fixed, frozen, or driven by its door's joint); the error says which and names `what`.
-  Status free_body(ObjectId id, const std::string& what) const;
-  /// Adds a basic, composite or ramp object (name made unique if empty).
-  Result<ObjectId> create_object(ObjectSpec spec,
-                                 PenetrationPolicy policy = PenetrationPolicy::Allow);
-  /// Adds every object, joint and door of an environment file, as an <IMPORT> with that id
-  /// and pose would; returns the new objects' ids. All or nothing.
-  Result<std::vector<ObjectId>> import_environment(const std::string& file, const std::string& id,
-                                                   const Pose& pose);
-  /// Adds the objects, joints and doors of an environment already loaded (names made by its
-  /// import id), placed at `pose`; returns the new objects' ids. All or nothing.
-  Result<std::vector<ObjectId>> add_environment(WorldSpec environment, const Pose& pose);
-  Status destroy_object(ObjectId id);
-  /// Destroys the objects with that user data; returns how many.
-  int destroy_objects(const std::string& user_data);
-  int destroy_all_objects();
-  int destroy_all_portable_objects();
-  int destroy_all_fixed_objects();
-
-  Status set_pose(ObjectId id, const Pose& pose,
-                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_position(ObjectId id, const Eigen::Vector3d& position,
-                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
-                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  /// Sizes of a box component (full sizes, m).
-  Status set_box_size(ObjectId id, int component, const Eigen::Vector3d& size,
-                      PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_cylinder_size(ObjectId id, int component, double radius, double height,
-                           PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  Status set_sphere_size(ObjectId id, int component, double radius,
-                         PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  /// A ramp's width, height and angle (depth follows: height / tan angle).
-  Status set_ramp(ObjectId id, const RampGeometry& ramp,
-                  PenetrationPolicy policy = PenetrationPolicy::Refuse);
-  /// Colour of one component, or of all (component -1).
-  Status set_color(ObjectId id, const Color& color, int component = -1);
-  /// Texture of one component, or of all (component -1); empty path removes it.
-  Status set_texture(ObjectId id, const std::string& path, int component = -1);
-  /// Mass (kg); the density follows, mass and inertia are recomputed exactly.
-  Status set_mass(ObjectId id, double mass);
-  /// Density (kg/m^3); the mass follows, mass and inertia are recomputed exactly.
-  Status set_density(ObjectId id, double density);
-  Status set_linear_velocity(ObjectId id, const Eigen::Vector3d& velocity);
-  Status set_angular_velocity(ObjectId id, const Eigen::Vector3d& velocity);
-  /// A force (N, world frame, at the centre of mass) acting during the next step only.
-  Status add_force(ObjectId id, const Eigen::Vector3d& force);
-  /// A torque (N m, world frame) acting during the next step only.
-  Status add_torque(ObjectId id, const Eigen::Vector3d& torque);
-  /// Frozen objects stay where they are (others still collide with them).
-  Status set_frozen(ObjectId id, bool frozen);
-  Status set_magnetizable(ObjectId id, bool magnetizable);
-  Status set_user_data(ObjectId id, const std::string& user_data);
-  /// User-defined colour and shape labels (need not match the object's looks).
-  Status set_user_labels(ObjectId id, int user_color, int user_shape);
-
-  int door_count() const { return static_cast<int>(doors_.size()); }
-  std::optional<int> find_door(const std::string& name) const;
-  /// The index of the door of that name, or UnknownObject naming the name.
-  Result<int> get_door_by_name(const std::string& name) const;
-  Result<DoorState> door_state(int door) const;
-  Result<DoorParts> door_parts(int door) const;
-  const std::string& door_name(int door) const;
-  /// Presses the switch virtually (the door opens) or hands it back to physics.
-  Status set_switch_triggered(int door, bool triggered);
-  /// Moves the door's leaf there (position of the leaf's frame); the frame moves along.
-  Status set_door_position(int door, const Eigen::Vector3d& position);
-  /// Moves the switch's platform there; the base moves along.
-  Status set_switch_position(int door, const Eigen::Vector3d& position);
-
-
-  // ---- the rest ----------------------------------------------------------------------------
-
-  // The one factory of each record, and the one wiring of doors to their joints and parts.
+  // The one factory of each object's and joint's record (a door's: WorldDoors::add).
   Object& add_object_record(ObjectId id, ObjectSpec spec);
   Joint& add_joint_record(JointSpec spec);
-  void add_door_record(DoorSpec spec, DoorFlags flags);
-  void wire_doors();
   void build();
   /// Rebuilds ODE from a snapshot's description; bodies of `fresh` objects (and the robots,
   /// if `fresh_robots`) stay as built, at rest at their reference poses.
@@ -463,30 +403,11 @@ class World {
   void build_joint(Joint& joint);
   Object* find(ObjectId id) const;
   Joint* joint_named(const std::string& name);
+  /// The object `id` in `out`, or UnknownObject naming the id.
   Status check_object_id(ObjectId id, const Object*& out) const;
   std::vector<std::string> penetrations(const Object& object) const;
-  /// Runs `change` on a copy of the object's description and rebuilds; refuses (restoring the
-  /// old description and pose) when it penetrates and the policy says so.
-  Status change_object(ObjectId id, PenetrationPolicy policy,
-                       const std::function<Status(ObjectSpec&, Pose&)>& change);
-  /// Rebuilds an object from `spec` at `state`, re-attaching its joints where they were.
-  void rebuild_object(Object& object, const ObjectSpec& spec, const ObjectState& state);
-  Status validate_new_object(ObjectSpec& spec) const;
-  /// BadTexture for a file that is no usable texture, BadFile for one the roots refuse.
-  Status texture_status(const std::string& path) const;
-  void erase_object(ObjectId id);
-  int destroy_matching(const std::function<bool(const ObjectSpec&)>& match);
-  Status resize_component(ObjectId id, int component, Shape shape, const Eigen::Vector3d& size,
-                          PenetrationPolicy policy);
-  Status dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
-                      dxBody*& body) const;
-  Status check_door(int door) const;
-  Status move_door_part(int door, bool leaf, const Eigen::Vector3d& position);
-  void update_doors();
-  DoorState door_state_of(const Door& door) const;
   bool check_stability();  // false if a body had to be put back
   void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail = "");
-  Status add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids);
   static void near_callback(void* data, dxGeom* a, dxGeom* b);
   std::vector<dxGeom*> collision_order() const;
 
@@ -501,17 +422,14 @@ class World {
   std::unique_ptr<detail::GeomTag> ground_tag_;
   std::vector<std::unique_ptr<Object>> objects_;  // list order = the seed's indices
   std::vector<std::unique_ptr<Joint>> joints_;
-  std::vector<std::unique_ptr<Door>> doors_;
   std::vector<std::unique_ptr<RobotModel>> robots_;
   std::vector<std::unique_ptr<detail::GeomTag>> robot_tags_;  // for geoms a robot left untagged
-  std::vector<dxBody*> bodies_;          // every body, for the stability check
-  std::vector<std::string> body_names_;  // owner of each body, for reports
+  std::vector<dxBody*> bodies_;                               // every body, for the stability check
+  std::vector<std::string> body_names_;                       // owner of each body, for reports
   std::vector<BodyState> last_good_;
   std::string fault_;  // ODE's error inside a step: the world steps no more
   std::vector<WorldEvent> events_;
-  mutable std::vector<std::string> textures_;  // texture id - 1 -> file
   std::shared_ptr<const DataRoots> files_ = DataRoots::anywhere();
-  std::size_t max_objects_ = bounds::kMaxObjects;
   WorldState initial_;
   uint64_t fingerprint_ = 0;
   unsigned long random_seed_ = 0;  // this world's dRand state
