@@ -23,6 +23,7 @@
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
 #include "macsim/render/viewer.h"
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
@@ -366,7 +367,7 @@ std::shared_ptr<const macsim::DataRoots> data_roots(const Options& o) {
 }
 
 /// Serves the runner's world over DDS until SIGINT/SIGTERM or --duration; the exit code.
-int serve(macsim::Runner& runner, const Options& o) {
+int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   macsim::render::ViewerOptions viewer_options;
@@ -529,6 +530,11 @@ int serve(macsim::Runner& runner, const Options& o) {
     macsim::log::info("macsim: commands run:{}", counts);
     if (!o.record_session.empty()) {
       runner.record(nullptr);  // its closing line
+      if (session && !session->ok()) {
+        macsim::log::error("macsim: the session {} is incomplete: a write failed (above)",
+                           o.record_session);
+        return 1;
+      }
       macsim::log::info("macsim: session recorded to {}", o.record_session);
     }
   } catch (const macsim::dds::DdsError& e) {
@@ -560,10 +566,16 @@ int replay(macsim::Runner& runner, const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   if (auto code = parse_options(argc, argv, o)) return *code;
+  // sim_core's messages (the loader's, the runner's, the cameras', the session writer's) in
+  // this program's log, with its levels, --quiet and --log-timestamps.
+  macsim::set_log_sink([](macsim::LogLevel level, const std::string& message) {
+    constexpr macsim::log::Level kLevels[] = {macsim::log::Level::debug, macsim::log::Level::info,
+                                              macsim::log::Level::warn, macsim::log::Level::error};
+    macsim::log::write(kLevels[static_cast<int>(level)], message);
+  });
   std::unique_ptr<macsim::Runner> runner;
   try {
     macsim::LoadOptions load;
-    load.warn = [](const std::string& warning) { macsim::log::warn("{}", warning); };
     load.limits = o.limits();
     auto spec = macsim::load_world_file(o.world_file, load);
     // What --validate asks for goes to standard output; otherwise it is a diagnostic.
@@ -579,17 +591,16 @@ int main(int argc, char** argv) {
     // Heaps of things started inside each other are parted before the first step.
     const bool part = !o.strict && !o.keep_overlaps;
     if (part) {
-      for (const auto& line : macsim::part_overlaps(spec)) load.warn(line);
+      for (const auto& line : macsim::part_overlaps(spec)) macsim::log::warn("{}", line);
     }
     macsim::RunSettings settings;
     settings.part_overlaps = part;
     settings.paused = o.paused || o.lockstep;
     settings.real_time_factor = o.as_fast_as_possible ? 0.0 : o.rtf;
     settings.refuse_overlaps = o.strict;  // for worlds loaded later by a request
-    settings.warn = load.warn;
     settings.max_queued_commands = std::size_t(o.max_queued_commands);
     runner = std::make_unique<macsim::Runner>(std::move(spec), settings);
-    const auto overlaps = macsim::admit_overlaps(runner->world(), o.strict, load.warn);
+    const auto overlaps = macsim::admit_overlaps(runner->world(), o.strict);
     if (o.validate) {
       std::cout << "macsim: "
                 << (overlaps.empty() ? "no objects start inside each other"
@@ -613,17 +624,19 @@ int main(int argc, char** argv) {
     return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
   }
   if (o.session) return replay(*runner, o);
+  std::shared_ptr<macsim::SessionWriter> session;
   if (!o.record_session.empty()) {
     try {
-      runner->record(std::make_shared<macsim::SessionWriter>(
+      session = std::make_shared<macsim::SessionWriter>(
           o.record_session,
           macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every),
-                                runner->settings().part_overlaps}));
+                                runner->settings().part_overlaps});
+      runner->record(session);
     } catch (const macsim::SessionFileError& e) {
       macsim::log::error("macsim: --record-session: {}", e.what());
       return 2;
     }
   }
 
-  return serve(*runner, o);
+  return serve(*runner, o, session.get());
 }

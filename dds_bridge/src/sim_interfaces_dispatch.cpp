@@ -557,7 +557,7 @@ ss::SpawnEntity_Response_ spawn_entity(const ss::SpawnEntity_Request_& q, World&
         file.empty()
             ? load_environment_string(q.resource_string(), name, world.spec().materials,
                                       "resource_string.xml")
-            : load_environment_file(file, name, world.spec().materials, {}, world.data_roots());
+            : load_environment_file(file, name, world.spec().materials, world.data_roots());
   } catch (const std::exception& e) {  // missing, refused (outside the roots) or malformed
     return fail(sc::RESOURCE_PARSE_ERROR, e.what());
   }

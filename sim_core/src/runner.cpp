@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iostream>
 
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
 
@@ -203,12 +203,10 @@ void Runner::replace_world(Load& load) {
       outcome.error = "the new world must have the same robots (names and types) as this one";
     } else {
       if (settings_.part_overlaps && !settings_.refuse_overlaps) {
-        for (const auto& line : part_overlaps(spec)) {
-          if (settings_.warn) settings_.warn(line);
-        }
+        for (const auto& line : part_overlaps(spec)) log_message(LogLevel::Warning, line);
       }
       auto world = std::make_unique<World>(std::move(spec));  // a bad world changes nothing
-      admit_overlaps(*world, settings_.refuse_overlaps, settings_.warn);
+      admit_overlaps(*world, settings_.refuse_overlaps);
       world->set_data_roots(data_roots_);
       world->edit().set_max_objects(max_objects_);
       world_ = std::move(world);
@@ -359,12 +357,6 @@ void Runner::run(const std::atomic<bool>& stop, uint64_t last_step, const StepHo
   hooks_ = nullptr;
 }
 
-void Runner::say(const std::string& warning) const {
-  if (settings_.warn) {
-    settings_.warn(warning);
-  } else {
-    std::cerr << warning << std::endl;
-  }
-}
+void Runner::say(const std::string& warning) const { log_message(LogLevel::Warning, warning); }
 
 }  // namespace macsim

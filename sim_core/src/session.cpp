@@ -12,6 +12,7 @@
 #include <sstream>
 #include <utility>
 
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/runner.h"
 
 namespace macsim {
@@ -211,8 +212,8 @@ SessionWriter::~SessionWriter() {
 void SessionWriter::put(const std::string& text) {
   if (!file_) return;
   if (std::fwrite(text.data(), 1, text.size(), file_) == text.size()) return;
-  std::fprintf(stderr, "macsim: cannot write the session %s (%s): recording stopped\n",
-               path_.c_str(), std::strerror(errno));
+  log_message(LogLevel::Error, "macsim: cannot write the session " + path_ + " (" +
+                                   std::strerror(errno) + "): recording stopped");
   std::fclose(file_);
   file_ = nullptr;
 }
@@ -237,8 +238,8 @@ void SessionWriter::finish(uint64_t steps) {
   file_ = nullptr;
   finished_ = closed;
   if (!closed) {
-    std::fprintf(stderr, "macsim: cannot write the session %s (%s)\n", path_.c_str(),
-                 std::strerror(errno));
+    log_message(LogLevel::Error,
+                "macsim: cannot write the session " + path_ + " (" + std::strerror(errno) + ")");
   }
 }
 

@@ -133,7 +133,7 @@ Result<std::vector<ObjectId>> WorldEditor::import_environment(const std::string&
   if (auto p = bounds::id_problem(id)) return {detail::invalid_argument("import id: " + *p)};
   WorldSpec fragment;
   try {
-    fragment = load_environment_file(file, id, world_.spec_.materials, {}, *world_.files_);
+    fragment = load_environment_file(file, id, world_.spec_.materials, *world_.files_);
   } catch (const WorldFileError& e) {
     return {Status::error(ErrorCode::BadFile, e.what())};
   } catch (const FileRefused& e) {  // outside the data roots, a special file, too large

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "macsim/sim_core/data_roots.h"
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/texture.h"
 #include "macsim/sim_core/world_bounds.h"
 
@@ -80,8 +81,7 @@ std::string xml_error_message(const tinyxml2::XMLDocument& doc) {
 /// Reads one file's elements; knows where it is for messages.
 class Reader {
  public:
-  Reader(std::string file, const WarningSink& warn, const WorldFiles& files)
-      : file_(std::move(file)), warn_(warn), files_(files) {}
+  Reader(std::string file, const WorldFiles& files) : file_(std::move(file)), files_(files) {}
 
   const std::string& file() const { return file_; }
 
@@ -89,7 +89,8 @@ class Reader {
     throw WorldFileError(file_, at ? at->GetLineNum() : 0, message);
   }
   void warn(const XMLElement* at, const std::string& message) const {
-    if (warn_) warn_(file_ + ":" + std::to_string(at->GetLineNum()) + ": warning: " + message);
+    log_message(LogLevel::Warning,
+                file_ + ":" + std::to_string(at->GetLineNum()) + ": warning: " + message);
   }
   void unknown(const XMLElement* e, const char* parent) const {
     warn(e, "unknown element <" + std::string(e->Name()) + "> in <" + parent + "> ignored");
@@ -207,7 +208,6 @@ class Reader {
 
  private:
   std::string file_;
-  const WarningSink& warn_;
   const WorldFiles& files_;
 };
 
@@ -224,7 +224,7 @@ struct FileContents {
 class Loader {
  public:
   explicit Loader(const LoadOptions& options, const std::vector<MaterialSpec>& materials = {})
-      : warn_(options.warn), limits_(options.limits), files_(*options.files) {
+      : limits_(options.limits), files_(*options.files) {
     world_.materials = materials;
     if (!world_.material("default")) {
       MaterialSpec fallback;
@@ -237,7 +237,7 @@ class Loader {
 
   void load_root(tinyxml2::XMLDocument& doc, const std::string& file) {
     if (doc.Error()) throw WorldFileError(file, doc.ErrorLineNum(), xml_error_message(doc));
-    const Reader r(file, warn_, files_);
+    const Reader r(file, files_);
     const XMLElement* root = doc.RootElement();
     if (!root || upper(root->Name()) != "WORLD") {
       r.fail(root, "the root element of a world file must be <WORLD>");
@@ -807,7 +807,7 @@ class Loader {
     tinyxml2::XMLDocument doc;
     doc.Parse(bytes->data(), bytes->size());
     if (doc.Error()) throw WorldFileError(shown, doc.ErrorLineNum(), xml_error_message(doc));
-    const Reader child(shown, warn_, files_);
+    const Reader child(shown, files_);
     const XMLElement* root = doc.RootElement();
     if (!root || upper(root->Name()) != "ENVIRONMENT") {
       child.fail(root, "the root element of an imported file must be <ENVIRONMENT>");
@@ -869,7 +869,6 @@ class Loader {
     world_.doors.push_back(door);
   }
 
-  const WarningSink& warn_;
   const LoadLimits limits_;
   const WorldFiles& files_;
   WorldSpec world_;
@@ -963,19 +962,14 @@ WorldSpec load_world_file(const std::string& path, const LoadOptions& options) {
   return load_world_bytes(*bytes, path, options);
 }
 
-WorldSpec load_world_file(const std::string& path, const WarningSink& warn) {
-  LoadOptions options;
-  options.warn = warn;
-  return load_world_file(path, options);
-}
+WorldSpec load_world_file(const std::string& path) { return load_world_file(path, LoadOptions{}); }
 
 namespace {
 
 /// An environment as the one import (of id `import_id`) of a world file in `directory`;
 /// `files` reads the environment and whatever it imports.
 WorldSpec load_environment(const std::string& path, const std::string& import_id,
-                           const std::vector<MaterialSpec>& materials, const WarningSink& warn,
-                           const WorldFiles& files) {
+                           const std::vector<MaterialSpec>& materials, const WorldFiles& files) {
   // A refusal is the whole answer, not an error of the import standing for the file.
   if (!files.read(path)) throw WorldFileError(path, 0, "no such environment file");
   const std::string xml =
@@ -983,7 +977,6 @@ WorldSpec load_environment(const std::string& path, const std::string& import_id
   tinyxml2::XMLDocument doc;
   doc.Parse(xml.c_str(), xml.size());
   LoadOptions options;
-  options.warn = warn;
   options.files = &files;
   Loader loader(options, materials);
   loader.load_root(doc, (fs::path(path).parent_path() / "<import_environment>").string());
@@ -997,23 +990,23 @@ WorldSpec load_environment(const std::string& path, const std::string& import_id
 
 WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
                                 const std::vector<MaterialSpec>& materials,
-                                const WarningSink& warn, const WorldFiles& files) {
+                                const WorldFiles& files) {
   // The file becomes the one import of a world file that would sit beside it.
   std::error_code error;
   const fs::path absolute = fs::absolute(path, error);
   if (error) throw WorldFileError(path, 0, "cannot resolve the path: " + error.message());
-  return load_environment(absolute.string(), import_id, materials, warn, files);
+  return load_environment(absolute.string(), import_id, materials, files);
 }
 
 WorldSpec load_environment_string(const std::string& xml, const std::string& import_id,
                                   const std::vector<MaterialSpec>& materials,
-                                  const std::string& name, const WarningSink& warn) {
+                                  const std::string& name) {
   std::error_code error;
   const fs::path absolute = fs::absolute(name, error);
   if (error) throw WorldFileError(name, 0, "cannot resolve the path: " + error.message());
   MemoryFiles files;
   files.add(absolute.string(), xml);
-  return load_environment(absolute.string(), import_id, materials, warn, files);
+  return load_environment(absolute.string(), import_id, materials, files);
 }
 
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
@@ -1021,11 +1014,8 @@ WorldSpec load_world_string(const std::string& xml, const std::string& name,
   return load_world_bytes(xml, name, options);
 }
 
-WorldSpec load_world_string(const std::string& xml, const std::string& name,
-                            const WarningSink& warn) {
-  LoadOptions options;
-  options.warn = warn;
-  return load_world_bytes(xml, name, options);
+WorldSpec load_world_string(const std::string& xml, const std::string& name) {
+  return load_world_bytes(xml, name, LoadOptions{});
 }
 
 }  // namespace macsim

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 #include "world_internal.h"
@@ -214,12 +215,9 @@ std::string overlap_error(const OverlapReport& report, std::size_t named) {
   return text;
 }
 
-OverlapReport admit_overlaps(const World& world, bool refuse,
-                             const std::function<void(const std::string&)>& warn) {
+OverlapReport admit_overlaps(const World& world, bool refuse) {
   OverlapReport report = world.overlaps();
-  if (warn) {
-    for (const auto& line : overlap_warnings(report)) warn(line);
-  }
+  for (const auto& line : overlap_warnings(report)) log_message(LogLevel::Warning, line);
   if (refuse && !report.empty()) {
     const SourceLocation& at = report.pairs.front().source;
     throw WorldFileError(at.file.empty() ? world.spec().file : at.file, at.line,

@@ -14,6 +14,7 @@
 #include "fuzz_input.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/world_loader.h"
 #include "simulation_dispatch.h"
 #include "supervisor_dispatch.h"
@@ -46,6 +47,12 @@ struct Fixture {
 };
 
 }  // namespace
+
+// The loader's warnings for every input would drown the fuzzer's own output.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  macsim::set_log_sink([](macsim::LogLevel, const std::string&) {});
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   static Fixture fixture;

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <opencv2/imgcodecs.hpp>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -24,9 +24,9 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(MacsimCli, EveryProgramsHelpListsTheCommonOptions) {
-  for (const char* program :
-       {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest", "kurt_demo", "kurt_navigate",
-        "kurt_adapter", "kurt_emulator", "bench_dds", "affordance_trials", "macsim_topic", "macsim_web"}) {
+  for (const char* program : {"macsim", "helloKurt", "interfaceTest", "dynamicObjectTest",
+                              "kurt_demo", "kurt_navigate", "kurt_adapter", "kurt_emulator",
+                              "bench_dds", "affordance_trials", "macsim_topic", "macsim_web"}) {
     ChildProcess p({bin(program), "--help"});
     ASSERT_EQ(p.wait_for_exit(10s), 0) << program;
     EXPECT_NE(p.output().find("--domain N"), std::string::npos) << program << ": " << p.output();
@@ -48,10 +48,14 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_robot"), "-h"}, 0, "usage: bench_robot"},
            {{bin("bench_step_rate")}, 2, "usage: bench_step_rate"},
            {{bin("bench_step_rate"), source("worlds/small_room.xml"), "abc"}, 2, "SIM_SECONDS"},
-           {{bin("bench_demo"), "--help"}, 0, "bench_demo [--world FILE] [--affordances DIR] [SEEDS [FIRST]]"},
+           {{bin("bench_demo"), "--help"},
+            0,
+            "bench_demo [--world FILE] [--affordances DIR] [SEEDS [FIRST]]"},
            {{bin("bench_demo"), "0"}, 2, "SEEDS must be positive"},
-           {{bin("bench_navigate"), "--help"}, 0, "usage: bench_navigate --affordances DIR"},
+           {{bin("bench_navigate"), "--help"}, 0, "usage: bench_navigate [--policy model|avoid]"},
            {{bin("bench_navigate"), "5"}, 2, "--affordances DIR is required"},
+           {{bin("bench_navigate"), "--policy", "random", "--affordances", "x"}, 2,
+            "--policy is model or avoid, not 'random'"},
            {{bin("bench_affordances"), "--help"}, 0, "usage: bench_affordances [TRIALS]"},
            {{bin("bench_affordances"), "0"}, 2, "TRIALS must be positive"},
            {{bin("bench_peers"), "--help"}, 0, "usage: bench_peers"},
@@ -327,8 +331,7 @@ TEST(MacsimCli, ValidateNamesObjectsThatStartInsideEachOtherAndStrictRefusesThem
   for (const char* shipped : {"worlds/DemoWorld_v1.xml", "worlds/small_room.xml"}) {
     ChildProcess clean({bin("macsim"), "--world", source(shipped), "--validate", "--strict"});
     ASSERT_EQ(clean.wait_for_exit(20s), 0) << clean.output();
-    EXPECT_NE(clean.output().find("macsim: no objects start inside each other"),
-              std::string::npos)
+    EXPECT_NE(clean.output().find("macsim: no objects start inside each other"), std::string::npos)
         << clean.output();
     EXPECT_EQ(clean.output().find("warning"), std::string::npos) << clean.output();
   }
@@ -414,9 +417,8 @@ TEST(MacsimCli, RunsForADurationAsFastAsPossibleAndReportsTheStepRate) {
 // summary are information), --log-timestamps puts the time and level before each line.
 TEST(MacsimCli, QuietLeavesOnlyWarningsAndTimestampsMarkEachLine) {
   const std::string domain = std::to_string(unique_test_domain());
-  ChildProcess quiet({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
-                      domain, "--as-fast-as-possible", "--duration", "0.2", "--cameras", "off",
-                      "--quiet"});
+  ChildProcess quiet({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain", domain,
+                      "--as-fast-as-possible", "--duration", "0.2", "--cameras", "off", "--quiet"});
   ASSERT_EQ(quiet.wait_for_exit(60s), 0) << quiet.output();
   EXPECT_EQ(quiet.output().find("stepping"), std::string::npos) << quiet.output();
   EXPECT_EQ(quiet.output().find("stopped at sim time"), std::string::npos) << quiet.output();
@@ -425,13 +427,49 @@ TEST(MacsimCli, QuietLeavesOnlyWarningsAndTimestampsMarkEachLine) {
                         "--log-timestamps"});
   ASSERT_EQ(stamped.wait_for_exit(60s), 0) << stamped.output();
   EXPECT_TRUE(std::regex_search(
-      stamped.output(), std::regex(R"(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3} info  macsim: stepping)")))
+      stamped.output(),
+      std::regex(R"(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3} info  macsim: stepping)")))
       << stamped.output();
   // A usage error is an error: --quiet does not hide it.
   ChildProcess bad({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain", domain,
                     "--seed", "-5", "--quiet"});
   EXPECT_EQ(bad.wait_for_exit(30s), 2);
   EXPECT_NE(bad.output().find("--seed must be 0 or more"), std::string::npos) << bad.output();
+}
+
+// One voice: with --log-timestamps every line macsim writes starts with the time and the level,
+// sim_core's too. Each of sim_core's voices is provoked: the loader (an unknown element), the
+// cameras (no EGL vendor library: no offscreen renderer) and the session writer (/dev/full).
+// A session that could not be written completely is said so, and the exit is 1.
+TEST(MacsimCli, WithTimestampsEveryLineCarriesTheTimeAndTheLevelSimCoresToo) {
+  const std::string world = ::testing::TempDir() + "teleporter_world.xml";
+  std::ofstream(world) << "<WORLD>\n<ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>\n"
+                          "<TELEPORTER/>\n</WORLD>\n";
+  const ScopedEnv no_egl("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/egl_vendor.json");
+  ChildProcess p({bin("macsim"), "--world", world, "--domain", std::to_string(unique_test_domain()),
+                  "--as-fast-as-possible", "--duration", "0.2", "--log-timestamps",
+                  "--record-session", "/dev/full"});
+  ASSERT_EQ(p.wait_for_exit(60s), 1) << p.output();
+  const std::string stamp = R"(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d\.\d{3} )";
+  for (const auto& [level, what] : std::vector<std::pair<std::string, std::string>>{
+           {"warning", world + ":3: warning: unknown element <TELEPORTER>"},
+           {"error", "camera rig for 'kurt': "},
+           {"error", "macsim: cannot write the session /dev/full"},
+           {"error", "macsim: the session /dev/full is incomplete"}}) {
+    EXPECT_NE(p.output().find(" " + level + " " + what), std::string::npos)
+        << level << " " << what << "\n"
+        << p.output();
+  }
+  EXPECT_EQ(p.output().find("session recorded to"), std::string::npos) << p.output();
+  std::istringstream lines(p.output());
+  int stamped = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line.rfind("  ", 0) == 0) continue;  // a listing's continued lines
+    EXPECT_TRUE(std::regex_search(line, std::regex("^" + stamp + "(debug|info |warning|error) ")))
+        << line;
+    ++stamped;
+  }
+  EXPECT_GE(stamped, 6) << p.output();
 }
 
 // Running unpaced, the simulation waits for a busy renderer: every stereo pair due in sim time

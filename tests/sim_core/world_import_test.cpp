@@ -5,6 +5,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "macsim/sim_core/log_sink.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -17,8 +18,9 @@ class WorldImport : public ::testing::Test {
   std::vector<std::string> warnings;
 
   WorldSpec load(const std::string& file = "world.xml") {
-    return load_world_file((dir / file).string(),
-                           [this](const std::string& w) { warnings.push_back(w); });
+    const ScopedLogSink capture(
+        [this](LogLevel, const std::string& w) { warnings.push_back(w); });
+    return load_world_file((dir / file).string());
   }
 
   // Expects loading to fail in `file` at `line` with `fragment` in the message.
@@ -197,8 +199,8 @@ TEST_F(WorldImport, TheShippedWorldsLoadWithoutWarnings) {
                            "figure12_fixed_obstacles.xml", "figure13_steps_joist.xml",
                            "figure14_cylinder_orientations.xml", "stackability.xml"}) {
     std::vector<std::string> w;
-    const WorldSpec spec = load_world_file(source(std::string("worlds/") + file),
-                                           [&](const std::string& m) { w.push_back(m); });
+    const ScopedLogSink capture([&](LogLevel, const std::string& m) { w.push_back(m); });
+    const WorldSpec spec = load_world_file(source(std::string("worlds/") + file));
     EXPECT_TRUE(w.empty()) << file << ": " << w.front();
     EXPECT_FALSE(spec.objects.empty()) << file;
     World world(spec);

@@ -5,6 +5,7 @@
 
 #include <fstream>
 
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/world.h"
 #include "support/child_process.h"
 
@@ -123,9 +124,14 @@ TEST(WorldLoader, RobotIdMustBeATopicName) {
 
 TEST(WorldLoader, UnknownElementsAreWarnedAboutWithTheirLine) {
   std::vector<std::string> warnings;
-  const WorldSpec spec = load_world_string("<WORLD>\n\n<TELEPORTER/>\n</WORLD>", "w.xml",
-                                           [&](const std::string& w) { warnings.push_back(w); });
+  std::vector<LogLevel> levels;
+  const ScopedLogSink capture([&](LogLevel level, const std::string& w) {
+    levels.push_back(level);
+    warnings.push_back(w);
+  });
+  const WorldSpec spec = load_world_string("<WORLD>\n\n<TELEPORTER/>\n</WORLD>", "w.xml");
   ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(levels[0], LogLevel::Warning);
   EXPECT_NE(warnings[0].find("w.xml:3:"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("TELEPORTER"), std::string::npos);
   EXPECT_TRUE(spec.objects.empty());

@@ -7,6 +7,7 @@
 #include <future>
 #include <optional>
 
+#include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_variation.h"
 #include "support/world_helpers.h"
@@ -229,7 +230,7 @@ TEST(WorldOverlaps, ARunnerWarnsOfOrRefusesALoadedWorldWithOverlaps) {
     RunSettings settings;
     settings.paused = true;
     settings.refuse_overlaps = refuse;
-    settings.warn = [&log](const std::string& line) { log.push_back(line); };
+    const ScopedLogSink capture([&log](LogLevel, const std::string& line) { log.push_back(line); });
     Runner runner(shipped_world("small_room.xml"), settings);
     const World* before = &runner.world();
     std::promise<LoadOutcome> outcome;

@@ -1,6 +1,6 @@
 #include "macsim/render/camera_rig.h"
 
-#include <iostream>
+#include "macsim/sim_core/log_sink.h"
 
 namespace macsim::render {
 
@@ -56,7 +56,7 @@ void CameraRig::run() {
   try {
     renderer = std::make_unique<OffscreenRenderer>(intrinsics_.width, intrinsics_.height);
   } catch (const RenderError& e) {
-    std::cerr << "camera rig for '" << robot_ << "': " << e.what() << std::endl;
+    log_message(LogLevel::Error, "camera rig for '" + robot_ + "': " + e.what());
   }
   cv::Mat image;  // reused from frame to frame unless a callback kept the last one
   std::unique_lock<std::mutex> lock(mutex_);

@@ -4,9 +4,9 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "macsim/sim_core/log_sink.h"
 #include "scene_drawer.h"
 
 namespace macsim::render {
@@ -54,7 +54,7 @@ void display() {
     glReadPixels(0, 0, in.width, in.height, GL_BGR, GL_UNSIGNED_BYTE, image.data);
     cv::flip(image, image, 0);
     cv::imwrite(s.options.screenshot, image);
-    std::cout << "viewer: wrote a screenshot to " << s.options.screenshot << std::endl;
+    log_message(LogLevel::Info, "viewer: wrote a screenshot to " + s.options.screenshot);
     s.shot = true;
   }
   glutSwapBuffers();
@@ -94,7 +94,8 @@ void keyboard(unsigned char key, int, int) {
 int run_viewer(const ViewerOptions& options, const std::function<Scene()>& latest_scene,
                const std::function<bool()>& stop) {
   if (!std::getenv("DISPLAY")) {
-    std::cerr << "viewer: no X display (DISPLAY is not set); render offscreen with --snapshot\n";
+    log_message(LogLevel::Error,
+                "viewer: no X display (DISPLAY is not set); render offscreen with --snapshot");
     return 1;
   }
   int argc = 1;
@@ -106,7 +107,7 @@ int run_viewer(const ViewerOptions& options, const std::function<Scene()>& lates
   glutInitWindowSize(options.width, options.height);
   const int window = glutCreateWindow(("MACSim-DDS: " + camera_mode_name(options.mode)).c_str());
   if (window <= 0) {
-    std::cerr << "viewer: cannot open a window\n";
+    log_message(LogLevel::Error, "viewer: cannot open a window");
     return 1;
   }
   ViewerState state;
@@ -119,9 +120,9 @@ int run_viewer(const ViewerOptions& options, const std::function<Scene()>& lates
   glutMouseFunc(mouse);
   glutMotionFunc(motion);
   glutKeyboardFunc(keyboard);
-  std::cout << "viewer: keys 1-9 camera modes (" << camera_mode_name(options.mode)
-            << " now), w/a/s/d move, q quits; mouse: left pans, right moves, middle lifts"
-            << std::endl;
+  log_message(LogLevel::Info, "viewer: keys 1-9 camera modes (" + camera_mode_name(options.mode) +
+                                  " now), w/a/s/d move, q quits; mouse: left pans, right moves, "
+                                  "middle lifts");
   while (!state.close && !stop() && glutGetWindow() != 0) {
     glutPostRedisplay();
     glutMainLoopEvent();

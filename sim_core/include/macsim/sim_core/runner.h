@@ -51,13 +51,12 @@ struct RunSettings {
   double real_time_factor = 1.0;     ///< sim seconds per wall second; 0: as fast as possible
   bool pause_on_instability = true;  ///< pause when a step had to put a body back
   /// A world swapped in by load() whose objects start inside each other (World::overlaps()):
-  /// refused (BadFile, naming them) when true; either way `warn` gets one line per pair.
+  /// refused (BadFile, naming them) when true; either way the log (log_sink.h) gets one line per
+  /// pair.
   bool refuse_overlaps = false;
   /// A world swapped in by load(): what starts deeply inside each other is moved apart first
-  /// (part_overlaps(), its lines to `warn`), unless refused above.
+  /// (part_overlaps(), its lines to the log), unless refused above.
   bool part_overlaps = false;
-  /// Warnings (a loaded world's, a command dropped); standard error when not set.
-  std::function<void(const std::string&)> warn = nullptr;
   /// Commands and loads queued and not yet run at most: push() and load() refuse more.
   std::size_t max_queued_commands = kDefaultMaxQueuedCommands;
 };
@@ -183,7 +182,7 @@ class Runner {
   SnapshotStore& snapshots() { return snapshots_; }
 
  private:
-  /// A warning to RunSettings::warn, or to standard error without one.
+  /// A warning to sim_core's log (log_sink.h).
   void say(const std::string& warning) const;
   struct Load {
     std::shared_future<WorldSpec> spec;

@@ -59,7 +59,8 @@ struct Session {
 };
 
 /// Writes a session as the simulation runs (on the simulation thread). Once a write fails (a
-/// full disk) it says so on stderr, once, and writes no more: the file then reads as cut short.
+/// full disk) it says so in the log (log_sink.h), once, and writes no more: the file then reads as
+/// cut short.
 class SessionWriter {
  public:
   /// Opens `path` for writing and writes the header; throws SessionFileError if it cannot.

@@ -27,9 +27,6 @@ class WorldFileError : public std::runtime_error {
   std::string message_;
 };
 
-/// Receives warnings ("FILE:LINE: message") about suspicious but loadable content.
-using WarningSink = std::function<void(const std::string&)>;
-
 /// Where a world's files are read from: the disk, or a set held in memory (tests, fuzzing).
 class WorldFiles {
  public:
@@ -62,9 +59,9 @@ struct LoadLimits {
   std::size_t max_objects = bounds::kMaxObjects;               ///< objects, imported included
 };
 
-/// What a load may be told besides the file.
+/// What a load may be told besides the file. Its warnings about suspicious but loadable content
+/// ("FILE:LINE: warning: message") go to sim_core's log (log_sink.h).
 struct LoadOptions {
-  WarningSink warn;                         ///< warnings, or none
   LoadLimits limits;                        ///< the caps on imports and objects
   const WorldFiles* files = &disk_files();  ///< where the file and its imports are read
 };
@@ -72,25 +69,23 @@ struct LoadOptions {
 /// Loads a world file; throws WorldFileError (or what `options.files` throws for a file it
 /// refuses) and never returns a half-loaded world.
 WorldSpec load_world_file(const std::string& path, const LoadOptions& options);
-WorldSpec load_world_file(const std::string& path, const WarningSink& warn = {});
+WorldSpec load_world_file(const std::string& path);
 
 /// Loads an environment file as an <IMPORT> of that id at the origin would, resolving material
 /// names against `materials` too (for adding it to a running world), reading through `files`.
 WorldSpec load_environment_file(const std::string& path, const std::string& import_id,
                                 const std::vector<MaterialSpec>& materials,
-                                const WarningSink& warn = {},
                                 const WorldFiles& files = disk_files());
 
 /// Loads an environment from XML text as load_environment_file would from a file called `name`
 /// (it stands for the file in messages); the text imports nothing from disk.
 WorldSpec load_environment_string(const std::string& xml, const std::string& import_id,
                                   const std::vector<MaterialSpec>& materials,
-                                  const std::string& name, const WarningSink& warn = {});
+                                  const std::string& name);
 
 /// Loads a world from XML text; `name` stands for the file in messages and relative paths.
 WorldSpec load_world_string(const std::string& xml, const std::string& name,
                             const LoadOptions& options);
-WorldSpec load_world_string(const std::string& xml, const std::string& name,
-                            const WarningSink& warn = {});
+WorldSpec load_world_string(const std::string& xml, const std::string& name);
 
 }  // namespace macsim

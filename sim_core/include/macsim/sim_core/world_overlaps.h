@@ -40,11 +40,10 @@ std::vector<std::string> overlap_warnings(const OverlapReport& report, std::size
 /// One line refusing a world for its overlaps: how many pairs, the deepest `named` of them.
 std::string overlap_error(const OverlapReport& report, std::size_t named = 3);
 
-/// Checks a world just built: its overlap_warnings() go to `warn` (if set); then, if `refuse`
-/// and there are any, throws WorldFileError at the deepest pair's file and line with
+/// Checks a world just built: its overlap_warnings() go to sim_core's log (log_sink.h); then, if
+/// `refuse` and there are any, throws WorldFileError at the deepest pair's file and line with
 /// overlap_error(). Returns the report.
-OverlapReport admit_overlaps(const World& world, bool refuse,
-                             const std::function<void(const std::string&)>& warn);
+OverlapReport admit_overlaps(const World& world, bool refuse);
 
 /// Parts what starts deeply inside each other: portable objects and robots whose pair is deeper
 /// than a quarter of the smaller one's footprint radius (and than kOverlapTolerance) are moved
