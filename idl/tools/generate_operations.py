@@ -54,7 +54,8 @@ def split_comment(line):
 
 
 class Field:
-    def __init__(self, idl_type, name, array, comment, annotations):
+    def __init__(self, idl_type, name, array, comment, annotations, where):
+        self.where = where      # "FILE:LINE" of its declaration, for errors
         self.idl_type = idl_type.split("::")[-1]
         self.name = name
         self.array = array
@@ -76,7 +77,8 @@ class Param:
 
 
 class Operation:
-    def __init__(self, const, code, comment, annotations):
+    def __init__(self, const, code, comment, annotations, where):
+        self.where = where      # "FILE:LINE" of its OP_ constant, for errors
         self.const = const
         self.code = code
         self.name = const[len("OP_"):].lower()
@@ -99,7 +101,8 @@ class Operation:
                 if word:
                     self.replies.append(word.group(1))
         if not self.arg_type:
-            raise IdlError(f"{const}: its comment does not name its argument struct (or none)")
+            raise IdlError(f"{where}: {const}: its comment does not name its argument struct "
+                           "(or none)")
 
     @property
     def manual_python(self):
@@ -116,8 +119,18 @@ class Operation:
 
 
 def parse_idl(path):
+    """The operations and structs of the IDL file at `path`; every error names FILE:LINE."""
     text = Path(path).read_text()
     lines = text.splitlines()
+    return read_idl(path, lines)
+
+
+def at_line(path, i, error):
+    """An error met reading line i (0-based) of `path`, named FILE:LINE."""
+    return IdlError(f"{path}:{i + 1}: {error}")
+
+
+def read_idl(path, lines):
     operations = []
     structs = {}
     reply_fields = []
@@ -127,24 +140,33 @@ def parse_idl(path):
         line = lines[i]
         m = re.match(r"\s*const\s+int32\s+(OP_\w+)\s*=\s*(\d+)\s*;(.*)$", line)
         if m:
-            _, comment, annotations = split_comment(line)
-            operations.append(Operation(m.group(1), int(m.group(2)), comment, annotations))
+            try:
+                _, comment, annotations = split_comment(line)
+            except IdlError as e:
+                raise at_line(path, i, e)
+            operations.append(Operation(m.group(1), int(m.group(2)), comment, annotations,
+                                        f"{path}:{i + 1}"))
             i += 1
             continue
         m = re.match(r"\s*struct\s+(\w+)\s*\{", line)
         if m:
             name, fields = m.group(1), []
             i += 1
-            while not re.match(r"\s*\};", lines[i]):
-                code, comment, annotations = split_comment(lines[i])
+            while i < len(lines) and not re.match(r"\s*\};", lines[i]):
+                try:
+                    code, comment, annotations = split_comment(lines[i])
+                except IdlError as e:
+                    raise at_line(path, i, e)
                 f = re.match(r"(?:@\w+\s+)?([\w:]+(?:<[\w:, ]+>)?)\s+(\w+)(?:\[(\d+)\])?\s*;", code)
                 if f:
                     fields.append(Field(f.group(1), f.group(2),
                                         int(f.group(3)) if f.group(3) else None, comment,
-                                        annotations))
+                                        annotations, f"{path}:{i + 1}"))
                 elif code:
-                    raise IdlError(f"{path}:{i + 1}: cannot read the field '{code}'")
+                    raise at_line(path, i, f"cannot read the field '{code}'")
                 i += 1
+            if i == len(lines):
+                raise at_line(path, i - 1, f"struct {name} is not closed by '}};'")
             structs[name] = fields
             if name == "SupervisorReply_":
                 reply_fields = [f.name for f in fields]
@@ -154,37 +176,46 @@ def parse_idl(path):
         if m:
             i += 1
             labels = []
-            while not re.match(r"\s*\};", lines[i]):
-                code, _, _ = split_comment(lines[i])
+            while i < len(lines) and not re.match(r"\s*\};", lines[i]):
+                try:
+                    code, _, _ = split_comment(lines[i])
+                except IdlError as e:
+                    raise at_line(path, i, e)
                 c = re.match(r"case\s+(OP_\w+)\s*:", code)
                 f = re.match(r"([\w:]+)\s+(\w+)\s*;", code)
                 if c:
                     labels.append(c.group(1))
                 elif f:
                     for label in labels:
-                        union[label] = (f.group(1).split("::")[-1], f.group(2))
+                        union[label] = (f.group(1).split("::")[-1], f.group(2), i)
                     labels = []
                 elif code:
-                    raise IdlError(f"{path}:{i + 1}: cannot read the union line '{code}'")
+                    raise at_line(path, i, f"cannot read the union line '{code}'")
                 i += 1
+            if i == len(lines):
+                raise at_line(path, i - 1, "union SupervisorOperation_ is not closed by '};'")
         i += 1
     if not operations or not union:
-        raise IdlError(f"{path}: no OP_* constants or no union SupervisorOperation_")
+        raise at_line(path, max(len(lines) - 1, 0),
+                      "no OP_* constants or no union SupervisorOperation_ in the file")
     for op in operations:
         if op.const not in union:
-            raise IdlError(f"{op.const} is not a case of SupervisorOperation_")
-        member_type, op.member = union[op.const]
+            raise IdlError(f"{op.where}: {op.const} is not a case of SupervisorOperation_")
+        member_type, op.member, member_line = union[op.const]
         if op.arg_type == "none":
             if member_type != "boolean":
-                raise IdlError(f"{op.const}: 'none' but its member is a {member_type}")
+                raise at_line(path, member_line,
+                              f"{op.const}: 'none' but its member is a {member_type}")
             continue
         if op.arg_type != member_type:
-            raise IdlError(f"{op.const}: its comment says {op.arg_type}, the union {member_type}")
+            raise IdlError(f"{op.where}: {op.const}: its comment says {op.arg_type}, the union "
+                           f"{member_type} ({path}:{member_line + 1})")
         if op.arg_type not in structs:
-            raise IdlError(f"{op.const}: no struct {op.arg_type}")
+            raise IdlError(f"{op.where}: {op.const}: no struct {op.arg_type}")
         for reply in op.replies:
             if reply not in reply_fields:
-                raise IdlError(f"{op.const}: '{reply}' is no field of SupervisorReply_")
+                raise IdlError(f"{op.where}: {op.const}: '{reply}' is no field of "
+                               "SupervisorReply_")
         op.params = make_params(op, structs[op.arg_type])
     return operations, structs
 
@@ -205,7 +236,8 @@ def make_params(op, fields):
         elif field.array is None and field.idl_type in KINDS:
             subs = [Param(field, field.name, KINDS[field.idl_type])]
         else:
-            raise IdlError(f"{op.const}: no builder parameter for {field.idl_type} {field.name}")
+            raise IdlError(f"{field.where}: {op.const}: no builder parameter for "
+                           f"{field.idl_type} {field.name}")
         for p in subs:
             # Field annotations, then the operation's own (prefixed with the field's name).
             for source, prefix in ((field.annotations, ""), (op.annotations, field.name + ".")):
