@@ -1,5 +1,6 @@
 #include "trial_spec.h"
 
+#include <array>
 #include <cmath>
 
 namespace affordances {
@@ -55,27 +56,78 @@ void set_material(TrialSpec& t, const Material& m) {
   t.magnetizable = m.magnetizable;
 }
 
+/// Uniform in [lo, hi), m; a range of one value is that value and draws nothing.
+struct Range {
+  double lo = 0, hi = 0;
+};
+
+/// The ranges one kind is sized by: a box's (a joist's, a step's) x, y and z; a cylinder's
+/// diameter (x) and length (z); a sphere's diameter (x).
+struct KindSizes {
+  Shape shape;
+  Range x, y, z;
+};
+
+double draw_in(Draw& d, Range r) { return r.lo == r.hi ? r.lo : d.uniform(r.lo, r.hi); }
+
+/// Sizes `t` (its shape drawn already) by its kind's row of `table`, drawing x, y and z in that
+/// order (a round kind: its diameter, then a cylinder's length).
+template <std::size_t N>
+void draw_size(TrialSpec& t, Draw& d, const std::array<KindSizes, N>& table) {
+  const KindSizes* row = &table.front();
+  for (const auto& k : table) {
+    if (k.shape == t.shape) row = &k;
+  }
+  switch (t.shape) {
+    case Shape::Cylinder:
+    case Shape::LyingCylinder: {
+      const double diameter = draw_in(d, row->x);
+      t.size = {diameter, diameter, draw_in(d, row->z)};
+      break;
+    }
+    case Shape::Sphere: {
+      const double diameter = draw_in(d, row->x);
+      t.size = {diameter, diameter, diameter};
+      break;
+    }
+    default: {
+      const double x = draw_in(d, row->x), y = draw_in(d, row->y);
+      t.size = {x, y, draw_in(d, row->z)};
+    }
+  }
+}
+
 /// A random solid of `lo`..`hi` m across; lying cylinders only where rolling matters.
 void draw_solid(TrialSpec& t, Draw& d, double lo, double hi, bool lying) {
   static constexpr Shape kSolids[] = {Shape::Box, Shape::Cylinder, Shape::Sphere,
                                       Shape::LyingCylinder};
   t.shape = kSolids[d.index(lying ? 4 : 3)];
-  switch (t.shape) {
-    case Shape::Box:
-      t.size = {d.uniform(lo, hi), d.uniform(lo, hi), d.uniform(lo, hi)};
-      break;
-    case Shape::Cylinder:
-    case Shape::LyingCylinder: {
-      const double diameter = d.uniform(lo, hi);
-      t.size = {diameter, diameter, d.uniform(lo, hi)};
-      break;
-    }
-    default: {
-      const double diameter = d.uniform(lo, hi);
-      t.size = {diameter, diameter, diameter};
-    }
-  }
+  const Range any{lo, hi};
+  draw_size(t, d,
+            std::array<KindSizes, 4>{{{Shape::Box, any, any, any},
+                                      {Shape::Cylinder, any, {}, any},
+                                      {Shape::LyingCylinder, any, {}, any},
+                                      {Shape::Sphere, any, {}, {}}}});
 }
+
+/// The stack trials' bases, m.
+constexpr std::array<KindSizes, 4> kStackBases{{
+    {Shape::Box, {0.08, 0.25}, {0.08, 0.25}, {0.04, 0.22}},
+    {Shape::Cylinder, {0.06, 0.25}, {}, {0.04, 0.22}},
+    {Shape::LyingCylinder, {0.06, 0.22}, {}, {0.15, 0.35}},
+    {Shape::Sphere, {0.08, 0.25}, {}, {}},
+}};
+
+/// The traverse trials' obstacles sized by ranges alone, m (a joist and a step span 1 m
+/// across); doorsteps, passages and ramps are drawn by their own rules (draw_traverse).
+constexpr std::array<KindSizes, 6> kTraverseSizes{{
+    {Shape::Box, {0.1, 0.4}, {0.15, 0.6}, {0.02, 0.3}},
+    {Shape::Cylinder, {0.06, 0.3}, {}, {0.02, 0.4}},
+    {Shape::LyingCylinder, {0.05, 0.25}, {}, {0.15, 0.5}},
+    {Shape::Sphere, {0.05, 0.3}, {}, {}},
+    {Shape::Joist, {0.03, 0.08}, {1.0, 1.0}, {0.01, 0.12}},
+    {Shape::Step, {0.2, 0.4}, {1.0, 1.0}, {0.02, 0.15}},
+}};
 
 /// A base to stack onto (Stack): a box, upright or lying cylinder or sphere of any material,
 /// standing in the laser's plane; and beside the robot, the light magnetizable object the crane
@@ -90,25 +142,7 @@ void draw_stack(TrialSpec& t, Draw& d, bool balanced) {
   // 14-16 cm).
   static constexpr std::size_t kBalanced[] = {0, 0, 1, 2, 2, 2, 3, 3, 3};
   t.shape = kBases[balanced ? kBalanced[d.index(9)] : d.index(4)];
-  switch (t.shape) {
-    case Shape::Box:
-      t.size = {d.uniform(0.08, 0.25), d.uniform(0.08, 0.25), d.uniform(0.04, 0.22)};
-      break;
-    case Shape::Cylinder: {
-      const double diameter = d.uniform(0.06, 0.25);
-      t.size = {diameter, diameter, d.uniform(0.04, 0.22)};
-      break;
-    }
-    case Shape::LyingCylinder: {
-      const double diameter = d.uniform(0.06, 0.22);
-      t.size = {diameter, diameter, d.uniform(0.15, 0.35)};
-      break;
-    }
-    default: {
-      const double diameter = d.uniform(0.08, 0.25);
-      t.size = {diameter, diameter, diameter};
-    }
-  }
+  draw_size(t, d, kStackBases);
   if (balanced && t.shape == Shape::Sphere) {
     set_material(t, material_named(d.index(2) == 0 ? "plastic" : "wood"));
     t.size[0] = t.size[1] = t.size[2] = d.uniform(0.06, 0.12);
@@ -147,29 +181,15 @@ void draw_traverse(TrialSpec& t, Draw& d, bool balanced) {
   t.fixed = t.shape != Shape::LyingCylinder && t.shape != Shape::Sphere;
   switch (t.shape) {
     case Shape::Box:
-      t.size = {d.uniform(0.1, 0.4), d.uniform(0.15, 0.6), d.uniform(0.02, 0.3)};
-      break;
-    case Shape::Cylinder: {
-      const double diameter = d.uniform(0.06, 0.3);
-      t.size = {diameter, diameter, d.uniform(0.02, 0.4)};
-      break;
-    }
-    case Shape::LyingCylinder: {
-      const double diameter = d.uniform(0.05, 0.25);
-      t.size = {diameter, diameter, d.uniform(0.15, 0.5)};
-      t.yaw = d.uniform(-M_PI / 2, M_PI / 2);
-      break;
-    }
-    case Shape::Sphere: {
-      const double diameter = d.uniform(0.05, 0.3);
-      t.size = {diameter, diameter, diameter};
-      break;
-    }
+    case Shape::Cylinder:
+    case Shape::Sphere:
     case Shape::Joist:
-      t.size = {d.uniform(0.03, 0.08), 1.0, d.uniform(0.01, 0.12)};
-      break;
     case Shape::Step:
-      t.size = {d.uniform(0.2, 0.4), 1.0, d.uniform(0.02, 0.15)};
+      draw_size(t, d, kTraverseSizes);
+      break;
+    case Shape::LyingCylinder:  // at any yaw: it rolls away when pushed, or does not
+      draw_size(t, d, kTraverseSizes);
+      t.yaw = d.uniform(-M_PI / 2, M_PI / 2);
       break;
     case Shape::Doorstep:  // a bar between two walls 0.4 m high, 0.15 m deep
       t.gap = d.uniform(0.3, 0.7);
