@@ -23,7 +23,7 @@
 #include "macsim/process/child_process.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
-#include "supervisor_codec.h"
+#include "supervisor/supervisor_codec.h"
 #include "trial_record.h"
 #include "trial_robot.h"
 #include "trial_spec.h"

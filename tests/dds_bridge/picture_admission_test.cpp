@@ -1,6 +1,6 @@
 // The picture server's caps without DDS: pictures in flight (each holds a captured scene) and
 // distinct files written per run.
-#include "picture_admission.h"
+#include "pictures/picture_admission.h"
 
 #include <gtest/gtest.h>
 

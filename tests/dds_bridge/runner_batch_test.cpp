@@ -10,8 +10,8 @@
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulated_robot.h"
-#include "supervisor_dispatch.h"
+#include "robots/simulated_robot.h"
+#include "supervisor/supervisor_dispatch.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {

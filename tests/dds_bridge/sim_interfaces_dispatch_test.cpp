@@ -1,7 +1,7 @@
 // The simulation_interfaces requests on the world, without DDS: spawning this project's XML
 // (one object, a group, bad resources), deleting groups, setting states that are refused as a
 // whole, filters and reset scopes. Every refusal leaves the state hash unchanged.
-#include "sim_interfaces_dispatch.h"
+#include "sim_interfaces/sim_interfaces_dispatch.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The simulated KURT behind the robot interface: what it has by robot type, readings as the
 // steps produce them, and commands on the robot of the world current when they run.
-#include "simulated_robot.h"
+#include "robots/simulated_robot.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // world and the simulated KURT's readings, no DDS): bad fields are refused naming them with the
 // world untouched; a request ends at the first check a group of its conditions holds, records its
 // samples at every check, and traces every step's state hash when asked.
-#include "step_conditions.h"
+#include "simulation/step_conditions.h"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@
 
 #include "macsim/client/supervisor_client.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulated_robot.h"
-#include "simulation_dispatch.h"
+#include "robots/simulated_robot.h"
+#include "simulation/simulation_dispatch.h"
 #include "support/child_process.h"
 
 namespace macsim {

@@ -1,5 +1,5 @@
 // The supervisor's codec: wire types to sim_core's and back.
-#include "supervisor_codec.h"
+#include "supervisor/supervisor_codec.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The supervisor's dispatch without DDS: every operation code and every error code, with the
 // typed requests the client library builds. Each operation acts on a fresh demo world and is
 // checked against sim_core's own view; every error leaves the state hash unchanged.
-#include "supervisor_dispatch.h"
+#include "supervisor/supervisor_dispatch.h"
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "macsim/client/supervisor_requests.h"
-#include "supervisor_dispatch.h"
+#include "supervisor/supervisor_dispatch.h"
 #include "support/world_helpers.h"
 #include "support/world_invariants.h"
 

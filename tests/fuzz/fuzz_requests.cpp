@@ -16,8 +16,8 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulation_dispatch.h"
-#include "supervisor_dispatch.h"
+#include "simulation/simulation_dispatch.h"
+#include "supervisor/supervisor_dispatch.h"
 #include "support/world_invariants.h"
 
 namespace {

@@ -17,7 +17,7 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
-#include "supervisor_codec.h"
+#include "supervisor/supervisor_codec.h"
 
 namespace fs = std::filesystem;
 namespace mm = macsim_msgs::msg::dds_;

@@ -13,7 +13,7 @@
 #include "macsim/msg/macsim_msgs.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
-#include "step_conditions.h"
+#include "simulation/step_conditions.h"
 
 namespace macsim {
 

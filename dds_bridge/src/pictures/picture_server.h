@@ -15,7 +15,7 @@
 #include "macsim/render/renderer.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/scene.h"
-#include "picture_admission.h"
+#include "pictures/picture_admission.h"
 #include "reply_cache.h"
 #include "request_progress.h"
 #include "request_service.h"

@@ -1,12 +1,12 @@
-#include "sim_interfaces_server.h"
+#include "sim_interfaces/sim_interfaces_server.h"
 
 #include <atomic>
 #include <filesystem>
 #include <thread>
 
 #include "macsim/dds/wire.h"
-#include "sim_interfaces_dispatch.h"
-#include "simulation_dispatch.h"
+#include "sim_interfaces/sim_interfaces_dispatch.h"
+#include "simulation/simulation_dispatch.h"
 
 namespace macsim {
 

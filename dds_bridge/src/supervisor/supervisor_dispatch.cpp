@@ -1,11 +1,11 @@
-#include "supervisor_dispatch.h"
+#include "supervisor/supervisor_dispatch.h"
 
 #include <optional>
 
 #include "macsim/dds/wire.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
-#include "supervisor_codec.h"
-#include "supervisor_operations.h"
+#include "supervisor/supervisor_codec.h"
+#include "supervisor/supervisor_operations.h"
 
 namespace macsim {
 

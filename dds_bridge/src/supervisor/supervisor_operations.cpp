@@ -1,8 +1,8 @@
-#include "supervisor_operations.h"
+#include "supervisor/supervisor_operations.h"
 
 #include <string>
 
-#include "supervisor_codec.h"
+#include "supervisor/supervisor_codec.h"
 
 namespace macsim::ops {
 

@@ -1,4 +1,4 @@
-#include "simulated_robot.h"
+#include "robots/simulated_robot.h"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "picture_server.h"
+#include "pictures/picture_server.h"
 
 #include <algorithm>
 #include <cctype>

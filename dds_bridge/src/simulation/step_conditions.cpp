@@ -1,4 +1,4 @@
-#include "step_conditions.h"
+#include "simulation/step_conditions.h"
 
 #include <algorithm>
 #include <cmath>

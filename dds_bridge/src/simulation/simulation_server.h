@@ -16,7 +16,7 @@
 #include "reply_cache.h"
 #include "request_progress.h"
 #include "request_service.h"
-#include "step_conditions.h"
+#include "simulation/step_conditions.h"
 
 namespace macsim {
 

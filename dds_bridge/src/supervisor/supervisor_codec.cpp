@@ -1,4 +1,4 @@
-#include "supervisor_codec.h"
+#include "supervisor/supervisor_codec.h"
 
 #include "macsim/dds/convert.h"
 

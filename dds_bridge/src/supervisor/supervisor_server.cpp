@@ -1,10 +1,10 @@
-#include "supervisor_server.h"
+#include "supervisor/supervisor_server.h"
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 #include "macsim/dds/wire.h"
-#include "supervisor_codec.h"
-#include "supervisor_dispatch.h"
+#include "supervisor/supervisor_codec.h"
+#include "supervisor/supervisor_dispatch.h"
 
 namespace macsim {
 

@@ -1,4 +1,4 @@
-#include "sim_interfaces_dispatch.h"
+#include "sim_interfaces/sim_interfaces_dispatch.h"
 
 #include <tinyxml2.h>
 

@@ -1,4 +1,4 @@
-#include "sim_bridge.h"
+#include "robots/sim_bridge.h"
 
 #include <algorithm>
 #include <atomic>
@@ -18,7 +18,7 @@
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "macsim/render/camera_rig.h"
 #include "macsim/robot/robot_node.h"
-#include "simulated_robot.h"
+#include "robots/simulated_robot.h"
 
 namespace macsim {
 

@@ -1,12 +1,12 @@
-#include "simulation_server.h"
+#include "simulation/simulation_server.h"
 
 #include <algorithm>
 
 #include "macsim/dds/topics.h"
 #include "macsim/dds/wire.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulation_dispatch.h"
-#include "supervisor_codec.h"
+#include "simulation/simulation_dispatch.h"
+#include "supervisor/supervisor_codec.h"
 
 namespace macsim {
 

@@ -1,4 +1,4 @@
-#include "simulation_dispatch.h"
+#include "simulation/simulation_dispatch.h"
 
 #include <memory>
 #include <utility>

@@ -1,0 +1,237 @@
+#include "macsim_options.h"
+
+#include <fmt/ranges.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "macsim/dds/command_line.h"
+#include "macsim/dds/data_files.h"
+#include "macsim/dds/log.h"
+#include "macsim/render/camera_modes.h"
+
+namespace macsim::program {
+
+std::string world_summary(const macsim::WorldSpec& spec) {
+  std::map<std::string, int> kinds;
+  int portable = 0;
+  for (const auto& o : spec.objects) {
+    portable += o.portable ? 1 : 0;
+    static const char* names[] = {"objects",          "walls",       "ramps",      "switch bases",
+                                  "switch platforms", "door frames", "door leaves"};
+    ++kinds[names[static_cast<int>(o.kind)]];
+  }
+  std::vector<std::string> counts, robots;
+  for (const auto& [kind, count] : kinds) counts.push_back(fmt::format("{} {}", count, kind));
+  for (const auto& r : spec.robots) robots.push_back(fmt::format(" [{}: {}]", r.name, r.type));
+  return fmt::format(
+      "world '{}' from {}: {} objects ({} portable, {} fixed; {}), {} doors, {} robots{}, step "
+      "{:g} "
+      "ms",
+      spec.name, spec.file, spec.objects.size(), portable, spec.objects.size() - portable,
+      fmt::join(counts, ", "), spec.doors.size(), spec.robots.size(), fmt::join(robots, ""),
+      spec.physics.step * 1e3);
+}
+
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  macsim::dds::CommandLine cli("macsim",
+                               "Loads a MACSim world, steps its physics and serves it over DDS.");
+  cli.option("world", "FILE",
+             "world file to load (required); a name not found from here is looked up among the "
+             "installed worlds (share/macsim/worlds beside bin/), e.g. DemoWorld_v1.xml",
+             &o.world_file);
+  cli.participant_options(&o.participant);
+  cli.flag("realtime", "step in real time (the default, same as --rtf 1)", &o.realtime);
+  cli.option("rtf", "X", "real-time factor: sim seconds per wall second (default 1)", &o.rtf);
+  cli.flag("as-fast-as-possible", "step without waiting for the wall clock",
+           &o.as_fast_as_possible);
+  cli.flag("paused", "start paused (run, pause and step with simulation requests)", &o.paused);
+  cli.flag("lockstep", "step only when a controller asks (SIM_STEP requests); implies --paused",
+           &o.lockstep);
+  cli.option("duration", "SECONDS", "stop after this much sim time (default: run until SIGINT)",
+             &o.duration);
+  cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
+             &o.status_period);
+  cli.repeated_option(
+      "snapshot", "MODE:FILE.png",
+      "render a camera mode (MouseOnly, MouseKeyboard, FixedFollow, Follow, "
+      "Inside, LeftCamera, RightCamera, Manual, Chase) offscreen after the world settled, "
+      "write the PNG, exit",
+      &o.snapshots);
+  cli.option("settle", "SECONDS", "sim time to let the world settle before --snapshot (default 1)",
+             &o.settle);
+  cli.size_option("snapshot-size", "WxH",
+                  "image size of --snapshot and --pictures (default 640x480)",
+                  &o.snapshot_size.width, &o.snapshot_size.height);
+  cli.option("pictures", "DIR",
+             "serve overview pictures: a PictureRequest renders a camera mode offscreen to "
+             "DIR/<name>.png (default: off)",
+             &o.pictures);
+  cli.option("cameras", "WxH|off",
+             "render and publish each robot's stereo cameras at this size (default 320x240)",
+             &o.cameras);
+  cli.option("camera-rate", "HZ", "camera frames per second of sim time (default 15)",
+             &o.camera_rate);
+  cli.flag("robot-frames",
+           "prefix every frame id with the robot's name (kurt/odom, kurt/base_link): several "
+           "robots in one TF tree",
+           &o.robot_frames);
+  cli.flag("cmd-vel-stamped",
+           "take cmd_vel as geometry_msgs/TwistStamped (Nav2 from ROS 2 Kilted on), not Twist",
+           &o.cmd_vel_stamped);
+  cli.flag("viewer", "open a window on the world (needs an X display)", &o.viewer);
+  cli.option("camera-mode", "MODE", "the window's first camera mode (default MouseKeyboard)",
+             &o.camera_mode);
+  cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
+             &o.viewer_screenshot);
+  cli.flag("validate", "load the world, print a summary and exit", &o.validate);
+  cli.flag("strict",
+           "refuse a world whose objects start inside each other (exit 1), also when a request "
+           "loads it; without it they are warnings",
+           &o.strict);
+  cli.flag("keep-overlaps",
+           "leave objects and robots that start deeply inside each other where the world file "
+           "puts them, for the physics to push apart (default: moved apart on load, warned)",
+           &o.keep_overlaps);
+  cli.option("seed", "N",
+             "vary the world's layout by this seed (0 or more) as its <VARIATION> says: the "
+             "same seed, the same layout (default: as written)",
+             &o.seed);
+  cli.option("max-objects", "N",
+             "refuse a world of more objects (default " + std::to_string(o.max_objects) + ")",
+             &o.max_objects);
+  cli.option("max-import-depth", "N",
+             "refuse imports nested deeper (default " + std::to_string(o.max_import_depth) + ")",
+             &o.max_import_depth);
+  cli.option("max-imported-files", "N",
+             "refuse a world importing more files in all (default " +
+                 std::to_string(o.max_imported_files) + ")",
+             &o.max_imported_files);
+  cli.repeated_option(
+      "data-path", "DIR",
+      "let requests name files (worlds, imports, textures, spawns) under DIR too; without it "
+      "only the world's folder and the shipped worlds are read (repeatable)",
+      &o.data_paths);
+  cli.option("max-snapshots", "N",
+             "keep at most N named snapshots; saving a new name beyond is refused "
+             "(ERR_LIMIT_REACHED) (default " +
+                 std::to_string(o.max_snapshots) + ")",
+             &o.max_snapshots);
+  cli.option("max-snapshot-bytes", "BYTES",
+             "keep named snapshots of at most this many bytes in all (default " +
+                 o.max_snapshot_bytes + ", 256 MiB)",
+             &o.max_snapshot_bytes);
+  cli.option("max-pictures", "N",
+             "write at most N distinct picture files per run (a name written before may be "
+             "written again) (default " +
+                 std::to_string(o.max_pictures) + ")",
+             &o.max_pictures);
+  cli.option("max-queued-commands", "N",
+             "hold at most N requests and robot commands waiting for the simulation thread; "
+             "a request beyond is refused (ERR_LIMIT_REACHED), a robot command dropped and "
+             "counted (default " +
+                 std::to_string(o.max_queued_commands) + ")",
+             &o.max_queued_commands);
+  cli.option("record-session", "FILE",
+             "write every command that reaches the world (with its step) and the state hash "
+             "every --session-hash-every steps to FILE; --replay runs it again",
+             &o.record_session);
+  cli.option("session-hash-every", "N",
+             "steps between two hashes of a recorded session (default 100)", &o.session_hash_every);
+  cli.option("replay", "FILE",
+             "replay a recorded session without DDS: its world, its commands at their steps; "
+             "checks every hash and exits 0 when all are equal, 1 at the first step that differs",
+             &o.replay);
+  if (auto code = cli.parse(argc, argv)) return code;
+  if (o.session_hash_every < 1) {
+    macsim::log::error("macsim: --session-hash-every must be at least 1");
+    return 2;
+  }
+  if (!o.replay.empty()) {
+    try {
+      o.session = macsim::read_session(o.replay);
+    } catch (const macsim::SessionFileError& e) {
+      macsim::log::error("macsim: --replay: {}", e.what());
+      return 2;
+    }
+    const auto& header = o.session->header;
+    if (!o.world_file.empty() && o.world_file != header.world_file) {
+      macsim::log::warn("macsim: replaying on --world {}, not the session's {}", o.world_file,
+                        header.world_file);
+    }
+    if (o.seed != -1 && o.seed != header.seed) {
+      macsim::log::warn("macsim: replaying with --seed {}, not the session's {}", o.seed,
+                        header.seed);
+    }
+    if (o.world_file.empty()) o.world_file = header.world_file;
+    if (o.seed == -1) o.seed = static_cast<int>(header.seed);
+    // Objects started inside each other are parted or kept as they were when it was recorded.
+    if (!header.overlaps_parted) {
+      o.keep_overlaps = true;
+    } else if (o.keep_overlaps || o.strict) {
+      macsim::log::warn(
+          "macsim: replaying with {}, but the session parted objects that started "
+          "inside each other",
+          o.strict ? "--strict" : "--keep-overlaps");
+    }
+  }
+  {
+    unsigned long long bytes = 0;
+    const std::string& text = o.max_snapshot_bytes;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), bytes);
+    if (error != std::errc() || end != text.data() + text.size() || o.max_snapshots < 1 ||
+        o.max_pictures < 1) {
+      macsim::log::error(
+          "macsim: --max-snapshots and --max-pictures must be at least 1, --max-snapshot-bytes "
+          "a count of bytes; got '{}'",
+          text);
+      return 2;
+    }
+    o.snapshot_limits = {std::size_t(o.max_snapshots), std::size_t(bytes)};
+  }
+  if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1 ||
+      o.max_queued_commands < 1) {
+    macsim::log::error(
+        "macsim: --max-objects, --max-import-depth, --max-imported-files and "
+        "--max-queued-commands must be at least 1");
+    return 2;
+  }
+  if (o.world_file.empty()) {
+    macsim::log::error("macsim: --world FILE is required (see --help)");
+    return 2;
+  }
+  if (const auto installed = macsim::dds::data_file("worlds/" + o.world_file);
+      !std::filesystem::exists(o.world_file) && std::filesystem::path(o.world_file).is_relative() &&
+      std::filesystem::exists(installed)) {
+    o.world_file = installed;
+  }
+  if (o.seed < -1) {
+    macsim::log::error("macsim: --seed must be 0 or more, got {}", o.seed);
+    return 2;
+  }
+  if (!(o.rtf >= macsim::kMinRealTimeFactor) || !std::isfinite(o.rtf) || !(o.duration >= 0.0) ||
+      !(o.status_period >= 0.0)) {
+    macsim::log::error("macsim: --rtf must be at least {}, --duration and --status not negative",
+                       macsim::kMinRealTimeFactor);
+    return 2;
+  }
+  if (o.realtime) o.rtf = 1.0;
+
+  return std::nullopt;
+}
+
+std::shared_ptr<const macsim::DataRoots> data_roots(const Options& o) {
+  std::vector<std::string> folders;
+  std::error_code error;
+  folders.push_back(std::filesystem::absolute(o.world_file, error).parent_path().string());
+  if (const auto shipped = macsim::dds::data_file("worlds");
+      std::filesystem::is_directory(shipped, error)) {
+    folders.push_back(shipped);
+  }
+  folders.insert(folders.end(), o.data_paths.begin(), o.data_paths.end());
+  return std::make_shared<const macsim::DataRoots>(folders);
+}
+
+}  // namespace macsim::program

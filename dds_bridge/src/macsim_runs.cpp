@@ -1,0 +1,294 @@
+#include "macsim_runs.h"
+
+#include <fmt/ranges.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
+#include <thread>
+
+#include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
+#include "macsim/dds/shared_memory.h"
+#include "macsim/dds/topics.h"
+#include "macsim/dds/wire.h"
+#include "macsim/render/camera_modes.h"
+#include "macsim/render/renderer.h"
+#include "macsim/render/viewer.h"
+#include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/session.h"
+#include "macsim/sim_core/world_loader.h"
+#include "pictures/picture_server.h"
+#include "robots/sim_bridge.h"
+#include "sim_interfaces/sim_interfaces_dispatch.h"
+#include "sim_interfaces/sim_interfaces_server.h"
+#include "simulation/simulation_dispatch.h"
+#include "simulation/simulation_server.h"
+#include "supervisor/supervisor_dispatch.h"
+#include "supervisor/supervisor_server.h"
+
+namespace macsim::program {
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+void on_signal(int) { g_stop.store(true); }
+
+void print_status(const macsim::World& world) {
+  for (const auto& robot : world.robots()) {
+    const macsim::Pose p = robot->base_footprint_pose();
+    const Eigen::Vector3d heading = p.orientation * Eigen::Vector3d::UnitX();
+    macsim::log::info(
+        "macsim: t={:7.2f} s  {} at x={:.3f} y={:.3f} yaw={:.1f} deg, speed {:.2f} m/s",
+        world.time(), robot->name(), p.position.x(), p.position.y(),
+        std::atan2(heading.y(), heading.x()) * 180.0 / M_PI, robot->linear_velocity().norm());
+  }
+}
+
+}  // namespace
+
+int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requests, double settle,
+                    const macsim::render::CameraIntrinsics& intrinsics) {
+  namespace render = macsim::render;
+  std::vector<std::pair<render::CameraMode, std::string>> jobs;
+  for (const auto& request : requests) {
+    const auto colon = request.find(':');
+    const auto mode = colon == std::string::npos
+                          ? std::nullopt
+                          : render::camera_mode_from_name(request.substr(0, colon));
+    if (!mode || colon + 1 >= request.size()) {
+      macsim::log::error(
+          "macsim: --snapshot takes MODE:FILE.png with MODE one of MouseOnly, MouseKeyboard, "
+          "FixedFollow, Follow, Inside, LeftCamera, RightCamera, Manual, Chase; got '{}'",
+          request);
+      return 2;
+    }
+    jobs.emplace_back(*mode, request.substr(colon + 1));
+  }
+  if (settle < 0) {
+    macsim::log::error("macsim: --settle must not be negative");
+    return 2;
+  }
+  const auto steps = static_cast<long>(std::llround(settle / runner.world().step_size()));
+  for (long i = 0; i < steps; ++i) runner.step();
+  try {
+    render::OffscreenRenderer renderer(intrinsics.width, intrinsics.height);
+    const macsim::Scene scene = macsim::capture_scene(runner.world());
+    for (const auto& [mode, file] : jobs) {
+      const cv::Mat image = renderer.render(scene, render::camera_pose(mode, scene), intrinsics);
+      if (!cv::imwrite(file, image)) {
+        macsim::log::error("macsim: cannot write '{}'", file);
+        return 1;
+      }
+      macsim::log::info("macsim: wrote {} view to {} ({}x{}, {})", render::camera_mode_name(mode),
+                        file, intrinsics.width, intrinsics.height, renderer.gl_renderer());
+    }
+  } catch (const render::RenderError& e) {
+    macsim::log::error("macsim: cannot render offscreen: {}", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session) {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  macsim::render::ViewerOptions viewer_options;
+  if (o.viewer) {
+    auto mode = macsim::render::camera_mode_from_name(o.camera_mode);
+    if (!mode) {
+      macsim::log::error("macsim: unknown --camera-mode '{}'", o.camera_mode);
+      return 2;
+    }
+    viewer_options.mode = *mode;
+    viewer_options.screenshot = o.viewer_screenshot;
+  }
+
+  // What killed participants (an earlier macsim among them) left in shared memory goes first.
+  if (const auto stale = macsim::dds::clean_stale_shared_memory(); !stale.removed.empty()) {
+    macsim::log::info(
+        "macsim: removed {} stale Fast DDS shared-memory files of killed participants",
+        stale.removed.size());
+  }
+  try {
+    macsim::dds::Participant dds(o.participant);
+    macsim::BridgeOptions bridge_options;
+    bridge_options.cameras = o.cameras != "off";
+    bridge_options.camera_rate = o.camera_rate;
+    bridge_options.robot_frames = o.robot_frames;
+    bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
+    if (bridge_options.cameras &&
+        (!macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
+                                        &bridge_options.camera.height) ||
+         !(o.camera_rate > 0))) {
+      macsim::log::error(
+          "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive rate; "
+          "got '{}'",
+          o.cameras);
+      return 2;
+    }
+    macsim::SimBridge bridge(dds, runner, bridge_options);
+    macsim::SupervisorServer supervisor(dds, runner);
+    macsim::SimulationServer control(dds, runner, o.limits(), [&bridge](const std::string& robot) {
+      return bridge.latest_readings(robot);
+    });
+    macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
+    if (!o.pictures.empty()) {
+      std::error_code error;
+      std::filesystem::create_directories(o.pictures, error);
+      if (error) {
+        macsim::log::error("macsim: --pictures needs a folder it can create ('{}'): {}", o.pictures,
+                           error.message());
+        return 2;
+      }
+    }
+    macsim::PictureServer pictures(dds, runner, o.pictures, o.snapshot_size,
+                                   std::size_t(o.max_pictures));
+    std::vector<std::string> served = bridge.topic_names();
+    for (const auto& topic : macsim::SupervisorServer::topic_names()) served.push_back(topic);
+    namespace topics = macsim::dds::topics;
+    served.push_back(topics::kSimulationRequest + " (macsim_msgs/SimulationRequest, in)");
+    served.push_back(topics::kSimulationReply + " (macsim_msgs/SimulationReply, out)");
+    served.push_back(topics::kPictureRequest + " (macsim_msgs/PictureRequest, in)");
+    served.push_back(topics::kPictureReply + " (macsim_msgs/PictureReply, out)" +
+                     (o.pictures.empty() ? ": pictures off" : ""));
+    for (const auto& service : macsim::SimInterfacesServer::service_names())
+      served.push_back(service);
+    macsim::log::info("macsim: serving on DDS domain {}:\n  {}", o.participant.domain,
+                      fmt::join(served, "\n  "));
+    std::vector<std::string> folders;
+    for (const auto& folder : runner.data_roots().folders()) folders.push_back(folder.string());
+    macsim::log::info("macsim: requests may name files under: {}", fmt::join(folders, " "));
+    for (const auto& folder : runner.data_roots().folders()) {
+      // Anyone who may write there may link anything of this user's into it for a request.
+      std::error_code error;
+      const auto permissions = std::filesystem::status(folder, error).permissions();
+      if (!error &&
+          (permissions & std::filesystem::perms::others_write) != std::filesystem::perms::none) {
+        macsim::log::warn(
+            "macsim: warning: the data root {} is writable by every user of this host, who can "
+            "place links there for requests to read through; keep worlds in a folder of your own",
+            folder.string());
+      }
+    }
+    const std::string pace = o.lockstep ? "on request only (lock-step: SIM_STEP requests)"
+                             : o.paused ? "paused until a SIM_RUN request"
+                             : o.as_fast_as_possible
+                                 ? "as fast as possible"
+                                 : fmt::format("at real-time factor {:g}", o.rtf);
+    macsim::log::info("macsim: stepping {}{}", pace,
+                      o.duration > 0 ? fmt::format(", for {:g} s of sim time", o.duration) : "");
+
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto next_status = start;
+    const uint64_t last_step =
+        o.duration > 0
+            ? static_cast<uint64_t>(std::llround(o.duration / runner.world().step_size()))
+            : UINT64_MAX;
+    // The viewer (if any) gets a copy of the scene about 30 times a second of wall time.
+    std::mutex scene_mutex;
+    macsim::Scene latest_scene = macsim::capture_scene(runner.world());
+    auto next_scene = start;
+    std::atomic<bool> finished{false};
+    macsim::StepHooks hooks;
+    hooks.before_step = [&] { bridge.poll_commands(); };
+    hooks.after_step = [&](macsim::World& world) {
+      bridge.publish();
+      // Steps on request (lock-step): the step is done when its data is out, images included.
+      if (runner.stepping_on_request()) bridge.wait_for_cameras();
+      supervisor.publish();
+      if (o.viewer && Clock::now() >= next_scene) {
+        std::lock_guard<std::mutex> lock(scene_mutex);
+        latest_scene = macsim::capture_scene(world);
+        next_scene = Clock::now() + std::chrono::milliseconds(33);
+      }
+      if (o.status_period > 0 && Clock::now() >= next_status) {
+        print_status(world);
+        next_status += std::chrono::duration_cast<Clock::duration>(
+            std::chrono::duration<double>(o.status_period));
+      }
+    };
+    // What a step request wanting its data at its end held back: out before its reply (also of
+    // a request a pause, a reset or another world cancelled).
+    hooks.request_end = [&](macsim::World&) {
+      bridge.flush();
+      supervisor.flush();
+    };
+    auto loop = [&] {
+      runner.run(g_stop, last_step, hooks);
+      finished.store(true);
+    };
+    if (o.viewer) {
+      std::thread physics(loop);
+      const int code = macsim::render::run_viewer(
+          viewer_options,
+          [&] {
+            std::lock_guard<std::mutex> lock(scene_mutex);
+            return latest_scene;
+          },
+          [&] { return g_stop.load() || finished.load(); });
+      g_stop.store(true);
+      physics.join();
+      if (code != 0) return code;
+    } else {
+      loop();
+    }
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    const auto& world = runner.world();
+    macsim::log::info(
+        "macsim: stopped at sim time {:.3f} s after {} steps in {:.3f} s wall: {:.0f} steps/s, "
+        "real-time factor {:.2f}",
+        world.time(), world.steps(), wall, world.steps() / wall, world.time() / wall);
+    // A frame still being rendered is counted once it is done, not whenever the summary comes.
+    bridge.wait_for_cameras();
+    for (const std::string& summary : {bridge.camera_summary(), bridge.command_summary()}) {
+      if (!summary.empty())
+        macsim::log::info("{}", summary.substr(0, summary.find_last_not_of('\n') + 1));
+    }
+    std::string counts;
+    for (auto source : {macsim::CommandSource::Supervisor, macsim::CommandSource::Simulation,
+                        macsim::CommandSource::Ros2Service, macsim::CommandSource::Pictures,
+                        macsim::CommandSource::Robot}) {
+      counts += fmt::format(" {} {}", macsim::to_string(source), runner.commands_run(source));
+    }
+    macsim::log::info("macsim: commands run:{}", counts);
+    if (!o.record_session.empty()) {
+      runner.record(nullptr);  // its closing line
+      if (session && !session->ok()) {
+        macsim::log::error("macsim: the session {} is incomplete: a write failed (above)",
+                           o.record_session);
+        return 1;
+      }
+      macsim::log::info("macsim: session recorded to {}", o.record_session);
+    }
+  } catch (const macsim::dds::DdsError& e) {
+    macsim::log::error("macsim: DDS error: {}", e.what());
+    return 3;
+  }
+  return 0;
+}
+
+int replay(macsim::Runner& runner, const Options& o) {
+  runner.set_executor(macsim::CommandSource::Supervisor,
+                      [&runner](const macsim::Command& c, macsim::World& world) {
+                        return macsim::replay(c, world, runner.snapshots());
+                      });
+  runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
+  const auto load = [&runner, limits = o.limits()](const macsim::Command& c) {
+    const auto source = macsim::load_source(c);
+    return source ? macsim::world_parser(runner, limits, *source)
+                  : std::function<macsim::WorldSpec()>();
+  };
+  const auto outcome = macsim::replay_session(*o.session, runner, load);
+  std::printf("macsim: %s\n", outcome.message.c_str());
+  return outcome.equal ? 0 : 1;
+}
+
+}  // namespace macsim::program
