@@ -161,17 +161,19 @@ double in_process_step_rate(const std::string& world_file, affordances::Affordan
       const double now = world.time();
       if (next_crane < crane.size() && now + dt / 2 >= crane[next_crane].at) {
         const CraneAt& c = crane[next_crane++];
-        robot.command_crane({c.slew, c.lift, c.hoist});
-        robot.command_magnet(c.magnet);
+        robot.execute(macsim::robot::CraneTarget{c.slew, c.lift, c.hoist}, now);
+        robot.execute(macsim::robot::MagnetSwitch{c.magnet}, now);
       }
       if (s % 100 == 0 || std::fabs(now - drive_at) < dt / 2 ||
           std::fabs(now - drive_at - drive) < dt / 2)
-        robot.command_twist(now + dt / 2 >= drive_at && now + dt / 2 < drive_at + drive ? 0.4 : 0.0,
-                            0.0, now);
+        robot.execute(
+            macsim::robot::Twist{
+                now + dt / 2 >= drive_at && now + dt / 2 < drive_at + drive ? 0.4 : 0.0, 0.0},
+            now);
       if (affordance == Affordance::Traverse && std::fabs(now - look) < dt / 2)
-        robot.command_rotunit(2 * M_PI);
+        robot.execute(macsim::robot::RotunitSpeed{2 * M_PI}, now);
       if (affordance == Affordance::Traverse && std::fabs(now - drive_at) < dt / 2)
-        robot.command_rotunit(0.0);
+        robot.execute(macsim::robot::RotunitSpeed{0.0}, now);
       world.step();
     }
     if (trial >= 2) {  // the first two warm the caches

@@ -38,7 +38,7 @@ class SimCoreEngine : public PeerEngine {
   }
   void step() override {
     if (speed_ != 0.0 && world_.steps() % 100 == 0) {
-      for (auto& r : world_.robots()) r->command_twist(speed_, 0.0, world_.time());
+      for (auto& r : world_.robots()) r->execute(macsim::robot::Twist{speed_, 0.0}, world_.time());
     }
     world_.step();
   }

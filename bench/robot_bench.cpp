@@ -78,7 +78,7 @@ Run step_rate(const macsim::WorldSpec& spec, const Setup& setup, double seconds,
   long due = 0, waited = 0;
   const auto start = Clock::now();
   for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.2, world.time());
+    if (i % 100 == 0) world.robot("kurt")->execute(macsim::robot::Twist{0.3, 0.2}, world.time());
     world.step();
     if (!rigs.empty() && i % camera_every == 0) {
       ++due;

@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   for (long i = 0; i < steps; ++i) {
     if (i % 100 == 0) {
-      for (auto& robot : world.robots()) robot->command_twist(0.3, 0.2, world.time());
+      for (auto& robot : world.robots())
+        robot->execute(macsim::robot::Twist{0.3, 0.2}, world.time());
     }
     sim.step();
   }

@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
     core_rates.push_back(rate(
         [&] {
           if (world.steps() % 100 == 0) {
-            for (auto& r : world.robots()) r->command_twist(0.3, 0.0, world.time());
+            for (auto& r : world.robots()) r->execute(macsim::robot::Twist{0.3, 0.0}, world.time());
           }
           world.step();
         },

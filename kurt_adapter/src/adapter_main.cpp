@@ -127,7 +127,14 @@ int main(int argc, char** argv) {
     // loop runs the commands at its next 10 ms tick.
     macsim::robot::RobotNode node(
         dds, kurt,
-        [&queue](macsim::robot::RobotCommand command) { queue.push(std::move(command)); },
+        [&queue, &robot](macsim::robot::RobotCommand command) {
+          queue.push([command = std::move(command), &robot](macsim::robot::RobotInterface& kurt) {
+            if (!kurt.execute(command)) {
+              macsim::log::warn("kurt_adapter: robot '{}' has no command '{}': refused", robot,
+                                command.name());
+            }
+          });
+        },
         node_options);
 
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so

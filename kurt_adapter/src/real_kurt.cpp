@@ -35,21 +35,22 @@ robot::Frames RealKurt::frames() const {
   return f;
 }
 
-void RealKurt::command_twist(double linear, double angular) {
-  driver_.command_twist(linear, angular, clock_());
+bool RealKurt::execute(const robot::RobotCommand& command) {
+  if (const auto* t = command.as<robot::Twist>()) {
+    driver_.command_twist(t->linear, t->angular, clock_());
+  } else if (const auto* w = command.as<robot::WheelSpeedCommand>()) {
+    driver_.command_wheel_speeds({w->left, w->right}, clock_());
+  } else if (const auto* r = command.as<robot::RotunitSpeed>()) {
+    can_.send(driver_.command_rotunit(r->speed));
+  } else if (const auto* m = command.as<robot::MagnetSwitch>()) {
+    // Assumption (kurt_adapter/README.md): the crane's magnet hangs on the controller's
+    // actuator output, switched by CONTROL ACTUATOR_ON / ACTUATOR_OFF.
+    can_.send(encode_actuator(m->on));
+  } else {
+    return false;
+  }
+  return true;
 }
-
-void RealKurt::command_wheel_speeds(double left, double right) {
-  driver_.command_wheel_speeds({left, right}, clock_());
-}
-
-void RealKurt::command_rotunit(double speed) { can_.send(driver_.command_rotunit(speed)); }
-
-void RealKurt::command_crane(double, double, double) {}
-
-// Assumption (kurt_adapter/README.md): the crane's magnet hangs on the controller's actuator
-// output, switched by CONTROL ACTUATOR_ON / ACTUATOR_OFF.
-void RealKurt::command_magnet(bool on) { can_.send(encode_actuator(on)); }
 
 void RealKurt::handle(const CanFrame& frame) {
   const double stamp = stamp_();

@@ -39,7 +39,7 @@ std::optional<CommandSource> command_source(std::string_view name) {
 std::string describe(const Command& c) {
   std::string text = std::string(to_string(c.source)) + " " + c.operation;
   if (!c.target.empty()) text += " " + c.target;
-  for (double v : c.values) {
+  for (double v : c.robot ? c.robot->values() : std::vector<double>{}) {
     char number[32];
     std::snprintf(number, sizeof number, " %g", v);
     text += number;
@@ -48,33 +48,18 @@ std::string describe(const Command& c) {
   return text;
 }
 
-Command robot_command(std::string robot, std::string operation, std::vector<double> values) {
+Command robot_command(std::string robot, robot::RobotCommand command) {
   Command c;
   c.source = CommandSource::Robot;
-  c.operation = std::move(operation);
+  c.operation = std::string(command.name());
   c.target = std::move(robot);
-  c.values = std::move(values);
+  c.robot = std::move(command);
   return c;
 }
 
 bool run_robot_command(const Command& c, World& world) {
   RobotModel* robot = world.robot(c.target);
-  if (!robot) return false;
-  const auto& v = c.values;
-  if (c.operation == "twist" && v.size() == 2) {
-    robot->command_twist(v[0], v[1], world.time());
-  } else if (c.operation == "wheel_speeds" && v.size() == 2) {
-    robot->command_wheel_speeds({v[0], v[1]}, world.time());
-  } else if (c.operation == "rotunit" && v.size() == 1) {
-    robot->command_rotunit(v[0]);
-  } else if (c.operation == "crane" && v.size() == 3) {
-    robot->command_crane({v[0], v[1], v[2]});
-  } else if (c.operation == "magnet" && v.size() == 1) {
-    robot->command_magnet(v[0] != 0);
-  } else {
-    return false;
-  }
-  return true;
+  return robot && c.robot && robot->execute(*c.robot, world.time());
 }
 
 }  // namespace macsim

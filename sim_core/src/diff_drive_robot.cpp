@@ -113,6 +113,18 @@ std::vector<dBodyID> DiffDriveRobot::bodies() const { return {chassis_, wheels_[
 
 // ---- commands and stepping ------------------------------------------------------------------
 
+bool DiffDriveRobot::execute(const robot::RobotCommand& command, double now) {
+  if (const auto* t = command.as<robot::Twist>()) {
+    command_twist(t->linear, t->angular, now);
+    return true;
+  }
+  if (const auto* w = command.as<robot::WheelSpeedCommand>()) {
+    command_wheel_speeds({w->left, w->right}, now);
+    return true;
+  }
+  return false;
+}
+
 void DiffDriveRobot::command_twist(double linear, double angular, double now) {
   const double turn = angular * config_.track / 2;
   command_wheel_speeds({linear - turn, linear + turn}, now);

@@ -236,6 +236,27 @@ std::vector<dBodyID> KurtRobot::bodies() const {
 
 // ---- commands ----------------------------------------------------------------------------
 
+bool KurtRobot::execute(const robot::RobotCommand& command, double now) {
+  if (const auto* t = command.as<robot::Twist>()) {
+    command_twist(t->linear, t->angular, now);
+    return true;
+  }
+  if (const auto* w = command.as<robot::WheelSpeedCommand>()) {
+    command_wheel_speeds({w->left, w->right}, now);
+    return true;
+  }
+  if (const auto* r = command.as<robot::RotunitSpeed>()) {
+    return config_.laser == LaserMount::Rotating && command_rotunit(r->speed);
+  }
+  if (const auto* c = command.as<robot::CraneTarget>()) {
+    return config_.crane && command_crane({c->slew, c->lift, c->hoist});
+  }
+  if (const auto* m = command.as<robot::MagnetSwitch>()) {
+    return config_.crane && command_magnet(m->on);
+  }
+  return false;
+}
+
 void KurtRobot::command_twist(double linear, double angular, double now) {
   command_wheel_speeds(wheel_speeds_from_twist(linear, angular, config_.drive), now);
 }

@@ -47,6 +47,13 @@ bool Runner::execute(const Command& command) {
       return false;  // code, not a value: never recorded
     case CommandSource::Robot:
       acted = run_robot_command(command, *world_);
+      if (!acted) {
+        log_message(LogLevel::Warning, "robot command refused: " +
+                                           (world_->robot(command.target)
+                                                ? "robot '" + command.target +
+                                                      "' has no command '" + command.operation + "'"
+                                                : "no robot '" + command.target + "'"));
+      }
       break;
     default:
       if (command.source == CommandSource::Simulation &&

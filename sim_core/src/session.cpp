@@ -105,7 +105,8 @@ std::string bytes_text(const std::vector<uint8_t>& bytes) {
 
 std::string command_line(uint64_t step, const Command& c) {
   return "c " + std::to_string(step) + " " + std::string(to_string(c.source)) + " " +
-         encode(c.operation) + " " + encode(c.target) + " " + values_text(c.values) + " " +
+         encode(c.operation) + " " + encode(c.target) + " " +
+         values_text(c.robot ? c.robot->values() : std::vector<double>{}) + " " +
          bytes_text(c.message) + "\n";
 }
 
@@ -314,9 +315,16 @@ Session read_session(const std::string& path) {
       rc.command.source = *source;
       rc.command.operation = r.text(f[3], "the operation");
       rc.command.target = r.text(f[4], "the target");
-      rc.command.values = r.values(f[5]);
+      const auto values = r.values(f[5]);
       rc.command.message = r.bytes(f[6]);
       if (rc.command.operation.empty()) r.fail("a command must name its operation");
+      if (rc.command.source == CommandSource::Robot) {
+        std::string why;
+        rc.command.robot = robot::decode_command(rc.command.operation, values, &why);
+        if (!rc.command.robot) r.fail(why);
+      } else if (!values.empty()) {
+        r.fail("only a robot command carries numbers");
+      }
       if (rc.step < last_step) r.fail("steps must not go back");
       last_step = rc.step;
       session.commands.push_back(std::move(rc));

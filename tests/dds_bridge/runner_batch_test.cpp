@@ -48,7 +48,7 @@ TEST(RunnerBatch, ALoadThenASupervisorRequestAndACmdVelActOnTheNewWorld) {
   supervise(rq::destroy_object(box), &destroyed);
   // As RobotNode posts a cmd_vel: a command calling the simulated KURT's interface.
   SimulatedRobot kurt(runner, "kurt");
-  EXPECT_TRUE(runner.push([&kurt](World&) { kurt.command_twist(0.3, 0.0); }));
+  EXPECT_TRUE(runner.push([&kurt](World&) { kurt.execute(robot::Twist{0.3, 0.0}); }));
   supervise(rq::restore_snapshot("before"), &restored);
   supervise(rq::state_hash(), &hashed);
   apply_until(runner, [&] { return hashed.sequence_number() == 0 && hashed.hash() != 0; });

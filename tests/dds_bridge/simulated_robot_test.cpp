@@ -32,8 +32,8 @@ TEST(SimulatedRobot, ReadingsComeAsTheStepsProduceThem) {
   Runner runner(one_robot("kurt3d"));
   SimulatedRobot kurt(runner, "kurt");
   EXPECT_FALSE(kurt.read().odometry.has_value());
-  kurt.command_twist(0.3, 0.0);
-  kurt.command_crane(0.2, 0.0, 0.0);
+  kurt.execute(robot::Twist{0.3, 0.0});
+  kurt.execute(robot::CraneTarget{0.2, 0.0, 0.0});
   int odometry = 0, scans = 0;
   for (int i = 0; i < 100; ++i) {  // 0.1 s: ten encoder frames, seven or eight sweeps
     runner.step();
@@ -65,7 +65,7 @@ TEST(SimulatedRobot, ActsOnTheRobotOfTheCurrentWorldAfterALoad) {
   EXPECT_EQ(
       runner.load([] { return one_robot("kurt3d"); }, [&](const LoadOutcome& o) { loaded = o.ok; }),
       LoadQueued::Yes);
-  EXPECT_TRUE(runner.push([&kurt](World&) { kurt.command_magnet(true); }));
+  EXPECT_TRUE(runner.push([&kurt](World&) { kurt.execute(robot::MagnetSwitch{true}); }));
   for (int i = 0; i < 200 && !loaded; ++i) {
     runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(50));
     runner.apply_commands();

@@ -143,7 +143,7 @@ TEST(StepConditions, EveryConditionOfAGroupMustHoldAndAnyGroupEndsIt) {
 
 TEST(StepConditions, ADriveEndsWhenTheOdometryItPublishedPassesTheDistance) {
   Stepper s;
-  s.kurt.command_twist(0.3, 0.0);
+  s.kurt.execute(robot::Twist{0.3, 0.0});
   auto q = steps(5000, 10, until::above(mm::STEP_READ_ODOMETRY_X, 0.1), mm::STEP_HOLD_COMMANDS);
   q.samples({until::reading(mm::STEP_READ_ODOMETRY_X)});
   const auto reply = s.serve(q);
@@ -166,7 +166,7 @@ TEST(StepConditions, AStallEndsARequestWhenTheReadingGainsNothingForItsTime) {
   EXPECT_GT(t, 0.5);
   EXPECT_LE(t, 0.5 + 20 * s.runner.world().step_size() + 1e-9);
   // Driving, it gains 1 cm every few checks and runs to the end.
-  s.kurt.command_twist(0.3, 0.0);
+  s.kurt.execute(robot::Twist{0.3, 0.0});
   const auto driving = s.serve(
       steps(500, 10, until::stalled(mm::STEP_READ_TRUTH_X, 0.5, 0.01), mm::STEP_HOLD_COMMANDS));
   EXPECT_EQ(driving.ended_by(), -1);
@@ -176,11 +176,11 @@ TEST(StepConditions, ReadingsFromBeforeAResetAreNotTakenForNewOnes) {
   // Driven 0.3 m, then reset: the newest readings kept are from before the reset (stamped
   // later than the new time). A stall counted from them would see no headway over 0.3 m.
   Stepper s;
-  s.kurt.command_twist(0.3, 0.0);
+  s.kurt.execute(robot::Twist{0.3, 0.0});
   s.serve(steps(5000, 10, until::above(mm::STEP_READ_TRUTH_X, 0.3), mm::STEP_HOLD_COMMANDS));
   ASSERT_GT(s.latest.ground_truth->position[0], 0.3);
   s.runner.world().reset(ResetScope::Everything);
-  s.kurt.command_twist(0.3, 0.0);
+  s.kurt.execute(robot::Twist{0.3, 0.0});
   const auto driving = s.serve(steps(300, 10, until::stalled(mm::STEP_READ_TRUTH_X, 0.2, 0.01),
                                      mm::STEP_HOLD_COMMANDS));
   EXPECT_EQ(driving.ended_by(), -1) << "stalled at " << driving.sim_time();

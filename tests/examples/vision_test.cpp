@@ -109,7 +109,7 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
 TEST(KurtDemoVision, SeesNothingInAnEmptyRoomAndNothingWithoutAStereoMatch) {
   World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
                                 "empty.xml"));
-  world.robot("kurt")->command_crane({M_PI / 2, 0.6, 0.0});
+  world.robot("kurt")->execute(macsim::robot::CraneTarget{M_PI / 2, 0.6, 0.0}, world.time());
   run_for(world, 2.0);
   auto frame = stereo(world);
   EXPECT_TRUE(kurt_demo::find_objects(frame, kurt_demo::KurtGeometry{}).empty());

@@ -39,8 +39,9 @@ struct Served {
   dds::Participant controller_side{{domain, source("deploy/dds/localhost.xml"), "controller"}};
   robot::MockRobot mock{"kurt", rover()};
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node{robot_side, mock,
-                        [this](robot::RobotCommand c) { queue.push(std::move(c)); }};
+  robot::RobotNode node{robot_side, mock, [this](robot::RobotCommand c) {
+                          queue.push([c](robot::RobotInterface& r) { r.execute(c); });
+                        }};
 
   /// The owner's loop for `seconds`: commands, then time, then readings, every 10 ms.
   void run(double seconds) {
@@ -107,8 +108,9 @@ TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
   full.crane = true;
   robot::MockRobot crane_robot("arm", full);
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node(s.robot_side, crane_robot,
-                        [&](robot::RobotCommand c) { queue.push(std::move(c)); });
+  robot::RobotNode node(s.robot_side, crane_robot, [&](robot::RobotCommand c) {
+    queue.push([c](robot::RobotInterface& r) { r.execute(c); });
+  });
   dds::Writer<km::CraneCommand_PubSubType> command(
       s.controller_side, dds::topics::crane_command("arm"), dds::QosFamily::Command);
   Samples<km::CraneState_PubSubType> state(s.controller_side, dds::topics::crane_state("arm"));

@@ -120,7 +120,8 @@ TEST_F(DemonstratorSession, OneChangedCommandIsReportedAtTheFirstHashAfterIt) {
     ++pick;
   ASSERT_LT(pick, session.commands.size());
   RecordedCommand& changed = session.commands[pick];
-  changed.command.values[0] += 0.05;  // 5 cm/s faster
+  const macsim::robot::Twist twist = *changed.command.robot->as<macsim::robot::Twist>();
+  changed.command.robot = macsim::robot::Twist{twist.linear + 0.05, twist.angular};  // 5 cm/s
   const std::string path = dir_->path() + "/changed.session";
   write_session(path, session);
   const Replay r = replay(path);

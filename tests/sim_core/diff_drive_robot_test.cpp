@@ -35,7 +35,7 @@ void drive(World& world, double linear, double angular, double seconds) {
   RobotModel& rover = *world.robot("rover");
   const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
   for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) rover.command_twist(linear, angular, world.time());
+    if (i % 100 == 0) rover.execute(robot::Twist{linear, angular}, world.time());
     world.step();
   }
 }
@@ -119,7 +119,8 @@ TEST(DiffDriveRobot, ServesWhatItHasAndDescribesItself) {
   EXPECT_EQ(frames.mounts[1].child, "laser");
   EXPECT_TRUE(frames.crane_pivot.child.empty());
   EXPECT_NE(frames.description.find("robot diff_drive"), std::string::npos);
-  EXPECT_FALSE(world.robot("rover")->command_crane({0.1, 0.1, 0.1}));  // it has no crane
+  EXPECT_FALSE(world.robot("rover")->execute(robot::CraneTarget{0.1, 0.1, 0.1},
+                                             world.time()));  // it has no crane
 }
 
 TEST(DiffDriveRobot, ItsStateIsSavedAndRestoredWithTheWorlds) {

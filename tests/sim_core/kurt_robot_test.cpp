@@ -120,7 +120,7 @@ TEST(KurtRobot, SeveralRobotsShareAWorldAndObeyTheirOwnCommands) {
   EXPECT_TRUE(world.robot_as<KurtRobot>("alpha")->config().crane);
   EXPECT_FALSE(world.robot_as<KurtRobot>("beta")->config().crane);
   for (int i = 0; i < 2000; ++i) {
-    if (i % 100 == 0) world.robot("beta")->command_twist(0.3, 0.0, world.time());
+    if (i % 100 == 0) world.robot("beta")->execute(robot::Twist{0.3, 0.0}, world.time());
     world.step();
   }
   EXPECT_LT(world.robot("alpha")->base_footprint_pose().position.head<2>().norm(), 0.01);
@@ -150,8 +150,8 @@ TEST(KurtRobot, EncoderRateSetsHowOftenFramesComeAndIsChecked) {
   World standard(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
                                    "standard.xml"));
   for (int i = 0; i < 100; ++i) {
-    fast.robot("kurt")->command_twist(0.3, 0.0, fast.time());
-    standard.robot("kurt")->command_twist(0.3, 0.0, standard.time());
+    fast.robot("kurt")->execute(robot::Twist{0.3, 0.0}, fast.time());
+    standard.robot("kurt")->execute(robot::Twist{0.3, 0.0}, standard.time());
     fast.step();
     standard.step();
   }

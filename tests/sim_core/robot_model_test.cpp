@@ -9,12 +9,27 @@
 #include <cstring>
 #include <utility>
 
+#include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
+#include "support/child_process.h"
 #include "support/world_helpers.h"
 
 namespace macsim {
 namespace {
+
+/// A plug-in's own command, declared here alone: a push along x (N) for the ball below.
+struct Nudge {
+  static constexpr std::string_view kName = "nudge";
+  double force = 0;
+  std::vector<double> values() const { return {force}; }
+  static std::optional<Nudge> from_values(const std::vector<double>& v) {
+    if (v.size() != 1) return std::nullopt;
+    return Nudge{v[0]};
+  }
+};
+const bool nudge_known = robot::register_command_type<Nudge>();
 
 /// The smallest robot: one ball that counts its steps and reports every 100th as an event.
 class CountingBall final : public RobotModel {
@@ -33,8 +48,16 @@ class CountingBall final : public RobotModel {
     dGeomDestroy(geom_);
     dBodyDestroy(body_);
   }
-  void command_twist(double linear, double, double) override { push_ = linear; }
-  void command_wheel_speeds(WheelSpeeds, double) override {}
+  bool execute(const robot::RobotCommand& command, double) override {
+    if (const auto* twist = command.as<robot::Twist>()) {
+      push_ = twist->linear;
+    } else if (const auto* nudge = command.as<Nudge>()) {
+      push_ = nudge->force;
+    } else {
+      return false;
+    }
+    return true;
+  }
   void keep_command(double) override {}
   void before_step(double) override { dBodyAddForce(body_, push_, 0, 0); }
   void after_step(double now, double) override {
@@ -104,9 +127,38 @@ TEST(RobotModel, ARegisteredTypeIsBuiltFromAWorldFileAndStepped) {
   EXPECT_EQ(world.robot_as<CountingBall>("kurt"), nullptr);
   test::run_for(world, 0.25);
   EXPECT_EQ(ball->steps(), world.steps());
-  world.robot("ball")->command_twist(2.0, 0.0, world.time());  // a push of 2 N
+  world.robot("ball")->execute(robot::Twist{2.0, 0.0}, world.time());  // a push of 2 N
   test::run_for(world, 0.5);
   EXPECT_GT(ball->base_link_pose().position.x(), 0.05);
+}
+
+// A plug-in's command travels as the built-in ones do: through the runner to its robot, into a
+// session by its name, read back as its type and replayed to the same hashes; a robot without it
+// refuses it.
+TEST(RobotModel, APlugInsOwnCommandReachesItsRobotThroughTheRunnerAndSessions) {
+  ASSERT_TRUE(nudge_known);
+  test::TempDir dir("macsim_plugin_command_");
+  const std::string path = dir.path() + "/nudge.session";
+  {
+    Runner runner(ball_world(), RunSettings{true, 0.0});
+    runner.record(std::make_shared<SessionWriter>(path, SessionHeader{"ball.xml", -1, 50}));
+    ASSERT_TRUE(runner.push(robot_command("ball", Nudge{2.0})));
+    ASSERT_TRUE(runner.push(robot_command("kurt", Nudge{2.0})));  // not the KURT's: refused
+    for (int i = 0; i < 500; ++i) runner.step();
+    EXPECT_GT(runner.world().robot("ball")->base_link_pose().position.x(), 0.05);
+    EXPECT_EQ(runner.commands_run(CommandSource::Robot), 2u);
+    runner.record(nullptr);
+  }
+  const Session session = read_session(path);
+  ASSERT_EQ(session.commands.size(), 1u);  // the one that acted
+  const auto* nudge = session.commands[0].command.robot->as<Nudge>();
+  ASSERT_NE(nudge, nullptr);
+  EXPECT_EQ(nudge->force, 2.0);
+  Runner again(ball_world(), RunSettings{true, 0.0});
+  const ReplayOutcome outcome =
+      replay_session(session, again, [](const Command&) { return std::function<WorldSpec()>(); });
+  EXPECT_TRUE(outcome.equal) << outcome.message;
+  EXPECT_EQ(outcome.commands_run, 1u);
 }
 
 TEST(RobotModel, ItsEventsBecomeTheWorldsEvents) {
@@ -124,7 +176,7 @@ TEST(RobotModel, ItsStateIsPartOfTheWorldsHashAndSnapshot) {
   test::run_for(world, 0.1);
   const WorldSnapshot saved = world.snapshot();
   const uint64_t hash = world.state_hash();
-  world.robot("ball")->command_twist(1.0, 0.0, world.time());  // its state only
+  world.robot("ball")->execute(robot::Twist{1.0, 0.0}, world.time());  // its state only
   EXPECT_NE(world.state_hash(), hash);
   ASSERT_TRUE(world.restore(saved).ok());
   EXPECT_EQ(world.state_hash(), hash);

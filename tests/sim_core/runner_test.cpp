@@ -71,8 +71,9 @@ TEST(Runner, SameWorldAndCommandsGiveBitIdenticalStates) {
     Runner runner(small_room());
     for (int i = 0; i < 2000; ++i) {
       if (i % 100 == 0) {
-        EXPECT_TRUE(
-            runner.push([](World& w) { w.robot("kurt")->command_twist(0.3, 0.4, w.time()); }));
+        EXPECT_TRUE(runner.push([](World& w) {
+          w.robot("kurt")->execute(robot::Twist{0.3, 0.4}, w.time());
+        }));
       }
       runner.step();
     }
@@ -99,7 +100,7 @@ TEST(Runner, CommandsAfterALoadInTheSameBatchActOnTheNewWorld) {
             LoadQueued::Yes);
   EXPECT_TRUE(runner.push([&](World& w) {
     seen.push_back(&w);
-    w.robot("kurt")->command_twist(0.3, 0.0, w.time());  // a cmd_vel right after the load
+    w.robot("kurt")->execute(robot::Twist{0.3, 0.0}, w.time());  // a cmd_vel right after the load
   }));
   parsed.get_future().wait();
   std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the promise is set just after

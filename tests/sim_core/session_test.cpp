@@ -35,10 +35,10 @@ uint64_t record(const std::string& path) {
   runner.record(std::make_shared<SessionWriter>(path, SessionHeader{kWorld, -1, 50}));
   for (int step = 0; step < 600; ++step) {
     if (step % 37 == 0) {
-      EXPECT_TRUE(runner.push(robot_command("kurt", "twist", {0.2 + step * 1e-4, 0.3})));
+      EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.2 + step * 1e-4, 0.3})));
     }
     if (step == 120) {
-      EXPECT_TRUE(runner.push(robot_command("kurt", "crane", {0.4, 0.2, 0.05})));
+      EXPECT_TRUE(runner.push(robot_command("kurt", robot::CraneTarget{0.4, 0.2, 0.05})));
     }
     if (step == 200) {
       EXPECT_TRUE(runner.push([](World&) {}));
@@ -67,7 +67,9 @@ TEST(Session, ARecordedRunReplaysToEveryHash) {
   EXPECT_EQ(session.hashes.size(), 13u);    // steps 0, 50, ..., 600
   EXPECT_EQ(session.commands.size(), 18u);  // 17 twists and one crane command; not the local one
   EXPECT_EQ(session.commands[0].command.operation, "twist");
-  EXPECT_EQ(session.commands[0].command.values.size(), 2u);
+  ASSERT_TRUE(session.commands[0].command.robot.has_value());
+  ASSERT_NE(session.commands[0].command.robot->as<robot::Twist>(), nullptr);
+  EXPECT_DOUBLE_EQ(session.commands[0].command.robot->as<robot::Twist>()->angular, 0.3);
   const ReplayOutcome outcome = replay(session);
   EXPECT_TRUE(outcome.equal) << outcome.message;
   EXPECT_EQ(outcome.hashes_checked, 13u);
@@ -83,8 +85,8 @@ TEST(Session, AChangedCommandIsFoundAtTheFirstHashAfterIt) {
   RecordedCommand& changed = session.commands[6];  // the twist at step 185
   ASSERT_EQ(changed.command.operation, "twist");
   ASSERT_EQ(changed.step, 185u);
-  const double speed = changed.command.values[0];
-  changed.command.values[0] += 0.1;
+  const robot::Twist twist = *changed.command.robot->as<robot::Twist>();
+  changed.command.robot = robot::Twist{twist.linear + 0.1, twist.angular};
   write_session(dir.path() + "/changed.session", session);
   const ReplayOutcome outcome = replay(read_session(dir.path() + "/changed.session"));
   EXPECT_FALSE(outcome.equal);
@@ -94,7 +96,7 @@ TEST(Session, AChangedCommandIsFoundAtTheFirstHashAfterIt) {
   EXPECT_NE(outcome.recorded_hash, outcome.replayed_hash);
   EXPECT_NE(outcome.message.find("differs at step 200"), std::string::npos) << outcome.message;
   // Unchanged, the same file written back replays equal: the writer loses nothing.
-  changed.command.values[0] = speed;
+  changed.command.robot = twist;
   write_session(dir.path() + "/same.session", session);
   EXPECT_EQ(read_text(dir.path() + "/same.session"), read_text(path));
 }
@@ -194,14 +196,40 @@ TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept)
   EXPECT_EQ(session.hashes.size(), read_session(path).hashes.size());
 }
 
-TEST(Session, ARobotCommandOfAnUnknownRobotOrShapeDoesNothing) {
+TEST(Session, ARobotCommandOfAnUnknownRobotOrOneItLacksDoesNothing) {
   World world(small_room());
-  EXPECT_TRUE(run_robot_command(robot_command("kurt", "twist", {0.1, 0.0}), world));
-  EXPECT_FALSE(run_robot_command(robot_command("nobody", "twist", {0.1, 0.0}), world));
-  EXPECT_FALSE(run_robot_command(robot_command("kurt", "twist", {0.1}), world));
-  EXPECT_FALSE(run_robot_command(robot_command("kurt", "fly", {1.0}), world));
-  EXPECT_EQ(describe(robot_command("kurt", "crane", {0.5, 0.25, 0.1})),
+  EXPECT_TRUE(run_robot_command(robot_command("kurt", robot::Twist{0.1, 0.0}), world));
+  EXPECT_FALSE(run_robot_command(robot_command("nobody", robot::Twist{0.1, 0.0}), world));
+  EXPECT_EQ(describe(robot_command("kurt", robot::CraneTarget{0.5, 0.25, 0.1})),
             "robot crane kurt 0.5 0.25 0.1");
+}
+
+// A session names each robot command by its type's name; one it does not know, or numbers that
+// do not fit the command, are refused with the line and the name.
+TEST(Session, ARobotCommandThatIsNoneOrDoesNotFitIsRefusedNamingIt) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  const std::string text = read_text(path);
+  for (const auto& [from, to, says] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
+           {" robot twist kurt ", " robot fly kurt ", "no robot command 'fly'"},
+           {" robot crane kurt 0.40000000000000002,", " robot crane kurt ",
+            "robot command 'crane' does not take 2 numbers"}}) {
+    std::string changed = text;
+    const auto at = changed.find(from);
+    ASSERT_NE(at, std::string::npos) << from << "\n" << text.substr(0, 400);
+    changed.replace(at, from.size(), to);
+    const std::string broken = dir.path() + "/broken.session";
+    std::ofstream(broken, std::ios::binary) << changed;
+    try {
+      read_session(broken);
+      ADD_FAILURE() << "read: " << to;
+    } catch (const SessionFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("broken.session:"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -14,7 +14,7 @@ namespace {
 void trial(World& world, double seconds) {
   const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
   for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) world.robot("kurt")->command_twist(0.3, 0.3, world.time());
+    if (i % 100 == 0) world.robot("kurt")->execute(robot::Twist{0.3, 0.3}, world.time());
     if (i == 200) world.doors().set_switch_triggered(0, true);
     if (i == 300) world.edit().add_force(id_of(world, "environment_01/ball_green"), {0, 300, 0});
     world.step();
@@ -45,10 +45,11 @@ std::vector<StateChange> single_part_changes() {
   return {
       {"crane target",
        [](World& w) {
-         w.robot("kurt")->command_crane({0.3, 0.0, 0.0});
+         w.robot("kurt")->execute(robot::CraneTarget{0.3, 0.0, 0.0}, w.time());
        }},
-      {"magnet", [](World& w) { w.robot("kurt")->command_magnet(true); }},
-      {"rotunit speed", [](World& w) { w.robot("kurt")->command_rotunit(0.5); }},
+      {"magnet", [](World& w) { w.robot("kurt")->execute(robot::MagnetSwitch{true}, w.time()); }},
+      {"rotunit speed",
+       [](World& w) { w.robot("kurt")->execute(robot::RotunitSpeed{0.5}, w.time()); }},
       {"rotunit angle",
        [](World& w) { change_robot(w, [](auto& s) { s.rotunit_angle += 0.01; }); }},
       {"noise seed", [](World& w) { change_robot(w, [](auto& s) { s.noise_rng.seed(7); }); }},
@@ -67,7 +68,10 @@ std::vector<StateChange> single_part_changes() {
        [](World& w) { change_robot(w, [](auto& s) { s.odometry.integrate_frame(10, 12); }); }},
       {"encoder counter",
        [](World& w) { change_robot(w, [](auto& s) { s.encoders[0].reset(1.0); }); }},
-      {"wheel command", [](World& w) { w.robot("kurt")->command_twist(0.2, 0.0, w.time()); }},
+      {"wheel command",
+       [](World& w) {
+         w.robot("kurt")->execute(robot::Twist{0.2, 0.0}, w.time());
+       }},
       {"door gap",
        [](World& w) { change_world(w, [](auto& s) { s.door_flags[0].gap = DoorGap::Half; }); }},
       {"door switch", [](World& w) { ASSERT_TRUE(w.doors().set_switch_triggered(0, true).ok()); }},
@@ -85,9 +89,13 @@ std::vector<StateChange> single_part_changes() {
                          .ok());
        }},
       {"user data",
-       [](World& w) { ASSERT_TRUE(w.edit().set_user_data(id_of(w, "environment_00/can_00"), "x").ok()); }},
+       [](World& w) {
+         ASSERT_TRUE(w.edit().set_user_data(id_of(w, "environment_00/can_00"), "x").ok());
+       }},
       {"a frozen flag",
-       [](World& w) { ASSERT_TRUE(w.edit().set_frozen(id_of(w, "environment_00/can_00"), true).ok()); }},
+       [](World& w) {
+         ASSERT_TRUE(w.edit().set_frozen(id_of(w, "environment_00/can_00"), true).ok());
+       }},
       {"a body's velocity",
        [](World& w) {
          ASSERT_TRUE(
@@ -100,7 +108,8 @@ TEST(WorldState, ChangingAnySinglePartChangesTheHashAndRestoringGivesItBack) {
   for (const auto& change : single_part_changes()) {
     SCOPED_TRACE(change.part);
     World world(shipped_world("DemoWorld_v1.xml"));
-    world.robot("kurt")->command_rotunit(0.8);  // a cloud in progress, noise drawn
+    world.robot("kurt")->execute(robot::RotunitSpeed{0.8},
+                                 world.time());  // a cloud in progress, noise drawn
     run_for(world, 0.3);
     const WorldSnapshot before = world.snapshot();
     const uint64_t hash = world.state_hash();

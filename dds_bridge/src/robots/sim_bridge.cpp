@@ -39,8 +39,7 @@ struct SimBridge::RobotTopics {
             p, simulated,
             [&runner, this](robot::RobotCommand command) {
               // A value the runner runs on the world's robot (and a session records).
-              if (runner.push(robot_command(name, std::move(command.operation),
-                                            std::move(command.values)))) {
+              if (runner.push(robot_command(name, std::move(command)))) {
                 return;
               }
               if (commands_dropped.fetch_add(1) == 0) {  // said once; counted in the summary

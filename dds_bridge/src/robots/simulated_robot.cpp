@@ -13,24 +13,9 @@ SimulatedRobot::SimulatedRobot(Runner& runner, std::string name)
   generation_ = runner.generation();
 }
 
-void SimulatedRobot::command_twist(double linear, double angular) {
-  if (RobotModel* r = robot()) r->command_twist(linear, angular, runner_.world().time());
-}
-
-void SimulatedRobot::command_wheel_speeds(double left, double right) {
-  if (RobotModel* r = robot()) r->command_wheel_speeds({left, right}, runner_.world().time());
-}
-
-void SimulatedRobot::command_rotunit(double speed) {
-  if (RobotModel* r = robot()) r->command_rotunit(speed);
-}
-
-void SimulatedRobot::command_crane(double slew, double lift, double hoist) {
-  if (RobotModel* r = robot()) r->command_crane({slew, lift, hoist});
-}
-
-void SimulatedRobot::command_magnet(bool on) {
-  if (RobotModel* r = robot()) r->command_magnet(on);
+bool SimulatedRobot::execute(const robot::RobotCommand& command) {
+  RobotModel* r = robot();
+  return r && r->execute(command, runner_.world().time());
 }
 
 robot::Readings SimulatedRobot::read() {

@@ -19,11 +19,8 @@ class SimulatedRobot : public robot::RobotInterface {
 
   std::string name() const override { return name_; }
   robot::Capabilities capabilities() const override { return capabilities_; }
-  void command_twist(double linear, double angular) override;
-  void command_wheel_speeds(double left, double right) override;
-  void command_rotunit(double speed) override;
-  void command_crane(double slew, double lift, double hoist) override;
-  void command_magnet(bool on) override;
+  /// The robot's own RobotModel::execute, at the world's time.
+  bool execute(const robot::RobotCommand& command) override;
   /// What the steps since the last call produced (RobotModel::read); after a reset or a new
   /// world, everything the robot has.
   robot::Readings read() override;

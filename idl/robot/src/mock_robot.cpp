@@ -11,20 +11,29 @@ MockRobot::MockRobot(std::string name, Capabilities capabilities, double track,
       track_(track),
       command_timeout_(command_timeout) {}
 
-void MockRobot::command_twist(double linear, double angular) {
+void MockRobot::drive(double linear, double angular) {
   linear_ = linear;
   angular_ = angular;
   last_command_ = now_;
 }
 
-void MockRobot::command_wheel_speeds(double left, double right) {
-  command_twist((left + right) / 2, (right - left) / track_);
-}
-
-void MockRobot::command_crane(double slew, double lift, double hoist) {
-  crane_.slew = slew;
-  crane_.lift = lift;
-  crane_.hoist = hoist;
+bool MockRobot::execute(const RobotCommand& command) {
+  if (const auto* t = command.as<Twist>()) {
+    drive(t->linear, t->angular);
+  } else if (const auto* w = command.as<WheelSpeedCommand>()) {
+    drive((w->left + w->right) / 2, (w->right - w->left) / track_);
+  } else if (const auto* r = command.as<RotunitSpeed>(); r && capabilities_.rotunit) {
+    rotunit_.speed = r->speed;
+  } else if (const auto* c = command.as<CraneTarget>(); c && capabilities_.crane) {
+    crane_.slew = c->slew;
+    crane_.lift = c->lift;
+    crane_.hoist = c->hoist;
+  } else if (const auto* m = command.as<MagnetSwitch>(); m && capabilities_.magnet) {
+    crane_.magnet_on = m->on;
+  } else {
+    return false;
+  }
+  return true;
 }
 
 void MockRobot::advance(double now) {

@@ -194,7 +194,7 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
   auto twist = [post](const gm::Twist_& m) {
     const double v = m.linear().x(), w = m.angular().z();
-    if (finite({v, w})) post(RobotCommand{"twist", {v, w}});
+    if (finite({v, w})) post(Twist{v, w});
   };
   if (options_.cmd_vel_stamped) {
     t.cmd_vel_stamped = std::make_unique<dds::Reader<gm::TwistStamped_PubSubType>>(
@@ -207,13 +207,13 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   t.wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
       p, dds::topics::wheel_speeds(name), QosFamily::Command, [post](const km::WheelSpeeds_& m) {
         const double l = m.left(), r = m.right();
-        if (finite({l, r})) post(RobotCommand{"wheel_speeds", {l, r}});
+        if (finite({l, r})) post(WheelSpeedCommand{l, r});
       });
   if (t.has.rotunit) {
     t.rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
         p, dds::topics::rot_vel(name), QosFamily::Command, [post](const gm::Twist_& m) {
           const double speed = m.angular().z();
-          if (finite({speed})) post(RobotCommand{"rotunit", {speed}});
+          if (finite({speed})) post(RotunitSpeed{speed});
         });
   }
   if (t.has.crane) {
@@ -222,38 +222,18 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
         [post](const km::CraneCommand_& m) {
           const double slew = m.slew(), lift = m.lift(), hoist = m.hoist();
           if (finite({slew, lift, hoist})) {
-            post(RobotCommand{"crane", {slew, lift, hoist}});
+            post(CraneTarget{slew, lift, hoist});
           }
         });
   }
   if (t.has.magnet) {
     t.magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
         p, dds::topics::crane_magnet(name), QosFamily::Command,
-        [post](const km::MagnetCommand_& m) {
-          post(RobotCommand{"magnet", {m.on() ? 1.0 : 0.0}});
-        });
+        [post](const km::MagnetCommand_& m) { post(MagnetSwitch{m.on()}); });
   }
 }
 
 RobotNode::~RobotNode() = default;
-
-bool RobotCommand::apply(RobotInterface& robot) const {
-  const auto& v = values;
-  if (operation == "twist" && v.size() == 2) {
-    robot.command_twist(v[0], v[1]);
-  } else if (operation == "wheel_speeds" && v.size() == 2) {
-    robot.command_wheel_speeds(v[0], v[1]);
-  } else if (operation == "rotunit" && v.size() == 1) {
-    robot.command_rotunit(v[0]);
-  } else if (operation == "crane" && v.size() == 3) {
-    robot.command_crane(v[0], v[1], v[2]);
-  } else if (operation == "magnet" && v.size() == 1) {
-    robot.command_magnet(v[0] != 0);
-  } else {
-    return false;
-  }
-  return true;
-}
 
 void RobotNode::poll_commands() {
   Topics& t = *topics_;

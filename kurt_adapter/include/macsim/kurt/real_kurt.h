@@ -26,14 +26,10 @@ class RealKurt : public robot::RobotInterface {
 
   std::string name() const override { return name_; }
   robot::Capabilities capabilities() const override;
-  void command_twist(double linear, double angular) override;
-  void command_wheel_speeds(double left, double right) override;
-  /// Sends SETROTUNIT at once.
-  void command_rotunit(double speed) override;
-  /// Not on this robot's bus: ignored (the node serves no crane command for it).
-  void command_crane(double slew, double lift, double hoist) override;
-  /// Switches the actuator output at once (CONTROL ACTUATOR_ON / ACTUATOR_OFF).
-  void command_magnet(bool on) override;
+  /// A twist or wheel speeds to the driver (SPEED_CM at the next tick); a rotunit speed as
+  /// SETROTUNIT at once; the magnet as the actuator output at once (CONTROL ACTUATOR_ON /
+  /// ACTUATOR_OFF). The crane is not on this robot's bus: refused, as anything else.
+  bool execute(const robot::RobotCommand& command) override;
   robot::Readings read() override;
   /// base_link above base_footprint and the eight IR/sonar sensors (kurt_driver's URDF).
   robot::Frames frames() const override;

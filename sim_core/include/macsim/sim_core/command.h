@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "macsim/robot/robot_command.h"
+
 namespace macsim {
 
 class World;
@@ -36,9 +38,10 @@ std::optional<CommandSource> command_source(std::string_view name);
 /// One command for the world.
 struct Command {
   CommandSource source = CommandSource::Local;
-  std::string operation;         ///< e.g. "set_density", "twist", "load_world"
-  std::string target;            ///< the robot a robot command is for; empty otherwise
-  std::vector<double> values;    ///< a robot command's arguments (SI units)
+  std::string operation;  ///< e.g. "set_density", "load_world"; a robot command's type name
+  std::string target;     ///< the robot a robot command is for; empty otherwise
+  /// A robot command (source Robot): the typed command the robot carries out.
+  std::optional<robot::RobotCommand> robot;
   std::vector<uint8_t> message;  ///< a request's message in its wire form (CDR)
   std::any reply_to;             ///< where its answer goes (its server's; empty in a replay)
   /// Local only: what it does. Every other source is run by its executor from the fields above.
@@ -48,12 +51,11 @@ struct Command {
 /// One line for logs: source, operation, target, values and message size.
 std::string describe(const Command& command);
 
-/// A robot command: `operation` twist (linear m/s, angular rad/s), wheel_speeds (left, right
-/// m/s), rotunit (rad/s), crane (slew rad, lift rad, hoist m) or magnet (1 on, 0 off).
-Command robot_command(std::string robot, std::string operation, std::vector<double> values);
+/// A command for the robot named `robot` (macsim/robot/robot_command.h: robot::Twist, ...).
+Command robot_command(std::string robot, robot::RobotCommand command);
 
-/// Runs a robot command on the world's robot; false (nothing done) for an unknown robot or
-/// operation, or values of the wrong count.
+/// Runs a robot command on the world's robot; false (nothing done) for an unknown robot or a
+/// command it does not have.
 bool run_robot_command(const Command& command, World& world);
 
 }  // namespace macsim

@@ -65,8 +65,10 @@ class DiffDriveRobot final : public RobotModel {
   const DiffDriveConfig& config() const { return config_; }
   const State& state() const { return state_; }
 
-  void command_twist(double linear, double angular, double now) override;
-  void command_wheel_speeds(WheelSpeeds speeds, double now) override;
+  /// Twist and wheel speeds; it has nothing else.
+  bool execute(const robot::RobotCommand& command, double now) override;
+  void command_twist(double linear, double angular, double now);
+  void command_wheel_speeds(WheelSpeeds speeds, double now);
   void keep_command(double now) override;
   void before_step(double now) override;
   void after_step(double now, double step) override;

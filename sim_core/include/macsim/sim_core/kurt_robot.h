@@ -130,16 +130,19 @@ class KurtRobot final : public RobotModel {
   const KurtConfig& config() const { return config_; }
 
   // ---- commands -------------------------------------------------------------------------
+  /// Twist, wheel speeds; the rotunit's speed if its laser turns; the crane and the magnet if
+  /// it has the crane. The rest is refused.
+  bool execute(const robot::RobotCommand& command, double now) override;
   /// cmd_vel at sim time `now`: mapped to wheel speeds as the real driver maps it.
-  void command_twist(double linear, double angular, double now) override;
+  void command_twist(double linear, double angular, double now);
   /// Wheel rim speeds (m/s) at sim time `now`, sent as SPEED_CM like the real driver.
-  void command_wheel_speeds(WheelSpeeds speeds, double now) override;
+  void command_wheel_speeds(WheelSpeeds speeds, double now);
   /// Crane joint targets; the joints move there as fast as their motors allow.
-  bool command_crane(const CraneCommand& target) override;
+  bool command_crane(const CraneCommand& target);
   /// Switches the magnet; off releases what it holds.
-  bool command_magnet(bool on) override;
+  bool command_magnet(bool on);
   /// Rotating unit speed (rad/s), quantized as the real driver sends it.
-  bool command_rotunit(double speed) override;
+  bool command_rotunit(double speed);
   void keep_command(double now) override;
 
   // ---- stepping -------------------------------------------------------------------------

@@ -58,12 +58,10 @@ class RobotModel {
   /// The world file's <ROBOT>: name, type, start pose.
   const RobotSpec& spec() const { return spec_; }
 
-  // ---- commands (a robot without the part ignores them and says false) ------------------
-  virtual void command_twist(double linear, double angular, double now) = 0;
-  virtual void command_wheel_speeds(WheelSpeeds speeds, double now) = 0;
-  virtual bool command_rotunit(double /*speed*/) { return false; }
-  virtual bool command_crane(const CraneCommand& /*target*/) { return false; }
-  virtual bool command_magnet(bool /*on*/) { return false; }
+  // ---- commands ----------------------------------------------------------------------------
+  /// Carries out a command (macsim/robot/robot_command.h: the built-in ones or a plug-in's own)
+  /// at sim time `now`; false, changing nothing, for one it does not have.
+  virtual bool execute(const robot::RobotCommand& command, double now) = 0;
   /// A drive command still in force at `now` is renewed as if sent again then.
   virtual void keep_command(double now) = 0;
 

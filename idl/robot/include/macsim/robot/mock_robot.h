@@ -25,14 +25,12 @@ class MockRobot : public RobotInterface {
 
   std::string name() const override { return name_; }
   Capabilities capabilities() const override { return capabilities_; }
-  void command_twist(double linear, double angular) override;
-  void command_wheel_speeds(double left, double right) override;
-  void command_rotunit(double speed) override { rotunit_.speed = speed; }
-  void command_crane(double slew, double lift, double hoist) override;
-  void command_magnet(bool on) override { crane_.magnet_on = on; }
+  /// Drive commands always; the rotunit's, the crane's and the magnet's if it has them.
+  bool execute(const RobotCommand& command) override;
   Readings read() override;
 
  private:
+  void drive(double linear, double angular);
   std::string name_;
   Capabilities capabilities_;
   double track_, command_timeout_;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "macsim/robot/robot_command.h"
+
 namespace macsim::robot {
 
 /// What a robot has besides its drive, odometry and wheel joints; the node serves the topics
@@ -124,15 +126,8 @@ class RobotInterface {
   /// The namespace of its topics, e.g. "kurt".
   virtual std::string name() const = 0;
   virtual Capabilities capabilities() const = 0;
-  /// cmd_vel: m/s and rad/s, held until the command timeout.
-  virtual void command_twist(double linear, double angular) = 0;
-  /// Wheel rim speeds, m/s, held until the command timeout.
-  virtual void command_wheel_speeds(double left, double right) = 0;
-  /// The rotating unit's speed, rad/s.
-  virtual void command_rotunit(double speed) = 0;
-  /// Crane joint targets: slew (rad), lift (rad), hoist (m).
-  virtual void command_crane(double slew, double lift, double hoist) = 0;
-  virtual void command_magnet(bool on) = 0;
+  /// Carries out a command (robot_command.h); false, doing nothing, for one it does not have.
+  virtual bool execute(const RobotCommand& command) = 0;
   /// The readings new since the last call.
   virtual Readings read() = 0;
   /// The robot's frames; none by default.

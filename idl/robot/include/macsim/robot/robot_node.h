@@ -13,17 +13,8 @@
 
 namespace macsim::robot {
 
-/// A command for the robot as a value: its operation (twist: linear m/s, angular rad/s;
-/// wheel_speeds: left, right m/s; rotunit: rad/s; crane: slew rad, lift rad, hoist m; magnet:
-/// 1 on, 0 off) and its arguments. Run on the owner's thread.
-struct RobotCommand {
-  std::string operation;
-  std::vector<double> values;
-  /// Gives it to the robot; false for an unknown operation or a wrong count of values.
-  bool apply(RobotInterface& robot) const;
-  void operator()(RobotInterface& robot) const { apply(robot); }
-};
-/// Hands a command to the owner's queue (called on Fast DDS's threads).
+/// Hands a command (robot_command.h) to the owner's queue (called on Fast DDS's threads); the
+/// owner gives it to the robot on its own thread (RobotInterface::execute).
 using PostCommand = std::function<void(RobotCommand)>;
 
 /// How a node names its frames and takes its commands.
