@@ -13,8 +13,9 @@
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
-#include "macsim/robot/mock_robot.h"
+#include "macsim/msg/std_msgsPubSubTypes.h"
 #include "macsim/robot/command_queue.h"
+#include "macsim/robot/mock_robot.h"
 #include "support/child_process.h"
 #include "support/latest_sample.h"
 #include "support/test_domain.h"
@@ -131,6 +132,78 @@ TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
   }
   ASSERT_TRUE(seen.has_value());
   EXPECT_EQ(seen->hoist(), 0.05);
+}
+
+/// A robot plug-in's own command, declared in the plug-in's files alone (here).
+struct Nudge {
+  static constexpr std::string_view kName = "nudge";
+  double force = 0;
+  std::vector<double> values() const { return {force}; }
+  static std::optional<Nudge> from_values(const std::vector<double>& v) {
+    if (v.size() != 1) return std::nullopt;
+    return Nudge{v[0]};
+  }
+};
+const bool nudge_known = robot::register_command_type<Nudge>();
+
+/// The mock with the plug-in's command: what it was nudged by.
+class NudgedMock : public robot::MockRobot {
+ public:
+  using MockRobot::MockRobot;
+  bool execute(const robot::RobotCommand& command) override {
+    if (const auto* nudge = command.as<Nudge>()) {
+      nudges.push_back(nudge->force);
+      return true;
+    }
+    return MockRobot::execute(command);
+  }
+  std::vector<double> nudges;
+};
+
+// A plug-in's own command reaches the node without an edit to it: served on
+// rt/<robot>/command/<name> because the robot declares it, arriving as its type; numbers that
+// do not fit it, or are not finite, are dropped at the edge. A robot that declares a command no
+// type registers is refused naming it.
+TEST(RobotNode, APlugInsOwnCommandArrivesOnItsTopicAsItsType) {
+  ASSERT_TRUE(nudge_known);
+  Served s;
+  robot::Capabilities with = rover();
+  with.commands = {"nudge"};
+  NudgedMock ball("ball", with);
+  BasicCommandQueue<robot::RobotInterface&> queue;
+  robot::RobotNode node(s.robot_side, ball, [&](robot::RobotCommand c) {
+    queue.push([c](robot::RobotInterface& r) { r.execute(c); });
+  });
+  const auto lines = node.topic_lines();
+  EXPECT_NE(std::find(lines.begin(), lines.end(),
+                      "rt/ball/command/nudge (std_msgs/Float64MultiArray, in)"),
+            lines.end());
+  dds::Writer<std_msgs::msg::dds_::Float64MultiArray_PubSubType> command(
+      s.controller_side, dds::topics::robot_command("ball", "nudge"), dds::QosFamily::Command);
+  for (int i = 0; i < 3000 && command.matched() == 0; ++i) std::this_thread::sleep_for(10ms);
+  ASSERT_GT(command.matched(), 0u);
+  for (const std::vector<double>& data :
+       {std::vector<double>{1.0, 2.0}, {std::nan("")}, std::vector<double>{2.5}}) {
+    std_msgs::msg::dds_::Float64MultiArray_ m;
+    m.data(data);
+    command.write(m);
+  }
+  for (int i = 0; i < 500 && ball.nudges.empty(); ++i) {
+    node.poll_commands();
+    queue.drain(ball);
+    std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_EQ(ball.nudges, std::vector<double>{2.5});  // the two that do not fit never came
+
+  robot::Capabilities unknown = rover();
+  unknown.commands = {"teleport"};
+  robot::MockRobot stranger("stranger", unknown);
+  try {
+    robot::RobotNode refused(s.robot_side, stranger, [](robot::RobotCommand) {});
+    ADD_FAILURE() << "served a command no type registers";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'teleport'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

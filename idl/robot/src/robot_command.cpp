@@ -62,20 +62,22 @@ bool register_command_type(std::string_view name, CommandDecoder decode) {
   return r.decoders.emplace(std::string(name), std::move(decode)).second;
 }
 
+std::optional<CommandDecoder> command_decoder(std::string_view name) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  const auto found = r.decoders.find(name);
+  if (found == r.decoders.end()) return std::nullopt;
+  return found->second;
+}
+
 std::optional<RobotCommand> decode_command(std::string_view name, const std::vector<double>& values,
                                            std::string* why) {
-  CommandDecoder decode;
-  {
-    Registry& r = registry();
-    std::lock_guard<std::mutex> lock(r.mutex);
-    const auto found = r.decoders.find(name);
-    if (found == r.decoders.end()) {
-      if (why) *why = "no robot command '" + std::string(name) + "'";
-      return std::nullopt;
-    }
-    decode = found->second;
+  const auto decode = command_decoder(name);
+  if (!decode) {
+    if (why) *why = "no robot command '" + std::string(name) + "'";
+    return std::nullopt;
   }
-  auto command = decode(values);
+  auto command = (*decode)(values);
   if (!command && why) {
     *why = "robot command '" + std::string(name) + "' does not take " +
            std::to_string(values.size()) + " numbers";

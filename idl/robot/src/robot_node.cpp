@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
+#include <stdexcept>
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/kurt_messages.h"
@@ -22,6 +23,7 @@ namespace km = kurt_msgs::msg::dds_;
 namespace nm = nav_msgs::msg::dds_;
 namespace sm = sensor_msgs::msg::dds_;
 namespace tf = tf2_msgs::msg::dds_;
+namespace sd = std_msgs::msg::dds_;
 using dds::QosFamily;
 
 namespace {
@@ -155,6 +157,8 @@ struct RobotNode::Topics {
   std::unique_ptr<dds::Reader<km::WheelSpeeds_PubSubType>> wheel_speeds;
   std::unique_ptr<dds::Reader<km::CraneCommand_PubSubType>> crane_command;
   std::unique_ptr<dds::Reader<km::MagnetCommand_PubSubType>> magnet;
+  // A plug-in's own commands (Capabilities::commands).
+  std::vector<std::unique_ptr<dds::Reader<sd::Float64MultiArray_PubSubType>>> own_commands;
 
   Topics(dds::Participant& p, const std::string& robot, const Capabilities& c)
       : name(robot),
@@ -231,6 +235,23 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
         p, dds::topics::crane_magnet(name), QosFamily::Command,
         [post](const km::MagnetCommand_& m) { post(MagnetSwitch{m.on()}); });
   }
+  // A plug-in's own commands: each type's decoder found once, here; a sample whose numbers do
+  // not fit the command (or are not finite) is dropped.
+  for (const std::string& command : t.has.commands) {
+    const auto decode = command_decoder(command);
+    if (!decode) {
+      throw std::invalid_argument("robot '" + name + "' declares the command '" + command +
+                                  "', which no command type registers");
+    }
+    t.own_commands.push_back(std::make_unique<dds::Reader<sd::Float64MultiArray_PubSubType>>(
+        p, dds::topics::robot_command(name, command), QosFamily::Command,
+        [post, decode = *decode](const sd::Float64MultiArray_& m) {
+          for (double v : m.data()) {
+            if (!std::isfinite(v)) return;
+          }
+          if (auto c = decode(m.data())) post(std::move(*c));
+        }));
+  }
 }
 
 RobotNode::~RobotNode() = default;
@@ -243,6 +264,7 @@ void RobotNode::poll_commands() {
   if (t.rot_vel) t.rot_vel->poll();
   if (t.crane_command) t.crane_command->poll();
   if (t.magnet) t.magnet->poll();
+  for (auto& reader : t.own_commands) reader->poll();
 }
 
 /// The newest reading of each kind a held publish() kept, with its stamp.
@@ -472,6 +494,10 @@ std::vector<std::string> RobotNode::topic_lines() const {
   for (const auto& line : topic_table(topics_->name, topics_->has, options_.cmd_vel_stamped,
                                       !frames_.description.empty())) {
     if (line.served) lines.push_back(line.topic + " (" + line.what + ")");
+  }
+  for (const auto& command : topics_->has.commands) {
+    lines.push_back(dds::topics::robot_command(topics_->name, command) +
+                    " (std_msgs/Float64MultiArray, in)");
   }
   return lines;
 }

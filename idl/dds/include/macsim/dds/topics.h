@@ -77,6 +77,10 @@ inline std::string rot_vel(const std::string& r) { return robot(r, "rot_vel"); }
 inline std::string crane_command(const std::string& r) { return robot(r, "crane/command"); }
 /// The crane's magnet on/off (kurt_msgs/MagnetCommand).
 inline std::string crane_magnet(const std::string& r) { return robot(r, "crane/magnet"); }
+/// A robot plug-in's own command `name` (idl/robot/robot_command.h).
+inline std::string robot_command(const std::string& r, const std::string& name) {
+  return robot(r, "command/" + name);
+}
 /// Crane joints, magnet and what it holds (kurt_msgs/CraneState).
 inline std::string crane_state(const std::string& r) { return robot(r, "crane/state"); }
 /// A stereo camera's images and calibration; side is "left" or "right".

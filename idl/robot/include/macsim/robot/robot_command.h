@@ -110,6 +110,9 @@ bool register_command_type() {
   return register_command_type(T::kName, decoder_of<T>());
 }
 
+/// The decoder of the command type of that name, or nothing.
+std::optional<CommandDecoder> command_decoder(std::string_view name);
+
 /// The command written as `name` and `values` (a session's line), or nothing: an unknown name,
 /// or numbers that do not fit it (`why` says which).
 std::optional<RobotCommand> decode_command(std::string_view name, const std::vector<double>& values,

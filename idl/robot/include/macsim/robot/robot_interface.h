@@ -24,6 +24,9 @@ struct Capabilities {
   bool points = false;          ///< a 3D cloud per rotunit revolution
   bool crane = false;           ///< crane joint commands and state
   bool magnet = false;          ///< the magnet switch
+  /// A plug-in's own command types (robot_command.h) by name, each served on
+  /// rt/<robot>/command/<name> as std_msgs/Float64MultiArray (its numbers in `data`).
+  std::vector<std::string> commands;
 };
 
 /// Odometry as the driver computes it (REP-103, odometry frame) and the wheel angles.

@@ -29,8 +29,10 @@ struct NodeOptions {
 /// Serves one robot over DDS.
 class RobotNode {
  public:
-  /// Creates the writers and readers of what `robot` has. Commands with a number that is not
-  /// finite are dropped; the rest go to `post`.
+  /// Creates the writers and readers of what `robot` has, a plug-in's own commands included
+  /// (Capabilities::commands: rt/<robot>/command/<name>). Commands with a number that is not
+  /// finite, or numbers that do not fit their command, are dropped; the rest go to `post`.
+  /// Throws std::invalid_argument for a declared command that no command type registers.
   RobotNode(dds::Participant& participant, RobotInterface& robot, PostCommand post,
             NodeOptions options = {});
   ~RobotNode();
