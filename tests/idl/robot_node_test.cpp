@@ -18,6 +18,7 @@
 #include "macsim/robot/mock_robot.h"
 #include "support/child_process.h"
 #include "support/latest_sample.h"
+#include "support/nudge_command.h"
 #include "support/test_domain.h"
 
 namespace macsim::test {
@@ -134,18 +135,6 @@ TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
   EXPECT_EQ(seen->hoist(), 0.05);
 }
 
-/// A robot plug-in's own command, declared in the plug-in's files alone (here).
-struct Nudge {
-  static constexpr std::string_view kName = "nudge";
-  double force = 0;
-  std::vector<double> values() const { return {force}; }
-  static std::optional<Nudge> from_values(const std::vector<double>& v) {
-    if (v.size() != 1) return std::nullopt;
-    return Nudge{v[0]};
-  }
-};
-const bool nudge_known = robot::register_command_type<Nudge>();
-
 /// The mock with the plug-in's command: what it was nudged by.
 class NudgedMock : public robot::MockRobot {
  public:
@@ -165,7 +154,7 @@ class NudgedMock : public robot::MockRobot {
 // do not fit it, or are not finite, are dropped at the edge. A robot that declares a command no
 // type registers is refused naming it.
 TEST(RobotNode, APlugInsOwnCommandArrivesOnItsTopicAsItsType) {
-  ASSERT_TRUE(nudge_known);
+  ASSERT_TRUE(nudge_registered());
   Served s;
   robot::Capabilities with = rover();
   with.commands = {"nudge"};

@@ -14,22 +14,11 @@
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 #include "support/child_process.h"
+#include "support/nudge_command.h"
 #include "support/world_helpers.h"
 
 namespace macsim {
 namespace {
-
-/// A plug-in's own command, declared here alone: a push along x (N) for the ball below.
-struct Nudge {
-  static constexpr std::string_view kName = "nudge";
-  double force = 0;
-  std::vector<double> values() const { return {force}; }
-  static std::optional<Nudge> from_values(const std::vector<double>& v) {
-    if (v.size() != 1) return std::nullopt;
-    return Nudge{v[0]};
-  }
-};
-const bool nudge_known = robot::register_command_type<Nudge>();
 
 /// The smallest robot: one ball that counts its steps and reports every 100th as an event.
 class CountingBall final : public RobotModel {
@@ -51,7 +40,7 @@ class CountingBall final : public RobotModel {
   bool execute(const robot::RobotCommand& command, double) override {
     if (const auto* twist = command.as<robot::Twist>()) {
       push_ = twist->linear;
-    } else if (const auto* nudge = command.as<Nudge>()) {
+    } else if (const auto* nudge = command.as<test::Nudge>()) {
       push_ = nudge->force;
     } else {
       return false;
@@ -136,14 +125,14 @@ TEST(RobotModel, ARegisteredTypeIsBuiltFromAWorldFileAndStepped) {
 // session by its name, read back as its type and replayed to the same hashes; a robot without it
 // refuses it.
 TEST(RobotModel, APlugInsOwnCommandReachesItsRobotThroughTheRunnerAndSessions) {
-  ASSERT_TRUE(nudge_known);
+  ASSERT_TRUE(test::nudge_registered());
   test::TempDir dir("macsim_plugin_command_");
   const std::string path = dir.path() + "/nudge.session";
   {
     Runner runner(ball_world(), RunSettings{true, 0.0});
     runner.record(std::make_shared<SessionWriter>(path, SessionHeader{"ball.xml", -1, 50}));
-    ASSERT_TRUE(runner.push(robot_command("ball", Nudge{2.0})));
-    ASSERT_TRUE(runner.push(robot_command("kurt", Nudge{2.0})));  // not the KURT's: refused
+    ASSERT_TRUE(runner.push(robot_command("ball", test::Nudge{2.0})));
+    ASSERT_TRUE(runner.push(robot_command("kurt", test::Nudge{2.0})));  // not the KURT's: refused
     for (int i = 0; i < 500; ++i) runner.step();
     EXPECT_GT(runner.world().robot("ball")->base_link_pose().position.x(), 0.05);
     EXPECT_EQ(runner.commands_run(CommandSource::Robot), 2u);
@@ -151,7 +140,7 @@ TEST(RobotModel, APlugInsOwnCommandReachesItsRobotThroughTheRunnerAndSessions) {
   }
   const Session session = read_session(path);
   ASSERT_EQ(session.commands.size(), 1u);  // the one that acted
-  const auto* nudge = session.commands[0].command.robot->as<Nudge>();
+  const auto* nudge = session.commands[0].command.robot->as<test::Nudge>();
   ASSERT_NE(nudge, nullptr);
   EXPECT_EQ(nudge->force, 2.0);
   Runner again(ball_world(), RunSettings{true, 0.0});
