@@ -118,11 +118,6 @@ class Operation:
                [p for p in self.params if p.py_default is not None]
 
 
-def parse_idl(path):
-    """The operations and structs of the IDL file at `path`; every error names FILE:LINE."""
-    text = Path(path).read_text()
-    lines = text.splitlines()
-    return read_idl(path, lines)
 
 
 def at_line(path, i, error):
@@ -130,7 +125,9 @@ def at_line(path, i, error):
     return IdlError(f"{path}:{i + 1}: {error}")
 
 
-def read_idl(path, lines):
+def parse_idl(path):
+    """The operations and structs of the IDL file at `path`; every error names FILE:LINE."""
+    lines = Path(path).read_text().splitlines()
     operations = []
     structs = {}
     reply_fields = []
