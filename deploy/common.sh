@@ -59,3 +59,17 @@ macsim_seed_test_costs() {
     cp "$MACSIM_ROOT/tests/ctest_costs.txt" "$costs"
   fi
 }
+
+# The end of each failed test's output (ctest's LastTest.log), printed again after the summary so
+# that the tail of a run's log says why it failed.
+macsim_failed_test_outputs() {
+  local temporary="$MACSIM_BUILD/Testing/Temporary" name
+  [[ -s "$temporary/LastTestsFailed.log" ]] || return 0
+  while IFS=: read -r _ name; do
+    echo "== the last lines of failed test $name:"
+    awk -v test="$name" '
+      /^[0-9]+\/[0-9]+ Test: / { sub(/^[0-9]+\/[0-9]+ Test: /, ""); inside = ($0 == test); n = 0; next }
+      inside && /^<end of output>$/ { for (i = (n > 20 ? n - 20 : 0); i < n; ++i) print "   " line[i]; inside = 0; next }
+      inside { line[n++] = $0 }' "$temporary/LastTest.log"
+  done < "$temporary/LastTestsFailed.log"
+}

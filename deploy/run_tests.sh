@@ -19,6 +19,7 @@ done
 source "$(dirname "$0")/common.sh"
 start=$(date +%s)
 status=0
+ctest_status=0
 # More tests at once than there are cores, since most of them wait; those that keep a core busy
 # each hold one of the machine's cores (ctest's resource `cores`; tests/CMakeLists.txt).
 cores=$(nproc)
@@ -28,7 +29,8 @@ if [[ $quick == 1 ]]; then
   macsim_setup_and_build quick_tests
   macsim_phase test
   (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" -L quick "${ctest_args[@]}") ||
-    status=$?
+    ctest_status=$?
+  status=$ctest_status
 else
   macsim_setup_and_build
   macsim_seed_test_costs
@@ -41,7 +43,8 @@ else
   fuzz_build=$!
   macsim_phase test
   (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" --resource-spec-file "$resources" \
-     --timeout 300 "${ctest_args[@]}") || status=$?
+     --timeout 300 "${ctest_args[@]}") || ctest_status=$?
+  status=$ctest_status
   # The fuzzers, a short run each from the seeds and the committed corpus (tests/fuzz/README.md):
   # the three side by side for 30 s, about 20 s of a core each.
   macsim_phase fuzz
@@ -56,6 +59,8 @@ else
 fi
 # Participants killed by tests leave Fast DDS shared-memory files behind.
 [[ -x "$MACSIM_BUILD/bin/macsim_shm_clean" ]] && "$MACSIM_BUILD/bin/macsim_shm_clean" --min-age 0 || true
+# Why a test failed, near the end of the log (its whole output is above, in ctest's order).
+if [[ $ctest_status != 0 ]]; then macsim_failed_test_outputs; fi
 macsim_phases
 echo "run_tests: finished in $(( $(date +%s) - start )) s with status $status"
 exit $status

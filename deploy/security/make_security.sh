@@ -57,7 +57,8 @@ for id in macsim operator controller; do
   fi
   cat > "$id.xml" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
-<!-- MACSim-DDS secure participant '$id' (made by deploy/security/make_security.sh). -->
+<!-- MACSim-DDS secure participant '$id' (made by deploy/security/make_security.sh); the QoS
+     families are the library's (deploy/dds/qos.xml). -->
 <dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
   <profiles>
     <transport_descriptors>
@@ -83,21 +84,6 @@ for id in macsim operator controller; do
         </properties></propertiesPolicy>
       </rtps>
     </participant>
-    <!-- Commands, replies and progress: a lost one is sent again within ~0.1 s, not after Fast
-         DDS's default 3 s heartbeat (longer than a client waits on a silent server). -->
-    <data_writer profile_name="macsim_command">
-      <topic>
-        <historyQos><kind>KEEP_LAST</kind><depth>10</depth></historyQos>
-        <resourceLimitsQos><max_samples>100000</max_samples><max_instances>10000</max_instances>
-          <max_samples_per_instance>10</max_samples_per_instance></resourceLimitsQos>
-      </topic>
-      <qos><reliability><kind>RELIABLE</kind></reliability><durability><kind>VOLATILE</kind></durability></qos>
-      <times>
-        <initialHeartbeatDelay><sec>0</sec><nanosec>10000000</nanosec></initialHeartbeatDelay>
-        <heartbeatPeriod><sec>0</sec><nanosec>100000000</nanosec></heartbeatPeriod>
-        <nackResponseDelay><sec>0</sec><nanosec>5000000</nanosec></nackResponseDelay>
-      </times>
-    </data_writer>
   </profiles>
 </dds>
 XML

@@ -128,8 +128,8 @@ int main(int argc, char** argv) {
     macsim::robot::RobotNode node(
         dds, kurt,
         [&queue, &robot](macsim::robot::RobotCommand command) {
-          queue.push([command = std::move(command), &robot](macsim::robot::RobotInterface& kurt) {
-            if (!kurt.execute(command)) {
+          queue.push([command = std::move(command), &robot](macsim::robot::RobotInterface& real) {
+            if (!real.execute(command)) {
               macsim::log::warn("kurt_adapter: robot '{}' has no command '{}': refused", robot,
                                 command.name());
             }

@@ -1,12 +1,16 @@
-// QoS families: the XML profiles that ship decide them; a user's profile can change them.
+// QoS families: deploy/dds/qos.xml, built into the library, decides them for every deployment;
+// a deployment's or user's profile can change one by defining it.
 // (ctest runs each test in a process of its own: Fast DDS keeps loaded profiles per process.)
 #include "macsim/dds/qos.h"
 
 #include <gtest/gtest.h>
+#include <tinyxml2.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
+#include <set>
+#include <string>
 
 #include "macsim/dds/participant.h"
 #include "support/child_process.h"
@@ -23,6 +27,9 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
   EXPECT_EQ(command.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(command.durability().kind, fdds::VOLATILE_DURABILITY_QOS);
   EXPECT_EQ(command.history().depth, 10);
+  // a lost command is sent again within 0.1 s, not after Fast DDS's default 3 s heartbeat
+  EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.seconds, 0);
+  EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.nanosec, 100000000u);
   const auto sensor = dds::reader_qos(dds::QosFamily::Sensor, p.subscriber());
   EXPECT_EQ(sensor.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
   EXPECT_EQ(sensor.history().depth, 5);
@@ -60,7 +67,43 @@ TEST(QosFamilies, AUsersProfileChangesAFamily) {
   EXPECT_EQ(state.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(state.history().depth, 100);
   EXPECT_EQ(dds::reader_qos(dds::QosFamily::State, p.subscriber()).history().depth, 10);
+  // The profile names the sensor writer only: the sensor reader stays the built-in one.
+  const auto sensor_reader = dds::reader_qos(dds::QosFamily::Sensor, p.subscriber());
+  EXPECT_EQ(sensor_reader.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
+  EXPECT_EQ(sensor_reader.history().depth, 5);
   std::remove(path.c_str());
+}
+
+/// The data writer and reader profile names an XML profile file defines.
+std::set<std::string> qos_profiles_of(const std::string& path) {
+  tinyxml2::XMLDocument document;
+  EXPECT_EQ(document.LoadFile(path.c_str()), tinyxml2::XML_SUCCESS) << path;
+  std::set<std::string> names;
+  const auto* root = document.RootElement();
+  const auto* profiles = root ? root->FirstChildElement("profiles") : nullptr;
+  for (const auto* e = profiles ? profiles->FirstChildElement() : nullptr; e;
+       e = e->NextSiblingElement()) {
+    const std::string kind = e->Name();
+    if (kind == "data_writer" || kind == "data_reader") {
+      names.insert(kind + " " + e->Attribute("profile_name"));
+    }
+  }
+  return names;
+}
+
+TEST(QosFamilies, AreWrittenOnceInQosXmlAndNoDeploymentRepeatsThem) {
+  std::set<std::string> expected;
+  for (auto family : {dds::QosFamily::Command, dds::QosFamily::Sensor, dds::QosFamily::State,
+                      dds::QosFamily::Latched}) {
+    expected.insert(std::string("data_writer ") + dds::profile_name(family));
+    expected.insert(std::string("data_reader ") + dds::profile_name(family));
+  }
+  EXPECT_EQ(qos_profiles_of(source("deploy/dds/qos.xml")), expected);
+  for (const char* deployment : {"localhost", "network", "service", "service_localhost"}) {
+    EXPECT_EQ(qos_profiles_of(source("deploy/dds/" + std::string(deployment) + ".xml")),
+              std::set<std::string>{})
+        << deployment << ".xml repeats a QoS family of qos.xml";
+  }
 }
 
 }  // namespace

@@ -81,6 +81,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
     throw DdsError("cannot load the Fast DDS profile file '" + options.profile_file + "'");
   }
   factory->load_profiles();
+  load_builtin_qos_families();  // after the deployment's profile, whose families win
   discovery_through_the_transport();
   fdds::DomainParticipantQos qos;
   factory->get_default_participant_qos(qos);

@@ -19,8 +19,10 @@ enum class QosFamily {
 
 /// The XML profile name of a family's data writers and readers ("macsim_command", ...).
 const char* profile_name(QosFamily family);
-/// Writer QoS of a family: the loaded XML profile of that name if there is one, else the
-/// family's policies on the publisher's default.
+/// Loads the built-in family profiles (deploy/dds/qos.xml) the loaded XML does not define yet;
+/// Participant calls it after loading the deployment's profile, which so overrides a family.
+void load_builtin_qos_families();
+/// Writer QoS of a family: the loaded XML profile of that name (DdsError if there is none).
 eprosima::fastdds::dds::DataWriterQos writer_qos(QosFamily family,
                                                  eprosima::fastdds::dds::Publisher* publisher);
 /// Reader QoS of a family, likewise.
