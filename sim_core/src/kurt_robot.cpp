@@ -94,6 +94,7 @@ KurtRobot::KurtRobot(const RobotSpec& spec, const RobotBuild& build, const KurtC
     : RobotModel(spec),
       config_(as_built(config, spec, build)),
       world_(build.world),
+      wake_(build.wake),
       space_(build.space),
       chassis_tag_(
           std::make_unique<GeomTag>(GeomTag{build.collision_group, 0.5, 0.0, 0.1, nullptr})),
@@ -510,6 +511,8 @@ void KurtRobot::run_magnet() {
   if (!query.found) return;
   held_body_ = query.found;
   state_.held_object = query.name;
+  state_.hold_magnet_at = detail::exact_pose(magnet_);
+  state_.hold_object_at = detail::exact_pose(held_body_);
   reattach(held_body_);
   emit(WorldEvent::Type::ObjectAttached, query.name);
 }
@@ -517,10 +520,29 @@ void KurtRobot::run_magnet() {
 void KurtRobot::reattach(dBodyID body) {
   if (hold_) dJointDestroy(hold_);
   held_body_ = body;
-  dBodyEnable(body);
+  if (wake_) {
+    wake_(body);
+  } else {
+    dBodyEnable(body);
+  }
   hold_ = dJointCreateFixed(world_, nullptr);
   dJointAttach(hold_, magnet_, body);
-  dJointSetFixed(hold_);
+  // The joint keeps the two bodies' relative pose at the moment it is set: set it with them
+  // where they were when the magnet took hold, then put them back where they are.
+  auto framed = [](const detail::ExactPose& p) {
+    return p[3] != 0 || p[4] != 0 || p[5] != 0 || p[6] != 0;
+  };
+  if (framed(state_.hold_magnet_at) && framed(state_.hold_object_at)) {
+    const detail::ExactPose magnet_now = detail::exact_pose(magnet_);
+    const detail::ExactPose body_now = detail::exact_pose(body);
+    detail::set_exact_pose(magnet_, state_.hold_magnet_at);
+    detail::set_exact_pose(body, state_.hold_object_at);
+    dJointSetFixed(hold_);
+    detail::set_exact_pose(magnet_, magnet_now);
+    detail::set_exact_pose(body, body_now);
+  } else {  // a state given without them: held as they are now
+    dJointSetFixed(hold_);
+  }
   dJointSetFeedback(hold_, hold_feedback_.get());
 }
 
@@ -732,9 +754,9 @@ template <class Ar>
 void archive(Ar& ar, KurtRobot::State& s) {
   ar(s.commanded, s.active, s.last_command_time, s.encoder_angle, s.last_hinge_angle, s.encoders,
      s.odometry, s.next_frame_time, s.frames, s.yaw_unwrapped, s.last_yaw, s.start_yaw, s.crane,
-     s.magnet_on, s.held_object, s.rotunit_speed, s.rotunit_angle, s.cloud_start_angle,
-     s.next_scan_time, s.scans, s.clouds, s.noise_rng, s.ranges, s.imu, s.scan, s.cloud,
-     s.cloud_in_progress);
+     s.magnet_on, s.held_object, s.hold_magnet_at, s.hold_object_at, s.rotunit_speed,
+     s.rotunit_angle, s.cloud_start_angle, s.next_scan_time, s.scans, s.clouds, s.noise_rng,
+     s.ranges, s.imu, s.scan, s.cloud, s.cloud_in_progress);
 }
 
 std::vector<uint8_t> KurtRobot::save_state() const { return detail::to_bytes(state_); }
@@ -752,6 +774,15 @@ std::optional<std::string> KurtRobot::state_problem(const std::vector<uint8_t>& 
                       std::isfinite(r.crane.hoist) && std::isfinite(r.rotunit_speed) &&
                       std::isfinite(r.rotunit_angle);
   if (!finite) return std::string("a robot whose commands are not finite");
+  for (const auto* pose : {&r.hold_magnet_at, &r.hold_object_at}) {
+    double norm = 0;
+    for (std::size_t i = 3; i < 7; ++i) norm += (*pose)[i] * (*pose)[i];
+    for (double v : *pose) {
+      if (!std::isfinite(v) || std::abs(v) > 1e5)
+        return std::string("a hold that is not plausible");
+    }
+    if (norm != 0 && std::abs(norm - 1) > 1e-6) return std::string("a hold that is not plausible");
+  }
   return std::nullopt;
 }
 

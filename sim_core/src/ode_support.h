@@ -3,6 +3,8 @@
 
 #include <ode/ode.h>
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
 
 #include "macsim/sim_core/world_spec.h"
@@ -51,6 +53,28 @@ inline void set_body_pose(dBodyID body, const Pose& pose) {
 
 inline Pose body_pose(dBodyID body) {
   return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body))};
+}
+
+/// A body's pose as ODE holds it, bit for bit: x, y, z, then the quaternion w, x, y, z.
+using ExactPose = std::array<dReal, 7>;
+
+inline ExactPose exact_pose(dBodyID body) {
+  const dReal* p = dBodyGetPosition(body);
+  const dReal* q = dBodyGetQuaternion(body);
+  return {p[0], p[1], p[2], q[0], q[1], q[2], q[3]};
+}
+
+/// Puts a pose into a body bit for bit. ODE's setters renormalize the quaternion they are
+/// given, which moves one ODE normalized itself by an ulp or two; dBodyGetQuaternion and
+/// dBodyGetRotation return the body's own storage, so the quaternion is written there after
+/// the setter ran, and the rotation matrix made from it as ODE's step makes it (dQtoR).
+inline void set_exact_pose(dBodyID body, const ExactPose& pose) {
+  const dReal* q = pose.data() + 3;
+  dBodySetQuaternion(body, q);
+  auto* stored = const_cast<dReal*>(dBodyGetQuaternion(body));
+  std::copy(q, q + 4, stored);
+  dQtoR(stored, const_cast<dReal*>(dBodyGetRotation(body)));
+  dBodySetPosition(body, pose[0], pose[1], pose[2]);  // and the geoms are told they moved
 }
 
 }  // namespace macsim::detail

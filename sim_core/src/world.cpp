@@ -5,7 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdarg>
+#include <cstdint>
 #include <cstring>
+#include <map>
+#include <set>
 #include <unordered_set>
 
 #include "broad_phase.h"
@@ -47,47 +50,10 @@ BodyState body_state(dBodyID body) {
           vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)), dBodyIsEnabled(body) != 0};
 }
 
-namespace {
-/// Sets a body's quaternion so that ODE holds exactly `q`, bit for bit, when it can. ODE
-/// multiplies what it is given by 1/|q|, which moves a quaternion it normalized itself by an ulp
-/// or two, so q is given divided by a factor 1/|q'| may take near 1 (a few ulps either way).
-void set_exact_quaternion(dBodyID body, const Eigen::Quaterniond& orientation) {
-  dQuaternion q;
-  to_ode(orientation, q);
-  auto exact = [&] { return std::memcmp(dBodyGetQuaternion(body), q, sizeof q) == 0; };
-  dBodySetQuaternion(body, q);
-  if (exact()) return;
-  double down = 1.0, up = 1.0;
-  for (int k = 0; k < 8; ++k) {
-    down = std::nextafter(down, 0.0);
-    up = std::nextafter(up, 2.0);
-    for (const double factor : {down, up}) {
-      dQuaternion trial;
-      bool found = true;
-      for (int i = 0; i < 4 && found; ++i) {
-        const double guess = q[i] / factor;
-        found = false;
-        for (const double c :
-             {guess, std::nextafter(guess, -INFINITY), std::nextafter(guess, INFINITY)}) {
-          if (c * factor == q[i]) {
-            trial[i] = c;
-            found = true;
-            break;
-          }
-        }
-      }
-      if (!found) continue;
-      dBodySetQuaternion(body, trial);
-      if (exact()) return;
-    }
-  }
-  dBodySetQuaternion(body, q);  // none found: within ODE's renormalization of it (~1e-16)
-}
-}  // namespace
-
 void set_body_state(dBodyID body, const BodyState& s) {
-  dBodySetPosition(body, s.position.x(), s.position.y(), s.position.z());
-  set_exact_quaternion(body, s.orientation);
+  const auto& p = s.position;
+  const auto& q = s.orientation;
+  set_exact_pose(body, {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()});
   dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
   dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
   if (s.enabled) {
@@ -195,8 +161,9 @@ std::vector<dGeomID> World::collision_order() const {
   return order;
 }
 
-void World::build() {
+void World::build(const std::vector<int64_t>& body_order) {
   clear_ode();
+  body_order_.clear();
   world_ = dWorldCreate();
   const auto& g = spec_.physics.gravity;
   dWorldSetGravity(world_, g.x(), g.y(), g.z());
@@ -208,11 +175,11 @@ void World::build() {
   // at a walking pace instead of an explosion.
   dWorldSetContactMaxCorrectingVel(world_, 1.0);
   // Objects at rest sleep until something touches them: a room full of objects costs little.
+  // This world decides sleep (sleep_still_bodies, by ODE's rule), so that the still steps each
+  // body counted are part of the state: ODE keeps its own counts to itself. A body's
+  // auto-disable flag still says whether it may sleep; no samples means ODE never acts on it.
   dWorldSetAutoDisableFlag(world_, 1);
-  dWorldSetAutoDisableLinearThreshold(world_, 0.005);
-  dWorldSetAutoDisableAngularThreshold(world_, 0.01);
-  dWorldSetAutoDisableSteps(world_, 50);
-  dWorldSetAutoDisableTime(world_, 0);
+  dWorldSetAutoDisableAverageSamplesCount(world_, 0);
   // Each world gets its own threading implementation: ODE's shared default is not safe when
   // two worlds step at once (see the research notes).
   auto impl = dThreadingAllocateSelfThreadedImplementation();
@@ -229,24 +196,71 @@ void World::build() {
   dGeomSetData(ground_, ground_tag_.get());
 
   doors_view_.wire();
-  for (auto& object : objects_) build_object(*object);
-  for (auto& joint : joints_) build_joint(*joint);
-  int group = kRobotGroupBase;
-  for (const auto& robot : spec_.robots) {
-    const uint32_t seed = spec_.physics.seed + static_cast<uint32_t>(robots_.size());
-    robots_.push_back(build_robot(robot, {world_, space_, group, seed}));
-    // A plug-in knows nothing of the world's geom tags: its untagged geoms get its group. A
-    // robot is driven: its bodies never fall asleep (a sleeping body ignores its motors).
-    robot_tags_.push_back(std::make_unique<GeomTag>(GeomTag{group, 1.0, 0.0, 0.1, nullptr}));
-    for (dBodyID body : robots_.back()->bodies()) {
-      dBodySetAutoDisableFlag(body, 0);
-      for (dGeomID geom = dBodyGetFirstGeom(body); geom; geom = dBodyGetNextGeom(geom)) {
-        if (!dGeomGetData(geom)) dGeomSetData(geom, robot_tags_.back().get());
-      }
+  // Bodies in the order given (ODE's body list is that order reversed, and its islands follow
+  // it), then whatever the order does not name: objects in list order, then the robots.
+  std::map<int64_t, Object*> by_id;
+  for (auto& object : objects_) by_id[static_cast<int64_t>(object->id)] = object.get();
+  std::vector<int64_t> order;
+  std::set<int64_t> named;
+  for (int64_t token : body_order) {
+    const bool known =
+        token < 0 ? robot_of_token(token) < spec_.robots.size() : by_id.count(token) > 0;
+    if (known && named.insert(token).second) order.push_back(token);
+  }
+  for (auto& object : objects_) {
+    const auto token = static_cast<int64_t>(object->id);
+    if (!named.count(token)) order.push_back(token);
+  }
+  for (std::size_t i = 0; i < spec_.robots.size(); ++i) {
+    if (!named.count(robot_token(i))) order.push_back(robot_token(i));
+  }
+  // Robots are built in their list's order wherever the order puts them.
+  std::size_t next_robot = 0;
+  for (int64_t& token : order) {
+    if (token < 0) token = robot_token(next_robot++);
+  }
+  for (auto& object : objects_) {
+    if (!object->spec.portable) build_object(*object);  // no body: geoms only
+  }
+  // The joints as soon as the bodies of objects are all there (before the robots, as loaded).
+  std::size_t bodies_left = 0;
+  for (auto& object : objects_) bodies_left += object->spec.portable ? 1 : 0;
+  auto joints_when_ready = [&] {
+    if (bodies_left == 0) {
+      for (auto& joint : joints_) build_joint(*joint);
+      bodies_left = SIZE_MAX;
     }
-    --group;
+  };
+  joints_when_ready();
+  for (int64_t token : order) {
+    if (token >= 0) {
+      if (!by_id[token]->spec.portable) continue;
+      build_object(*by_id[token]);
+      --bodies_left;
+      joints_when_ready();
+    } else {
+      build_robot_at(robot_of_token(token));
+    }
   }
   refresh_bodies();
+}
+
+void World::build_robot_at(std::size_t index) {
+  const RobotSpec& robot = spec_.robots[index];
+  const int group = kRobotGroupBase - static_cast<int>(index);
+  const uint32_t seed = spec_.physics.seed + static_cast<uint32_t>(index);
+  robots_.push_back(
+      build_robot(robot, {world_, space_, group, seed, [this](dBodyID body) { wake(body); }}));
+  body_order_.push_back(robot_token(index));
+  // A plug-in knows nothing of the world's geom tags: its untagged geoms get its group. A
+  // robot is driven: its bodies never fall asleep (a sleeping body ignores its motors).
+  robot_tags_.push_back(std::make_unique<GeomTag>(GeomTag{group, 1.0, 0.0, 0.1, nullptr}));
+  for (dBodyID body : robots_.back()->bodies()) {
+    dBodySetAutoDisableFlag(body, 0);
+    for (dGeomID geom = dBodyGetFirstGeom(body); geom; geom = dBodyGetNextGeom(geom)) {
+      if (!dGeomGetData(geom)) dGeomSetData(geom, robot_tags_.back().get());
+    }
+  }
 }
 
 void World::refresh_bodies() {
@@ -265,13 +279,53 @@ void World::refresh_bodies() {
     }
   }
   last_good_.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) last_good_[i] = detail::body_state(bodies_[i]);
+  may_sleep_.resize(bodies_.size());
+  still_steps_left_.assign(bodies_.size(), kStillStepsToSleep);
+  body_index_.clear();
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    last_good_[i] = detail::body_state(bodies_[i]);
+    may_sleep_[i] = dBodyGetAutoDisableFlag(bodies_[i]) != 0;
+    body_index_[bodies_[i]] = i;
+  }
 }
 
 void World::structure_changed() {
   refresh_bodies();
   // Something appeared, vanished or moved: whatever slept on it must notice.
   for (dBodyID body : bodies_) dBodyEnable(body);
+}
+
+void World::wake(dBodyID body) {
+  dBodyEnable(body);
+  auto found = body_index_.find(body);
+  if (found != body_index_.end()) still_steps_left_[found->second] = kStillStepsToSleep;
+}
+
+std::size_t World::sleep_still_bodies() {
+  // ODE's rule (dInternalHandleAutoDisabling with one sample and no idle time), in the same
+  // arithmetic: a body moving slower than both thresholds counts a still step, a faster one
+  // starts again; at the count it sleeps with its velocities zeroed. A body touching nothing
+  // never sleeps in mid-air. ODE wakes a sleeper that an awake body touches in its step.
+  constexpr double kLinear = 0.005 * 0.005, kAngular = 0.01 * 0.01;  // (m/s)^2, (rad/s)^2
+  std::size_t awake = 0;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    dBodyID body = bodies_[i];
+    if (!dBodyIsEnabled(body)) continue;
+    ++awake;
+    if (!may_sleep_[i] || dBodyGetNumJoints(body) == 0) continue;
+    const dReal* v = dBodyGetLinearVel(body);
+    const dReal* w = dBodyGetAngularVel(body);
+    const bool still = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= kLinear &&
+                       w[0] * w[0] + w[1] * w[1] + w[2] * w[2] <= kAngular;
+    still_steps_left_[i] = still ? still_steps_left_[i] - 1 : kStillStepsToSleep;
+    if (still_steps_left_[i] <= 0) {
+      dBodyDisable(body);
+      dBodySetLinearVel(body, 0, 0, 0);
+      dBodySetAngularVel(body, 0, 0, 0);
+      --awake;
+    }
+  }
+  return awake;
 }
 
 void World::build_object(Object& o) {
@@ -327,8 +381,21 @@ void World::build_object(Object& o) {
     o.geoms.push_back(geom);
   }
 
+  if (!s.portable && o.body) {  // kept by destroy_ode_object, but no longer portable
+    dBodyDestroy(o.body);
+    body_order_.erase(
+        std::find(body_order_.begin(), body_order_.end(), static_cast<int64_t>(o.id)));
+    o.body = nullptr;
+  }
   if (s.portable) {
-    o.body = dBodyCreate(world_);
+    if (o.body) {  // kept: the same place in ODE's order, as if made anew
+      dBodySetDynamic(o.body);
+      dBodySetForce(o.body, 0, 0, 0);
+      dBodySetTorque(o.body, 0, 0, 0);
+    } else {
+      o.body = dBodyCreate(world_);
+      body_order_.push_back(static_cast<int64_t>(o.id));
+    }
     dMassTranslate(&total, -o.com.x(), -o.com.y(), -o.com.z());
     dBodySetMass(o.body, &total);
     detail::set_body_pose(o.body, s.pose * Pose{o.com, Eigen::Quaterniond::Identity()});
@@ -353,14 +420,19 @@ void World::build_object(Object& o) {
   }
 }
 
-void World::destroy_ode_object(Object& o) {
+void World::destroy_ode_object(Object& o, bool keep_body) {
   geoms_changed_ = true;
   for (auto& robot : robots_) {
     if (o.body) robot->forget_body(o.body);
   }
   for (dGeomID g : o.geoms) dGeomDestroy(g);
   o.geoms.clear();
-  if (o.body) dBodyDestroy(o.body);
+  if (o.body && keep_body) return;
+  if (o.body) {
+    dBodyDestroy(o.body);
+    const auto token = static_cast<int64_t>(o.id);
+    body_order_.erase(std::find(body_order_.begin(), body_order_.end(), token));
+  }
   o.body = nullptr;
 }
 
@@ -606,6 +678,7 @@ bool World::check_stability() {
     back.linear_velocity.setZero();
     back.angular_velocity.setZero();
     detail::set_body_state(bodies_[i], back);
+    still_steps_left_[i] = kStillStepsToSleep;  // woken
     emit(WorldEvent::Type::Instability, body_names_[i],
          "a body went unstable (non-finite or implausible state); put back at rest");
     stable = false;
@@ -640,6 +713,7 @@ bool World::step() {
     // QuickStep reorders constraints with ODE's one global random generator: give it this
     // world's own state, so worlds in one process never disturb each other's runs.
     dRandSetSeed(random_seed_);
+    sleep_still_bodies();
     dWorldQuickStep(world_, spec_.physics.step);
     solved = Clock::now();
   } catch (const detail::OdeError& e) {

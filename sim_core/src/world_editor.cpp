@@ -246,7 +246,7 @@ void WorldEditor::rebuild_object(detail::ObjectRecord& o, const ObjectSpec& spec
       attached.push_back(j.get());
     }
   }
-  world_.destroy_ode_object(o);
+  world_.destroy_ode_object(o, true);  // changed in place: it keeps its place in ODE's order
   o.spec = spec;
   if (attached.empty()) {
     o.spec.pose = state.pose;  // a jointed body keeps its joint's zero as its reference pose
@@ -476,7 +476,7 @@ Status WorldEditor::dynamic_body(ObjectId id, const Eigen::Vector3d& value, cons
   if (auto p = bounds::magnitude_problem(value, max, what)) return detail::invalid_argument(*p);
   if (Status s = world_.objects_view_.free_body(id, what); !s.ok()) return s;
   body = o->body;
-  dBodyEnable(body);  // wake it: it is about to move
+  world_.wake(body);  // it is about to move
   return {};
 }
 
@@ -523,7 +523,7 @@ Status WorldEditor::set_frozen(ObjectId id, bool frozen) {
     dBodySetKinematic(o.body);
   } else {
     dBodySetDynamic(o.body);
-    dBodyEnable(o.body);
+    world_.wake(o.body);
   }
   return {};
 }

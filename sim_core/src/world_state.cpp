@@ -54,12 +54,13 @@ void archive(Ar& ar, DoorFlags& f) {
 }
 template <class Ar>
 void archive(Ar& ar, BodyState& b) {
-  ar(b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.enabled);
+  ar(b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.enabled,
+     b.still_steps_left);
 }
 template <class Ar>
 void archive(Ar& ar, WorldState& s) {
   ar(s.steps, s.random_seed, s.next_id, s.objects, s.joints, s.doors, s.door_flags, s.bodies,
-     s.robots);
+     s.robots, s.body_order);
 }
 template <class Ar>
 void archive(Ar& ar, PhysicsSpec& p) {
@@ -116,8 +117,12 @@ WorldState World::state() const {
     s.doors.push_back(d->spec);
     s.door_flags.push_back(d->flags);
   }
-  for (dBodyID body : bodies_) s.bodies.push_back(detail::body_state(body));
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    s.bodies.push_back(detail::body_state(bodies_[i]));
+    s.bodies.back().still_steps_left = still_steps_left_[i];
+  }
   for (const auto& r : robots_) s.robots.push_back(r->save_state());
+  s.body_order = body_order_;
   return s;
 }
 
@@ -140,24 +145,30 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
   for (const auto& [id, spec] : s.objects) add_object_record(id, spec);
   for (const auto& spec : s.joints) add_joint_record(spec);
   for (std::size_t i = 0; i < s.doors.size(); ++i) doors_view_.add(s.doors[i], s.door_flags[i]);
-  build();  // bodies at their reference poses: joints take their zero there
+  build(s.body_order);  // bodies at their reference poses: joints take their zero there
+  // Bodies rebuilt fresh (a reset's) start their still steps anew, as loading left them.
+  std::vector<int32_t> still_steps_left;
   std::size_t body = 0;
   for (const auto& [id, spec] : s.objects) {
     if (!spec.portable) continue;
-    if (std::find(fresh.begin(), fresh.end(), id) == fresh.end()) {
-      detail::set_body_state(find(id)->body, s.bodies[body]);
-    }
+    const bool kept = std::find(fresh.begin(), fresh.end(), id) == fresh.end();
+    if (kept) detail::set_body_state(find(id)->body, s.bodies[body]);
+    still_steps_left.push_back(kept ? s.bodies[body].still_steps_left : kStillStepsToSleep);
     ++body;
   }
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     if (fresh_robots) continue;
-    for (dBodyID b : robots_[i]->bodies()) detail::set_body_state(b, s.bodies[body++]);
+    for (dBodyID b : robots_[i]->bodies()) {
+      still_steps_left.push_back(s.bodies[body].still_steps_left);
+      detail::set_body_state(b, s.bodies[body++]);
+    }
     robots_[i]->load_state(s.robots[i], [this](const std::string& object) -> dBodyID {
       const auto id = objects_view_.find_object(object);
       return id ? find(*id)->body : nullptr;
     });
   }
   refresh_bodies();
+  std::copy(still_steps_left.begin(), still_steps_left.end(), still_steps_left_.begin());
   steps_ = s.steps;
   next_id_ = s.next_id;
   random_seed_ = s.random_seed;

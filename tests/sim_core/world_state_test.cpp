@@ -3,9 +3,11 @@
 #include <xxhash.h>
 
 #include <functional>
+#include <string>
+#include <vector>
 
-#include "support/world_helpers.h"
 #include "macsim/sim_core/kurt_robot.h"
+#include "support/world_helpers.h"
 
 namespace macsim::test {
 namespace {
@@ -182,16 +184,18 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
               ErrorCode::InvalidArgument);
     EXPECT_EQ(world.state_hash(), before);
   }
-  WorldSnapshot bad_flag =
-      snapshot;  // the last body's sleep flag is its last byte before the robots
+  // The last body's sleep flag: before its still steps (4 bytes), the robots and the body
+  // order (empty here: their counts, 8 bytes each).
+  WorldSnapshot bad_flag = snapshot;
   const WorldState decoded = deserialize(bad_flag.bytes);
-  const std::size_t before_robots = [&] {
-    WorldState no_robots = decoded;
-    no_robots.robots.clear();
-    return serialize(no_robots).size() - sizeof(uint64_t);  // less the robots' count
+  const std::size_t flag = [&] {
+    WorldState cut = decoded;
+    cut.robots.clear();
+    cut.body_order.clear();
+    return serialize(cut).size() - 2 * sizeof(uint64_t) - sizeof(int32_t) - 1;
   }();
-  ASSERT_EQ(bad_flag.bytes[before_robots - 1], decoded.bodies.back().enabled ? 1 : 0);
-  bad_flag.bytes[before_robots - 1] = 2;
+  ASSERT_EQ(bad_flag.bytes[flag], decoded.bodies.back().enabled ? 1 : 0);
+  bad_flag.bytes[flag] = 2;
   EXPECT_EQ(world.restore(bad_flag).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(world.state_hash(), hash);
 }
@@ -231,25 +235,10 @@ TEST(WorldState, RestoringASnapshotPutsEverythingBack) {
   }());
   EXPECT_FALSE(world.objects().find_object("environment_01/box_yellow").has_value());
   EXPECT_TRUE(world.doors().door_state(0).value.virtually_triggered);
-  const WorldState restored = world.state();
-  ASSERT_EQ(restored.bodies.size(), snapshot.bodies.size());
-  for (std::size_t i = 0; i < restored.bodies.size(); ++i) {
-    // Positions and velocities exactly; orientations to ODE's quaternion renormalization.
-    EXPECT_EQ(restored.bodies[i].position, snapshot.bodies[i].position) << i;
-    EXPECT_EQ(restored.bodies[i].linear_velocity, snapshot.bodies[i].linear_velocity) << i;
-    EXPECT_TRUE(restored.bodies[i].orientation.coeffs().isApprox(
-        snapshot.bodies[i].orientation.coeffs(), 1e-15))
-        << i;
-  }
-  // The continuation follows the first run physically; it is not bit-identical, as ODE
-  // renormalizes the quaternions it is given and keeps its sleep counters to itself.
+  EXPECT_EQ(serialize(world.state()), saved.bytes);  // every body bit for bit
+  // The continuation is the first run, bit for bit.
   trial(world, 1.0);
-  const WorldState after_second_run = world.state();
-  for (std::size_t i = 0; i < after_first_run.bodies.size(); ++i) {
-    EXPECT_LT((after_second_run.bodies[i].position - after_first_run.bodies[i].position).norm(),
-              0.01)
-        << i;
-  }
+  EXPECT_EQ(serialize(world.state()), serialize(after_first_run));
 }
 
 TEST(WorldState, ResetEverythingGivesTheLoadedWorldBack) {
@@ -309,6 +298,158 @@ TEST(WorldState, ASnapshotOfAnotherWorldIsRefused) {
                                      "two.xml"));
   EXPECT_EQ(demo.restore(two_robots.snapshot()).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(demo.objects().object_count(), 24);  // untouched
+}
+
+// ---- restore continues bit for bit -----------------------------------------------------------
+
+/// What a continuation does before each of its steps (the same in both runs).
+using Act = std::function<void(World&, int)>;
+
+/// Snapshot at the current step; `steps` steps; restore; the same steps again: the state hash
+/// after the restore is the one at the save, and after every step the one of the first run.
+void expect_restore_continues(World& world, int steps, const Act& act) {
+  const WorldSnapshot saved = world.snapshot();
+  const uint64_t at_save = world.state_hash();
+  std::vector<uint64_t> first;
+  for (int i = 0; i < steps; ++i) {
+    act(world, i);
+    world.step();
+    first.push_back(world.state_hash());
+  }
+  ASSERT_TRUE(world.restore(saved).ok());
+  ASSERT_EQ(world.state_hash(), at_save) << "right after the restore";
+  for (int i = 0; i < steps; ++i) {
+    act(world, i);
+    world.step();
+    ASSERT_EQ(world.state_hash(), first[i]) << "step " << i + 1 << " after the restore";
+  }
+}
+
+/// Sends a twist every 0.1 s, as a controller does.
+Act twist_every_tenth(const std::string& robot, double linear, double angular) {
+  return [=](World& world, int i) {
+    if (i % 10 == 0) world.robot(robot)->execute(robot::Twist{linear, angular}, world.time());
+  };
+}
+
+/// A pile of boxes, `side` x `side` x `layers`, touching, on the floor in front of x = `x`.
+void add_pile(World& world, double x, int side, int layers) {
+  for (int z = 0; z < layers; ++z)
+    for (int i = 0; i < side; ++i)
+      for (int j = 0; j < side; ++j) {
+        auto box = primitive(Shape::Box, {0.1, 0.1, 0.1},
+                             {x + 0.1 * i, -0.1 * (side - 1) / 2 + 0.1 * j, 0.05 + 0.1 * z});
+        box.name = "pile_" + std::to_string(z) + "_" + std::to_string(i) + "_" + std::to_string(j);
+        ASSERT_TRUE(world.edit().create_object(box).ok());
+      }
+}
+
+/// How many of the world's bodies sleep.
+int asleep(const World& world) {
+  int n = 0;
+  for (const auto& b : world.state().bodies) n += b.enabled ? 0 : 1;
+  return n;
+}
+
+TEST(RestoreContinues, TheKurt3dDrivingAtAnyStep) {
+  World world(shipped_world("small_room.xml"));
+  const Act act = twist_every_tenth("kurt", 0.3, 0.2);
+  for (int i = 0; i < 500; ++i) {
+    act(world, i);
+    world.step();
+  }
+  for (int round = 0; round < 3; ++round) {  // saved at step 500, then at later steps
+    expect_restore_continues(world, 97, act);
+    for (int i = 0; i < 41; ++i) {
+      act(world, i);
+      world.step();
+    }
+  }
+}
+
+TEST(RestoreContinues, TheRoverDriving) {
+  World world(load_world_string(R"(<WORLD><ROBOT><ID>rover</ID><TYPE>diff_drive</TYPE>
+      <POS>0,0,0</POS></ROBOT></WORLD>)",
+                                "rover.xml"));
+  const Act act = twist_every_tenth("rover", 0.3, -0.4);
+  for (int i = 0; i < 500; ++i) {
+    act(world, i);
+    world.step();
+  }
+  expect_restore_continues(world, 300, act);
+}
+
+TEST(RestoreContinues, APileAsleepWokenAndFallingAsleepAgain) {
+  World world(load_world_string("<WORLD></WORLD>", "pile.xml"));
+  add_pile(world, 1.0, 3, 3);
+  run_for(world, 3.0);
+  ASSERT_EQ(asleep(world), 27);
+  // A push wakes the pile; it settles and falls asleep again within the run.
+  const ObjectId pushed = id_of(world, "pile_2_0_1");
+  expect_restore_continues(world, 1200, [&](World& w, int i) {
+    if (i == 20) w.edit().add_force(pushed, {40, 0, 0});
+  });
+  EXPECT_EQ(asleep(world), 27);
+}
+
+TEST(RestoreContinues, TheRobotPushingIntoAPileOfSleepers) {
+  World world(load_world_string(R"(<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE>
+      <POS>0,0,0</POS></ROBOT></WORLD>)",
+                                "push.xml"));
+  add_pile(world, 0.9, 3, 2);
+  run_for(world, 2.0);
+  ASSERT_EQ(asleep(world), 18);
+  const Act act = twist_every_tenth("kurt", 0.3, 0.0);
+  for (int i = 0; i < 1500; ++i) {  // on its way: saved just before it meets the pile
+    act(world, i);
+    world.step();
+  }
+  expect_restore_continues(world, 1500, act);
+  EXPECT_LT(asleep(world), 18);  // it woke some
+}
+
+TEST(RestoreContinues, ACanHeldByTheMagnet) {
+  World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
+                                "crane.xml"));
+  ObjectSpec can;
+  can.name = "can";
+  can.components = {
+      {Shape::Cylinder, {0.033, 0, 0.115}, at(0, 0, 0.0575), {0.8f, 0.1f, 0.1f, 1.0f}, ""},
+      {Shape::Sphere, {0.02, 0, 0}, at(0, 0, 0.115), {0.8f, 0.8f, 0.8f, 1.0f}, ""}};
+  can.pose.position = {0.55, 0.0, 0.0};  // under the magnet
+  can.density = 190;
+  can.magnetizable = true;
+  ASSERT_TRUE(world.edit().create_object(can).ok());
+  RobotModel& kurt = *world.robot("kurt");
+  run_for(world, 0.5);
+  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.2}, world.time());
+  run_for(world, 2.0);
+  kurt.execute(robot::MagnetSwitch{true}, world.time());
+  run_for(world, 0.2);
+  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.0}, world.time());
+  run_for(world, 1.0);  // hoisting: saved with the can held and moving
+  expect_restore_continues(world, 300, [](World& w, int i) {
+    if (i == 100) w.robot("kurt")->execute(robot::CraneTarget{0.5, 0.0, 0.0}, w.time());
+    if (i == 250) w.robot("kurt")->execute(robot::Twist{0.2, 0.3}, w.time());
+  });
+  EXPECT_GT(world.objects().object_state(id_of(world, "can")).value.pose.position.z(), 0.1);
+}
+
+TEST(RestoreContinues, TheDemonstratorsDoorsRampsAndObjects) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  trial(world, 1.0);
+  // The trial's second second (the door opening, the ball pushed, the arc) continued twice.
+  const WorldSnapshot saved = world.snapshot();
+  std::vector<uint64_t> first;
+  for (int i = 0; i < 10; ++i) {
+    trial(world, 0.1);
+    first.push_back(world.state_hash());
+  }
+  ASSERT_TRUE(world.restore(saved).ok());
+  for (int i = 0; i < 10; ++i) {
+    trial(world, 0.1);
+    ASSERT_EQ(world.state_hash(), first[i]) << i;
+  }
 }
 
 }  // namespace

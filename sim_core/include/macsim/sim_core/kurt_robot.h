@@ -109,6 +109,9 @@ class KurtRobot final : public RobotModel {
     CraneCommand crane{};
     bool magnet_on = false;
     std::string held_object;
+    /// The magnet's and the held body's poses when it took hold (x y z, qw qx qy qz, as ODE
+    /// held them): a restore makes the hold again from them, bit for bit.
+    std::array<double, 7> hold_magnet_at{}, hold_object_at{};
     // laser on its rotating unit
     double rotunit_speed = 0.0;  ///< rad/s, as quantized by the command
     double rotunit_angle = 0.0;  ///< rad, continuous
@@ -213,6 +216,7 @@ class KurtRobot final : public RobotModel {
 
   KurtConfig config_;
   dxWorld* world_;
+  std::function<void(dxBody*)> wake_;  // the world's (RobotBuild::wake)
   dxSpace* space_;
   dxBody* chassis_ = nullptr;
   std::array<dxBody*, 6> wheels_{};  // left front, left middle, left rear, right ...

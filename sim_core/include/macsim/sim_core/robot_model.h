@@ -33,6 +33,9 @@ struct RobotBuild {
   dxSpace* space = nullptr;
   int collision_group = 0;
   uint32_t noise_seed = 1;
+  /// Wakes a body of the world (its count of still steps starts again); a robot that takes
+  /// hold of a body calls it instead of dBodyEnable, since the world decides sleep.
+  std::function<void(dxBody*)> wake;
 };
 
 /// What a reader has taken of a robot's readings so far (RobotModel::read), counted in frames,

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "macsim/sim_core/data_roots.h"
@@ -389,7 +390,13 @@ class World {
   // The one factory of each object's and joint's record (a door's: WorldDoors::add).
   Object& add_object_record(ObjectId id, ObjectSpec spec);
   Joint& add_joint_record(JointSpec spec);
-  void build();
+  /// Builds ODE from the records, the bodies in `body_order` (WorldState::body_order).
+  void build(const std::vector<int64_t>& body_order = {});
+  /// Builds the robot of that index in the spec.
+  void build_robot_at(std::size_t index);
+  /// A robot's token in body_order_, and back.
+  static int64_t robot_token(std::size_t index) { return -1 - static_cast<int64_t>(index); }
+  static std::size_t robot_of_token(int64_t token) { return static_cast<std::size_t>(-1 - token); }
   /// Rebuilds ODE from a snapshot's description; bodies of `fresh` objects (and the robots,
   /// if `fresh_robots`) stay as built, at rest at their reference poses.
   void rebuild(const WorldState& state, const std::vector<ObjectId>& fresh, bool fresh_robots);
@@ -397,9 +404,17 @@ class World {
   uint64_t world_fingerprint() const;
   /// After a supervisor change: refresh the body list and wake every sleeping body.
   void structure_changed();
+  /// Wakes a body: it counts its still steps anew (ODE's dBodyEnable, and the count).
+  void wake(dxBody* body);
+  /// Puts to sleep the bodies that may sleep, touch something and stayed still for
+  /// kStillStepsToSleep steps (ODE's own rule, ODE's auto-disable off); how many are awake.
+  std::size_t sleep_still_bodies();
   void clear_ode();
+  /// Makes an object's body (or takes the one kept for it) and geoms.
   void build_object(Object& object);
-  void destroy_ode_object(Object& object);
+  /// Destroys an object's geoms and body; `keep_body`: the body stays for build_object to take
+  /// again, keeping its place in ODE's order (an object changed in place).
+  void destroy_ode_object(Object& object, bool keep_body = false);
   void build_joint(Joint& joint);
   Object* find(ObjectId id) const;
   Joint* joint_named(const std::string& name);
@@ -427,6 +442,13 @@ class World {
   std::vector<dxBody*> bodies_;                               // every body, for the stability check
   std::vector<std::string> body_names_;                       // owner of each body, for reports
   std::vector<BodyState> last_good_;
+  // Sleep, decided here so that it is part of the state: per body, whether it may sleep and
+  // the still steps it has left.
+  static constexpr int32_t kStillStepsToSleep = 50;
+  std::vector<uint8_t> may_sleep_;
+  std::vector<int32_t> still_steps_left_;
+  std::unordered_map<dxBody*, std::size_t> body_index_;
+  std::vector<int64_t> body_order_;  // the order the bodies were made in (WorldState::body_order)
   std::string fault_;  // ODE's error inside a step: the world steps no more
   std::vector<WorldEvent> events_;
   std::shared_ptr<const DataRoots> files_ = DataRoots::anywhere();

@@ -19,7 +19,9 @@ struct BodyState {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
-  bool enabled = true;  ///< false while ODE lets it sleep at rest
+  bool enabled = true;  ///< false while it sleeps at rest
+  /// Still steps it may take before it falls asleep (World decides sleep: World::step).
+  int32_t still_steps_left = 50;
 };
 
 /// How far a door is open (the seed's DoorGapAmount).
@@ -43,6 +45,9 @@ struct WorldState {
   std::vector<DoorFlags> door_flags;     ///< one per door
   std::vector<BodyState> bodies;         ///< portable objects' then robots' bodies
   std::vector<std::vector<uint8_t>> robots;  ///< each robot's own state (RobotModel::save_state)
+  /// The order the bodies were made in, which ODE's solver follows: object ids, and robots as
+  /// -1 - their index. A restore makes them in this order again.
+  std::vector<int64_t> body_order;
 };
 
 /// A world's complete state, serialised, marked with the world it belongs to.
