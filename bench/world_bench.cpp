@@ -119,6 +119,8 @@ int main(int argc, char** argv) {
     ode_floor[n] = macsim::bench::sleeping_bodies_rate(n, world.step_size());
     std::printf("step_rate.ode_sleeping_bodies_%d %.1f steps/s\n", n, ode_floor[n]);
   }
+  // The world asleep against ODE's bare world of the same bodies asleep, per step (goal: 1.10).
+  std::printf("asleep_20000.sim_core_over_ode %.3f\n", ode_floor[20000] / resting[20000]);
   std::printf("scale.resting_boxes_20000_over_5000 %.3f x (linear: 0.25)\n",
               resting[20000] / resting[5000]);
   std::printf("scale.resting_boxes_20000_over_5000.first_half_second %.3f x (linear: 0.25)\n",
