@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "drive_command.h"
 #include "ode_support.h"
 #include "ray_caster.h"
 #include "robot_readings.h"
@@ -114,15 +115,7 @@ std::vector<dBodyID> DiffDriveRobot::bodies() const { return {chassis_, wheels_[
 // ---- commands and stepping ------------------------------------------------------------------
 
 bool DiffDriveRobot::execute(const robot::RobotCommand& command, double now) {
-  if (const auto* t = command.as<robot::Twist>()) {
-    command_twist(t->linear, t->angular, now);
-    return true;
-  }
-  if (const auto* w = command.as<robot::WheelSpeedCommand>()) {
-    command_wheel_speeds({w->left, w->right}, now);
-    return true;
-  }
-  return false;
+  return detail::execute_drive(*this, command, now);
 }
 
 void DiffDriveRobot::command_twist(double linear, double angular, double now) {

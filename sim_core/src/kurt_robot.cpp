@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 
+#include "drive_command.h"
 #include "ode_support.h"
 #include "ray_caster.h"
 #include "robot_readings.h"
@@ -238,14 +239,7 @@ std::vector<dBodyID> KurtRobot::bodies() const {
 // ---- commands ----------------------------------------------------------------------------
 
 bool KurtRobot::execute(const robot::RobotCommand& command, double now) {
-  if (const auto* t = command.as<robot::Twist>()) {
-    command_twist(t->linear, t->angular, now);
-    return true;
-  }
-  if (const auto* w = command.as<robot::WheelSpeedCommand>()) {
-    command_wheel_speeds({w->left, w->right}, now);
-    return true;
-  }
+  if (detail::execute_drive(*this, command, now)) return true;
   if (const auto* r = command.as<robot::RotunitSpeed>()) {
     return config_.laser == LaserMount::Rotating && command_rotunit(r->speed);
   }

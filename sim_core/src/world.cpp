@@ -197,49 +197,36 @@ void World::build(const std::vector<int64_t>& body_order) {
 
   doors_view_.wire();
   // Bodies in the order given (ODE's body list is that order reversed, and its islands follow
-  // it), then whatever the order does not name: objects in list order, then the robots.
+  // it; restore() checked it), else as loaded: objects in list order, then the robots.
   std::map<int64_t, Object*> by_id;
-  for (auto& object : objects_) by_id[static_cast<int64_t>(object->id)] = object.get();
-  std::vector<int64_t> order;
-  std::set<int64_t> named;
-  for (int64_t token : body_order) {
-    const bool known =
-        token < 0 ? robot_of_token(token) < spec_.robots.size() : by_id.count(token) > 0;
-    if (known && named.insert(token).second) order.push_back(token);
-  }
   for (auto& object : objects_) {
-    const auto token = static_cast<int64_t>(object->id);
-    if (!named.count(token)) order.push_back(token);
-  }
-  for (std::size_t i = 0; i < spec_.robots.size(); ++i) {
-    if (!named.count(robot_token(i))) order.push_back(robot_token(i));
-  }
-  // Robots are built in their list's order wherever the order puts them.
-  std::size_t next_robot = 0;
-  for (int64_t& token : order) {
-    if (token < 0) token = robot_token(next_robot++);
-  }
-  for (auto& object : objects_) {
-    if (!object->spec.portable) build_object(*object);  // no body: geoms only
-  }
-  // The joints as soon as the bodies of objects are all there (before the robots, as loaded).
-  std::size_t bodies_left = 0;
-  for (auto& object : objects_) bodies_left += object->spec.portable ? 1 : 0;
-  auto joints_when_ready = [&] {
-    if (bodies_left == 0) {
-      for (auto& joint : joints_) build_joint(*joint);
-      bodies_left = SIZE_MAX;
-    }
-  };
-  joints_when_ready();
-  for (int64_t token : order) {
-    if (token >= 0) {
-      if (!by_id[token]->spec.portable) continue;
-      build_object(*by_id[token]);
-      --bodies_left;
-      joints_when_ready();
+    if (object->spec.portable) {
+      by_id[static_cast<int64_t>(object->id)] = object.get();
     } else {
-      build_robot_at(robot_of_token(token));
+      build_object(*object);  // no body: geoms only
+    }
+  }
+  std::vector<int64_t> order = body_order;
+  if (order.empty()) {
+    for (auto& object : objects_) {
+      if (object->spec.portable) order.push_back(static_cast<int64_t>(object->id));
+    }
+    for (std::size_t i = 0; i < spec_.robots.size(); ++i) order.push_back(robot_token(i));
+  }
+  // The joints once the objects' bodies are all there (before the robots, as loaded).
+  const auto last_object =
+      std::find_if(order.rbegin(), order.rend(), [](int64_t t) { return t >= 0; });
+  if (last_object == order.rend()) {
+    for (auto& joint : joints_) build_joint(*joint);
+  }
+  for (auto token = order.begin(); token != order.end(); ++token) {
+    if (*token < 0) {
+      build_robot_at(robot_of_token(*token));
+      continue;
+    }
+    build_object(*by_id.at(*token));
+    if (token == last_object.base() - 1) {
+      for (auto& joint : joints_) build_joint(*joint);
     }
   }
   refresh_bodies();
@@ -381,12 +368,6 @@ void World::build_object(Object& o) {
     o.geoms.push_back(geom);
   }
 
-  if (!s.portable && o.body) {  // kept by destroy_ode_object, but no longer portable
-    dBodyDestroy(o.body);
-    body_order_.erase(
-        std::find(body_order_.begin(), body_order_.end(), static_cast<int64_t>(o.id)));
-    o.body = nullptr;
-  }
   if (s.portable) {
     if (o.body) {  // kept: the same place in ODE's order, as if made anew
       dBodySetDynamic(o.body);

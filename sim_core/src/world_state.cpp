@@ -204,6 +204,28 @@ std::optional<std::string> state_problem(const WorldState& s) {
   }
   return std::nullopt;
 }
+
+/// Whether the body order names each portable object and each of `robots` robots once, the
+/// robots in their own order.
+bool body_order_fits(const WorldState& s, std::size_t robots) {
+  std::vector<int64_t> portable, named;
+  for (const auto& [id, o] : s.objects) {
+    if (o.portable) portable.push_back(id);
+  }
+  int64_t next_robot = -1;
+  for (int64_t token : s.body_order) {
+    if (token >= 0) {
+      named.push_back(token);
+    } else if (token == next_robot) {
+      --next_robot;
+    } else {
+      return false;
+    }
+  }
+  std::sort(portable.begin(), portable.end());
+  std::sort(named.begin(), named.end());
+  return static_cast<std::size_t>(-1 - next_robot) == robots && named == portable;
+}
 }  // namespace
 
 Status World::restore(const WorldSnapshot& snapshot) {
@@ -222,6 +244,11 @@ Status World::restore(const WorldSnapshot& snapshot) {
   }
   if (s.robots.size() != robots_.size()) {
     return Status::error(ErrorCode::InvalidArgument, "the snapshot's parts do not fit this world");
+  }
+  if (!body_order_fits(s, robots_.size())) {
+    return Status::error(ErrorCode::InvalidArgument,
+                         "cannot restore a damaged snapshot: its body order does not name each "
+                         "object's body and each robot once");
   }
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     if (auto p = robots_[i]->state_problem(s.robots[i])) {

@@ -171,6 +171,15 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
             ErrorCode::InvalidArgument);
   EXPECT_EQ(damaged([](WorldState& s) { s.door_flags[0].gap = static_cast<DoorGap>(9); }).code,
             ErrorCode::InvalidArgument);
+  // A body order that names a body twice, misses one, or names a robot that is not there.
+  for (const auto& change : std::vector<std::function<void(WorldState&)>>{
+           [](WorldState& s) { s.body_order.push_back(s.body_order.front()); },
+           [](WorldState& s) { s.body_order.erase(s.body_order.begin()); },
+           [](WorldState& s) { s.body_order.push_back(-2); }}) {
+    const Status status = damaged(change);
+    EXPECT_EQ(status.code, ErrorCode::InvalidArgument);
+    EXPECT_NE(status.message.find("body order"), std::string::npos) << status.message;
+  }
   {  // a robot's part: its own bytes, with a crane target that is not finite
     KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
     const KurtRobot::State good = kurt.state();
