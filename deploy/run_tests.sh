@@ -46,7 +46,7 @@ else
      --timeout 300 "${ctest_args[@]}") || ctest_status=$?
   status=$ctest_status
   # The fuzzers, a short run each from the seeds and the committed corpus (tests/fuzz/README.md):
-  # the three side by side for 30 s, about 20 s of a core each.
+  # the four side by side for 30 s, about 15 s of a core each.
   macsim_phase fuzz
   if wait "$fuzz_build"; then
     "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --no-build "${MACSIM_FUZZ_SECONDS:-30}" ||

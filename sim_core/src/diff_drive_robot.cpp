@@ -294,6 +294,14 @@ std::optional<std::string> DiffDriveRobot::state_problem(const std::vector<uint8
       !std::isfinite(s.odometry.yaw)) {
     return std::string("a robot whose commands or odometry are not finite");
   }
+  if (!detail::all_plausible({s.wheel_angle[0], s.wheel_angle[1], s.last_hinge_angle[0],
+                              s.last_hinge_angle[1], s.odometry_angle[0], s.odometry_angle[1],
+                              s.next_odometry_time, s.next_scan_time, s.last_command_time})) {
+    return std::string("a robot whose angles or times are not plausible");
+  }
+  if (!detail::plausible_generator(s.noise_rng)) {
+    return std::string("a robot whose noise generator cannot run");
+  }
   return std::nullopt;
 }
 

@@ -768,6 +768,15 @@ std::optional<std::string> KurtRobot::state_problem(const std::vector<uint8_t>& 
                       std::isfinite(r.crane.hoist) && std::isfinite(r.rotunit_speed) &&
                       std::isfinite(r.rotunit_angle);
   if (!finite) return std::string("a robot whose commands are not finite");
+  if (!detail::all_plausible({r.encoder_angle[0], r.encoder_angle[1], r.last_hinge_angle[0],
+                              r.last_hinge_angle[1], r.yaw_unwrapped, r.last_yaw, r.start_yaw,
+                              r.rotunit_angle, r.cloud_start_angle, r.next_frame_time,
+                              r.next_scan_time, r.last_command_time})) {
+    return std::string("a robot whose angles or times are not plausible");
+  }
+  if (!detail::plausible_generator(r.noise_rng)) {
+    return std::string("a robot whose noise generator cannot run");
+  }
   for (const auto* pose : {&r.hold_magnet_at, &r.hold_object_at}) {
     double norm = 0;
     for (std::size_t i = 3; i < 7; ++i) norm += (*pose)[i] * (*pose)[i];

@@ -25,6 +25,9 @@ namespace macsim {
 //   overlaps parted|kept                 objects started inside each other: moved apart on load
 //                                        or kept (version 2; a version 1 file reads as kept)
 //   c <step> <source> <operation> <target> <values> <message>   a command, before step+1
+//   k <first> <last>                     keep_robot_commands before each step first+1..last+1:
+//                                        what a step request holding the robots' commands runs
+//                                        once a step, as one record (version 3)
 //   h <step> <hash>                      the state hash after `step` steps (16 hex digits)
 //   end <steps> <commands> <hashes>      the closing line: counts of what came before
 // Text fields are percent-encoded; an empty one is "-". Values are %.17g numbers joined by ",";
@@ -116,6 +119,46 @@ std::string hash_line(uint64_t step, uint64_t hash) {
   return text;
 }
 
+}  // namespace
+
+namespace detail {
+/// A step request that holds the robots' commands runs keep_robot_commands once a step; a run
+/// of them at consecutive steps is written as one record (k), so that a file grows with what
+/// happened, not with the steps taken.
+struct KeepRun {
+  bool open = false;
+  uint64_t first = 0, last = 0;
+
+  static bool is_keep(const Command& c) {
+    return c.source == CommandSource::Simulation && c.operation == "keep_robot_commands" &&
+           c.target.empty() && !c.robot && c.message.empty();
+  }
+  /// The run's record, if one is open; closes it.
+  std::string close() {
+    if (!open) return {};
+    open = false;
+    return "k " + std::to_string(first) + " " + std::to_string(last) + "\n";
+  }
+  /// The text a command adds to the file: nothing while it extends the run.
+  std::string add(uint64_t step, const Command& c) {
+    if (!is_keep(c)) return close() + command_line(step, c);
+    if (open && step == last + 1) {
+      last = step;
+      return {};
+    }
+    std::string before = close();
+    *this = {true, step, step};
+    return before;
+  }
+};
+}  // namespace detail
+
+namespace {
+using detail::KeepRun;
+
+/// The most steps one k record may name (a read expands it into one command a step).
+constexpr uint64_t kMaxRunSteps = 10'000'000;
+
 /// Reads one file's lines, each error naming file and line.
 struct LineReader {
   std::string path;
@@ -198,7 +241,7 @@ std::string header_text(const SessionHeader& header) {
 }  // namespace
 
 SessionWriter::SessionWriter(const std::string& path, const SessionHeader& header)
-    : path_(path), hash_every_(header.hash_every) {
+    : path_(path), hash_every_(header.hash_every), keep_run_(std::make_unique<KeepRun>()) {
   if (hash_every_ == 0)
     throw SessionFileError(path + ": the hash interval must be 1 or more steps");
   file_ = std::fopen(path.c_str(), "w");
@@ -220,19 +263,19 @@ void SessionWriter::put(const std::string& text) {
 }
 
 void SessionWriter::command(uint64_t step, const Command& command) {
-  put(command_line(step, command));
+  put(keep_run_->add(step, command));
   ++commands_;
 }
 
 void SessionWriter::hash(uint64_t step, uint64_t hash) {
-  put(hash_line(step, hash));
+  put(keep_run_->close() + hash_line(step, hash));
   ++hashes_;
   if (file_) std::fflush(file_);
 }
 
 void SessionWriter::finish(uint64_t steps) {
   if (!file_) return;
-  put("end " + std::to_string(steps) + " " + std::to_string(commands_) + " " +
+  put(keep_run_->close() + "end " + std::to_string(steps) + " " + std::to_string(commands_) + " " +
       std::to_string(hashes_) + "\n");
   if (!file_) return;
   const bool closed = std::fclose(file_) == 0;
@@ -261,6 +304,7 @@ Session read_session(const std::string& path) {
   bool ended = false, has_world = false, has_every = false, has_seed = false;
   bool has_overlaps = true;  // a version 2 file must say (below); version 1 had no parting
   uint64_t last_step = 0;
+  int version = 0;
   while (std::getline(in, line)) {
     ++r.line;
     if (ended) r.fail("nothing may follow the closing 'end' line");
@@ -268,11 +312,14 @@ Session read_session(const std::string& path) {
     if (r.line == 1) {
       if (f.size() != 2 || f[0] != kMagic)
         r.fail("not a macsim session file (its first line must be 'macsim-session <version>')");
-      if (f[1] != "1" && f[1] != std::to_string(kSessionFormatVersion)) {
+      for (int v = 1; v <= kSessionFormatVersion; ++v) {
+        if (f[1] == std::to_string(v)) version = v;
+      }
+      if (version == 0) {
         r.fail("session format version " + f[1] + "; this macsim reads versions 1 to " +
                std::to_string(kSessionFormatVersion));
       }
-      if (f[1] == "1") {
+      if (version == 1) {
         session.header.overlaps_parted = false;  // recorded before macsim parted them
       } else {
         has_overlaps = false;
@@ -328,6 +375,21 @@ Session read_session(const std::string& path) {
       if (rc.step < last_step) r.fail("steps must not go back");
       last_step = rc.step;
       session.commands.push_back(std::move(rc));
+    } else if (f[0] == "k" && f.size() == 3 && version >= 3) {
+      const uint64_t first = r.number(f[1], "a run's first step");
+      const uint64_t last = r.number(f[2], "a run's last step");
+      if (last < first) r.fail("a run ends before it starts");
+      if (first < last_step) r.fail("steps must not go back");
+      if (last - first >= kMaxRunSteps)
+        r.fail("a run of more than " + std::to_string(kMaxRunSteps) + " steps");
+      RecordedCommand keep;
+      keep.command.source = CommandSource::Simulation;
+      keep.command.operation = "keep_robot_commands";
+      for (uint64_t step = first; step <= last; ++step) {
+        keep.step = step;
+        session.commands.push_back(keep);
+      }
+      last_step = last;
     } else if (f[0] == "h" && f.size() == 3) {
       RecordedHash h;
       h.step = r.number(f[1], "a hash's step");
@@ -366,11 +428,13 @@ void write_session(const std::string& path, const Session& session) {
   std::string text = header_text(session.header);
   // Commands before a hash of the same step ran before it: they come first.
   std::size_t h = 0;
+  KeepRun run;
   for (const auto& c : session.commands) {
     for (; h < session.hashes.size() && session.hashes[h].step <= c.step; ++h)
-      text += hash_line(session.hashes[h].step, session.hashes[h].hash);
-    text += command_line(c.step, c.command);
+      text += run.close() + hash_line(session.hashes[h].step, session.hashes[h].hash);
+    text += run.add(c.step, c.command);
   }
+  text += run.close();
   for (; h < session.hashes.size(); ++h)
     text += hash_line(session.hashes[h].step, session.hashes[h].hash);
   text += "end " + std::to_string(session.steps) + " " + std::to_string(session.commands.size()) +

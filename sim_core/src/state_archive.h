@@ -6,8 +6,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -203,6 +205,30 @@ class StateReader {
   const std::vector<uint8_t>& bytes_;
   std::size_t at_ = 0;
 };
+
+/// Whether every number is finite and within +-limit: what angles, times and positions read
+/// back from a snapshot may be before a robot converts them (to encoder ticks, say).
+inline bool all_plausible(std::initializer_list<double> values, double limit = 1e12) {
+  for (double v : values) {
+    if (!(std::abs(v) <= limit)) return false;  // NaN fails too
+  }
+  return true;
+}
+
+/// Whether a generator read back from a snapshot can run: its position within its 624 words,
+/// words of 32 bits, not all zero (else it draws zeros, or numbers out of its range, for ever,
+/// and a Gaussian drawn by rejection never ends).
+inline bool plausible_generator(const std::mt19937& generator) {
+  std::array<std::mt19937::result_type, 625> words;  // the state, then the position
+  std::memcpy(words.data(), &generator, sizeof generator);
+  if (words[624] > 624) return false;
+  bool any = (words[0] & 0x80000000u) != 0;  // of the first word only its top bit counts
+  for (std::size_t i = 0; i < 624; ++i) {
+    if (words[i] > 0xffffffffu) return false;
+    if (i > 0 && words[i] != 0) any = true;
+  }
+  return any;
+}
 
 /// `value`'s bytes by its field list (a robot's part of the state, say).
 template <class T>

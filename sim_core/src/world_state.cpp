@@ -199,7 +199,8 @@ std::optional<std::string> state_problem(const WorldState& s) {
     }
   }
   for (const auto& b : s.bodies) {
-    if (!detail::plausible(b) || b.orientation.norm() < 1e-9)
+    // The quaternion goes into ODE as it is (bit for bit): it must be a unit one already.
+    if (!detail::plausible(b) || std::abs(b.orientation.norm() - 1.0) > 1e-9)
       return std::string("a body that is not plausible");
   }
   return std::nullopt;

@@ -17,6 +17,7 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
+#include "snapshot_scene.h"
 #include "supervisor/supervisor_codec.h"
 
 namespace fs = std::filesystem;
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   const fs::path worlds = fs::path(MACSIM_SOURCE_DIR) / "worlds";
-  for (const char* target : {"world_loader", "requests", "kurt_can"}) {
+  for (const char* target : {"world_loader", "requests", "kurt_can", "snapshot"}) {
     fs::create_directories(out / target);
   }
 
@@ -169,6 +170,13 @@ int main(int argc, char** argv) {
   write(out / "kurt_can" / "host", frame(encode_speed_cm({0.2, 0.3})) + frame(encode_hard_stop()) +
                                        frame(encode_actuator(true)) +
                                        frame(encode_rotunit_speed(1.0)) + numbers(3, {2.0}));
+  // Snapshots of the scene fuzz_snapshot restores (the same world: the same fingerprint).
+  const auto scene = macsim::fuzz::snapshot_scene();
+  int moment = 0;
+  for (const auto& snapshot : macsim::fuzz::snapshot_scene_moments(*scene)) {
+    write(out / "snapshot" / ("moment_" + std::to_string(moment++)),
+          std::string(snapshot.bytes.begin(), snapshot.bytes.end()));
+  }
   std::cout << "make_fuzz_seeds: wrote seeds to " << out.string() << "\n";
   return 0;
 }

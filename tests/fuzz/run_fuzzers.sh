@@ -21,7 +21,7 @@ if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
 fi
 source "$(dirname "$0")/../../deploy/common.sh"
 tree="$MACSIM_BUILD/fuzz"
-targets=(world_loader requests kurt_can)
+targets=(world_loader requests kurt_can snapshot)
 if [[ $build == 1 ]]; then
   generator=()
   if [[ ! -f "$tree/CMakeCache.txt" ]] && command -v ninja > /dev/null; then generator=(-G Ninja); fi
@@ -37,9 +37,12 @@ export ASAN_OPTIONS="detect_leaks=1:new_delete_type_mismatch=0"
 declare -A pids
 for target in "${targets[@]}"; do
   mkdir -p "$tree/corpus/$target"
-  "$tree/bin/fuzz_$target" -max_total_time="$seconds" -rss_limit_mb=4096 -print_final_stats=1 \
+  committed=()  # the inputs that once found something, if the target has any
+  [[ -d "$MACSIM_ROOT/tests/fuzz/corpus/$target" ]] && committed=("$MACSIM_ROOT/tests/fuzz/corpus/$target")
+  # An input that runs for more than 10 s is a finding (a hang), not a wait to the end.
+  "$tree/bin/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -print_final_stats=1 \
     -artifact_prefix="$tree/findings/$target-" "$tree/corpus/$target" "$tree/seeds/$target" \
-    "$MACSIM_ROOT/tests/fuzz/corpus/$target" >"$tree/findings/$target.log" 2>&1 &
+    "${committed[@]}" >"$tree/findings/$target.log" 2>&1 &
   pids[$target]=$!
 done
 status=0

@@ -5,8 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
@@ -120,10 +124,10 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   const std::string bad = dir.path() + "/bad.session";
   // Another version.
   std::string other = good;
-  other.replace(0, good.find('\n'), "macsim-session 3");
+  other.replace(0, good.find('\n'), "macsim-session 4");
   EXPECT_NE(refusal(bad, other)
-                .find(bad + ":1: session format version 3; this macsim reads "
-                            "versions 1 to 2"),
+                .find(bad + ":1: session format version 4; this macsim reads "
+                            "versions 1 to 3"),
             std::string::npos)
       << refusal(bad, other);
   // Cut short: half of it, ending inside a line.
@@ -194,6 +198,65 @@ TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept)
   const Session session = read_session(old);
   EXPECT_FALSE(session.header.overlaps_parted);
   EXPECT_EQ(session.hashes.size(), read_session(path).hashes.size());
+}
+
+// A lock-step controller's step requests that hold the robots' commands run one command a
+// step: a run of them is one record, ended by a hash or another command, and reads back as one
+// command a step in the order they ran.
+TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/held.session";
+  Command keep;
+  keep.source = CommandSource::Simulation;
+  keep.operation = "keep_robot_commands";
+  std::vector<std::pair<uint64_t, std::string>> ran;  // step, operation
+  {
+    SessionWriter writer(path, SessionHeader{kWorld, -1, 100});
+    writer.hash(0, 1);
+    for (uint64_t step = 0; step < 250; ++step) {
+      if (step == 100 || step == 200) writer.hash(step, step);
+      writer.command(step, keep);
+      ran.emplace_back(step, keep.operation);
+      if (step == 120) {
+        writer.command(step, robot_command("kurt", robot::Twist{0.2, 0.0}));
+        ran.emplace_back(step, "twist");
+      }
+    }
+    writer.finish(250);
+  }
+  const std::string text = read_text(path);
+  for (const char* run : {"\nk 0 99\n", "\nk 100 120\nc 120 robot twist", "\nk 121 199\n",
+                          "\nk 200 249\nend 250 251 3\n"}) {
+    EXPECT_NE(text.find(run), std::string::npos) << run << " in\n" << text;
+  }
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 14) << text;  // header 5, h 3, k 4, c, end
+  const Session session = read_session(path);
+  ASSERT_EQ(session.commands.size(), ran.size());
+  for (std::size_t i = 0; i < ran.size(); ++i) {
+    EXPECT_EQ(session.commands[i].step, ran[i].first) << i;
+    EXPECT_EQ(session.commands[i].command.operation, ran[i].second) << i;
+  }
+  // Written again from what was read, the file is the same.
+  const std::string again = dir.path() + "/again.session";
+  write_session(again, session);
+  EXPECT_EQ(read_text(again), text);
+  // A run that ends before it starts, or longer than a run may be, is refused by line.
+  for (const auto& [from, to, says] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"k 121 199", "k 199 121", ":11: a run ends before it starts"},
+           {"k 121 199", "k 121 99999999999", ":11: a run of more than 10000000 steps"},
+           {"k 121 199", "k 12x 199", ":11: a run's first step must be a whole number"}}) {
+    std::string bad_text = text;
+    bad_text.replace(bad_text.find(from), from.size(), to);
+    const std::string bad = dir.path() + "/bad.session";
+    write_text(bad, bad_text);
+    try {
+      read_session(bad);
+      ADD_FAILURE() << to << " was read";
+    } catch (const SessionFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad + says), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Session, ARobotCommandOfAnUnknownRobotOrOneItLacksDoesNothing) {

@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
+#include <array>
+#include <cstring>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -191,6 +194,33 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
     const uint64_t before = world.state_hash();
     EXPECT_EQ(damaged([&](WorldState& s) { s.robots[0] = bad_bytes; }).code,
               ErrorCode::InvalidArgument);
+    EXPECT_EQ(world.state_hash(), before);
+  }
+  // Found by fuzz_snapshot: an encoder angle no wheel turns to (its ticks overflowed), and a
+  // noise generator that draws zeros or numbers out of range for ever (its Gaussian never ends).
+  for (const auto& change : std::vector<std::function<void(KurtRobot::State&)>>{
+           [](KurtRobot::State& r) { r.encoder_angle[0] = 2.6e145; },
+           [](KurtRobot::State& r) {
+             const std::array<std::mt19937::result_type, 625> zeros{};
+             std::memcpy(static_cast<void*>(&r.noise_rng), zeros.data(), sizeof zeros);
+           },
+           [](KurtRobot::State& r) {
+             std::array<std::mt19937::result_type, 625> words;
+             std::memcpy(words.data(), &r.noise_rng, sizeof words);
+             words[7] = ~std::mt19937::result_type{0};
+             std::memcpy(static_cast<void*>(&r.noise_rng), words.data(), sizeof words);
+           }}) {
+    KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
+    const KurtRobot::State good = kurt.state();
+    KurtRobot::State bad = good;
+    change(bad);
+    kurt.set_state(bad);
+    const std::vector<uint8_t> bad_bytes = kurt.save_state();
+    kurt.set_state(good);
+    const uint64_t before = world.state_hash();
+    const Status status = damaged([&](WorldState& s) { s.robots[0] = bad_bytes; });
+    EXPECT_EQ(status.code, ErrorCode::InvalidArgument);
+    EXPECT_NE(status.message.find("robot 'kurt'"), std::string::npos) << status.message;
     EXPECT_EQ(world.state_hash(), before);
   }
   // The last body's sleep flag: before its still steps (4 bytes), the robots and the body

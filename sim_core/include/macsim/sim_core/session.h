@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -19,8 +20,9 @@ namespace macsim {
 class Runner;
 
 /// The version of the session format this build writes and reads (its first line).
-/// Version 2 added the header's `overlaps` line; version 1 files are still read.
-inline constexpr int kSessionFormatVersion = 2;
+/// Version 2 added the header's `overlaps` line, version 3 the `k` record (a run of steps
+/// that held the robots' commands); versions 1 and 2 are still read.
+inline constexpr int kSessionFormatVersion = 3;
 
 /// A session file that cannot be read: names the file and line.
 class SessionFileError : public std::runtime_error {
@@ -58,6 +60,10 @@ struct Session {
   uint64_t steps = 0;                     ///< steps run when it ended
 };
 
+namespace detail {
+struct KeepRun;  // session.cpp
+}  // namespace detail
+
 /// Writes a session as the simulation runs (on the simulation thread). Once a write fails (a
 /// full disk) it says so in the log (log_sink.h), once, and writes no more: the file then reads as
 /// cut short.
@@ -86,6 +92,7 @@ class SessionWriter {
   uint64_t hash_every_;
   uint64_t commands_ = 0, hashes_ = 0;
   bool finished_ = false;
+  std::unique_ptr<detail::KeepRun> keep_run_;  // the run of held steps not written yet
 
   void put(const std::string& text);
 };
