@@ -51,12 +51,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     std::fprintf(stderr, "overlap report not capped: %zu pairs\n", overlaps.pairs.size());
     std::abort();
   }
-  for (int i = 0; i < 10; ++i) {
-    world.step();
-    if (auto broken = test::invariant_violation(world)) {
-      std::fprintf(stderr, "invariant broken after step %d: %s\n", i + 1, broken->c_str());
-      std::abort();
-    }
-  }
+  test::step_keeping_invariants(world, 10);
   return 0;
 }

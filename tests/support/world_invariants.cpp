@@ -2,6 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "macsim/sim_core/kurt_robot.h"
 
@@ -45,6 +47,16 @@ std::optional<std::string> invariant_violation(const World& world) {
     }
   }
   return std::nullopt;
+}
+
+void step_keeping_invariants(World& world, int steps) {
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    if (auto broken = invariant_violation(world)) {
+      std::fprintf(stderr, "invariant broken after step %d: %s\n", i + 1, broken->c_str());
+      std::abort();
+    }
+  }
 }
 
 }  // namespace macsim::test

@@ -13,5 +13,8 @@ namespace macsim::test {
 /// quaternion of unit norm; every portable object's mass positive, equal to density x volume,
 /// with a finite, positive-definite inertia; every robot's pose finite; time finite.
 std::optional<std::string> invariant_violation(const World& world);
+/// Steps the world `steps` times; after a step that breaks an invariant, says which on stderr
+/// and aborts (a fuzzer's finding).
+void step_keeping_invariants(World& world, int steps);
 
 }  // namespace macsim::test
