@@ -5,7 +5,8 @@
 // tests/support/clutter_judge.h). Prints per policy the
 // success rate, the median robot time of the runs that got there, the stalls, and per kind of
 // thing how often it was driven through and around. `name value unit` lines, then the tables.
-//   bench_navigate --affordances DIR [SEEDS [FIRST]]   (default 50 seeds from 1; repository root)
+//   bench_navigate [--policy P] [--draw DIR] --affordances DIR [SEEDS [FIRST]]
+//   (default 50 seeds from 1; repository root)
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,10 +15,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/process/child_process.h"
 #include "support/clutter_judge.h"
@@ -47,6 +51,69 @@ double number_after(const std::string& line, const std::string& key) {
   return at == std::string::npos ? 0.0 : std::atof(line.c_str() + at + key.size());
 }
 
+/// Where the navigator said it stood ("[t= T s] at X,Y," lines of its log, odometry frame),
+/// with its robot time T.
+struct Belief {
+  double t;
+  Eigen::Vector2d at;
+};
+std::vector<Belief> believed_path(const std::string& log) {
+  std::ifstream in(log);
+  std::vector<Belief> said;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto t = line.find("[t=");
+    const auto k = line.find("] at ");
+    double time = 0, x = 0, y = 0;
+    if (t != std::string::npos && k != std::string::npos &&
+        std::sscanf(line.c_str() + t + 3, "%lf", &time) == 1 &&
+        std::sscanf(line.c_str() + k + 5, "%lf,%lf", &x, &y) == 2)
+      said.push_back({time, {x, y}});
+  }
+  return said;
+}
+
+/// A picture of one run from above (east to the right): the things where they stood (grey) and
+/// where they ended (coloured by kind), the robot's path by ground truth (blue), where the
+/// navigator believed it stood at each look (red, a line to where it stood then) and the goal
+/// (green).
+void draw_run(const std::string& file,
+              const std::map<std::string, macsim_msgs::msg::dds_::Object_>& before,
+              const std::map<std::string, macsim_msgs::msg::dds_::Object_>& after,
+              const std::vector<Eigen::Vector2d>& path, const std::vector<double>& stamps,
+              const std::vector<Belief>& said) {
+  constexpr double kScale = 100, kX0 = -1.2, kY0 = 1.7;  // px per m; the picture's top left
+  cv::Mat image(static_cast<int>(2 * kY0 * kScale), static_cast<int>(8.9 * kScale), CV_8UC3,
+                cv::Scalar(255, 255, 255));
+  const auto px = [&](const Eigen::Vector2d& p) {
+    return cv::Point(static_cast<int>((p.x() - kX0) * kScale),
+                     static_cast<int>((kY0 - p.y()) * kScale));
+  };
+  const std::map<std::string, cv::Scalar> colours{
+      // BGR
+      {"box", {40, 40, 200}},       {"post", {90, 90, 90}},       {"step", {60, 90, 140}},
+      {"passage", {130, 130, 130}}, {"doorstep", {60, 120, 180}}, {"joist", {40, 170, 170}},
+      {"log", {30, 80, 130}},       {"sphere", {200, 80, 200}}};
+  for (const auto& [name, o] : before)
+    for (const auto& p : macsim::test::footprint(o))
+      cv::circle(image, px(p), 1, {200, 200, 200}, -1);
+  for (const auto& [name, o] : after) {
+    const auto c = colours.find(ClutterJudgement::kind(name));
+    const cv::Scalar colour = c != colours.end() ? c->second : cv::Scalar(0, 0, 0);
+    for (const auto& p : macsim::test::footprint(o)) cv::circle(image, px(p), 1, colour, -1);
+  }
+  cv::circle(image, px({6, 0}), static_cast<int>(0.5 * kScale), {0, 160, 0}, 1);
+  for (std::size_t k = 1; k < path.size(); ++k)
+    cv::line(image, px(path[k - 1]), px(path[k]), {200, 100, 0}, 1);
+  for (const auto& b : said) {
+    cv::circle(image, px(b.at), 3, {0, 0, 230}, 1);
+    // Where it stood then: the truth stamped nearest its robot time (it starts at the first).
+    const auto k = std::lower_bound(stamps.begin(), stamps.end(), stamps.front() + b.t);
+    if (k != stamps.end()) cv::line(image, px(b.at), px(path[k - stamps.begin()]), {0, 0, 230}, 1);
+  }
+  cv::imwrite(file, image);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,15 +131,27 @@ int main(int argc, char** argv) {
                args.begin() + static_cast<std::ptrdiff_t>(k) + 2);
     break;
   }
+  std::string draw;  // a folder for a picture of each run
+  for (std::size_t k = 0; k + 1 < args.size(); ++k) {
+    if (args[k] != "--draw") continue;
+    draw = args[k + 1];
+    std::filesystem::create_directories(draw);
+    args.erase(args.begin() + static_cast<std::ptrdiff_t>(k),
+               args.begin() + static_cast<std::ptrdiff_t>(k) + 2);
+    break;
+  }
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::printf(
-        "usage: bench_navigate [--policy model|avoid] --affordances DIR [SEEDS [FIRST]]\n  "
+        "usage: bench_navigate [--policy model|avoid] [--draw DIR] --affordances DIR [SEEDS "
+        "[FIRST]]\n  "
         "kurt_navigate against "
         "macsim in lock-step on SEEDS layouts of worlds/clutter_field.xml (default 50 from "
         "seed 1), with the traverse model DIR/traverse.yml and with --policy avoid (or only the "
         "one --policy names); prints each "
         "policy's success rate, median robot time, stalls, and what it drove through and around "
-        "by kind. Run from the repository root.\n");
+        "by kind; --draw writes a picture of each run into DIR (POLICY_SEED.png: the things before "
+        "and after, the path by ground truth, where the navigator believed it stood). Run from "
+        "the repository root.\n");
     return 0;
   }
   int seeds = 50, first = 1;
@@ -131,13 +210,18 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(300ms);
       const auto after = view.snapshot();
       std::vector<Eigen::Vector2d> path;
-      for (const auto& t : view.truth.all())
+      std::vector<double> stamps;
+      for (const auto& t : view.truth.all()) {
         path.emplace_back(t.pose().pose().position().x(), t.pose().pose().position().y());
+        stamps.push_back(macsim::client::stamp_seconds(t.header()));
+      }
       sim.stop(std::chrono::seconds(10));
       std::ifstream in(log);
       std::string line, last;
       while (std::getline(in, line)) last = line;
       const ClutterJudgement judged(before, after, path);
+      if (!draw.empty())
+        draw_run(draw + "/" + tag + ".png", before, after, path, stamps, believed_path(log));
       Tally& t = tallies[policy];
       ++t.runs;
       t.stalls += static_cast<int>(number_after(last, "stalls "));

@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
              "the traverse model DIR/traverse.yml (affordance_learn --features shape "
              "--save-model DIR); required by --policy model",
              &affordances);
+  cli.flag("verbose",
+           "also print, at each look, the laser odometry's fit and every thing seen with its "
+           "judgement",
+           &options.verbose);
   cli.option("tolerance", "METRES", "how near the goal counts as there (default 0.3)",
              &options.tolerance);
   cli.option("timeout", "SECONDS", "give up after this much robot time (default 300)",

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace kurt_navigate {
 
@@ -17,7 +18,6 @@ constexpr double kClearance = 0.3, kMargin = 0.5;
 constexpr double kLookahead = 0.35;  // m: the point of the way it steers for
 // The traverse trials' obstacle: its near side 0.62-0.75 m ahead.
 constexpr double kTrialNear = 0.68;
-constexpr double kWall = 1.2;  // m across: larger things are walls, not asked about
 // A thing is judged from where its near side lies kJudgeNearest-kJudgeNear m away (a trial's
 // lay 0.62-0.75 m ahead), alone in the cloud turned to face it; the look nearest kTrialNear
 // wins. The robot stops where its way comes within kApproach of a thing not judged yet; standing
@@ -48,7 +48,7 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
   std::string judged;
   for (auto& thing : things) {
     thing.judged = true;  // the baseline: nothing is passable
-    if (options_.policy != Policy::Model || thing.across > kWall) continue;
+    if (options_.policy != Policy::Model || thing.height == Height::Towering) continue;
     bool pressed = false;  // it stalled against this before
     for (const auto& at : pressed_)
       for (const auto& c : thing.cells) pressed |= std::hypot(c[0] - at[0], c[1] - at[1]) < 0.2;
@@ -93,6 +93,21 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
   }
   if (options_.policy == Policy::Model && !judged.empty())
     say("judged (where, across, P(traversable), near side):" + judged);
+  if (options_.verbose) {
+    std::string all;
+    for (const auto& thing : things) {
+      char p[8] = "-";  // not judged yet
+      if (thing.height == Height::Towering)
+        std::snprintf(p, sizeof p, "wall");
+      else if (thing.judged)
+        std::snprintf(p, sizeof p, "%.2f", thing.p_traversable);
+      char t[96];
+      std::snprintf(t, sizeof t, " (%.2f,%.2f %.2fm %.2fm %s)", thing.centre[0], thing.centre[1],
+                    thing.across, thing.distance, p);
+      all += t;
+    }
+    say("things (where, across, distance, P(traversable)):" + all);
+  }
   Way way;
   // Clear by the margin if it can; closer to what it cannot pass if it must.
   for (double clearance : {kClearance, kClearance - 0.05}) {
@@ -223,25 +238,37 @@ void Navigator::drive(Outcome& out) {
   say(text);
   rotunit_ = kRotunitSpeed;
   crane_to(kAsideSlew, kBoomUp, 0.0);
-  std::vector<Point2> walls;      // the tall structure of the last look, odometry frame
+  StaticMap map;                  // what stands still, odometry frame
   kurt_loop::Pose2 stretch_from;  // where the last stretch began...
   double asked = 0;               // ...and the m its wheels made on it (0: none to judge)
   int faced = 0;                  // turns in a row to face a thing to judge
   while (true) {
     const auto cloud = take_cloud();
-    // Where the walls say it is: a track slipping against something counts as distance in the
-    // wheels' odometry, not in the laser's.
-    auto tall = tall_structure(cloud, pose_);
+    // Where what stands still says it is: a track slipping against something counts as
+    // distance in the wheels' odometry, not in the laser's.
+    auto still = static_structure(cloud, pose_);
     // It may not have moved at all since the last look (stuck, its wheels slipping).
     std::vector<std::array<double, 2>> guesses;
     if (asked > 0) guesses.push_back({stretch_from.x - pose_.x, stretch_from.y - pose_.y});
-    const auto shift = walls.empty() ? std::nullopt : align(walls, tall, guesses);
+    const auto shift = map.points().empty() ? std::nullopt : align(map.points(), still, guesses);
+    if (options_.verbose) {
+      char t[160];
+      std::snprintf(t, sizeof t,
+                    "laser odometry: wheels at %.2f,%.2f; %zu points on %zu of the map: %s",
+                    pose_.x, pose_.y, still.size(), map.points().size(),
+                    shift ? "" : "no fit, the wheels' word kept");
+      if (shift)
+        std::snprintf(t + std::strlen(t), sizeof t - std::strlen(t), "moved by %.3f,%.3f",
+                      (*shift)[0], (*shift)[1]);
+      say(t);
+    }
     if (shift) {
       pose_.x += (*shift)[0];
       pose_.y += (*shift)[1];
-      tall = tall_structure(cloud, pose_);
+      still = static_structure(cloud, pose_);
     }
-    walls = std::move(tall);
+    // The first look makes the map; a look it could be aligned with adds what it saw anew.
+    if (shift || map.points().empty()) map.add(still);
     sightings_.add(cloud, pose_);
     if (asked > 0.1) {
       const double moved = std::hypot(pose_.x - stretch_from.x, pose_.y - stretch_from.y);

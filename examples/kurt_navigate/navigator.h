@@ -35,6 +35,7 @@ struct NavigateOptions {
   double tolerance = 0.3;             ///< m from the goal that counts as there
   Policy policy = Policy::Model;
   std::optional<macsim::affordances::AffordanceModel> traverse_model;  ///< Policy::Model
+  bool verbose = false;  ///< print each look's odometry fit and things
 };
 
 /// What a run did.

@@ -35,14 +35,35 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   using Key = std::pair<int, int>;
   std::map<Key, std::vector<std::size_t>> cells;
+  std::map<Key, double> top;  // per cell: its highest return above the floor
   for (std::size_t k = 0; k < cloud.points.size(); ++k) {
     const auto& q = cloud.points[k];
     const double h = height_above_floor(q);
-    if (!(h > kAboveFloor && h <= af::GroundGrid::kTop) || on_body(q) ||
-        !(std::hypot(q[0], q[1]) <= range))
-      continue;
+    if (!(h > kAboveFloor) || on_body(q) || !(std::hypot(q[0], q[1]) <= range)) continue;
     const double x = pose.x + c * q[0] - s * q[1], y = pose.y + s * q[0] + c * q[1];
-    cells[cell_of({x, y})].push_back(k);
+    const auto key = cell_of({x, y});
+    auto [t, fresh] = top.try_emplace(key, h);
+    if (!fresh) t->second = std::max(t->second, h);
+    if (h <= af::GroundGrid::kTop) cells[key].push_back(k);
+  }
+  // A cell is as high as its highest return, and things are grouped by height: low cells (a
+  // joist, a doorstep's bar) make things of their own, so that a joist beside a log or a box is
+  // judged apart from it (a low cell next to a higher one is the foot of that one); cells higher
+  // than a trial's view (a wall) make things the model is not asked about.
+  std::map<Key, Height> level;
+  for (const auto& [key, h] : top) {
+    if (!cells.count(key)) cells[key];  // a wall's cell: its returns are all above the view
+    if (h > af::GroundGrid::kTop) {
+      level[key] = Height::Towering;
+      continue;
+    }
+    bool is_low = h < kLowThing;
+    for (int dx = -1; dx <= 1 && is_low; ++dx)
+      for (int dy = -1; dy <= 1 && is_low; ++dy) {
+        const auto n = top.find({key.first + dx, key.second + dy});
+        is_low = n == top.end() || n->second < kLowThing;
+      }
+    level[key] = is_low ? Height::Low : Height::High;
   }
   std::vector<Thing> things;
   std::map<Key, bool> grouped;
@@ -50,6 +71,7 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
     if (grouped.count(start)) continue;
     // One thing: the cells less than a gap apart.
     Thing thing;
+    thing.height = level.at(start);
     std::vector<Key> todo{start};
     grouped[start] = true;
     int x0 = start.first, x1 = x0, y0 = start.second, y1 = y0;
@@ -67,7 +89,8 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
       for (int dx = -n; dx <= n; ++dx) {
         for (int dy = -n; dy <= n; ++dy) {
           const Key next{at.first + dx, at.second + dy};
-          if (dx * dx + dy * dy <= n * n && cells.count(next) && !grouped.count(next)) {
+          if (dx * dx + dy * dy <= n * n && cells.count(next) && !grouped.count(next) &&
+              level.at(next) == thing.height) {
             grouped[next] = true;
             todo.push_back(next);
           }

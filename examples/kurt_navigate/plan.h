@@ -15,8 +15,13 @@
 
 namespace kurt_navigate {
 
-/// Something standing on the floor in one cloud: 5 cm cells of returns 3-45 cm above it, less than
-/// 15 cm apart (more far away, where the scanner's rings lie further apart).
+/// How high a thing stands: lower than kLowThing everywhere (a joist, a bar), higher, or higher
+/// than a traverse trial's view somewhere (a wall: never asked about, never passable).
+enum class Height { Low, High, Towering };
+
+/// Something standing on the floor in one cloud: 5 cm cells of returns more than 3 cm above it,
+/// less than 15 cm apart (more far away, where the scanner's rings lie further apart), of one
+/// Height.
 struct Thing {
   std::vector<Point2> cells;        ///< centres of its cells, odometry frame
   std::vector<std::size_t> points;  ///< its returns: indices into the cloud
@@ -26,7 +31,11 @@ struct Thing {
   bool judged = false;              ///< judged at all (else not yet known)
   double p_traversable = 0;         ///< the judgement, [0, 1]
   bool passable = false;            ///< judged traversable (driven into or over)
+  Height height = Height::High;
 };
+
+/// Things lower than this above the floor (m) are grouped apart from higher ones.
+inline constexpr double kLowThing = 0.08;
 
 /// The 5 cm cell of the things' grid (odometry frame) that holds `p`.
 std::pair<int, int> cell_of(const Point2& p);

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "macsim/affordances/perception.h"
@@ -39,13 +40,14 @@ std::map<std::string, double> way_features(const macsim::client::Cloud& way) {
   return af::named_features(p, af::Affordance::Traverse);
 }
 
-std::vector<Point2> tall_structure(const macsim::client::Cloud& cloud,
-                                   const kurt_loop::Pose2& pose) {
+std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
+                                     const kurt_loop::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   std::map<std::pair<int, int>, Point2> cells;
   for (const auto& q : cloud.points) {
     const double h = height_above_floor(q);
-    if (h < 0.05 || h > 0.6 || std::hypot(q[0], q[1]) < 0.6 || std::hypot(q[0], q[1]) > 6) continue;
+    const double range = std::hypot(q[0], q[1]);
+    if (h < kStaticHeight || h > 0.6 || range < 0.6 || range > 9.5) continue;
     const double x = pose.x + c * q[0] - s * q[1], y = pose.y + s * q[0] + c * q[1];
     cells.try_emplace(
         {static_cast<int>(std::floor(x / 0.05)), static_cast<int>(std::floor(y / 0.05))},
@@ -56,21 +58,64 @@ std::vector<Point2> tall_structure(const macsim::client::Cloud& cloud,
   return points;
 }
 
-std::optional<std::array<double, 2>> align(const std::vector<Point2>& before,
+void StaticMap::add(const std::vector<Point2>& points) {
+  for (const auto& p : points) {
+    const std::pair<int, int> cell{static_cast<int>(std::floor(p[0] / 0.05)),
+                                   static_cast<int>(std::floor(p[1] / 0.05))};
+    if (cells_.try_emplace(cell, points_.size()).second) points_.push_back(p);
+  }
+}
+
+namespace {
+
+/// The map's points by 0.3 m cell, for the nearest one to a point within 0.3 m.
+class NearestIndex {
+ public:
+  explicit NearestIndex(const std::vector<Point2>& points) : points_(points) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      cells_[key(points[i][0], points[i][1])].push_back(i);
+  }
+  /// The nearest point within kReach of (x, y) and its distance, or nullopt.
+  std::optional<std::pair<std::size_t, double>> nearest(double x, double y) const {
+    const auto [i0, j0] = key(x, y);
+    std::optional<std::pair<std::size_t, double>> best;
+    for (int i = i0 - 1; i <= i0 + 1; ++i)
+      for (int j = j0 - 1; j <= j0 + 1; ++j) {
+        const auto cell = cells_.find({i, j});
+        if (cell == cells_.end()) continue;
+        for (std::size_t k : cell->second) {
+          const double d = std::hypot(points_[k][0] - x, points_[k][1] - y);
+          if (d <= kReach && (!best || d < best->second)) best = {{k, d}};
+        }
+      }
+    return best;
+  }
+  static constexpr double kReach = 0.3;
+
+ private:
+  static std::pair<int, int> key(double x, double y) {
+    return {static_cast<int>(std::floor(x / kReach)), static_cast<int>(std::floor(y / kReach))};
+  }
+  const std::vector<Point2>& points_;
+  std::map<std::pair<int, int>, std::vector<std::size_t>> cells_;
+};
+
+}  // namespace
+
+std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
                                            const std::vector<Point2>& now,
                                            const std::vector<std::array<double, 2>>& guesses) {
-  if (before.size() < 30 || now.size() < 30) return std::nullopt;
-  // Each point of `before` with the normal of the line its neighbours (within 0.2 m) make.
-  std::vector<Eigen::Vector2d> normals(before.size(), Eigen::Vector2d::Zero());
-  std::vector<bool> on_line(before.size(), false);
-  for (std::size_t i = 0; i < before.size(); ++i) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  if (map.size() < 30 || now.size() < 30) return std::nullopt;
+  const NearestIndex index(map);
+  // Each point of the map with the normal of the line its neighbours (within 0.2 m) make.
+  std::vector<Eigen::Vector2d> normals(map.size(), Eigen::Vector2d::Zero());
+  std::vector<bool> on_line(map.size(), false);
+  for (std::size_t i = 0; i < map.size(); ++i) {
     std::vector<Eigen::Vector2d> near;
-    for (const auto& q : before) {
-      const Eigen::Vector2d d(q[0] - before[i][0], q[1] - before[i][1]);
-      if (d.norm() < 0.2) near.emplace_back(q[0], q[1]);
-    }
+    for (const auto& q : map)
+      if (std::hypot(q[0] - map[i][0], q[1] - map[i][1]) < 0.2) near.emplace_back(q[0], q[1]);
     if (near.size() < 3) continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (const auto& q : near) mean += q;
     mean /= static_cast<double>(near.size());
     Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
@@ -81,31 +126,35 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& before,
       on_line[i] = true;
     }
   }
-  // From each guess (and from none), the fit that matches the most points closely.
-  std::optional<std::array<double, 2>> best_fit;
-  int best_matched = 0;
-  std::vector<std::array<double, 2>> starts{{0.0, 0.0}};
-  starts.insert(starts.end(), guesses.begin(), guesses.end());
-  for (const auto& start : starts) {
-    Eigen::Vector2d shift(start[0], start[1]);
-    int matched = 0;
-    bool determined = true;
+  // A point's gap to the map where it lies nearest (within 0.3 m), and whether that is a line.
+  struct Match {
+    std::size_t index;
+    double distance;
+  };
+  const auto match = [&](const Eigen::Vector2d& p) -> std::optional<Match> {
+    const auto found = index.nearest(p.x(), p.y());
+    if (!found) return std::nullopt;
+    return Match{found->first, found->second};
+  };
+  // Each fit's cost: the sum of its points' squared residuals (to the line there, if one), each
+  // at most kOutlier (a point of what moved, or seen anew, costs the same wherever it is laid).
+  constexpr double kOutlier = 0.15;
+  struct Fit {
+    Eigen::Vector2d shift;
+    double cost;
+  };
+  const auto fit = [&](Eigen::Vector2d shift) -> std::optional<Fit> {
     for (double gate : {0.3, 0.2, 0.1, 0.1, 0.1, 0.05, 0.05, 0.05}) {
       Eigen::Matrix2d a = Eigen::Matrix2d::Zero();
       Eigen::Vector2d b = Eigen::Vector2d::Zero();
-      matched = 0;
+      int matched = 0;
       for (const auto& p : now) {
         const Eigen::Vector2d moved = Eigen::Vector2d(p[0], p[1]) + shift;
-        std::size_t best = 0;
-        double nearest = 1e9;
-        for (std::size_t i = 0; i < before.size(); ++i) {
-          const double d = std::hypot(before[i][0] - moved.x(), before[i][1] - moved.y());
-          if (d < nearest) nearest = d, best = i;
-        }
-        if (nearest > gate) continue;
-        const Eigen::Vector2d gap = Eigen::Vector2d(before[best][0], before[best][1]) - moved;
-        if (on_line[best]) {  // point to line: n . (moved + delta - q) = 0
-          const Eigen::Vector2d& n = normals[best];
+        const auto m = match(moved);
+        if (!m || m->distance > gate) continue;
+        const Eigen::Vector2d gap = Eigen::Vector2d(map[m->index][0], map[m->index][1]) - moved;
+        if (on_line[m->index]) {  // point to line: n . (moved + delta - q) = 0
+          const Eigen::Vector2d& n = normals[m->index];
           a += n * n.transpose();
           b += n * n.dot(gap);
         } else {  // point to point
@@ -116,18 +165,43 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& before,
       }
       // Both directions must be seen (walls across and along): else the shift is not determined.
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(a);
-      if (matched < 30 || solver.eigenvalues()[0] < 3) {
-        determined = false;
-        break;
-      }
+      if (matched < 30 || solver.eigenvalues()[0] < 3) return std::nullopt;
       shift += a.ldlt().solve(b);
     }
-    if (determined && matched > best_matched) {
-      best_matched = matched;
-      best_fit = std::array<double, 2>{shift.x(), shift.y()};
+    double cost = 0;
+    for (const auto& p : now) {
+      const Eigen::Vector2d moved = Eigen::Vector2d(p[0], p[1]) + shift;
+      const auto m = match(moved);
+      double r = kOutlier;
+      if (m) {
+        const Eigen::Vector2d gap = Eigen::Vector2d(map[m->index][0], map[m->index][1]) - moved;
+        r = std::min(kOutlier,
+                     on_line[m->index] ? std::fabs(normals[m->index].dot(gap)) : m->distance);
+      }
+      cost += r * r;
     }
+    return Fit{shift, cost};
+  };
+  // From no shift (the wheels' word), then from each guess: a guess must fit clearly better than
+  // the wheels' word to be taken instead.
+  std::optional<Fit> best = fit(Eigen::Vector2d::Zero());
+  for (const auto& g : guesses) {
+    const auto f = fit(Eigen::Vector2d(g[0], g[1]));
+    if (f && (!best || f->cost < 0.8 * best->cost)) best = f;
   }
-  return best_fit;
+  // The wheels slipped further than one fit reaches: fits from starts 0.2 m apart around them,
+  // the one laying the points best taken when most of them lie on the map.
+  if (!best) {
+    for (double dx = -kSearch; dx <= kSearch + 1e-9; dx += 0.2)
+      for (double dy = -kSearch; dy <= kSearch + 1e-9; dy += 0.2) {
+        const auto f = fit(Eigen::Vector2d(dx, dy));
+        if (f && (!best || f->cost < best->cost)) best = f;
+      }
+    const double mean = best ? std::sqrt(best->cost / static_cast<double>(now.size())) : kOutlier;
+    if (mean > 0.06) return std::nullopt;
+  }
+  if (!best) return std::nullopt;
+  return std::array<double, 2>{best->shift.x(), best->shift.y()};
 }
 
 af::AffordanceModel load_traverse_model(const std::string& dir) {
