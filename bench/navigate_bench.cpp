@@ -202,6 +202,7 @@ int main(int argc, char** argv) {
       }
       std::vector<std::string> command{bin + "/kurt_navigate", "--domain", std::to_string(domain),
                                        "--lockstep",           "--policy", policy};
+      if (std::getenv("BENCH_NAVIGATE_VERBOSE")) command.push_back("--verbose");
       if (policy == "model") command.insert(command.end(), {"--affordances", models});
       const std::string log = logs + "/kurt_navigate_" + tag + ".log";
       macsim::process::ChildProcess navigator(command, macsim::process::Output::file(log));

@@ -1,5 +1,6 @@
 #include "navigator.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,9 @@ constexpr double kStretch = 1.0;  // m of the way driven before looking again
 // Clear of what it cannot pass: half the robot's width over its tracks (0.22 m) and a margin;
 // closer than kMargin costs more.
 constexpr double kClearance = 0.3, kMargin = 0.5;
+// With no way over what it judged passable, it tries what it judged at least this likely to be,
+// each cell of it costing this many times bare floor.
+constexpr double kDoubted = 0.25, kDoubtedCost = 8.0;
 constexpr double kLookahead = 0.35;  // m: the point of the way it steers for
 // The traverse trials' obstacle: its near side 0.62-0.75 m ahead.
 constexpr double kTrialNear = 0.68;
@@ -41,6 +45,23 @@ void Navigator::say(const std::string& text) {
 }
 
 void Navigator::after_tick() { sightings_.pass(pose_); }
+
+macsim::client::Cloud Navigator::level(macsim::client::Cloud cloud) const {
+  const auto imu = imu_.latest();
+  if (!imu) return cloud;
+  const auto& o = imu->orientation();
+  const Eigen::Quaterniond q(o.w(), o.x(), o.y(), o.z());
+  // The robot's tilt alone: its orientation with the heading taken out.
+  const double yaw = std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()),
+                                1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+  const Eigen::Matrix3f tilt =
+      (Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()) * q).toRotationMatrix().cast<float>();
+  for (auto& p : cloud.points) {
+    const Eigen::Vector3f v = tilt * Eigen::Vector3f(p[0], p[1], p[2]);
+    p = {v.x(), v.y(), v.z()};
+  }
+  return cloud;
+}
 
 Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
   const Point2 goal{options_.goal_x, options_.goal_y};
@@ -116,6 +137,26 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
     for (const auto& at : pressed_) floor.block(at, 0.12);
     way.points = floor.path();
     if (!way.points.empty()) break;
+  }
+  // No way over what it judged passable: it tries what it doubted least, and then anything it
+  // has not stalled against, at a price, before it gives up (a stall marks what it cannot pass).
+  for (double doubt : {kDoubted, 0.0}) {
+    if (!way.points.empty() || options_.policy != Policy::Model) break;
+    FloorPlan floor({pose_.x, pose_.y}, goal);
+    for (auto thing : things) {
+      const bool tried = thing.judged && !thing.passable && thing.height != Height::Towering &&
+                         thing.p_traversable >= doubt;
+      thing.passable |= tried;
+      floor.add(thing, kClearance - 0.05, kMargin, tried ? kDoubtedCost : 2.0);
+    }
+    for (const auto& at : pressed_) floor.block(at, 0.12);
+    way.points = floor.path();
+    if (!way.points.empty()) {
+      char text[96];
+      std::snprintf(text, sizeof text,
+                    "no way over what it judged passable: trying what it judged P >= %.2f", doubt);
+      say(text);
+    }
   }
   // It stops to look where the way comes near what it has not judged yet, as a trial looked;
   // standing there already, it turns to face it.
@@ -243,7 +284,7 @@ void Navigator::drive(Outcome& out) {
   double asked = 0;               // ...and the m its wheels made on it (0: none to judge)
   int faced = 0;                  // turns in a row to face a thing to judge
   while (true) {
-    const auto cloud = take_cloud();
+    const auto cloud = level(take_cloud());
     // Where what stands still says it is: a track slipping against something counts as
     // distance in the wheels' odometry, not in the laser's.
     auto still = static_structure(cloud, pose_);

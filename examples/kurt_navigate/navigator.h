@@ -65,6 +65,9 @@ class Navigator : public kurt_loop::RobotLoop {
     double stretch = 0;          ///< m to drive before looking again
     std::optional<Stand> judge;  ///< first stand before this thing, to judge it
   };
+  /// `cloud` (base_link) levelled by the IMU's roll and pitch: a robot standing on a joist or a
+  /// log sees the floor and what stands on it at their heights.
+  macsim::client::Cloud level(macsim::client::Cloud cloud) const;
   /// The way to the goal from here, judged from `cloud`.
   Way plan(const macsim::client::Cloud& cloud);
   /// The near side of `thing` (m from the robot) along the bearing of its middle, from `cloud`.
