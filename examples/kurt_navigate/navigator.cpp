@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <set>
 
 namespace kurt_navigate {
 
@@ -128,6 +129,20 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
       all += t;
     }
     say("things (where, across, distance, P(traversable)):" + all);
+  }
+  // What it judged not passable stays where it was judged when this look does not show it
+  // (hidden behind something, or out of reach): a way around it is not found again from afar.
+  if (options_.policy == Policy::Model) {
+    std::set<std::pair<int, int>> seen;
+    for (const auto& thing : things)
+      for (const auto& c : thing.cells) seen.insert(cell_of(c));
+    Thing remembered;
+    remembered.judged = true;
+    for (const auto& [cell, verdict] : verdicts_) {
+      if (verdict.p_traversable >= 0.5 || seen.count(cell)) continue;
+      remembered.cells.push_back({(cell.first + 0.5) * 0.05, (cell.second + 0.5) * 0.05});
+    }
+    if (!remembered.cells.empty()) things.push_back(std::move(remembered));
   }
   Way way;
   // Clear by the margin if it can; closer to what it cannot pass if it must.

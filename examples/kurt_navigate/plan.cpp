@@ -65,6 +65,21 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
       }
     level[key] = is_low ? Height::Low : Height::High;
   }
+  // A wall's cells whose returns did not reach above the view (its top not seen there) are the
+  // wall's still: what lies within 10 cm of a wall is taken as part of it.
+  std::vector<Key> foot;
+  for (const auto& [key, h] : level) {
+    if (h == Height::Towering) continue;
+    for (int dx = -2; dx <= 2; ++dx)
+      for (int dy = -2; dy <= 2; ++dy) {
+        const auto n = level.find({key.first + dx, key.second + dy});
+        if (n != level.end() && n->second == Height::Towering) {
+          foot.push_back(key);
+          dx = dy = 3;  // found
+        }
+      }
+  }
+  for (const auto& key : foot) level[key] = Height::Towering;
   std::vector<Thing> things;
   std::map<Key, bool> grouped;
   for (const auto& [start, unused] : cells) {
