@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <set>
 
 namespace kurt_navigate {
 
@@ -130,20 +129,6 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
     }
     say("things (where, across, distance, P(traversable)):" + all);
   }
-  // What it judged not passable stays where it was judged when this look does not show it
-  // (hidden behind something, or out of reach): a way around it is not found again from afar.
-  if (options_.policy == Policy::Model) {
-    std::set<std::pair<int, int>> seen;
-    for (const auto& thing : things)
-      for (const auto& c : thing.cells) seen.insert(cell_of(c));
-    Thing remembered;
-    remembered.judged = true;
-    for (const auto& [cell, verdict] : verdicts_) {
-      if (verdict.p_traversable >= 0.5 || seen.count(cell)) continue;
-      remembered.cells.push_back({(cell.first + 0.5) * 0.05, (cell.second + 0.5) * 0.05});
-    }
-    if (!remembered.cells.empty()) things.push_back(std::move(remembered));
-  }
   Way way;
   // Clear by the margin if it can; closer to what it cannot pass if it must.
   for (double clearance : {kClearance, kClearance - 0.05}) {
@@ -221,16 +206,23 @@ void Navigator::stand_before(const Stand& stand) {
 void Navigator::back_off(Outcome& out, const std::string& why) {
   ++out.stalls;
   // What it stood against blocks from now on.
-  pressed_.push_back({pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)});
+  const Point2 against{pose_.x + 0.35 * std::cos(pose_.yaw), pose_.y + 0.35 * std::sin(pose_.yaw)};
+  // Stalled there before (wedged on something, its tracks slipping): it backs off further.
+  int before = 0;
+  for (const auto& at : pressed_)
+    before += std::hypot(at[0] - against[0], at[1] - against[1]) < 0.3;
+  pressed_.push_back(against);
   say("stalled (" + why + "): pressed against something it cannot pass; backing off");
-  drive_straight(-0.3, 0.2, 1.0);
+  drive_straight(-0.3 * std::min(before + 1, 3), 0.2, 1.0);
 }
 
 bool Navigator::follow(const std::vector<Point2>& way, double stretch) {
   double travelled = 0, best = 0, best_at = now_;
   kurt_loop::Pose2 last = pose_;
   std::size_t along = 0;  // the way's point nearest the robot
-  const double give_up = now_ + 30.0;
+  // A stretch takes a few times what driving it straight would; a track slipping on what it is
+  // wedged on makes headway by the wheels but none by the ground.
+  const double give_up = now_ + 3 * stretch / kSpeed + 5.0;
   bool stalled = false;
   while (now_ < give_up) {
     for (std::size_t k = along; k < way.size() && k < along + 20; ++k) {

@@ -71,6 +71,58 @@ TEST(NavigatePlan, ACloudsThingsAreItsReturnsAboveTheFloorGroupedLeavingOutTheRo
   }
 }
 
+/// A box from (x0, y0) to (x1, y1), `height` high, base_link: its top and sides every 2 cm.
+void add_box(macsim::client::Cloud& cloud, double x0, double y0, double x1, double y1,
+             double height) {
+  for (double x = x0; x <= x1 + 1e-9; x += 0.02)
+    for (double y = y0; y <= y1 + 1e-9; y += 0.02)
+      cloud.points.push_back({float(x), float(y), float(kFloor + height)});
+  for (double z = 0.02; z < height; z += 0.02) {
+    for (double x = x0; x <= x1 + 1e-9; x += 0.02) {
+      cloud.points.push_back({float(x), float(y0), float(kFloor + z)});
+      cloud.points.push_back({float(x), float(y1), float(kFloor + z)});
+    }
+    for (double y = y0; y <= y1 + 1e-9; y += 0.02) {
+      cloud.points.push_back({float(x0), float(y), float(kFloor + z)});
+      cloud.points.push_back({float(x1), float(y), float(kFloor + z)});
+    }
+  }
+}
+
+TEST(NavigatePlan, ThingsAreGroupedByHeightAndWhatRisesAboveTheViewIsAWall) {
+  macsim::client::Cloud cloud;
+  // A joist (4 cm) touching a log-high box (12 cm) ahead, and a wall (0.5 m) to the left with a
+  // box (20 cm) touching it.
+  add_box(cloud, 1.0, -0.6, 1.05, 0.0, 0.04);
+  add_box(cloud, 1.0, 0.02, 1.12, 0.4, 0.12);
+  add_box(cloud, -1.0, 1.5, 3.0, 1.6, 0.5);
+  add_box(cloud, 2.0, 1.2, 2.25, 1.48, 0.2);
+  const auto things = things_in(cloud, kurt_loop::Pose2{});
+  const Thing* joist = nullptr;
+  const Thing* log = nullptr;
+  const Thing* box = nullptr;
+  int walls = 0;
+  for (const auto& t : things) {
+    if (t.height == Height::Towering) {
+      ++walls;
+      EXPECT_GT(t.across, 3.0);
+      continue;
+    }
+    if (t.centre[0] < 1.5 && t.centre[1] < -0.1) joist = &t;
+    if (t.centre[0] < 1.5 && t.centre[1] > 0.1) log = &t;
+    if (t.centre[0] > 1.5) box = &t;
+  }
+  EXPECT_EQ(walls, 1) << "the wall with the box's side along it, as one";
+  ASSERT_TRUE(joist && log) << "the joist apart from what it touches";
+  EXPECT_EQ(joist->height, Height::Low);
+  EXPECT_NEAR(joist->centre[1], -0.3, 0.06);
+  EXPECT_EQ(log->height, Height::High);
+  EXPECT_NEAR(log->centre[1], 0.2, 0.06);
+  ASSERT_TRUE(box) << "a box touching the wall is a thing of its own, not part of the wall";
+  EXPECT_EQ(box->height, Height::High);
+  EXPECT_LT(box->across, 0.5);
+}
+
 TEST(NavigatePlan, TheWayKeepsClearOfWhatBlocksAndCrossesWhatIsPassable) {
   {
     FloorPlan plan({0, 0}, {4, 0});
