@@ -296,8 +296,16 @@ void Navigator::drive(Outcome& out) {
     // distance in the wheels' odometry, not in the laser's.
     auto still = static_structure(cloud, pose_);
     // It may not have moved at all since the last look (stuck, its wheels slipping).
+    // Its tracks may have slipped on the last stretch, by any part of it up to the whole (stuck):
+    // where it would stand had they slipped by each fifth, and a hand to either side.
     std::vector<std::array<double, 2>> guesses;
-    if (asked > 0) guesses.push_back({stretch_from.x - pose_.x, stretch_from.y - pose_.y});
+    if (asked > 0) {
+      const double bx = stretch_from.x - pose_.x, by = stretch_from.y - pose_.y;
+      const double norm = std::max(std::hypot(bx, by), 1e-9);
+      for (int fifth = 1; fifth <= 5; ++fifth)
+        for (double side : {0.0, -0.15, 0.15})
+          guesses.push_back({fifth * bx / 5 - side * by / norm, fifth * by / 5 + side * bx / norm});
+    }
     const auto shift = map.points().empty() ? std::nullopt : align(map.points(), still, guesses);
     if (options_.verbose) {
       char t[160];

@@ -42,10 +42,10 @@ inline constexpr double kStaticHeight = 0.25;
 /// Laser odometry: the shift (dx, dy) that lays `now` onto `map` (both from static_structure();
 /// the heading comes from the IMU), by ICP (point to line where the points make a line, else
 /// point to point); nullopt when fewer than 30 points match or the structure seen leaves the
-/// shift undetermined. The fit starts from no shift and from each of `guesses` (e.g. "it did not
-/// move at all"); a guess is taken when it lays the points clearly better. When no start fits,
-/// starts up to kSearch m around are tried. Wheel odometry counts a track that slips against
-/// something it cannot pass as distance; this does not.
+/// shift undetermined. The fit starts from no shift and from each of `guesses` (e.g. "its tracks
+/// slipped by half the stretch"); a guess's fit is taken when it lays the points clearly better
+/// than the wheels'. When no start fits, starts up to kSearch m around are tried. Wheel odometry
+/// counts a track that slips against something it cannot pass as distance; this does not.
 std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
                                            const std::vector<Point2>& now,
                                            const std::vector<std::array<double, 2>>& guesses = {});
