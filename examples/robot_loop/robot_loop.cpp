@@ -105,6 +105,14 @@ void RobotLoop::tick(double seconds) {
     }
     if (!odometry && !simulation_) drive_.drive(linear_, angular_);
   }
+  // In lock-step the IMU's sample of this tick too (it comes on its own writer, and may come
+  // after the odometry's): a heading one tick old would make two runs of one layout differ.
+  while (simulation_) {
+    const auto imu = imu_.latest();
+    if (!imu || macsim::client::stamp_seconds(imu->header()) >= target - 0.0105) break;
+    if (std::chrono::steady_clock::now() > deadline) break;  // the last one, then
+    std::this_thread::sleep_for(1ms);
+  }
   now_ = macsim::client::stamp_seconds(odometry->header());
   // Position: the odometry's distance travelled, along the IMU's heading.
   const auto& p = odometry->pose().pose().position();
