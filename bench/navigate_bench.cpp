@@ -5,7 +5,7 @@
 // tests/support/clutter_judge.h). Prints per policy the
 // success rate, the median robot time of the runs that got there, the stalls, and per kind of
 // thing how often it was driven through and around. `name value unit` lines, then the tables.
-//   bench_navigate [--policy P] [--draw DIR] --affordances DIR [SEEDS [FIRST]]
+//   bench_navigate [--domain N] [--policy P] [--draw DIR] --affordances DIR [SEEDS [FIRST]]
 //   (default 50 seeds from 1; repository root)
 #include <unistd.h>
 
@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "domain_arg.h"
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/process/child_process.h"
@@ -131,6 +132,8 @@ int main(int argc, char** argv) {
                args.begin() + static_cast<std::ptrdiff_t>(k) + 2);
     break;
   }
+  const auto domain_base = macsim::bench::take_domain_base(args, "bench_navigate", 150);
+  if (!domain_base) return 2;
   std::string draw;  // a folder for a picture of each run
   for (std::size_t k = 0; k + 1 < args.size(); ++k) {
     if (args[k] != "--draw") continue;
@@ -142,8 +145,8 @@ int main(int argc, char** argv) {
   }
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::printf(
-        "usage: bench_navigate [--policy model|avoid] [--draw DIR] --affordances DIR [SEEDS "
-        "[FIRST]]\n  "
+        "usage: bench_navigate [--domain N] [--policy model|avoid] [--draw DIR] --affordances DIR "
+        "[SEEDS [FIRST]]\n  "
         "kurt_navigate against "
         "macsim in lock-step on SEEDS layouts of worlds/clutter_field.xml (default 50 from "
         "seed 1), with the traverse model DIR/traverse.yml and with --policy avoid (or only the "
@@ -151,7 +154,8 @@ int main(int argc, char** argv) {
         "policy's success rate, median robot time, stalls, and what it drove through and around "
         "by kind; --draw writes a picture of each run into DIR (POLICY_SEED.png: the things before "
         "and after, the path by ground truth, where the navigator believed it stood). Run from "
-        "the repository root.\n");
+        "the repository root. Each run has a DDS domain of its own among the 80 from --domain "
+        "(default 150).\n");
     return 0;
   }
   int seeds = 50, first = 1;
@@ -177,7 +181,8 @@ int main(int argc, char** argv) {
   std::map<std::string, Tally> tallies;
   for (int seed = first; seed < first + seeds; ++seed) {
     for (const std::string& policy : policies) {
-      const int domain = 150 + (2 * seed + (policy == "avoid")) % 80;
+      const int domain =
+          *domain_base + (2 * seed + (policy == "avoid")) % macsim::bench::kLayoutDomains;
       const std::string tag = policy + "_" + std::to_string(seed);
       macsim::process::ChildProcess sim(
           {bin + "/macsim", "--world", world, "--domain", std::to_string(domain), "--lockstep",
