@@ -1,6 +1,7 @@
 // What kurt_navigate takes from one 3D laser cloud: the traverse features of the way ahead (as a
-// trial computes them), the tall structure its laser odometry aligns, the traverse model it
-// takes, and what the laser saw along the run, for the summary: things driven through or around.
+// trial computes them), what stands still and the laser odometry that aligns each look to it,
+// the traverse model it takes, and what the laser saw along the run, for the summary: things
+// driven through or around.
 #pragma once
 
 #include <array>
