@@ -134,6 +134,11 @@ int main(int argc, char** argv) {
   }
   const auto domain_base = macsim::bench::take_domain_base(args, "bench_navigate", 150);
   if (!domain_base) return 2;
+  bool verbose = false;  // the navigator's --verbose, into its logs
+  if (const auto v = std::find(args.begin(), args.end(), "--verbose"); v != args.end()) {
+    verbose = true;
+    args.erase(v);
+  }
   std::string draw;  // a folder for a picture of each run
   for (std::size_t k = 0; k + 1 < args.size(); ++k) {
     if (args[k] != "--draw") continue;
@@ -145,16 +150,17 @@ int main(int argc, char** argv) {
   }
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::printf(
-        "usage: bench_navigate [--domain N] [--policy model|avoid] [--draw DIR] --affordances DIR "
-        "[SEEDS [FIRST]]\n  "
+        "usage: bench_navigate [--domain N] [--policy model|avoid] [--draw DIR] [--verbose] "
+        "--affordances DIR [SEEDS [FIRST]]\n  "
         "kurt_navigate against "
         "macsim in lock-step on SEEDS layouts of worlds/clutter_field.xml (default 50 from "
         "seed 1), with the traverse model DIR/traverse.yml and with --policy avoid (or only the "
         "one --policy names); prints each "
         "policy's success rate, median robot time, stalls, and what it drove through and around "
         "by kind; --draw writes a picture of each run into DIR (POLICY_SEED.png: the things before "
-        "and after, the path by ground truth, where the navigator believed it stood). Run from "
-        "the repository root. Each run has a DDS domain of its own among the 80 from --domain "
+        "and after, the path by ground truth, where the navigator believed it stood); --verbose "
+        "keeps each look's fit and things in the navigator's logs. Run from the repository root. "
+        "Each run has a DDS domain of its own among the 80 from --domain "
         "(default 150).\n");
     return 0;
   }
@@ -207,7 +213,7 @@ int main(int argc, char** argv) {
       }
       std::vector<std::string> command{bin + "/kurt_navigate", "--domain", std::to_string(domain),
                                        "--lockstep",           "--policy", policy};
-      if (std::getenv("BENCH_NAVIGATE_VERBOSE")) command.push_back("--verbose");
+      if (verbose) command.push_back("--verbose");
       if (policy == "model") command.insert(command.end(), {"--affordances", models});
       const std::string log = logs + "/kurt_navigate_" + tag + ".log";
       macsim::process::ChildProcess navigator(command, macsim::process::Output::file(log));

@@ -51,11 +51,11 @@ macsim::client::Cloud Navigator::level(macsim::client::Cloud cloud) const {
   if (!imu) return cloud;
   const auto& o = imu->orientation();
   const Eigen::Quaterniond q(o.w(), o.x(), o.y(), o.z());
-  // The robot's tilt alone: its orientation with the heading taken out.
-  const double yaw = std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()),
-                                1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+  // The robot's tilt alone: its orientation with the heading (of its x axis) taken out.
+  const Eigen::Matrix3d r = q.toRotationMatrix();
   const Eigen::Matrix3f tilt =
-      (Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()) * q).toRotationMatrix().cast<float>();
+      (Eigen::AngleAxisd(-std::atan2(r(1, 0), r(0, 0)), Eigen::Vector3d::UnitZ()) * r)
+          .cast<float>();
   for (auto& p : cloud.points) {
     const Eigen::Vector3f v = tilt * Eigen::Vector3f(p[0], p[1], p[2]);
     p = {v.x(), v.y(), v.z()};
@@ -295,7 +295,6 @@ void Navigator::drive(Outcome& out) {
     // Where what stands still says it is: a track slipping against something counts as
     // distance in the wheels' odometry, not in the laser's.
     auto still = static_structure(cloud, pose_);
-    // It may not have moved at all since the last look (stuck, its wheels slipping).
     // Its tracks may have slipped on the last stretch, by any part of it up to the whole (stuck):
     // where it would stand had they slipped by each fifth, and a hand to either side.
     std::vector<std::array<double, 2>> guesses;

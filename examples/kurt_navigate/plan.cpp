@@ -14,7 +14,6 @@ namespace af = macsim::affordances;
 
 namespace {
 
-constexpr double kCell = 0.05;  // m: the things' cells
 // What lies closer than this is one thing (the scanner's rings leave wider gaps far away; the
 // robot passes no gap this narrow).
 double gap(double range) { return std::max(0.15, 0.1 * range); }
@@ -25,10 +24,6 @@ bool on_body(const std::array<float, 3>& q) {
 }
 
 }  // namespace
-
-std::pair<int, int> cell_of(const Point2& p) {
-  return {static_cast<int>(std::floor(p[0] / kCell)), static_cast<int>(std::floor(p[1] / kCell))};
-}
 
 std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose,
                              double range) {
@@ -52,7 +47,7 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
   // than a trial's view (a wall) make things the model is not asked about.
   std::map<Key, Height> level;
   for (const auto& [key, h] : top) {
-    if (!cells.count(key)) cells[key];  // a wall's cell: its returns are all above the view
+    cells.try_emplace(key);  // a wall's cell may have no return within the view
     if (h > af::GroundGrid::kTop) {
       level[key] = Height::Towering;
       continue;
@@ -67,18 +62,17 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
   }
   // A wall's cells whose returns did not reach above the view (its top not seen there) are the
   // wall's still: what lies within 10 cm of a wall is taken as part of it.
-  std::vector<Key> foot;
-  for (const auto& [key, h] : level) {
-    if (h == Height::Towering) continue;
+  const auto near_wall = [&](const Key& key) {
     for (int dx = -2; dx <= 2; ++dx)
       for (int dy = -2; dy <= 2; ++dy) {
         const auto n = level.find({key.first + dx, key.second + dy});
-        if (n != level.end() && n->second == Height::Towering) {
-          foot.push_back(key);
-          dx = dy = 3;  // found
-        }
+        if (n != level.end() && n->second == Height::Towering) return true;
       }
-  }
+    return false;
+  };
+  std::vector<Key> foot;
+  for (const auto& [key, h] : level)
+    if (h != Height::Towering && near_wall(key)) foot.push_back(key);
   for (const auto& key : foot) level[key] = Height::Towering;
   std::vector<Thing> things;
   std::map<Key, bool> grouped;
@@ -93,14 +87,14 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
     while (!todo.empty()) {
       const auto at = todo.back();
       todo.pop_back();
-      const Point2 centre{(at.first + 0.5) * kCell, (at.second + 0.5) * kCell};
+      const Point2 centre{(at.first + 0.5) * kGrid, (at.second + 0.5) * kGrid};
       thing.cells.push_back(centre);
       const auto& points = cells.at(at);
       thing.points.insert(thing.points.end(), points.begin(), points.end());
       x0 = std::min(x0, at.first), x1 = std::max(x1, at.first);
       y0 = std::min(y0, at.second), y1 = std::max(y1, at.second);
       const int n =
-          static_cast<int>(gap(std::hypot(centre[0] - pose.x, centre[1] - pose.y)) / kCell);
+          static_cast<int>(gap(std::hypot(centre[0] - pose.x, centre[1] - pose.y)) / kGrid);
       for (int dx = -n; dx <= n; ++dx) {
         for (int dy = -n; dy <= n; ++dy) {
           const Key next{at.first + dx, at.second + dy};
@@ -112,7 +106,7 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop
         }
       }
     }
-    thing.across = std::hypot(x1 - x0 + 1, y1 - y0 + 1) * kCell;
+    thing.across = std::hypot(x1 - x0 + 1, y1 - y0 + 1) * kGrid;
     thing.distance = std::numeric_limits<double>::infinity();
     for (const auto& p : thing.cells) {
       thing.centre[0] += p[0] / static_cast<double>(thing.cells.size());

@@ -37,9 +37,6 @@ struct Thing {
 /// Things lower than this above the floor (m) are grouped apart from higher ones.
 inline constexpr double kLowThing = 0.08;
 
-/// The 5 cm cell of the things' grid (odometry frame) that holds `p`.
-std::pair<int, int> cell_of(const Point2& p);
-
 /// The things of a cloud (base_link) taken at `pose`, up to `range` m away; the robot's own body
 /// is left out.
 std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose,

@@ -14,7 +14,7 @@ namespace af = macsim::affordances;
 
 namespace {
 
-constexpr double kCell = 0.1;  // m: the sightings' cells
+constexpr double kSightingCell = 0.1;  // m: the sightings' cells
 
 }  // namespace
 
@@ -40,6 +40,10 @@ std::map<std::string, double> way_features(const macsim::client::Cloud& way) {
   return af::named_features(p, af::Affordance::Traverse);
 }
 
+std::pair<int, int> cell_of(const Point2& p) {
+  return {static_cast<int>(std::floor(p[0] / kGrid)), static_cast<int>(std::floor(p[1] / kGrid))};
+}
+
 std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
                                      const kurt_loop::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
@@ -49,9 +53,7 @@ std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
     const double range = std::hypot(q[0], q[1]);
     if (h < kStaticHeight || h > 0.6 || range < 0.6 || range > 9.5) continue;
     const double x = pose.x + c * q[0] - s * q[1], y = pose.y + s * q[0] + c * q[1];
-    cells.try_emplace(
-        {static_cast<int>(std::floor(x / 0.05)), static_cast<int>(std::floor(y / 0.05))},
-        Point2{x, y});
+    cells.try_emplace(cell_of({x, y}), Point2{x, y});
   }
   std::vector<Point2> points;
   for (const auto& [cell, p] : cells) points.push_back(p);
@@ -60,9 +62,7 @@ std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
 
 void StaticMap::add(const std::vector<Point2>& points) {
   for (const auto& p : points) {
-    const std::pair<int, int> cell{static_cast<int>(std::floor(p[0] / 0.05)),
-                                   static_cast<int>(std::floor(p[1] / 0.05))};
-    if (cells_.try_emplace(cell, points_.size()).second) points_.push_back(p);
+    if (cells_.try_emplace(cell_of(p), points_.size()).second) points_.push_back(p);
   }
 }
 
@@ -126,7 +126,7 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
       on_line[i] = true;
     }
   }
-  // A point's gap to the map where it lies nearest (within 0.3 m), and whether that is a line.
+  // The map point nearest a point (within 0.3 m).
   struct Match {
     std::size_t index;
     double distance;
@@ -135,6 +135,13 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
     const auto found = index.nearest(p.x(), p.y());
     if (!found) return std::nullopt;
     return Match{found->first, found->second};
+  };
+  // From `p` to the map point it matched: the gap, and its length across the line there.
+  const auto gap_to = [&](const Match& m, const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return Eigen::Vector2d(map[m.index][0], map[m.index][1]) - p;
+  };
+  const auto residual = [&](const Match& m, const Eigen::Vector2d& p) {
+    return on_line[m.index] ? std::fabs(normals[m.index].dot(gap_to(m, p))) : m.distance;
   };
   // Each fit's cost: the sum of its points' squared residuals (to the line there, if one), each
   // at most kOutlier (a point of what moved, or seen anew, costs the same wherever it is laid).
@@ -152,7 +159,7 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
         const Eigen::Vector2d moved = Eigen::Vector2d(p[0], p[1]) + shift;
         const auto m = match(moved);
         if (!m || m->distance > gate) continue;
-        const Eigen::Vector2d gap = Eigen::Vector2d(map[m->index][0], map[m->index][1]) - moved;
+        const Eigen::Vector2d gap = gap_to(*m, moved);
         if (on_line[m->index]) {  // point to line: n . (moved + delta - q) = 0
           const Eigen::Vector2d& n = normals[m->index];
           a += n * n.transpose();
@@ -172,12 +179,7 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
     for (const auto& p : now) {
       const Eigen::Vector2d moved = Eigen::Vector2d(p[0], p[1]) + shift;
       const auto m = match(moved);
-      double r = kOutlier;
-      if (m) {
-        const Eigen::Vector2d gap = Eigen::Vector2d(map[m->index][0], map[m->index][1]) - moved;
-        r = std::min(kOutlier,
-                     on_line[m->index] ? std::fabs(normals[m->index].dot(gap)) : m->distance);
-      }
+      const double r = m ? std::min(kOutlier, residual(*m, moved)) : kOutlier;
       cost += r * r;
     }
     return Fit{shift, cost};
@@ -237,7 +239,8 @@ void Sightings::add(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& 
         std::hypot(q[0], q[1]) < 0.3)
       continue;
     const double x = pose.x + c * q[0] - s * q[1], y = pose.y + s * q[0] + c * q[1];
-    ++cells_[{static_cast<int>(std::floor(x / kCell)), static_cast<int>(std::floor(y / kCell))}];
+    ++cells_[{static_cast<int>(std::floor(x / kSightingCell)),
+              static_cast<int>(std::floor(y / kSightingCell))}];
   }
 }
 
@@ -272,11 +275,11 @@ Sightings::Counts Sightings::count(double half_width) const {
     for (const auto& [x, y] : thing) {
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
-    if (std::hypot(x1 - x0 + 1, y1 - y0 + 1) * kCell > 1.2) continue;  // a wall
+    if (std::hypot(x1 - x0 + 1, y1 - y0 + 1) * kSightingCell > 1.2) continue;  // a wall
     ++counts.seen;
     double nearest = 1e9;
     for (const auto& [cx, cy] : thing) {
-      const double x = (cx + 0.5) * kCell, y = (cy + 0.5) * kCell;
+      const double x = (cx + 0.5) * kSightingCell, y = (cy + 0.5) * kSightingCell;
       for (const auto& [px, py] : path_) nearest = std::min(nearest, std::hypot(x - px, y - py));
     }
     if (nearest < half_width)

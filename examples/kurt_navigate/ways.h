@@ -27,6 +27,11 @@ std::map<std::string, double> way_features(const macsim::client::Cloud& way);
 /// A point on the floor plan, m.
 using Point2 = std::array<double, 2>;
 
+/// The cells of things and of what stands still, m.
+inline constexpr double kGrid = 0.05;
+/// The kGrid cell (odometry frame) that holds `p`.
+std::pair<int, int> cell_of(const Point2& p);
+
 /// Returns lower than this above the floor are the floor (the trials' corridor), m.
 inline constexpr double kAboveFloor = 0.03;
 /// Height above the floor of a cloud's point (base_link), m.

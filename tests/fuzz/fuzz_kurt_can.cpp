@@ -8,16 +8,14 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "finding.h"
 #include "fuzz_input.h"
 #include "macsim/kurt/kurt_can.h"
 #include "macsim/kurt/kurt_driver.h"
 
 namespace {
 
-[[noreturn]] void finding(const std::string& what) {
-  std::fprintf(stderr, "finding: %s\n", what.c_str());
-  std::abort();
-}
+using macsim::fuzz::finding;
 
 /// The i-th double of a record's bytes (zero past the end).
 double number(std::string_view bytes, std::size_t i) {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <map>
 
+#include "finding.h"
 #include "fuzz_input.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
@@ -24,10 +25,7 @@ namespace {
 
 namespace mm = macsim_msgs::msg::dds_;
 
-[[noreturn]] void finding(const std::string& what) {
-  std::fprintf(stderr, "finding: %s\n", what.c_str());
-  std::abort();
-}
+using macsim::fuzz::finding;
 
 /// Deserializes as macsim's readers do: false if the bytes are not a sample of the type.
 template <class PubSubType, class Sample>

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "finding.h"
 #include "macsim/sim_core/log_sink.h"
 #include "snapshot_scene.h"
 #include "support/world_invariants.h"
@@ -20,10 +21,7 @@ struct Fixture {
   uint64_t initial_hash = world->state_hash();
 };
 
-[[noreturn]] void finding(const char* what) {
-  std::fprintf(stderr, "%s\n", what);
-  std::abort();
-}
+using macsim::fuzz::finding;
 
 }  // namespace
 
