@@ -28,10 +28,23 @@ int main(int argc, char** argv) {
                                               macsim::log::Level::warn, macsim::log::Level::error};
     macsim::log::write(kLevels[static_cast<int>(level)], message);
   });
+  if (o.session && !o.extract.empty()) return extract_session_files(*o.session, o.extract);
+  if (!o.extract.empty()) {
+    macsim::log::error("macsim: --extract DIR goes with --replay FILE");
+    return 2;
+  }
+  // A recorded run embeds every file it reads, from the first world on: those read before the
+  // session file is opened wait here.
+  std::vector<std::pair<std::string, std::string>> first_files;
+  const macsim::WatchedFiles watched(
+      world_files(o), [&first_files](const std::string& path, const std::string& bytes) {
+        first_files.emplace_back(path, bytes);
+      });
   std::unique_ptr<macsim::Runner> runner;
   try {
     macsim::LoadOptions load;
     load.limits = o.limits();
+    load.files = &watched;
     auto spec = macsim::load_world_file(o.world_file, load);
     // What --validate asks for goes to standard output; otherwise it is a diagnostic.
     if (o.validate) {
@@ -83,9 +96,13 @@ int main(int argc, char** argv) {
   if (!o.record_session.empty()) {
     try {
       session = std::make_shared<macsim::SessionWriter>(
-          o.record_session,
-          macsim::SessionHeader{o.world_file, o.seed, uint64_t(o.session_hash_every),
-                                runner->settings().part_overlaps});
+          o.record_session, session_header(o, runner->settings().part_overlaps));
+      for (const auto& [path, bytes] : first_files) session->file(path, bytes);
+      // Every file a request reads from now on goes into the session as it is read.
+      runner->set_data_roots(runner->data_roots().watched(
+          [writer = session](const std::string& path, const std::string& bytes) {
+            writer->file(path, bytes);
+          }));
       runner->record(session);
     } catch (const macsim::SessionFileError& e) {
       macsim::log::error("macsim: --record-session: {}", e.what());

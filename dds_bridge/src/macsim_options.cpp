@@ -2,9 +2,13 @@
 
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <charconv>
+#include <climits>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "macsim/dds/command_line.h"
@@ -135,15 +139,22 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
                  std::to_string(o.max_queued_commands) + ")",
              &o.max_queued_commands);
   cli.option("record-session", "FILE",
-             "write every command that reaches the world (with its step) and the state hash "
-             "every --session-hash-every steps to FILE; --replay runs it again",
+             "write every command that reaches the world (with its step), the state hash every "
+             "--session-hash-every steps, every file the run reads (world, imports, textures, "
+             "worlds loaded later) and the settings that change results to FILE, as the run "
+             "goes; --replay runs it again from that file alone",
              &o.record_session);
   cli.option("session-hash-every", "N",
              "steps between two hashes of a recorded session (default 100)", &o.session_hash_every);
   cli.option("replay", "FILE",
              "replay a recorded session without DDS: its world, its commands at their steps; "
-             "checks every hash and exits 0 when all are equal, 1 at the first step that differs",
+             "checks every hash and exits 0 when all are equal, 1 at the first step that differs; "
+             "the world and settings are the session's (its files are read from it, never from "
+             "the disk)",
              &o.replay);
+  cli.option("extract", "DIR",
+             "with --replay: write the files the session holds under DIR instead of replaying",
+             &o.extract);
   if (auto code = cli.parse(argc, argv)) return code;
   if (o.session_hash_every < 1) {
     macsim::log::error("macsim: --session-hash-every must be at least 1");
@@ -157,7 +168,24 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
       return 2;
     }
     const auto& header = o.session->header;
-    if (!o.world_file.empty() && o.world_file != header.world_file) {
+    if (header.self_contained) {
+      // Everything from the session: its files (never the disk's) and its settings.
+      if (!o.world_file.empty() && o.world_file != header.world_file) {
+        macsim::log::warn("macsim: --world {} ignored: the session holds its world, {}",
+                          o.world_file, header.world_file);
+      }
+      o.world_file = header.world_file;
+      o.seed = static_cast<int>(header.seed);
+      o.keep_overlaps = !header.overlaps_parted;
+      o.strict = header.strict;
+      o.max_import_depth = int(std::min<std::size_t>(header.limits.max_import_depth, INT_MAX));
+      o.max_imported_files = int(std::min<std::size_t>(header.limits.max_imported_files, INT_MAX));
+      o.max_objects = int(std::min<std::size_t>(header.limits.max_objects, INT_MAX));
+      o.max_snapshots = int(std::min<std::size_t>(header.snapshot_limits.max_count, INT_MAX));
+      o.max_snapshot_bytes = std::to_string(header.snapshot_limits.max_bytes);
+      o.session_files = std::make_shared<macsim::MemoryFiles>();
+      macsim::embed_first_files(*o.session, *o.session_files);
+    } else if (!o.world_file.empty() && o.world_file != header.world_file) {
       macsim::log::warn("macsim: replaying on --world {}, not the session's {}", o.world_file,
                         header.world_file);
     }
@@ -203,8 +231,8 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     return 2;
   }
   if (const auto installed = macsim::dds::data_file("worlds/" + o.world_file);
-      !std::filesystem::exists(o.world_file) && std::filesystem::path(o.world_file).is_relative() &&
-      std::filesystem::exists(installed)) {
+      !o.session_files && !std::filesystem::exists(o.world_file) &&
+      std::filesystem::path(o.world_file).is_relative() && std::filesystem::exists(installed)) {
     o.world_file = installed;
   }
   if (o.seed < -1) {
@@ -223,6 +251,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
 }
 
 std::shared_ptr<const macsim::DataRoots> data_roots(const Options& o) {
+  if (o.session_files) return macsim::DataRoots::only(o.session_files);
   std::vector<std::string> folders;
   std::error_code error;
   folders.push_back(std::filesystem::absolute(o.world_file, error).parent_path().string());
@@ -232,6 +261,53 @@ std::shared_ptr<const macsim::DataRoots> data_roots(const Options& o) {
   }
   folders.insert(folders.end(), o.data_paths.begin(), o.data_paths.end());
   return std::make_shared<const macsim::DataRoots>(folders);
+}
+
+const macsim::WorldFiles& world_files(const Options& o) {
+  return o.session_files ? *o.session_files : macsim::disk_files();
+}
+
+macsim::SessionHeader session_header(const Options& o, bool overlaps_parted) {
+  macsim::SessionHeader header;
+  header.world_file = o.world_file;
+  header.seed = o.seed;
+  header.hash_every = uint64_t(o.session_hash_every);
+  header.overlaps_parted = overlaps_parted;
+  header.strict = o.strict;
+  header.limits = o.limits();
+  header.snapshot_limits = o.snapshot_limits;
+  return header;
+}
+
+int extract_session_files(const macsim::Session& session, const std::string& dir) {
+  namespace fs = std::filesystem;
+  if (!session.header.self_contained) {
+    macsim::log::error(
+        "macsim: --extract: {} is a session of format version 3 or older: it holds "
+        "no files",
+        session.header.world_file);
+    return 2;
+  }
+  std::error_code error;
+  for (const auto& file : session.files) {
+    // The path as the run asked for it, made relative: no root, and '..' spelled "up".
+    fs::path relative;
+    for (const auto& part : fs::path(file.path).lexically_normal().relative_path()) {
+      relative /= part == ".." ? fs::path("up") : part;
+    }
+    const fs::path target = fs::path(dir) / relative;
+    fs::create_directories(target.parent_path(), error);
+    std::ofstream out(target, std::ios::binary | std::ios::trunc);
+    out.write(file.bytes.data(), std::streamsize(file.bytes.size()));
+    out.close();
+    if (error || !out) {
+      macsim::log::error("macsim: --extract: cannot write {}", target.string());
+      return 2;
+    }
+    std::printf("%s (%zu bytes, read as %s)\n", target.string().c_str(), file.bytes.size(),
+                file.path.c_str());
+  }
+  return 0;
 }
 
 }  // namespace macsim::program

@@ -57,7 +57,10 @@ struct Options {
   std::string record_session;
   int session_hash_every = 100;
   std::string replay;
+  std::string extract;                     // --replay FILE --extract DIR
   std::optional<macsim::Session> session;  // read from --replay
+  /// The files a self-contained session holds (--replay): all a replay reads.
+  std::shared_ptr<macsim::MemoryFiles> session_files;
 
   macsim::LoadLimits limits() const {
     return {std::size_t(max_import_depth), std::size_t(max_imported_files),
@@ -69,8 +72,16 @@ struct Options {
 /// option).
 std::optional<int> parse_options(int argc, char** argv, Options& o);
 
-/// The folders requests may name files in: the world's, the shipped worlds, each --data-path.
+/// The folders requests may name files in: the world's, the shipped worlds, each --data-path;
+/// in a replay of a self-contained session, its files only.
 std::shared_ptr<const macsim::DataRoots> data_roots(const Options& o);
+/// Where the first world is read from: the disk, or a replayed session's files.
+const macsim::WorldFiles& world_files(const Options& o);
+/// The session header a recording of this run starts with.
+macsim::SessionHeader session_header(const Options& o, bool overlaps_parted);
+/// --extract: writes the session's files under `dir` (their paths made relative), one line
+/// each; 0, or 2 when one cannot be written.
+int extract_session_files(const macsim::Session& session, const std::string& dir);
 
 /// One line on what the world holds.
 std::string world_summary(const macsim::WorldSpec& spec);

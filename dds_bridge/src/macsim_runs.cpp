@@ -259,6 +259,12 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
       counts += fmt::format(" {} {}", macsim::to_string(source), runner.commands_run(source));
     }
     macsim::log::info("macsim: commands run:{}", counts);
+    if (const uint64_t late = runner.commands_sent_before_reset(); late > 0) {
+      macsim::log::info(
+          "macsim: {} robot commands sent before a reset (or restore, or load) arrived after it "
+          "and were dropped",
+          late);
+    }
     if (!o.record_session.empty()) {
       runner.record(nullptr);  // its closing line
       if (session && !session->ok()) {
@@ -286,7 +292,7 @@ int replay(macsim::Runner& runner, const Options& o) {
     return source ? macsim::world_parser(runner, limits, *source)
                   : std::function<macsim::WorldSpec()>();
   };
-  const auto outcome = macsim::replay_session(*o.session, runner, load);
+  const auto outcome = macsim::replay_session(*o.session, runner, load, o.session_files.get());
   std::printf("macsim: %s\n", outcome.message.c_str());
   return outcome.equal ? 0 : 1;
 }

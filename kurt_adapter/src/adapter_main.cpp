@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     // loop runs the commands at its next 10 ms tick.
     macsim::robot::RobotNode node(
         dds, kurt,
-        [&queue, &robot](macsim::robot::RobotCommand command) {
+        [&queue, &robot](macsim::robot::RobotCommand command, const macsim::dds::SampleId&) {
           queue.push([command = std::move(command), &robot](macsim::robot::RobotInterface& real) {
             if (!real.execute(command)) {
               macsim::log::warn("kurt_adapter: robot '{}' has no command '{}': refused", robot,

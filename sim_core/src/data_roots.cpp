@@ -100,7 +100,21 @@ std::optional<fs::path> DataRoots::inside(const std::string& path) const {
   return canonical;
 }
 
+std::shared_ptr<const DataRoots> DataRoots::only(std::shared_ptr<const WorldFiles> files) {
+  std::shared_ptr<DataRoots> roots(new DataRoots());
+  roots->restricted_ = true;
+  roots->only_ = std::move(files);
+  return roots;
+}
+
+std::shared_ptr<const DataRoots> DataRoots::watched(FileWatcher watcher) const {
+  auto roots = std::shared_ptr<DataRoots>(new DataRoots(*this));
+  roots->watcher_ = std::move(watcher);
+  return roots;
+}
+
 bool DataRoots::contains(const std::string& path) const {
+  if (only_) return only_->read(path).has_value();
   const auto canonical = inside(path);
   return canonical && !special(*canonical);
 }
@@ -112,6 +126,17 @@ std::string DataRoots::outside_message(const std::string& path) {
 }
 
 std::optional<std::string> DataRoots::read(const std::string& path) const {
+  std::optional<std::string> bytes;
+  if (only_) {
+    bytes = only_->read(path);  // a file the recorded run did not read is missing here
+  } else {
+    bytes = read_disk(path);
+  }
+  if (bytes && watcher_) watcher_(path, *bytes);
+  return bytes;
+}
+
+std::optional<std::string> DataRoots::read_disk(const std::string& path) const {
   const auto canonical = inside(path);
   if (!canonical) throw FileRefused(outside_message(path));
   if (special(*canonical)) {
@@ -163,6 +188,7 @@ std::optional<std::string> DataRoots::read(const std::string& path) const {
 }
 
 std::string DataRoots::identity(const std::string& path) const {
+  if (only_) return only_->identity(path);
   if (const auto canonical = inside(path)) return canonical->string();
   const auto normal = lexical(path);
   return normal ? normal->string() : path;

@@ -11,6 +11,12 @@ namespace macsim {
 
 using Clock = std::chrono::steady_clock;
 
+namespace {
+/// Senders whose commands before a reset are remembered at most (beyond: one forgotten per new
+/// one).
+constexpr std::size_t kMaxFences = 4096;
+}  // namespace
+
 Runner::Runner(WorldSpec spec, RunSettings settings)
     : world_(std::make_unique<World>(std::move(spec))),
       settings_(settings),
@@ -38,7 +44,25 @@ void Runner::answered_repeat(const Command& command) {
   if (count > 0) --count;
 }
 
+void Runner::fence(const std::vector<Sender>& sent_before) {
+  for (const Sender& s : sent_before) {
+    if (fences_.size() >= kMaxFences && !fences_.count(s.id)) fences_.erase(fences_.begin());
+    uint64_t& through = fences_[s.id];
+    through = std::max(through, s.sequence);
+  }
+}
+
+bool Runner::fenced(const Command& command) const {
+  if (!command.sent_by) return false;
+  const auto fence = fences_.find(command.sent_by->id);
+  return fence != fences_.end() && command.sent_by->sequence <= fence->second;
+}
+
 bool Runner::execute(const Command& command) {
+  if (fenced(command)) {  // sent before a reset, delivered after it: it never acts
+    ++commands_fenced_;
+    return false;
+  }
   ++commands_run_[static_cast<std::size_t>(command.source)];
   bool acted = false;
   switch (command.source) {
@@ -68,6 +92,7 @@ bool Runner::execute(const Command& command) {
         say("macsim: nobody runs " + describe(command) + "; dropped");
       }
   }
+  if (acted && !command.sent_before.empty()) fence(command.sent_before);
   if (acted && recording_) recording_->command(steps_run_, command);
   return acted;
 }
@@ -220,6 +245,7 @@ void Runner::replace_world(Load& load) {
       ++generation_;
       snapshots_.clear();
       outcome.ok = true;
+      fence(load.recorded.sent_before);
       if (recording_ && !load.recorded.operation.empty())
         recording_->command(steps_run_, load.recorded);
     }

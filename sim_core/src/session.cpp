@@ -1,5 +1,7 @@
 #include "macsim/sim_core/session.h"
 
+#include <xxhash.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -10,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "macsim/sim_core/log_sink.h"
@@ -24,6 +27,13 @@ namespace macsim {
 //   hash-every <N>
 //   overlaps parted|kept                 objects started inside each other: moved apart on load
 //                                        or kept (version 2; a version 1 file reads as kept)
+//   strict 0|1                           a world loaded later with objects inside each other is
+//                                        refused (version 4, as the next two)
+//   limits <import depth> <imported files> <objects>   what one world may hold
+//   snapshots <count> <bytes>            named snapshots kept at most
+//   f <path> <checksum> <bytes>          a file the run read (the path as asked), embedded when
+//                                        it was read: the bytes in hex, the checksum their XXH3
+//                                        in 16 hex digits (version 4)
 //   c <step> <source> <operation> <target> <values> <message>   a command, before step+1
 //   k <first> <last>                     keep_robot_commands before each step first+1..last+1:
 //                                        what a step request holding the robots' commands runs
@@ -94,16 +104,20 @@ std::string values_text(const std::vector<double>& values) {
   return out;
 }
 
-std::string bytes_text(const std::vector<uint8_t>& bytes) {
+std::string bytes_text(std::string_view bytes) {
   if (bytes.empty()) return "-";
   static const char* digits = "0123456789abcdef";
   std::string out;
   out.reserve(bytes.size() * 2);
-  for (uint8_t b : bytes) {
+  for (unsigned char b : bytes) {
     out += digits[b >> 4];
     out += digits[b & 15];
   }
   return out;
+}
+
+std::string bytes_text(const std::vector<uint8_t>& bytes) {
+  return bytes_text(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::string command_line(uint64_t step, const Command& c) {
@@ -113,10 +127,19 @@ std::string command_line(uint64_t step, const Command& c) {
          bytes_text(c.message) + "\n";
 }
 
-std::string hash_line(uint64_t step, uint64_t hash) {
-  char text[64];
-  std::snprintf(text, sizeof text, "h %" PRIu64 " %016" PRIx64 "\n", step, hash);
+std::string hex16(uint64_t v) {
+  char text[20];
+  std::snprintf(text, sizeof text, "%016" PRIx64, v);
   return text;
+}
+
+std::string hash_line(uint64_t step, uint64_t hash) {
+  return "h " + std::to_string(step) + " " + hex16(hash) + "\n";
+}
+
+std::string file_line(const std::string& path, const std::string& bytes) {
+  return "f " + encode(path) + " " + hex16(file_checksum(bytes)) + " " +
+         bytes_text(std::string_view(bytes)) + "\n";
 }
 
 }  // namespace
@@ -232,10 +255,15 @@ void write_all(std::FILE* file, const std::string& path, const std::string& text
 }
 
 std::string header_text(const SessionHeader& header) {
+  const auto& l = header.limits;
   return std::string(kMagic) + " " + std::to_string(kSessionFormatVersion) + "\nworld " +
          encode(header.world_file) + "\nseed " + std::to_string(header.seed) + "\nhash-every " +
          std::to_string(header.hash_every) + "\noverlaps " +
-         (header.overlaps_parted ? "parted" : "kept") + "\n";
+         (header.overlaps_parted ? "parted" : "kept") + "\nstrict " + (header.strict ? "1" : "0") +
+         "\nlimits " + std::to_string(l.max_import_depth) + " " +
+         std::to_string(l.max_imported_files) + " " + std::to_string(l.max_objects) +
+         "\nsnapshots " + std::to_string(header.snapshot_limits.max_count) + " " +
+         std::to_string(header.snapshot_limits.max_bytes) + "\n";
 }
 
 }  // namespace
@@ -263,17 +291,31 @@ void SessionWriter::put(const std::string& text) {
 }
 
 void SessionWriter::command(uint64_t step, const Command& command) {
+  std::lock_guard<std::mutex> lock(mutex_);
   put(keep_run_->add(step, command));
   ++commands_;
 }
 
+void SessionWriter::file(const std::string& path, const std::string& bytes) {
+  const uint64_t checksum = file_checksum(bytes);
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto [embedded, added] = embedded_.emplace(path, checksum);
+  if (!added && embedded->second == checksum) return;  // the same bytes: embedded already
+  embedded->second = checksum;
+  // A run of held steps ends before the file: it was read after them.
+  put(keep_run_->close() + file_line(path, bytes));
+  if (file_) std::fflush(file_);
+}
+
 void SessionWriter::hash(uint64_t step, uint64_t hash) {
+  std::lock_guard<std::mutex> lock(mutex_);
   put(keep_run_->close() + hash_line(step, hash));
   ++hashes_;
   if (file_) std::fflush(file_);
 }
 
 void SessionWriter::finish(uint64_t steps) {
+  std::lock_guard<std::mutex> lock(mutex_);
   if (!file_) return;
   put(keep_run_->close() + "end " + std::to_string(steps) + " " + std::to_string(commands_) + " " +
       std::to_string(hashes_) + "\n");
@@ -290,9 +332,13 @@ void SessionWriter::finish(uint64_t steps) {
 Session read_session(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) throw SessionFileError(path + ": cannot read: " + std::strerror(errno));
-  std::stringstream in;
-  in << file.rdbuf();
-  const std::string& whole = in.str();
+  std::stringstream text;
+  text << file.rdbuf();
+  return parse_session(text.str(), path);
+}
+
+Session parse_session(const std::string& whole, const std::string& path) {
+  std::istringstream in(whole);
   if (!whole.empty() && whole.back() != '\n') {
     throw SessionFileError(path + ":" +
                            std::to_string(std::count(whole.begin(), whole.end(), '\n') + 1) +
@@ -303,6 +349,8 @@ Session read_session(const std::string& path) {
   std::string line;
   bool ended = false, has_world = false, has_every = false, has_seed = false;
   bool has_overlaps = true;  // a version 2 file must say (below); version 1 had no parting
+  bool has_settings = true;  // strict, limits and snapshots: a version 4 file must say (below)
+  bool has_strict = false, has_limits = false, has_snapshots = false;
   uint64_t last_step = 0;
   int version = 0;
   while (std::getline(in, line)) {
@@ -324,15 +372,22 @@ Session read_session(const std::string& path) {
       } else {
         has_overlaps = false;
       }
+      session.header.self_contained = version >= 4;
+      if (version >= 4) has_settings = false;
       continue;
     }
     const bool header_line =
-        f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps";
-    if (!header_line && !(has_world && has_seed && has_every && has_overlaps)) {
+        f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps" ||
+        (version >= 4 && (f[0] == "strict" || f[0] == "limits" || f[0] == "snapshots"));
+    if (version >= 4) has_settings = has_strict && has_limits && has_snapshots;
+    if (!header_line && !(has_world && has_seed && has_every && has_overlaps && has_settings)) {
       std::string missing;  // the lines this version's header lacks, by name
       for (const auto& [name, has] :
            {std::pair{"world", has_world}, std::pair{"seed", has_seed},
-            std::pair{"hash-every", has_every}, std::pair{"overlaps", has_overlaps}}) {
+            std::pair{"hash-every", has_every}, std::pair{"overlaps", has_overlaps},
+            std::pair{"strict", has_strict || version < 4},
+            std::pair{"limits", has_limits || version < 4},
+            std::pair{"snapshots", has_snapshots || version < 4}}) {
         if (!has) missing += std::string(missing.empty() ? "" : ", ") + "'" + name + "'";
       }
       r.fail("the header needs its " + missing + " line(s) before any record");
@@ -353,6 +408,39 @@ Session read_session(const std::string& path) {
         r.fail("overlaps must be 'parted' or 'kept'; got '" + f[1].substr(0, 20) + "'");
       session.header.overlaps_parted = f[1] == "parted";
       has_overlaps = true;
+    } else if (f[0] == "strict" && f.size() == 2 && version >= 4 && !has_strict) {
+      if (f[1] != "0" && f[1] != "1")
+        r.fail("strict must be 0 or 1; got '" + f[1].substr(0, 20) + "'");
+      session.header.strict = f[1] == "1";
+      has_strict = true;
+    } else if (f[0] == "limits" && f.size() == 4 && version >= 4 && !has_limits) {
+      auto& l = session.header.limits;
+      l.max_import_depth = r.number(f[1], "the import depth");
+      l.max_imported_files = r.number(f[2], "the imported files");
+      l.max_objects = r.number(f[3], "the objects");
+      if (l.max_import_depth == 0 || l.max_imported_files == 0 || l.max_objects == 0)
+        r.fail("each limit must be 1 or more");
+      has_limits = true;
+    } else if (f[0] == "snapshots" && f.size() == 3 && version >= 4 && !has_snapshots) {
+      auto& l = session.header.snapshot_limits;
+      l.max_count = r.number(f[1], "the snapshot count");
+      l.max_bytes = r.number(f[2], "the snapshot bytes");
+      if (l.max_count == 0) r.fail("the snapshot count must be 1 or more");
+      has_snapshots = true;
+    } else if (f[0] == "f" && f.size() == 4 && version >= 4) {
+      EmbeddedFile file;
+      file.path = r.text(f[1], "the file's path");
+      if (file.path.empty()) r.fail("an embedded file must name its path");
+      if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
+        r.fail("a file's checksum must be 16 hex digits; got '" + f[2].substr(0, 20) + "'");
+      const auto bytes = r.bytes(f[3]);
+      file.bytes.assign(bytes.begin(), bytes.end());
+      if (hex16(file_checksum(file.bytes)) != f[2]) {
+        r.fail("the embedded file '" + file.path +
+               "' does not match its checksum: it was altered after it was recorded");
+      }
+      file.commands_before = session.commands.size();
+      session.files.push_back(std::move(file));
     } else if (f[0] == "c" && f.size() == 7) {
       RecordedCommand rc;
       rc.step = r.number(f[1], "a command's step");
@@ -426,15 +514,24 @@ void write_session(const std::string& path, const Session& session) {
   std::FILE* file = std::fopen(path.c_str(), "w");
   if (!file) throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
   std::string text = header_text(session.header);
-  // Commands before a hash of the same step ran before it: they come first.
-  std::size_t h = 0;
+  // Commands before a hash of the same step ran before it: they come first. A file comes
+  // before the first command recorded after it.
+  std::size_t h = 0, f = 0;
   KeepRun run;
-  for (const auto& c : session.commands) {
+  const auto files_until = [&](std::size_t commands) {
+    for (; f < session.files.size() && session.files[f].commands_before <= commands; ++f)
+      text += run.close() + file_line(session.files[f].path, session.files[f].bytes);
+  };
+  files_until(0);  // what the first world was read from, before its first hash
+  for (std::size_t i = 0; i < session.commands.size(); ++i) {
+    const auto& c = session.commands[i];
     for (; h < session.hashes.size() && session.hashes[h].step <= c.step; ++h)
       text += run.close() + hash_line(session.hashes[h].step, session.hashes[h].hash);
+    files_until(i);
     text += run.add(c.step, c.command);
   }
   text += run.close();
+  files_until(session.commands.size());
   for (; h < session.hashes.size(); ++h)
     text += hash_line(session.hashes[h].step, session.hashes[h].hash);
   text += "end " + std::to_string(session.steps) + " " + std::to_string(session.commands.size()) +
@@ -444,15 +541,20 @@ void write_session(const std::string& path, const Session& session) {
     throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
 }
 
-ReplayOutcome replay_session(const Session& session, Runner& runner,
-                             const SessionWorldLoader& load) {
+uint64_t file_checksum(const std::string& bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }
+
+void embed_first_files(const Session& session, MemoryFiles& files) {
+  for (const auto& f : session.files) {
+    if (f.commands_before > 0) break;
+    files.add(f.path, f.bytes);
+  }
+}
+
+ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
+                             MemoryFiles* files) {
   ReplayOutcome out;
-  std::size_t c = 0, h = 0;
-  const auto hex = [](uint64_t v) {
-    char text[20];
-    std::snprintf(text, sizeof text, "%016" PRIx64, v);
-    return std::string(text);
-  };
+  std::size_t c = 0, h = 0, f = 0;
+  const auto hex = hex16;
   for (uint64_t step = 0;; ++step) {
     // The hash after `step` steps was taken before the commands that ran at that step.
     for (; h < session.hashes.size() && session.hashes[h].step == step; ++h) {
@@ -473,6 +575,9 @@ ReplayOutcome replay_session(const Session& session, Runner& runner,
       out.last_equal = step;
     }
     for (; c < session.commands.size() && session.commands[c].step == step; ++c) {
+      // What the recorded run had read before this command, as it read it.
+      for (; files && f < session.files.size() && session.files[f].commands_before <= c; ++f)
+        files->add(session.files[f].path, session.files[f].bytes);
       const Command& command = session.commands[c].command;
       if (auto parse = load(command)) {
         std::optional<LoadOutcome> loaded;

@@ -942,6 +942,12 @@ const WorldFiles& disk_files() {
   return files;
 }
 
+std::optional<std::string> WatchedFiles::read(const std::string& path) const {
+  auto bytes = inner_.read(path);
+  if (bytes && watcher_) watcher_(path, *bytes);
+  return bytes;
+}
+
 void MemoryFiles::add(const std::string& path, std::string bytes) {
   files_[fs::path(path).lexically_normal().string()] = std::move(bytes);
 }

@@ -15,6 +15,7 @@
 #include "macsim/client/supervisor_requests.h"
 #include "macsim/kurt/kurt_can.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
+#include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
 #include "snapshot_scene.h"
@@ -92,7 +93,7 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   const fs::path worlds = fs::path(MACSIM_SOURCE_DIR) / "worlds";
-  for (const char* target : {"world_loader", "requests", "kurt_can", "snapshot"}) {
+  for (const char* target : {"world_loader", "requests", "kurt_can", "snapshot", "session"}) {
     fs::create_directories(out / target);
   }
 
@@ -176,6 +177,33 @@ int main(int argc, char** argv) {
   for (const auto& snapshot : macsim::fuzz::snapshot_scene_moments(*scene)) {
     write(out / "snapshot" / ("moment_" + std::to_string(moment++)),
           std::string(snapshot.bytes.begin(), snapshot.bytes.end()));
+  }
+  // Sessions: every kind of record, written by the session writer's own format.
+  {
+    macsim::Session session;
+    session.header.world_file = "worlds/small_room.xml";
+    session.header.seed = 3;
+    session.files.push_back({"worlds/small_room.xml", "<WORLD><NAME>a</NAME></WORLD>\n", 0});
+    session.hashes.push_back({0, 0x0123456789abcdefULL});
+    macsim::RecordedCommand twist{0, macsim::robot_command("kurt", macsim::robot::Twist{0.2, 0.3})};
+    session.commands.push_back(twist);
+    macsim::RecordedCommand keep;
+    keep.command.source = macsim::CommandSource::Simulation;
+    keep.command.operation = "keep_robot_commands";
+    for (uint64_t step = 5; step < 9; ++step) {
+      keep.step = step;
+      session.commands.push_back(keep);
+    }
+    macsim::RecordedCommand request;
+    request.step = 12;
+    request.command.source = macsim::CommandSource::Supervisor;
+    request.command.operation = "set_density";
+    request.command.message = {0x00, 0x01, 0x02, 0xff};
+    session.commands.push_back(request);
+    session.files.push_back({"../other/moved world.xml", "bytes\x00\x01", 6});
+    session.hashes.push_back({50, 0xfedcba9876543210ULL});
+    session.steps = 60;
+    macsim::write_session((out / "session" / "recorded").string(), session);
   }
   std::cout << "make_fuzz_seeds: wrote seeds to " << out.string() << "\n";
   return 0;

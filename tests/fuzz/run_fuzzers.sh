@@ -21,7 +21,7 @@ if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
 fi
 source "$(dirname "$0")/../../deploy/common.sh"
 tree="$MACSIM_BUILD/fuzz"
-targets=(world_loader requests kurt_can snapshot)
+targets=(world_loader requests kurt_can snapshot session)
 if [[ $build == 1 ]]; then
   generator=()
   if [[ ! -f "$tree/CMakeCache.txt" ]] && command -v ninja > /dev/null; then generator=(-G Ninja); fi

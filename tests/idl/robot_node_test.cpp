@@ -41,7 +41,7 @@ struct Served {
   dds::Participant controller_side{{domain, source("deploy/dds/localhost.xml"), "controller"}};
   robot::MockRobot mock{"kurt", rover()};
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node{robot_side, mock, [this](robot::RobotCommand c) {
+  robot::RobotNode node{robot_side, mock, [this](robot::RobotCommand c, const dds::SampleId&) {
                           queue.push([c](robot::RobotInterface& r) { r.execute(c); });
                         }};
 
@@ -110,9 +110,10 @@ TEST(RobotNode, CraneCommandsReachARobotWithACrane) {
   full.crane = true;
   robot::MockRobot crane_robot("arm", full);
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node(s.robot_side, crane_robot, [&](robot::RobotCommand c) {
-    queue.push([c](robot::RobotInterface& r) { r.execute(c); });
-  });
+  robot::RobotNode node(s.robot_side, crane_robot,
+                        [&](robot::RobotCommand c, const dds::SampleId&) {
+                          queue.push([c](robot::RobotInterface& r) { r.execute(c); });
+                        });
   dds::Writer<km::CraneCommand_PubSubType> command(
       s.controller_side, dds::topics::crane_command("arm"), dds::QosFamily::Command);
   Samples<km::CraneState_PubSubType> state(s.controller_side, dds::topics::crane_state("arm"));
@@ -160,7 +161,7 @@ TEST(RobotNode, APlugInsOwnCommandArrivesOnItsTopicAsItsType) {
   with.commands = {"nudge"};
   NudgedMock ball("ball", with);
   BasicCommandQueue<robot::RobotInterface&> queue;
-  robot::RobotNode node(s.robot_side, ball, [&](robot::RobotCommand c) {
+  robot::RobotNode node(s.robot_side, ball, [&](robot::RobotCommand c, const dds::SampleId&) {
     queue.push([c](robot::RobotInterface& r) { r.execute(c); });
   });
   const auto lines = node.topic_lines();
@@ -188,7 +189,8 @@ TEST(RobotNode, APlugInsOwnCommandArrivesOnItsTopicAsItsType) {
   unknown.commands = {"teleport"};
   robot::MockRobot stranger("stranger", unknown);
   try {
-    robot::RobotNode refused(s.robot_side, stranger, [](robot::RobotCommand) {});
+    robot::RobotNode refused(s.robot_side, stranger,
+                             [](robot::RobotCommand, const dds::SampleId&) {});
     ADD_FAILURE() << "served a command no type registers";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'teleport'"), std::string::npos) << e.what();

@@ -1,11 +1,13 @@
-// Sessions end to end: macsim --record-session while kurt_demo plays the final demonstrator in
-// real time (commands arriving as the controller sends them, not lock-step), then macsim
-// --replay from the file alone meets every hash; one command changed is reported at the first
-// hash after it; a damaged or other-version file is refused with its line. A session with
-// supervisor requests, a ROS 2 service and a world load replays too.
+// Sessions end to end: macsim --record-session while kurt_demo plays the final demonstrator (a
+// seeded layout, from a copy of its world files deleted once recorded) in real time (commands
+// arriving as the controller sends them, not lock-step), then macsim --replay from the file
+// alone, in an empty folder, meets every hash; one command changed is reported at the first hash
+// after it; a damaged or other-version file, or an altered embedded world, is refused with its
+// line. A session with supervisor requests, a ROS 2 service and a world load replays too.
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -44,8 +46,14 @@ struct Replay {
   std::string output;
 };
 
-Replay replay(const std::string& file) {
-  ChildProcess p({bin("macsim"), "--replay", file});
+/// macsim --replay `file` (and `more`), started in `folder` (empty: this process's).
+Replay replay(const std::string& file, const std::string& folder = "",
+              std::vector<std::string> more = {}) {
+  std::vector<std::string> args{bin("macsim"), "--replay", file};
+  args.insert(args.end(), more.begin(), more.end());
+  macsim::process::Options options;
+  options.working_directory = folder;
+  ChildProcess p(args, options);
   Replay r;
   r.exit_code = p.wait_for_exit(180s).value_or(-1);
   r.output = p.output();
@@ -56,11 +64,19 @@ Replay replay(const std::string& file) {
 class DemonstratorSession : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
+    namespace fs = std::filesystem;
     dir_ = new TempDir("macsim_session_");
     path_ = dir_->path() + "/demonstrator.session";
+    // The world's files are a copy, deleted once recorded: the replay has only the session.
+    const std::string copy = dir_->path() + "/world";
+    fs::create_directories(copy);
+    fs::copy(source("worlds/DemoWorld_v1.xml"), copy);
+    fs::copy(source("worlds/DemoEnvironment_v1"), copy + "/DemoEnvironment_v1",
+             fs::copy_options::recursive);
+    world_ = copy + "/DemoWorld_v1.xml";
     const std::string domain = std::to_string(unique_test_domain());
-    ChildProcess macsim({bin("macsim"), "--world", source("worlds/DemoWorld_v1.xml"), "--domain",
-                         domain, "--record-session", path_});
+    ChildProcess macsim({bin("macsim"), "--world", world_, "--seed", "3", "--domain", domain,
+                         "--record-session", path_});
     ASSERT_TRUE(macsim.wait_for_output("stepping at real-time factor 1", 30s)) << macsim.output();
     ChildProcess demo({bin("kurt_demo"), "--domain", domain});
     demo_exit_ = demo.wait_for_exit(240s).value_or(-1);
@@ -68,6 +84,14 @@ class DemonstratorSession : public ::testing::Test {
     macsim.signal(SIGINT);
     macsim_exit_ = macsim.wait_for_exit(20s).value_or(-1);
     macsim_output_ = macsim.output();
+    world_bytes_ = read_text(world_);
+    fs::remove_all(copy);
+  }
+  static std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream whole;
+    whole << in.rdbuf();
+    return whole.str();
   }
   static void TearDownTestSuite() {
     delete dir_;
@@ -75,11 +99,12 @@ class DemonstratorSession : public ::testing::Test {
   }
 
   static TempDir* dir_;
-  static std::string path_, demo_output_, macsim_output_;
+  static std::string path_, world_, world_bytes_, demo_output_, macsim_output_;
   static int demo_exit_, macsim_exit_;
 };
 TempDir* DemonstratorSession::dir_ = nullptr;
-std::string DemonstratorSession::path_, DemonstratorSession::demo_output_,
+std::string DemonstratorSession::path_, DemonstratorSession::world_,
+    DemonstratorSession::world_bytes_, DemonstratorSession::demo_output_,
     DemonstratorSession::macsim_output_;
 int DemonstratorSession::demo_exit_ = -1, DemonstratorSession::macsim_exit_ = -1;
 
@@ -98,9 +123,49 @@ TEST_F(DemonstratorSession, ReplaysWithEveryHashEqual) {
   EXPECT_GT(operations["twist"], 100);
   EXPECT_GT(operations["crane"], 100);
   EXPECT_GT(operations["magnet"], 10);
-  const Replay r = replay(path_);
+  // One file: the world and every file it imports, read before the first command, the seed.
+  EXPECT_EQ(session.header.world_file, world_);
+  EXPECT_EQ(session.header.seed, 3);
+  ASSERT_FALSE(session.files.empty());
+  EXPECT_EQ(session.files.front().path, world_);
+  EXPECT_EQ(session.files.front().bytes, world_bytes_);
+  EXPECT_EQ(session.files.front().commands_before, 0u);
+  EXPECT_GE(session.files.size(), 8u);  // the world, materials, room, doors, objects, robot
+  EXPECT_FALSE(std::filesystem::exists(world_));
+  // Moved to an empty folder and replayed there.
+  const TempDir empty("macsim_replay_");
+  std::filesystem::copy(path_, empty.path() + "/demonstrator.session");
+  const Replay r = replay("demonstrator.session", empty.path());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(hashes_equal(r.output), static_cast<int>(session.hashes.size())) << r.output;
+}
+
+TEST_F(DemonstratorSession, ExtractGivesTheWorldFilesBack) {
+  ASSERT_EQ(macsim_exit_, 0) << macsim_output_;
+  const TempDir out("macsim_extract_");
+  const Replay r = replay(path_, "", {"--extract", out.path()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_text(out.path() + "/" + std::filesystem::path(world_).relative_path().string()),
+            world_bytes_)
+      << r.output;
+  EXPECT_NE(r.output.find("DemoEnvironment_v1/robot.xml"), std::string::npos) << r.output;
+}
+
+TEST_F(DemonstratorSession, AnAlteredEmbeddedWorldIsRefusedAtLoad) {
+  ASSERT_EQ(macsim_exit_, 0) << macsim_output_;
+  std::string text = read_text(path_);
+  // One byte of the world's XML changed: a digit of its hex.
+  const std::size_t line = text.find("\nf ") + 1;
+  const std::size_t bytes = text.find(' ', text.find(' ', line + 2) + 1) + 1;
+  text[bytes + 40] = text[bytes + 40] == '3' ? '4' : '3';
+  const std::string altered = dir_->path() + "/altered_world.session";
+  std::ofstream(altered) << text;
+  const Replay r = replay(altered);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("does not match its checksum"), std::string::npos) << r.output;
+  const int line_number = int(std::count(text.begin(), text.begin() + long(line), '\n')) + 1;
+  EXPECT_NE(r.output.find(altered + ":" + std::to_string(line_number) + ":"), std::string::npos)
+      << r.output;
 }
 
 TEST_F(DemonstratorSession, OneChangedCommandIsReportedAtTheFirstHashAfterIt) {
@@ -138,16 +203,13 @@ TEST_F(DemonstratorSession, OneChangedCommandIsReportedAtTheFirstHashAfterIt) {
 }
 
 TEST_F(DemonstratorSession, ADamagedOrOtherVersionFileIsRefused) {
-  std::ifstream in(path_);
-  std::stringstream whole;
-  whole << in.rdbuf();
-  const std::string text = whole.str();
+  const std::string text = read_text(path_);
   const std::string other = dir_->path() + "/other_version.session";
   std::ofstream(other) << "macsim-session 99" << text.substr(text.find('\n'));
   Replay r = replay(other);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(
-      r.output.find(other + ":1: session format version 99; this macsim reads versions 1 to 3"),
+      r.output.find(other + ":1: session format version 99; this macsim reads versions 1 to 4"),
       std::string::npos)
       << r.output;
   const std::string cut = dir_->path() + "/cut.session";
@@ -258,6 +320,12 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
   EXPECT_EQ(supervisor_commands, 9);  // 5 forces, density, save, restore, velocity: not the finds
   EXPECT_EQ(operations["supervisor add_force"], 5);
   EXPECT_EQ(operations["supervisor restore_snapshot"], 1);
+  // The world loaded later is embedded when it was read, after the commands before its load.
+  const auto room = std::find_if(session.files.begin(), session.files.end(), [](const auto& f) {
+    return f.path == source("worlds/small_room.xml");
+  });
+  ASSERT_NE(room, session.files.end());
+  EXPECT_GT(room->commands_before, 0u);
   const Replay replayed = replay(path);
   EXPECT_EQ(replayed.exit_code, 0) << replayed.output;
   EXPECT_EQ(hashes_equal(replayed.output), static_cast<int>(session.hashes.size()))

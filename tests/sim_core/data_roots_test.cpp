@@ -80,6 +80,29 @@ TEST_F(DataRootsTest, ReadsFilesUnderARootAndSaysWhenOneIsMissing) {
   EXPECT_EQ(roots_->folders(), std::vector<fs::path>{fs::canonical(root_)});
 }
 
+TEST_F(DataRootsTest, WatchedRootsTellEveryFileReadAndRootsOfFilesOnlyNeverReadTheDisk) {
+  std::vector<std::pair<std::string, std::string>> seen;
+  const auto watched = roots_->watched(
+      [&](const std::string& path, const std::string& bytes) { seen.emplace_back(path, bytes); });
+  const std::string inside = (root_ / "inside.xml").string();
+  EXPECT_EQ(watched->read(inside), "<ENVIRONMENT/>");
+  EXPECT_EQ(watched->read((root_ / "missing.xml").string()), std::nullopt);
+  EXPECT_THROW(watched->read((outside_ / "secret.xml").string()), FileRefused);
+  ASSERT_EQ(seen.size(), 1u);  // what was read, as asked: not the missing or refused ones
+  EXPECT_EQ(seen[0], std::make_pair(inside, std::string("<ENVIRONMENT/>")));
+  EXPECT_EQ(watched->folders(), roots_->folders());
+  // Roots of in-memory files: what they hold, by its path, and nothing of the disk.
+  auto files = std::make_shared<MemoryFiles>();
+  files->add("worlds/held.xml", "held");
+  const auto only = DataRoots::only(files);
+  EXPECT_EQ(only->read("worlds/./held.xml"), "held");
+  EXPECT_TRUE(only->contains("worlds/held.xml"));
+  EXPECT_FALSE(only->contains(inside));
+  EXPECT_EQ(only->read(inside), std::nullopt);  // on disk, but not held
+  EXPECT_TRUE(only->restricted());
+  EXPECT_TRUE(only->folders().empty());
+}
+
 TEST_F(DataRootsTest, EveryWayOutGetsTheSameAnswerWhetherTheFileExistsOrNot) {
   const std::string expected = refusal((outside_ / "secret.xml").string());
   EXPECT_NE(expected, "read");

@@ -130,7 +130,10 @@ TEST(RobotModel, APlugInsOwnCommandReachesItsRobotThroughTheRunnerAndSessions) {
   const std::string path = dir.path() + "/nudge.session";
   {
     Runner runner(ball_world(), RunSettings{true, 0.0});
-    runner.record(std::make_shared<SessionWriter>(path, SessionHeader{"ball.xml", -1, 50}));
+    SessionHeader header;
+    header.world_file = "ball.xml";
+    header.hash_every = 50;
+    runner.record(std::make_shared<SessionWriter>(path, header));
     ASSERT_TRUE(runner.push(robot_command("ball", test::Nudge{2.0})));
     ASSERT_TRUE(runner.push(robot_command("kurt", test::Nudge{2.0})));  // not the KURT's: refused
     for (int i = 0; i < 500; ++i) runner.step();

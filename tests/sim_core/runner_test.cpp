@@ -320,6 +320,46 @@ TEST(Runner, AResetThatTakesTheTimeBackCancelsAStepRequestWithNoStepAfterIt) {
   EXPECT_EQ(runner.world().steps(), 0u);  // reset, and not stepped on for the cancelled request
 }
 
+TEST(Runner, ARobotCommandSentBeforeAResetAndRunAfterItNeverActs) {
+  // A controller (sender 7) drives, asks for a reset, and its drive command (its 5th sample)
+  // arrives only after the reset: dropped. Its next command, and another sender's, act.
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  runner.set_executor(CommandSource::Supervisor, [](const Command&, World& world) {
+    world.reset(ResetScope::Everything);
+    return true;
+  });
+  const auto& robot = *runner.world().robots().front();
+  const std::string name = robot.name();
+  const auto sent = [&](uint8_t sender, uint64_t sequence, double speed) {
+    Command c = robot_command(name, robot::Twist{speed, 0.0});
+    c.sent_by = Sender{{sender}, sequence};
+    return c;
+  };
+  Command reset;
+  reset.source = CommandSource::Supervisor;
+  reset.operation = "reset";
+  reset.sent_before = {Sender{{7}, 5}, Sender{{9}, 2}};
+  const auto travelled = [&](std::vector<Command> commands) {
+    for (auto& c : commands) EXPECT_TRUE(runner.push(std::move(c)));
+    runner.apply_commands();
+    const double x0 = runner.world().robots().front()->base_footprint_pose().position.x();
+    for (int i = 0; i < 200; ++i) runner.step();
+    return runner.world().robots().front()->base_footprint_pose().position.x() - x0;
+  };
+  EXPECT_NEAR(travelled({reset, sent(7, 5, 0.3), sent(7, 4, 0.3)}), 0.0, 1e-3);  // settling
+  EXPECT_EQ(runner.commands_sent_before_reset(), 2u);
+  EXPECT_EQ(runner.commands_run(CommandSource::Robot), 0u);
+  EXPECT_GT(travelled({sent(7, 6, 0.3)}), 0.03);  // sent after the reset
+  EXPECT_GT(travelled({sent(8, 1, 0.3)}), 0.03);  // another sender
+  EXPECT_GT(travelled({robot_command(name, robot::Twist{0.3, 0.0})}), 0.03);  // sender unknown
+  EXPECT_EQ(runner.commands_sent_before_reset(), 2u);
+  // A reset that did not act (refused) drops nothing.
+  runner.set_executor(CommandSource::Supervisor, [](const Command&, World&) { return false; });
+  reset.sent_before = {Sender{{8}, 10}};
+  EXPECT_GT(travelled({reset, sent(8, 2, 0.3)}), 0.03);
+  EXPECT_EQ(runner.commands_sent_before_reset(), 2u);
+}
+
 TEST(Runner, APauseCancelsAHugeStepRequest) {
   Runner runner(small_room(), RunSettings{true, 0.0});
   std::atomic<bool> stop{false};

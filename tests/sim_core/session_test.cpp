@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <tuple>
@@ -23,6 +24,15 @@ const std::string kWorld = "worlds/small_room.xml";
 
 WorldSpec small_room() { return load_world_file(test::source(kWorld)); }
 
+/// A session's header: its world, a hash every `every` steps, overlaps parted or kept.
+SessionHeader header(const std::string& world, uint64_t every, bool parted = true) {
+  SessionHeader h;
+  h.world_file = world;
+  h.hash_every = every;
+  h.overlaps_parted = parted;
+  return h;
+}
+
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
   std::stringstream text;
@@ -36,7 +46,7 @@ void write_text(const std::string& path, const std::string& text) { std::ofstrea
 /// local command between (never recorded); hashes every 50 steps.
 uint64_t record(const std::string& path) {
   Runner runner(small_room(), RunSettings{true, 0.0});
-  runner.record(std::make_shared<SessionWriter>(path, SessionHeader{kWorld, -1, 50}));
+  runner.record(std::make_shared<SessionWriter>(path, header(kWorld, 50)));
   for (int step = 0; step < 600; ++step) {
     if (step % 37 == 0) {
       EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.2 + step * 1e-4, 0.3})));
@@ -79,6 +89,104 @@ TEST(Session, ARecordedRunReplaysToEveryHash) {
   EXPECT_EQ(outcome.hashes_checked, 13u);
   EXPECT_EQ(outcome.commands_run, 18u);
   EXPECT_EQ(outcome.steps, 600u);
+}
+
+TEST(Session, FilesAreEmbeddedWhenReadAndTheReplayReadsThemFromTheFileAlone) {
+  // A world, then another world loaded at step 100 (the room with its red box moved), read
+  // from files deleted once recorded.
+  test::TempDir dir("macsim_session_");
+  const std::string first = dir.path() + "/room.xml", second = dir.path() + "/moved.xml";
+  std::string room = read_text(test::source(kWorld));
+  write_text(first, room);
+  std::string moved = room;
+  const std::size_t box = moved.find("<ID>red_box</ID>");
+  ASSERT_NE(box, std::string::npos);
+  const std::size_t pos = moved.find("<POS>", box) + 5;
+  moved.insert(pos, "1");  // x 1X.. m: far across the room
+  write_text(second, moved);
+  const std::string path = dir.path() + "/run.session";
+  {
+    auto writer = std::make_shared<SessionWriter>(path, header(first, 50));
+    const WatchedFiles watched(
+        disk_files(), [&](const std::string& p, const std::string& b) { writer->file(p, b); });
+    LoadOptions options;
+    options.files = &watched;
+    Runner runner(load_world_file(first, options), RunSettings{true, 0.0});
+    writer->file(first, room);  // the same bytes again: embedded once
+    runner.record(writer);
+    for (int step = 0; step < 200; ++step) {
+      if (step % 40 == 0) {
+        EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.3, 0.1})));
+      }
+      if (step == 100) {
+        Command recorded;
+        recorded.source = CommandSource::Simulation;
+        recorded.operation = "load_world";
+        recorded.message.assign(second.begin(), second.end());
+        std::optional<LoadOutcome> loaded;
+        EXPECT_EQ(runner.load([&] { return load_world_file(second, options); },
+                              [&](const LoadOutcome& o) { loaded = o; }, recorded),
+                  LoadQueued::Yes);
+        while (!loaded) runner.apply_commands();
+        EXPECT_TRUE(loaded->ok) << loaded->error;
+      }
+      runner.step();
+    }
+    runner.record(nullptr);
+  }
+  std::remove(first.c_str());
+  std::remove(second.c_str());
+  const Session session = read_session(path);
+  ASSERT_EQ(session.files.size(), 2u);
+  EXPECT_EQ(session.files[0].path, first);
+  EXPECT_EQ(session.files[0].bytes, room);
+  EXPECT_EQ(session.files[0].commands_before, 0u);
+  EXPECT_EQ(session.files[1].path, second);
+  EXPECT_EQ(session.files[1].bytes, moved);
+  EXPECT_EQ(session.files[1].commands_before, 3u);  // twists at steps 0, 40 and 80
+  EXPECT_TRUE(session.header.self_contained);
+  // Written back as read.
+  const std::string again = dir.path() + "/again.session";
+  write_session(again, session);
+  EXPECT_EQ(read_text(again), read_text(path));
+  // Replayed with no file but the session's.
+  MemoryFiles files;
+  embed_first_files(session, files);
+  LoadOptions from_session;
+  from_session.files = &files;
+  Runner runner(load_world_file(first, from_session), RunSettings{true, 0.0});
+  const auto outcome = replay_session(
+      session, runner,
+      [&](const Command& c) -> std::function<WorldSpec()> {
+        if (c.operation != "load_world") return {};
+        const std::string file(c.message.begin(), c.message.end());
+        return [file, &from_session] { return load_world_file(file, from_session); };
+      },
+      &files);
+  EXPECT_TRUE(outcome.equal) << outcome.message;
+  EXPECT_EQ(outcome.hashes_checked, 5u);
+  // The moved box is where the second file put it: that file was read, not the first again.
+  const auto red = runner.world().objects().find_object("red_box");
+  ASSERT_TRUE(red.has_value());
+  EXPECT_GT(runner.world().objects().object_state(*red).value.pose.position.x(), 9.0);
+  // An embedded file altered after it was recorded is refused naming its line.
+  std::string text = read_text(path);
+  const std::size_t line = text.find("\nf ", text.find("\nf ") + 1) + 1;
+  const std::size_t last = text.find('\n', line) - 1;
+  text[last] = text[last] == '0' ? '1' : '0';
+  const std::string altered = dir.path() + "/altered.session";
+  write_text(altered, text);
+  const int line_number = int(std::count(text.begin(), text.begin() + long(line), '\n')) + 1;
+  try {
+    read_session(altered);
+    ADD_FAILURE() << "an altered embedded file was read";
+  } catch (const SessionFileError& e) {
+    EXPECT_NE(std::string(e.what()).find(altered + ":" + std::to_string(line_number) +
+                                         ": the embedded file '" + second +
+                                         "' does not match its checksum"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Session, AChangedCommandIsFoundAtTheFirstHashAfterIt) {
@@ -124,22 +232,22 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   const std::string bad = dir.path() + "/bad.session";
   // Another version.
   std::string other = good;
-  other.replace(0, good.find('\n'), "macsim-session 4");
+  other.replace(0, good.find('\n'), "macsim-session 5");
   EXPECT_NE(refusal(bad, other)
-                .find(bad + ":1: session format version 4; this macsim reads "
-                            "versions 1 to 3"),
+                .find(bad + ":1: session format version 5; this macsim reads "
+                            "versions 1 to 4"),
             std::string::npos)
       << refusal(bad, other);
   // Cut short: half of it, ending inside a line.
   const std::string half = good.substr(0, good.size() / 2);
   EXPECT_NE(refusal(bad, half).find("cut short"), std::string::npos) << refusal(bad, half);
-  // A line whose hash is not hex, on line 6 (the first hash).
+  // A line whose hash is not hex, on line 9 (the first hash, after a header of 8).
   std::string garbled = good;
   std::size_t at = 0;
-  for (int line = 1; line < 6; ++line) at = garbled.find('\n', at) + 1;
+  for (int line = 1; line < 9; ++line) at = garbled.find('\n', at) + 1;
   ASSERT_EQ(garbled.substr(at, 2), "h ");
   garbled.replace(garbled.find(' ', at + 2) + 1, 1, "z");
-  EXPECT_NE(refusal(bad, garbled).find(bad + ":6: a hash must be 16 hex digits"), std::string::npos)
+  EXPECT_NE(refusal(bad, garbled).find(bad + ":9: a hash must be 16 hex digits"), std::string::npos)
       << refusal(bad, garbled);
   // A line lost: the closing line's counts say so.
   std::string lost = good;
@@ -155,7 +263,7 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
       << refusal(bad, "macsim-session 1\nend 0 0 0\n");
   const std::string header = good.substr(0, good.find("\nh 0 ") + 1);
   EXPECT_NE(refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n")
-                .find(":6: a command's values must be finite numbers; got 'nan'"),
+                .find(":9: a command's values must be finite numbers; got 'nan'"),
             std::string::npos)
       << refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n");
   std::string seed = good;
@@ -166,9 +274,23 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   std::string no_overlaps = good;
   no_overlaps.erase(no_overlaps.find("overlaps parted\n"), 16);
   EXPECT_NE(refusal(bad, no_overlaps)
-                .find(":5: the header needs its 'overlaps' line(s) before any record"),
+                .find(":8: the header needs its 'overlaps' line(s) before any record"),
             std::string::npos)
       << refusal(bad, no_overlaps);
+  // Version 4 must give the settings that change results.
+  std::string no_settings = good;
+  no_settings.erase(no_settings.find("strict 0\n"), 9);
+  no_settings.erase(
+      no_settings.find("snapshots "),
+      no_settings.find('\n', no_settings.find("snapshots ")) + 1 - no_settings.find("snapshots "));
+  EXPECT_NE(refusal(bad, no_settings)
+                .find(":7: the header needs its 'strict', 'snapshots' line(s) before any record"),
+            std::string::npos)
+      << refusal(bad, no_settings);
+  std::string no_limit = good;
+  no_limit.replace(no_limit.find("limits 32"), 9, "limits 0");
+  EXPECT_NE(refusal(bad, no_limit).find(":7: each limit must be 1 or more"), std::string::npos)
+      << refusal(bad, no_limit);
   std::string odd = good;
   odd.replace(odd.find("overlaps parted"), 15, "overlaps maybe");
   EXPECT_NE(refusal(bad, odd).find(":5: overlaps must be 'parted' or 'kept'; got 'maybe'"),
@@ -184,7 +306,7 @@ TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept)
   EXPECT_TRUE(read_session(path).header.overlaps_parted);
   const std::string kept = dir.path() + "/kept.session";
   {
-    SessionWriter writer(kept, SessionHeader{kWorld, -1, 50, false});
+    SessionWriter writer(kept, header(kWorld, 50, false));
     writer.finish(0);
   }
   EXPECT_NE(read_text(kept).find("\noverlaps kept\n"), std::string::npos) << read_text(kept);
@@ -192,7 +314,7 @@ TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept)
   // Version 1 had no such line: macsim did not part them then.
   std::string v1 = read_text(path);
   v1.replace(0, v1.find('\n'), "macsim-session 1");
-  v1.erase(v1.find("overlaps parted\n"), 16);
+  v1.erase(v1.find("overlaps parted\n"), v1.find("\nh 0 ") - v1.find("overlaps parted\n") + 1);
   const std::string old = dir.path() + "/v1.session";
   std::ofstream(old, std::ios::binary) << v1;
   const Session session = read_session(old);
@@ -211,7 +333,7 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
   keep.operation = "keep_robot_commands";
   std::vector<std::pair<uint64_t, std::string>> ran;  // step, operation
   {
-    SessionWriter writer(path, SessionHeader{kWorld, -1, 100});
+    SessionWriter writer(path, header(kWorld, 100));
     writer.hash(0, 1);
     for (uint64_t step = 0; step < 250; ++step) {
       if (step == 100 || step == 200) writer.hash(step, step);
@@ -229,7 +351,7 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
                           "\nk 200 249\nend 250 251 3\n"}) {
     EXPECT_NE(text.find(run), std::string::npos) << run << " in\n" << text;
   }
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 14) << text;  // header 5, h 3, k 4, c, end
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 17) << text;  // header 8, h 3, k 4, c, end
   const Session session = read_session(path);
   ASSERT_EQ(session.commands.size(), ran.size());
   for (std::size_t i = 0; i < ran.size(); ++i) {
@@ -243,9 +365,9 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
   // A run that ends before it starts, or longer than a run may be, is refused by line.
   for (const auto& [from, to, says] :
        std::vector<std::tuple<std::string, std::string, std::string>>{
-           {"k 121 199", "k 199 121", ":11: a run ends before it starts"},
-           {"k 121 199", "k 121 99999999999", ":11: a run of more than 10000000 steps"},
-           {"k 121 199", "k 12x 199", ":11: a run's first step must be a whole number"}}) {
+           {"k 121 199", "k 199 121", ":14: a run ends before it starts"},
+           {"k 121 199", "k 121 99999999999", ":14: a run of more than 10000000 steps"},
+           {"k 121 199", "k 12x 199", ":14: a run's first step must be a whole number"}}) {
     std::string bad_text = text;
     bad_text.replace(bad_text.find(from), from.size(), to);
     const std::string bad = dir.path() + "/bad.session";

@@ -360,8 +360,8 @@ struct TrialRobot::Impl {
   }
 
   void begin() {
-    // Nothing of the last trial may arrive after the reset.
-    deliver();
+    // Nothing of the last trial acts after the reset, however late DDS delivers it: the
+    // request names the last command of each writer, and the simulator drops them.
     call(sv::reset(mm::RESET_EVERYTHING), "reset");
     now = 0;
     trace = 0;
@@ -544,9 +544,7 @@ struct TrialRobot::Impl {
     const double far = s.x + s.reach_ahead();
     Outcome out;
     // At most 6 s: the farthest edge, 1.55 m, takes 3.9 s at full speed. No stop command after
-    // it: nothing steps after it in this trial, so the simulator would apply it at the next
-    // trial's first step, after that trial's reset (a command waits for a step; a reset does
-    // not drop it), and the next trial would start from another state. The reset stops it.
+    // it: nothing steps after it in this trial, and the next trial's reset stops the robot.
     const Track track = drive_past(far, 6.0);
     double last_x = track.x0;
     for (const auto& [x, z] : track.at) {

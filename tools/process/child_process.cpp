@@ -113,6 +113,10 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, Options options)
       if (dup2(fd, STDOUT_FILENO) < 0) _exit(126);
       if (options_.merge_stderr && dup2(fd, STDERR_FILENO) < 0) _exit(126);
     }
+    if (!options_.working_directory.empty() && chdir(options_.working_directory.c_str()) != 0) {
+      say("cannot enter the working directory ", options_.working_directory.c_str());
+      _exit(126);
+    }
     if (envp.empty()) {
       execv(args[0], args.data());
     } else {

@@ -10,8 +10,8 @@ namespace macsim::client {
 
 RobotClient::RobotClient(dds::Participant& participant, const std::string& robot_name)
     : robot_name_(robot_name),
-      cmd_vel_(participant, dds::topics::cmd_vel(robot_name), dds::QosFamily::Command),
-      wheel_speeds_(participant, dds::topics::wheel_speeds(robot_name), dds::QosFamily::Command),
+      cmd_vel_(participant, dds::topics::cmd_vel(robot_name)),
+      wheel_speeds_(participant, dds::topics::wheel_speeds(robot_name)),
       odom_(participant, dds::topics::odom(robot_name), dds::QosFamily::Sensor,
             [this](const Odometry& odom) {
               {

@@ -20,8 +20,8 @@ double stamp_seconds(const std_msgs::msg::dds_::Header_& header) {
 // ---- crane ---------------------------------------------------------------------------------
 
 Crane::Crane(dds::Participant& participant, const std::string& robot_name)
-    : command_(participant, dds::topics::crane_command(robot_name), dds::QosFamily::Command),
-      magnet_(participant, dds::topics::crane_magnet(robot_name), dds::QosFamily::Command),
+    : command_(participant, dds::topics::crane_command(robot_name)),
+      magnet_(participant, dds::topics::crane_magnet(robot_name)),
       state_(participant, dds::topics::crane_state(robot_name)) {}
 
 bool Crane::command(double slew, double lift, double hoist) {
@@ -118,7 +118,7 @@ std::optional<StereoFrame> StereoCamera::wait(double after,
 // ---- laser ---------------------------------------------------------------------------------
 
 Laser::Laser(dds::Participant& participant, const std::string& robot_name, bool rotating)
-    : rot_vel_(participant, dds::topics::rot_vel(robot_name), dds::QosFamily::Command),
+    : rot_vel_(participant, dds::topics::rot_vel(robot_name)),
       scan_(participant, dds::topics::scan(robot_name, rotating)),
       points_(participant, dds::topics::points(robot_name)) {}
 

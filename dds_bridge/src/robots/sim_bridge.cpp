@@ -37,11 +37,12 @@ struct SimBridge::RobotTopics {
         // Commands run on the simulation thread, between steps, on the current world's robot.
         node(
             p, simulated,
-            [&runner, this](robot::RobotCommand command) {
-              // A value the runner runs on the world's robot (and a session records).
-              if (runner.push(robot_command(name, std::move(command)))) {
-                return;
-              }
+            [&runner, this](robot::RobotCommand command, const dds::SampleId& sent) {
+              // A value the runner runs on the world's robot (and a session records), unless
+              // its sender asked for a reset after sending it (Command::sent_before).
+              Command c = robot_command(name, std::move(command));
+              c.sent_by = Sender{sent.writer, sent.sequence};
+              if (runner.push(std::move(c))) return;
               if (commands_dropped.fetch_add(1) == 0) {  // said once; counted in the summary
                 log::warn("macsim: {}'s commands are being dropped: {}", name,
                           runner.queue_full_message());

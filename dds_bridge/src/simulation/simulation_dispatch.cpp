@@ -124,8 +124,10 @@ std::function<WorldSpec()> world_parser(const Runner& runner, LoadLimits limits,
 }
 
 LoadQueued queue_world_load(Runner& runner, LoadLimits limits, WorldSource source,
-                            std::function<void(const LoadOutcome&)> done) {
+                            std::function<void(const LoadOutcome&)> done,
+                            std::vector<Sender> sent_before) {
   Command recorded = load_command(source);
+  recorded.sent_before = std::move(sent_before);
   return runner.load(world_parser(runner, limits, std::move(source)), std::move(done),
                      std::move(recorded));
 }

@@ -28,8 +28,10 @@ struct WorldSource {
 std::function<WorldSpec()> world_parser(const Runner& runner, LoadLimits limits,
                                         WorldSource source);
 /// Queues that load on the runner; a session records it as the command load_command() makes.
+/// No robot command in `sent_before` acts on the new world (Command::sent_before).
 LoadQueued queue_world_load(Runner& runner, LoadLimits limits, WorldSource source,
-                            std::function<void(const LoadOutcome&)> done);
+                            std::function<void(const LoadOutcome&)> done,
+                            std::vector<Sender> sent_before = {});
 /// The command a session records for a load (load_world: the file; load_world_xml: the text).
 Command load_command(const WorldSource& source);
 /// The load a recorded command names; nullopt if it names none.

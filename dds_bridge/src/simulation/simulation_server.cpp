@@ -74,9 +74,11 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
           return;
         }
         const LoadQueued queued = queue_world_load(
-            runner_, limits_, {r.world_file(), ""}, [this, r](const LoadOutcome& outcome) {
+            runner_, limits_, {r.world_file(), ""},
+            [this, r](const LoadOutcome& outcome) {
               send(reply_to(r, codec::error_code(outcome.code), outcome.error));
-            });
+            },
+            codec::senders(r.commands_sent()));
         if (queued == LoadQueued::QueueFull) {
           forget_load(r);  // not loaded: a repeat may try again
           refuse_full(r);

@@ -155,4 +155,12 @@ const char* event_name(WorldEvent::Type type) {
 
 int32_t error_code(ErrorCode code) { return static_cast<int32_t>(code); }
 
+std::vector<Sender> senders(const std::vector<mm::SampleIdentity_>& commands_sent) {
+  std::vector<Sender> out;
+  out.reserve(commands_sent.size());
+  for (const auto& sent : commands_sent)
+    out.push_back(Sender{sent.writer_guid(), sent.sequence_number()});
+  return out;
+}
+
 }  // namespace macsim::codec

@@ -4,8 +4,10 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "macsim/msg/macsim_msgs.h"
+#include "macsim/sim_core/command.h"
 #include "macsim/sim_core/world.h"
 
 namespace macsim::codec {
@@ -29,5 +31,8 @@ mm::Door_ door_message(const World& world, int door);
 const char* event_name(WorldEvent::Type type);
 /// The wire code of a sim_core error.
 int32_t error_code(ErrorCode code);
+/// The robot commands a request names as sent before it (commands_sent), as the runner keeps
+/// them.
+std::vector<Sender> senders(const std::vector<mm::SampleIdentity_>& commands_sent);
 
 }  // namespace macsim::codec

@@ -68,6 +68,9 @@ Command SupervisorServer::command(const Request& q) {
   c.source = CommandSource::Supervisor;
   c.operation = operation_name(q.operation()._d());
   c.message = dds::to_wire<mm::SupervisorRequest_PubSubType>(q);
+  const int32_t op = q.operation()._d();
+  if (op == mm::OP_RESET || op == mm::OP_RESTORE_SNAPSHOT)
+    c.sent_before = codec::senders(q.commands_sent());
   return c;
 }
 

@@ -68,6 +68,15 @@ rdc::Gid_ gid_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
 
 }  // namespace
 
+SampleId sample_id(const eprosima::fastrtps::rtps::SampleIdentity& identity) {
+  SampleId id;
+  const auto& guid = identity.writer_guid();
+  std::copy(guid.guidPrefix.value, guid.guidPrefix.value + 12, id.writer.begin());
+  std::copy(guid.entityId.value, guid.entityId.value + 4, id.writer.begin() + 12);
+  id.sequence = identity.sequence_number().to64long();
+  return id;
+}
+
 Participant::Participant(const ParticipantOptions& options) : domain_(options.domain) {
   if (options.domain < 0 || options.domain > kMaxDomainId) {
     throw DdsError("domain id " + std::to_string(options.domain) + " is outside 0.." +

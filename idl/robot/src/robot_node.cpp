@@ -196,44 +196,49 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     t.description->write(text);
   }
   // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
-  auto twist = [post](const gm::Twist_& m) {
+  auto twist = [post](const gm::Twist_& m, const dds::SampleId& sent) {
     const double v = m.linear().x(), w = m.angular().z();
-    if (finite({v, w})) post(Twist{v, w});
+    if (finite({v, w})) post(Twist{v, w}, sent);
   };
   if (options_.cmd_vel_stamped) {
     t.cmd_vel_stamped = std::make_unique<dds::Reader<gm::TwistStamped_PubSubType>>(
         p, dds::topics::cmd_vel(name), QosFamily::Command,
-        [twist](const gm::TwistStamped_& m) { twist(m.twist()); });
+        [twist](const gm::TwistStamped_& m, const dds::SampleId& sent) { twist(m.twist(), sent); });
   } else {
-    t.cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(p, dds::topics::cmd_vel(name),
-                                                                    QosFamily::Command, twist);
+    t.cmd_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
+        p, dds::topics::cmd_vel(name), QosFamily::Command,
+        dds::Reader<gm::Twist_PubSubType>::SentCallback(twist));
   }
   t.wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
-      p, dds::topics::wheel_speeds(name), QosFamily::Command, [post](const km::WheelSpeeds_& m) {
+      p, dds::topics::wheel_speeds(name), QosFamily::Command,
+      [post](const km::WheelSpeeds_& m, const dds::SampleId& sent) {
         const double l = m.left(), r = m.right();
-        if (finite({l, r})) post(WheelSpeedCommand{l, r});
+        if (finite({l, r})) post(WheelSpeedCommand{l, r}, sent);
       });
   if (t.has.rotunit) {
     t.rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
-        p, dds::topics::rot_vel(name), QosFamily::Command, [post](const gm::Twist_& m) {
+        p, dds::topics::rot_vel(name), QosFamily::Command,
+        [post](const gm::Twist_& m, const dds::SampleId& sent) {
           const double speed = m.angular().z();
-          if (finite({speed})) post(RotunitSpeed{speed});
+          if (finite({speed})) post(RotunitSpeed{speed}, sent);
         });
   }
   if (t.has.crane) {
     t.crane_command = std::make_unique<dds::Reader<km::CraneCommand_PubSubType>>(
         p, dds::topics::crane_command(name), QosFamily::Command,
-        [post](const km::CraneCommand_& m) {
+        [post](const km::CraneCommand_& m, const dds::SampleId& sent) {
           const double slew = m.slew(), lift = m.lift(), hoist = m.hoist();
           if (finite({slew, lift, hoist})) {
-            post(CraneTarget{slew, lift, hoist});
+            post(CraneTarget{slew, lift, hoist}, sent);
           }
         });
   }
   if (t.has.magnet) {
     t.magnet = std::make_unique<dds::Reader<km::MagnetCommand_PubSubType>>(
         p, dds::topics::crane_magnet(name), QosFamily::Command,
-        [post](const km::MagnetCommand_& m) { post(MagnetSwitch{m.on()}); });
+        [post](const km::MagnetCommand_& m, const dds::SampleId& sent) {
+          post(MagnetSwitch{m.on()}, sent);
+        });
   }
   // A plug-in's own commands: each type's decoder found once, here; a sample whose numbers do
   // not fit the command (or are not finite) is dropped.
@@ -245,11 +250,11 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     }
     t.own_commands.push_back(std::make_unique<dds::Reader<sd::Float64MultiArray_PubSubType>>(
         p, dds::topics::robot_command(name, command), QosFamily::Command,
-        [post, decode = *decode](const sd::Float64MultiArray_& m) {
+        [post, decode = *decode](const sd::Float64MultiArray_& m, const dds::SampleId& sent) {
           for (double v : m.data()) {
             if (!std::isfinite(v)) return;
           }
-          if (auto c = decode(m.data())) post(std::move(*c));
+          if (auto c = decode(m.data())) post(std::move(*c), sent);
         }));
   }
 }

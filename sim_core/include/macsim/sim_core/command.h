@@ -4,6 +4,7 @@
 #pragma once
 
 #include <any>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -35,6 +36,13 @@ std::string_view to_string(CommandSource source);
 /// The source of that name, or nullopt.
 std::optional<CommandSource> command_source(std::string_view name);
 
+/// Who sent a robot command and its place among what that sender sent (over DDS: the writer's
+/// GUID and the sample's sequence number, which grows with every sample the writer sends).
+struct Sender {
+  std::array<uint8_t, 16> id{};
+  uint64_t sequence = 0;
+};
+
 /// One command for the world.
 struct Command {
   CommandSource source = CommandSource::Local;
@@ -44,6 +52,12 @@ struct Command {
   std::optional<robot::RobotCommand> robot;
   std::vector<uint8_t> message;  ///< a request's message in its wire form (CDR)
   std::any reply_to;             ///< where its answer goes (its server's; empty in a replay)
+  /// A robot command: who sent it, if known (a replay does not know).
+  std::optional<Sender> sent_by;
+  /// A request that puts the world back (a reset, a snapshot restored, a world loaded): the
+  /// last robot command each sender of its client sent before it. None of those acts after
+  /// it, however late it arrives (Runner drops them).
+  std::vector<Sender> sent_before;
   /// Local only: what it does. Every other source is run by its executor from the fields above.
   std::function<void(World&)> local;
 };

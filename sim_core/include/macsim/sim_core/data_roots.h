@@ -34,6 +34,13 @@ class DataRoots : public WorldFiles {
   explicit DataRoots(const std::vector<std::string>& folders,
                      std::size_t max_file_bytes = kMaxDataFileBytes);
 
+  /// Roots that hold nothing but `files` and never look at the disk (a replayed session's
+  /// files): a path is under them when `files` has it.
+  static std::shared_ptr<const DataRoots> only(std::shared_ptr<const WorldFiles> files);
+  /// These roots, telling `watcher` of every file they read (a recorded session embeds them);
+  /// the watcher runs on the reading thread.
+  std::shared_ptr<const DataRoots> watched(FileWatcher watcher) const;
+
   /// False for anywhere(): every path is under a root.
   bool restricted() const { return restricted_; }
   /// The roots, canonical (symlinks resolved), in the order given, without repeats.
@@ -62,6 +69,11 @@ class DataRoots : public WorldFiles {
   std::vector<std::filesystem::path> folders_;    // canonical
   std::vector<std::filesystem::path> spellings_;  // each root as given and canonical
   std::size_t max_file_bytes_ = kMaxDataFileBytes;
+  std::shared_ptr<const WorldFiles> only_;  // only(): these files, no disk
+  FileWatcher watcher_;
+
+  /// read() from the disk, as the roots allow.
+  std::optional<std::string> read_disk(const std::string& path) const;
 };
 
 }  // namespace macsim

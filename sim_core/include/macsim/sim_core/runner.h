@@ -5,6 +5,7 @@
 // with it.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -134,6 +135,9 @@ class Runner {
   uint64_t steps_run() const { return steps_run_; }
   /// Commands run so far from `source` (repeats answered with the reply sent before not counted).
   uint64_t commands_run(CommandSource source) const;
+  /// Robot commands dropped because their sender had sent them before a request that put the
+  /// world back (Command::sent_before), and they arrived after it.
+  uint64_t commands_sent_before_reset() const { return commands_fenced_; }
   /// Said by an executor that answered `command` as a repeat of a request already run (a client
   /// that did not hear its reply in time sent it again): it is not counted as run.
   void answered_repeat(const Command& command);
@@ -184,6 +188,10 @@ class Runner {
  private:
   /// A warning to sim_core's log (log_sink.h).
   void say(const std::string& warning) const;
+  /// From now on, drops every robot command of these senders numbered at or below theirs.
+  void fence(const std::vector<Sender>& sent_before);
+  /// True if `command` was sent before a request that put the world back.
+  bool fenced(const Command& command) const;
   struct Load {
     std::shared_future<WorldSpec> spec;
     std::function<void(const LoadOutcome&)> done;
@@ -203,6 +211,8 @@ class Runner {
   std::unique_ptr<World> world_;
   std::vector<CommandExecutor> executors_;  // by CommandSource
   std::vector<uint64_t> commands_run_;      // by CommandSource
+  std::map<std::array<uint8_t, 16>, uint64_t> fences_;  // by sender: its last command dropped
+  uint64_t commands_fenced_ = 0;
   std::shared_ptr<SessionWriter> recording_;
   uint64_t steps_run_ = 0;
   std::shared_ptr<const DataRoots> data_roots_ = DataRoots::anywhere();

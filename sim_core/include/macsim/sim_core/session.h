@@ -1,18 +1,24 @@
-// A session: every command that reached the world, with the step it ran at, and the world's
-// state hash every N steps. Recorded by a running simulator, replayed without any input to
-// the same hashes; a replay stops at the first step whose hash differs. A bug report is one file.
+// A session: every command that reached the world, with the step it ran at, the world's state
+// hash every N steps, every file the run read (the world, its imports and textures, worlds
+// loaded later) and every setting that changes results. Recorded by a running simulator,
+// replayed from the file alone, in any folder, to the same hashes; a replay stops at the first
+// step whose hash differs. A bug report is one file.
 #pragma once
 
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "macsim/sim_core/command.h"
+#include "macsim/sim_core/snapshot_store.h"
+#include "macsim/sim_core/world_loader.h"
 #include "macsim/sim_core/world_spec.h"
 
 namespace macsim {
@@ -21,8 +27,9 @@ class Runner;
 
 /// The version of the session format this build writes and reads (its first line).
 /// Version 2 added the header's `overlaps` line, version 3 the `k` record (a run of steps
-/// that held the robots' commands); versions 1 and 2 are still read.
-inline constexpr int kSessionFormatVersion = 3;
+/// that held the robots' commands), version 4 the files read (`f`) and the settings (`strict`,
+/// `limits`, `snapshots`); versions 1 to 3 are still read (their files from the disk).
+inline constexpr int kSessionFormatVersion = 4;
 
 /// A session file that cannot be read: names the file and line.
 class SessionFileError : public std::runtime_error {
@@ -38,6 +45,19 @@ struct SessionHeader {
   /// Objects that started inside each other were moved apart on load (part_overlaps()); false
   /// when kept where the file put them (macsim --keep-overlaps or --strict, and version 1).
   bool overlaps_parted = true;
+  /// A world loaded later whose objects start inside each other is refused (macsim --strict).
+  bool strict = false;
+  LoadLimits limits;               ///< what one world may hold (macsim --max-objects, ...)
+  SnapshotLimits snapshot_limits;  ///< named snapshots kept at most (--max-snapshots, ...)
+  /// The file holds the files the run read (version 4): a replay reads nothing else.
+  bool self_contained = true;
+};
+
+/// A file the recorded run read, as it read it (the path as it was asked for).
+struct EmbeddedFile {
+  std::string path;
+  std::string bytes;
+  std::size_t commands_before = 0;  ///< commands recorded before it: it was read after them
 };
 
 /// A command and the runner's step count when it ran (before that step).
@@ -57,6 +77,7 @@ struct Session {
   SessionHeader header;
   std::vector<RecordedCommand> commands;  ///< in the order they ran
   std::vector<RecordedHash> hashes;       ///< by step
+  std::vector<EmbeddedFile> files;        ///< in the order they were read
   uint64_t steps = 0;                     ///< steps run when it ended
 };
 
@@ -64,9 +85,9 @@ namespace detail {
 struct KeepRun;  // session.cpp
 }  // namespace detail
 
-/// Writes a session as the simulation runs (on the simulation thread). Once a write fails (a
-/// full disk) it says so in the log (log_sink.h), once, and writes no more: the file then reads as
-/// cut short.
+/// Writes a session as the simulation runs (on the simulation thread; file() on any thread).
+/// Once a write fails (a full disk) it says so in the log (log_sink.h), once, and writes no
+/// more: the file then reads as cut short.
 class SessionWriter {
  public:
   /// Opens `path` for writing and writes the header; throws SessionFileError if it cannot.
@@ -76,6 +97,9 @@ class SessionWriter {
   SessionWriter& operator=(const SessionWriter&) = delete;
 
   void command(uint64_t step, const Command& command);
+  /// Embeds a file the run read (its path as asked), now, unless the same bytes were embedded
+  /// under that path before; flushed at once.
+  void file(const std::string& path, const std::string& bytes);
   /// Writes a hash line and flushes: a simulator killed keeps what came before it on disk.
   void hash(uint64_t step, uint64_t hash);
   /// Writes the closing line (a file without it is refused as cut short) and closes; later
@@ -87,6 +111,8 @@ class SessionWriter {
   uint64_t commands() const { return commands_; }
 
  private:
+  mutable std::mutex mutex_;                  // file() comes from a world's loader thread too
+  std::map<std::string, uint64_t> embedded_;  // path -> checksum of the bytes embedded last
   std::FILE* file_ = nullptr;
   std::string path_;
   uint64_t hash_every_;
@@ -100,6 +126,8 @@ class SessionWriter {
 /// Reads a session file; throws SessionFileError naming the file and line of what is wrong (a
 /// damaged line, a file cut short, another format version).
 Session read_session(const std::string& path);
+/// The same for a session's text already read; errors name `path`.
+Session parse_session(const std::string& text, const std::string& path);
 /// Writes a whole session (e.g. one with a command changed).
 void write_session(const std::string& path, const Session& session);
 
@@ -122,8 +150,15 @@ using SessionWorldLoader = std::function<std::function<WorldSpec()>(const Comman
 
 /// Replays a session on a runner built from its header's world, with the executors of its
 /// sources set (the same as a live run's, minus the answers): runs each command at its step,
-/// steps, checks each recorded hash, and stops at the first that differs.
-ReplayOutcome replay_session(const Session& session, Runner& runner,
-                             const SessionWorldLoader& load);
+/// steps, checks each recorded hash, and stops at the first that differs. Each embedded file
+/// goes into `files` (what the runner's data roots read) before the first command recorded
+/// after it.
+ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
+                             MemoryFiles* files = nullptr);
+/// Puts the files the session embeds before its first command into `files` (what its first
+/// world is read from).
+void embed_first_files(const Session& session, MemoryFiles& files);
+/// The checksum an embedded file carries (64-bit XXH3 of its bytes).
+uint64_t file_checksum(const std::string& bytes);
 
 }  // namespace macsim

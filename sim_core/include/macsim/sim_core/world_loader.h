@@ -40,6 +40,22 @@ class WorldFiles {
 /// The file system; never throws (a path it refuses reads as missing).
 const WorldFiles& disk_files();
 
+/// Told of every file read (its path as asked, its bytes): a recorded session embeds them.
+using FileWatcher = std::function<void(const std::string& path, const std::string& bytes)>;
+
+/// The files of `inner`, each one read told to a watcher first.
+class WatchedFiles : public WorldFiles {
+ public:
+  WatchedFiles(const WorldFiles& inner, FileWatcher watcher)
+      : inner_(inner), watcher_(std::move(watcher)) {}
+  std::optional<std::string> read(const std::string& path) const override;
+  std::string identity(const std::string& path) const override { return inner_.identity(path); }
+
+ private:
+  const WorldFiles& inner_;
+  FileWatcher watcher_;
+};
+
 /// Files held in memory by their lexically normal path.
 class MemoryFiles : public WorldFiles {
  public:

@@ -18,6 +18,7 @@
 #include <string>
 #include <thread>
 
+#include "macsim/client/commands_sent.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgs.h"
 
@@ -155,6 +156,11 @@ class RequestReply {
       return std::nullopt;
     }
     request.client_id(client_id_);
+    // What this process's robot commands were: none acts after a request that puts the world
+    // back, whenever DDS delivers it.
+    if constexpr (requires { request.commands_sent(); }) {
+      if (puts_world_back(request)) request.commands_sent(commands_sent());
+    }
     std::unique_lock<std::mutex> lock(mutex_);
     const uint64_t sequence = next_sequence_++;
     request.sequence_number(sequence);

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "macsim/client/commands_sent.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/geometry_msgs.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
@@ -63,8 +64,8 @@ class RobotClient {
   std::condition_variable arrived_;
   std::optional<Odometry> latest_;
   uint64_t received_ = 0, returned_ = 0;
-  dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> cmd_vel_;
-  dds::Writer<kurt_msgs::msg::dds_::WheelSpeeds_PubSubType> wheel_speeds_;
+  CommandWriter<geometry_msgs::msg::dds_::Twist_PubSubType> cmd_vel_;
+  CommandWriter<kurt_msgs::msg::dds_::WheelSpeeds_PubSubType> wheel_speeds_;
   dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom_;
 };
 

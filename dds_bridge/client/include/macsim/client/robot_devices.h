@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "macsim/client/commands_sent.h"
 #include "macsim/client/latest.h"
 #include "macsim/msg/geometry_msgsPubSubTypes.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
@@ -36,8 +37,8 @@ class Crane {
   bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
  private:
-  dds::Writer<kurt_msgs::msg::dds_::CraneCommand_PubSubType> command_;
-  dds::Writer<kurt_msgs::msg::dds_::MagnetCommand_PubSubType> magnet_;
+  CommandWriter<kurt_msgs::msg::dds_::CraneCommand_PubSubType> command_;
+  CommandWriter<kurt_msgs::msg::dds_::MagnetCommand_PubSubType> magnet_;
   Latest<kurt_msgs::msg::dds_::CraneState_PubSubType> state_;
 };
 
@@ -97,7 +98,7 @@ class Laser {
   bool matched() const { return rot_vel_.matched() > 0 && points_.matched() > 0; }
 
  private:
-  dds::Writer<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel_;
+  CommandWriter<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel_;
   Latest<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan_;
   Latest<sensor_msgs::msg::dds_::PointCloud2_PubSubType> points_;
 };

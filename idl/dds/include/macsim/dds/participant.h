@@ -1,8 +1,12 @@
 // A Fast DDS domain participant set up the MACSim-DDS way, with typed writers and readers.
 #pragma once
 
+#include <fastdds/rtps/common/WriteParams.h>
+
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -30,6 +34,16 @@ namespace fdds = eprosima::fastdds::dds;
 struct DdsError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// Who wrote a sample and its place among what that writer wrote (DDS's sample identity): a
+/// writer numbers its samples 1, 2, 3, ... in the order it writes them.
+struct SampleId {
+  std::array<uint8_t, 16> writer{};  ///< the writer's GUID
+  uint64_t sequence = 0;             ///< the sample's sequence number
+};
+
+/// The SampleId of Fast DDS's sample identity.
+SampleId sample_id(const eprosima::fastrtps::rtps::SampleIdentity& identity);
 
 /// How to join DDS: domain id, optional Fast DDS XML profile file, participant name.
 struct ParticipantOptions {
@@ -138,6 +152,13 @@ class Writer {
 
   /// Publishes one sample; false if Fast DDS refused it.
   bool write(const Data& sample) { return writer_->write(const_cast<Data*>(&sample)); }
+  /// Publishes one sample and gives its identity (`sent`, when written).
+  bool write(const Data& sample, SampleId& sent) {
+    eprosima::fastrtps::rtps::WriteParams params;
+    if (!writer_->write(const_cast<Data*>(&sample), params)) return false;
+    sent = sample_id(params.sample_identity());
+    return true;
+  }
   /// Disposes the instance of a keyed topic that `sample`'s key names.
   bool dispose(const Data& sample) {
     return writer_->dispose(const_cast<Data*>(&sample), fdds::HANDLE_NIL) ==
@@ -172,11 +193,21 @@ class Reader : private fdds::DataReaderListener {
  public:
   using Data = typename PubSubType::type;
   using Callback = std::function<void(const Data&)>;
+  /// A callback that also learns who wrote the sample and its place among that writer's.
+  using SentCallback = std::function<void(const Data&, const SampleId&)>;
 
   /// `on_gone`, if given, hears of instances disposed or left without writers (keyed topics):
   /// it gets the instance's last sample.
   Reader(Participant& participant, const std::string& topic_name, QosFamily family,
          Callback on_sample, Callback on_gone = {})
+      : Reader(participant, topic_name, family,
+               SentCallback([on_sample = std::move(on_sample)](const Data& d, const SampleId&) {
+                 on_sample(d);
+               }),
+               std::move(on_gone)) {}
+  /// The same, each sample handed over with its writer and sequence number.
+  Reader(Participant& participant, const std::string& topic_name, QosFamily family,
+         SentCallback on_sample, Callback on_gone = {})
       : participant_(participant), on_sample_(std::move(on_sample)), on_gone_(std::move(on_gone)) {
     reader_ = participant.subscriber()->create_datareader(
         participant.topic<PubSubType>(topic_name), reader_qos(family, participant.subscriber()),
@@ -228,7 +259,7 @@ class Reader : private fdds::DataReaderListener {
     while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) {
         if (on_gone_) last_[info.instance_handle] = sample;
-        on_sample_(sample);
+        on_sample_(sample, sample_id(info.sample_identity));
       } else if (on_gone_ && info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
         // Fast DDS 2.9 cannot give the key of a handle: remember each instance's last sample.
         auto last = last_.find(info.instance_handle);
@@ -245,7 +276,8 @@ class Reader : private fdds::DataReaderListener {
   }
 
   Participant& participant_;
-  Callback on_sample_, on_gone_;
+  SentCallback on_sample_;
+  Callback on_gone_;
   std::mutex take_mutex_;  // one thread takes at a time, so samples stay in order
   std::atomic<bool> deferred_{false};
   std::map<fdds::InstanceHandle_t, Data> last_;  // only with on_gone_

@@ -13,9 +13,9 @@
 
 namespace macsim::robot {
 
-/// Hands a command (robot_command.h) to the owner's queue (called on Fast DDS's threads); the
-/// owner gives it to the robot on its own thread (RobotInterface::execute).
-using PostCommand = std::function<void(RobotCommand)>;
+/// Hands a command (robot_command.h) to the owner's queue (called on Fast DDS's threads), with
+/// who sent it; the owner gives it to the robot on its own thread (RobotInterface::execute).
+using PostCommand = std::function<void(RobotCommand, const dds::SampleId& sent)>;
 
 /// How a node names its frames and takes its commands.
 struct NodeOptions {

@@ -46,6 +46,9 @@ struct Options {
   /// parent killed without stopping it takes it along. Start long-lived children from a thread
   /// that outlives them (the main thread).
   bool die_with_parent = true;
+  /// The folder the child starts in (empty: this process's); one it cannot enter ends the child
+  /// with exit code 126.
+  std::string working_directory;
   /// How long the destructor waits after SIGTERM before SIGKILL.
   std::chrono::milliseconds stop_grace = std::chrono::seconds(5);
 };
