@@ -214,7 +214,7 @@ struct LineReader {
       }
       out.push_back(v);
     }
-    if (field.back() == ',') fail("a command's values end with ','");
+    if (field.empty() || field.back() == ',') fail("a command's values are empty or end with ','");
     return out;
   }
 

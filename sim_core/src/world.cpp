@@ -46,8 +46,12 @@ void ensure_ode_ready() {
 }
 
 BodyState body_state(dBodyID body) {
-  return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
-          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)), dBodyIsEnabled(body) != 0};
+  BodyState s{vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
+              vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)),
+              dBodyIsEnabled(body) != 0};
+  s.force = vec(dBodyGetForce(body));
+  s.torque = vec(dBodyGetTorque(body));
+  return s;
 }
 
 void set_body_state(dBodyID body, const BodyState& s) {
@@ -56,6 +60,8 @@ void set_body_state(dBodyID body, const BodyState& s) {
   set_exact_pose(body, {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()});
   dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
   dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
+  dBodySetForce(body, s.force.x(), s.force.y(), s.force.z());
+  dBodySetTorque(body, s.torque.x(), s.torque.y(), s.torque.z());
   if (s.enabled) {
     dBodyEnable(body);
   } else {

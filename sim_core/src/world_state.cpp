@@ -55,7 +55,7 @@ void archive(Ar& ar, DoorFlags& f) {
 template <class Ar>
 void archive(Ar& ar, BodyState& b) {
   ar(b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.enabled,
-     b.still_steps_left);
+     b.still_steps_left, b.force, b.torque);
 }
 template <class Ar>
 void archive(Ar& ar, WorldState& s) {
@@ -202,6 +202,10 @@ std::optional<std::string> state_problem(const WorldState& s) {
     // The quaternion goes into ODE as it is (bit for bit): it must be a unit one already.
     if (!detail::plausible(b) || std::abs(b.orientation.norm() - 1.0) > 1e-9)
       return std::string("a body that is not plausible");
+    // What add_force and add_torque leave for the next step: many of bounds::kMaxForce at most.
+    if (!b.force.allFinite() || !b.torque.allFinite() || b.force.norm() > 1e9 ||
+        b.torque.norm() > 1e9)
+      return std::string("a body with a force or torque that is not plausible");
   }
   return std::nullopt;
 }

@@ -223,20 +223,43 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
     EXPECT_NE(status.message.find("robot 'kurt'"), std::string::npos) << status.message;
     EXPECT_EQ(world.state_hash(), before);
   }
-  // The last body's sleep flag: before its still steps (4 bytes), the robots and the body
-  // order (empty here: their counts, 8 bytes each).
+  // The last body's sleep flag: before its still steps (4 bytes), its force and torque (6
+  // doubles), the robots and the body order (empty here: their counts, 8 bytes each).
   WorldSnapshot bad_flag = snapshot;
   const WorldState decoded = deserialize(bad_flag.bytes);
   const std::size_t flag = [&] {
     WorldState cut = decoded;
     cut.robots.clear();
     cut.body_order.clear();
-    return serialize(cut).size() - 2 * sizeof(uint64_t) - sizeof(int32_t) - 1;
+    return serialize(cut).size() - 2 * sizeof(uint64_t) - 6 * sizeof(double) - sizeof(int32_t) - 1;
   }();
   ASSERT_EQ(bad_flag.bytes[flag], decoded.bodies.back().enabled ? 1 : 0);
   bad_flag.bytes[flag] = 2;
   EXPECT_EQ(world.restore(bad_flag).code, ErrorCode::InvalidArgument);
   EXPECT_EQ(world.state_hash(), hash);
+  // A force left for the next step that is not finite.
+  {
+    const Status status = damaged([](WorldState& s) { s.bodies.back().force.x() = std::nan(""); });
+    EXPECT_EQ(status.code, ErrorCode::InvalidArgument);
+    EXPECT_NE(status.message.find("a force or torque that is not plausible"), std::string::npos)
+        << status.message;
+    EXPECT_EQ(world.state_hash(), hash);
+  }
+}
+
+TEST(WorldState, AForceAddedBeforeTheSnapshotActsAfterTheRestore) {
+  // A push given between two steps belongs to the state: restored, the next step has it.
+  World world(shipped_world("DemoWorld_v1.xml"));
+  const ObjectId can = *world.objects().find_object("environment_00/can_00");
+  ASSERT_TRUE(world.edit().add_force(can, {0, 0, 30}).ok());
+  const WorldSnapshot pushed = world.snapshot();
+  world.step();
+  const uint64_t went_on = world.state_hash();
+  World other(shipped_world("DemoWorld_v1.xml"));
+  ASSERT_TRUE(other.restore(pushed).ok());
+  other.step();
+  EXPECT_EQ(other.state_hash(), went_on);
+  EXPECT_GT(other.objects().object_state(can).value.linear_velocity.z(), 0.05);
 }
 
 TEST(WorldState, SameWorldAndCommandsGiveTheSameHash) {

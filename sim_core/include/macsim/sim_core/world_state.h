@@ -22,6 +22,9 @@ struct BodyState {
   bool enabled = true;  ///< false while it sleeps at rest
   /// Still steps it may take before it falls asleep (World decides sleep: World::step).
   int32_t still_steps_left = 50;
+  /// Force and torque added for the next step (add_force, add_torque; zero after each step).
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
 };
 
 /// How far a door is open (the seed's DoorGapAmount).
