@@ -17,6 +17,7 @@
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/world_loader.h"
+#include "quiet_log.h"
 #include "simulation/simulation_dispatch.h"
 #include "supervisor/supervisor_dispatch.h"
 #include "support/world_invariants.h"
@@ -47,11 +48,6 @@ struct Fixture {
 }  // namespace
 
 // The loader's warnings for every input would drown the fuzzer's own output.
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  macsim::set_log_sink([](macsim::LogLevel, const std::string&) {});
-  return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   static Fixture fixture;
   macsim::Runner& runner = fixture.runner;

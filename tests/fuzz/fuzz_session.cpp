@@ -12,6 +12,7 @@
 #include "finding.h"
 #include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/session.h"
+#include "quiet_log.h"
 
 namespace {
 
@@ -25,11 +26,6 @@ std::string text_of(const std::string& path) {
 }
 
 }  // namespace
-
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  macsim::set_log_sink([](macsim::LogLevel, const std::string&) {});
-  return 0;
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace macsim;

@@ -10,6 +10,7 @@
 
 #include "finding.h"
 #include "macsim/sim_core/log_sink.h"
+#include "quiet_log.h"
 #include "snapshot_scene.h"
 #include "support/world_invariants.h"
 
@@ -24,11 +25,6 @@ struct Fixture {
 using macsim::fuzz::finding;
 
 }  // namespace
-
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  macsim::set_log_sink([](macsim::LogLevel, const std::string&) {});
-  return 0;
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace macsim;

@@ -12,14 +12,10 @@
 #include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
+#include "quiet_log.h"
 #include "support/world_invariants.h"
 
 // The loader's warnings for every input would drown the fuzzer's own output.
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  macsim::set_log_sink([](macsim::LogLevel, const std::string&) {});
-  return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace macsim;
   MemoryFiles files;
