@@ -45,12 +45,14 @@ void ensure_ode_ready() {
   (void)thread_ready;
 }
 
-BodyState body_state(dBodyID body) {
+BodyState body_state(dBodyID body, bool with_wrench) {
   BodyState s{vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
               vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)),
               dBodyIsEnabled(body) != 0};
-  s.force = vec(dBodyGetForce(body));
-  s.torque = vec(dBodyGetTorque(body));
+  if (with_wrench) {
+    s.force = vec(dBodyGetForce(body));
+    s.torque = vec(dBodyGetTorque(body));
+  }
   return s;
 }
 
@@ -655,7 +657,8 @@ bool World::check_stability() {
   bool stable = true;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (!dBodyIsEnabled(bodies_[i])) continue;  // asleep: it did not move, last_good_ holds
-    BodyState now = detail::body_state(bodies_[i]);
+    // Right after a step: ODE cleared the forces added for it, nothing to read.
+    BodyState now = detail::body_state(bodies_[i], false);
     if (detail::plausible(now)) {
       last_good_[i] = now;
       continue;

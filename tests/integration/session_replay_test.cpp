@@ -75,7 +75,8 @@ class DemonstratorSession : public ::testing::Test {
              fs::copy_options::recursive);
     world_ = copy + "/DemoWorld_v1.xml";
     const std::string domain = std::to_string(unique_test_domain());
-    ChildProcess macsim({bin("macsim"), "--world", world_, "--seed", "3", "--domain", domain,
+    // Seed 5: one of the quickest layouts (97 s of robot time in lock-step, one lift).
+    ChildProcess macsim({bin("macsim"), "--world", world_, "--seed", "5", "--domain", domain,
                          "--record-session", path_});
     ASSERT_TRUE(macsim.wait_for_output("stepping at real-time factor 1", 30s)) << macsim.output();
     ChildProcess demo({bin("kurt_demo"), "--domain", domain});
@@ -125,7 +126,7 @@ TEST_F(DemonstratorSession, ReplaysWithEveryHashEqual) {
   EXPECT_GT(operations["magnet"], 10);
   // One file: the world and every file it imports, read before the first command, the seed.
   EXPECT_EQ(session.header.world_file, world_);
-  EXPECT_EQ(session.header.seed, 3);
+  EXPECT_EQ(session.header.seed, 5);
   ASSERT_FALSE(session.files.empty());
   EXPECT_EQ(session.files.front().path, world_);
   EXPECT_EQ(session.files.front().bytes, world_bytes_);
