@@ -82,7 +82,7 @@ bool Runner::execute(const Command& command) {
     default:
       if (command.source == CommandSource::Simulation &&
           command.operation == "keep_robot_commands") {
-        world_->keep_robot_commands();
+        world_->keep_robot_commands(command.target);
         acted = true;
         break;
       }
@@ -295,6 +295,7 @@ void Runner::step(const StepHooks& hooks) {
     Command keep;
     keep.source = CommandSource::Simulation;
     keep.operation = "keep_robot_commands";
+    keep.target = request_.hold_robots;
     execute(keep);
   }
   step();

@@ -35,9 +35,10 @@ namespace macsim {
 //                                        it was read: the bytes in hex, the checksum their XXH3
 //                                        in 16 hex digits (version 4)
 //   c <step> <source> <operation> <target> <values> <message>   a command, before step+1
-//   k <first> <last>                     keep_robot_commands before each step first+1..last+1:
+//   k <first> <last> [<robots>]          keep_robot_commands before each step first+1..last+1:
 //                                        what a step request holding the robots' commands runs
-//                                        once a step, as one record (version 3)
+//                                        once a step, as one record (version 3); the robots
+//                                        held, comma-separated, when not all (version 4)
 //   h <step> <hash>                      the state hash after `step` steps (16 hex digits)
 //   end <steps> <commands> <hashes>      the closing line: counts of what came before
 // Text fields are percent-encoded; an empty one is "-". Values are %.17g numbers joined by ",";
@@ -151,26 +152,28 @@ namespace detail {
 struct KeepRun {
   bool open = false;
   uint64_t first = 0, last = 0;
+  std::string robots;  // held, comma-separated; empty: every robot
 
   static bool is_keep(const Command& c) {
     return c.source == CommandSource::Simulation && c.operation == "keep_robot_commands" &&
-           c.target.empty() && !c.robot && c.message.empty();
+           !c.robot && c.message.empty();
   }
   /// The run's record, if one is open; closes it.
   std::string close() {
     if (!open) return {};
     open = false;
-    return "k " + std::to_string(first) + " " + std::to_string(last) + "\n";
+    return "k " + std::to_string(first) + " " + std::to_string(last) +
+           (robots.empty() ? "" : " " + encode(robots)) + "\n";
   }
   /// The text a command adds to the file: nothing while it extends the run.
   std::string add(uint64_t step, const Command& c) {
     if (!is_keep(c)) return close() + command_line(step, c);
-    if (open && step == last + 1) {
+    if (open && step == last + 1 && c.target == robots) {
       last = step;
       return {};
     }
     std::string before = close();
-    *this = {true, step, step};
+    *this = {true, step, step, c.target};
     return before;
   }
 };
@@ -463,7 +466,7 @@ Session parse_session(const std::string& whole, const std::string& path) {
       if (rc.step < last_step) r.fail("steps must not go back");
       last_step = rc.step;
       session.commands.push_back(std::move(rc));
-    } else if (f[0] == "k" && f.size() == 3 && version >= 3) {
+    } else if (f[0] == "k" && (f.size() == 3 || (f.size() == 4 && version >= 4)) && version >= 3) {
       const uint64_t first = r.number(f[1], "a run's first step");
       const uint64_t last = r.number(f[2], "a run's last step");
       if (last < first) r.fail("a run ends before it starts");
@@ -473,6 +476,10 @@ Session parse_session(const std::string& whole, const std::string& path) {
       RecordedCommand keep;
       keep.command.source = CommandSource::Simulation;
       keep.command.operation = "keep_robot_commands";
+      if (f.size() == 4) {
+        keep.command.target = r.text(f[3], "the robots held");
+        if (keep.command.target.empty()) r.fail("a run names no robot to hold");
+      }
       for (uint64_t step = first; step <= last; ++step) {
         keep.step = step;
         session.commands.push_back(keep);

@@ -45,15 +45,9 @@ void ensure_ode_ready() {
   (void)thread_ready;
 }
 
-BodyState body_state(dBodyID body, bool with_wrench) {
-  BodyState s{vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
-              vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)),
-              dBodyIsEnabled(body) != 0};
-  if (with_wrench) {
-    s.force = vec(dBodyGetForce(body));
-    s.torque = vec(dBodyGetTorque(body));
-  }
-  return s;
+BodyState body_state(dBodyID body) {
+  return {vec(dBodyGetPosition(body)), from_ode(dBodyGetQuaternion(body)),
+          vec(dBodyGetLinearVel(body)), vec(dBodyGetAngularVel(body)), dBodyIsEnabled(body) != 0};
 }
 
 void set_body_state(dBodyID body, const BodyState& s) {
@@ -62,8 +56,6 @@ void set_body_state(dBodyID body, const BodyState& s) {
   set_exact_pose(body, {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()});
   dBodySetLinearVel(body, s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z());
   dBodySetAngularVel(body, s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
-  dBodySetForce(body, s.force.x(), s.force.y(), s.force.z());
-  dBodySetTorque(body, s.torque.x(), s.torque.y(), s.torque.z());
   if (s.enabled) {
     dBodyEnable(body);
   } else {
@@ -657,8 +649,7 @@ bool World::check_stability() {
   bool stable = true;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (!dBodyIsEnabled(bodies_[i])) continue;  // asleep: it did not move, last_good_ holds
-    // Right after a step: ODE cleared the forces added for it, nothing to read.
-    BodyState now = detail::body_state(bodies_[i], false);
+    BodyState now = detail::body_state(bodies_[i]);
     if (detail::plausible(now)) {
       last_good_[i] = now;
       continue;
@@ -676,8 +667,17 @@ bool World::check_stability() {
   return stable;
 }
 
-void World::keep_robot_commands() {
-  for (auto& robot : robots_) robot->keep_command(time());
+void World::keep_robot_commands(const std::string& robots) {
+  for (auto& robot : robots_) {
+    const std::string& name = robot->name();
+    bool held = robots.empty();
+    for (std::size_t at = robots.find(name); !held && at != std::string::npos;
+         at = robots.find(name, at + 1)) {
+      const std::size_t end = at + name.size();
+      held = (at == 0 || robots[at - 1] == ',') && (end == robots.size() || robots[end] == ',');
+    }
+    if (held) robot->keep_command(time());
+  }
 }
 
 bool World::step() {

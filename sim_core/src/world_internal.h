@@ -41,9 +41,8 @@ inline Status invalid_argument(const std::string& message) {
   return Status::error(ErrorCode::InvalidArgument, message);
 }
 
-/// The pose of a body's centre of mass and its velocities as ODE holds them; `with_wrench`: also
-/// the force and torque added for the next step (zero right after a step).
-BodyState body_state(dBodyID body, bool with_wrench = true);
+/// Pose of a body's centre of mass and its velocities.
+BodyState body_state(dBodyID body);
 void set_body_state(dBodyID body, const BodyState& state);
 /// True if every number of the state is finite and the speeds are physically plausible.
 bool plausible(const BodyState& state);

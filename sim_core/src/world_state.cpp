@@ -55,12 +55,16 @@ void archive(Ar& ar, DoorFlags& f) {
 template <class Ar>
 void archive(Ar& ar, BodyState& b) {
   ar(b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.enabled,
-     b.still_steps_left, b.force, b.torque);
+     b.still_steps_left);
+}
+template <class Ar>
+void archive(Ar& ar, PendingWrench& w) {
+  ar(w.body, w.force, w.torque);
 }
 template <class Ar>
 void archive(Ar& ar, WorldState& s) {
   ar(s.steps, s.random_seed, s.next_id, s.objects, s.joints, s.doors, s.door_flags, s.bodies,
-     s.robots, s.body_order);
+     s.robots, s.body_order, s.wrenches);
 }
 template <class Ar>
 void archive(Ar& ar, PhysicsSpec& p) {
@@ -120,6 +124,10 @@ WorldState World::state() const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     s.bodies.push_back(detail::body_state(bodies_[i]));
     s.bodies.back().still_steps_left = still_steps_left_[i];
+    const Eigen::Vector3d force = detail::vec(dBodyGetForce(bodies_[i]));
+    const Eigen::Vector3d torque = detail::vec(dBodyGetTorque(bodies_[i]));
+    if (!force.isZero(0) || !torque.isZero(0))
+      s.wrenches.push_back({static_cast<uint32_t>(i), force, torque});
   }
   for (const auto& r : robots_) s.robots.push_back(r->save_state());
   s.body_order = body_order_;
@@ -148,11 +156,15 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
   build(s.body_order);  // bodies at their reference poses: joints take their zero there
   // Bodies rebuilt fresh (a reset's) start their still steps anew, as loading left them.
   std::vector<int32_t> still_steps_left;
+  std::vector<dBodyID> kept_bodies(s.bodies.size(), nullptr);  // by index in s.bodies
   std::size_t body = 0;
   for (const auto& [id, spec] : s.objects) {
     if (!spec.portable) continue;
     const bool kept = std::find(fresh.begin(), fresh.end(), id) == fresh.end();
-    if (kept) detail::set_body_state(find(id)->body, s.bodies[body]);
+    if (kept) {
+      kept_bodies[body] = find(id)->body;
+      detail::set_body_state(kept_bodies[body], s.bodies[body]);
+    }
     still_steps_left.push_back(kept ? s.bodies[body].still_steps_left : kStillStepsToSleep);
     ++body;
   }
@@ -160,12 +172,20 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
     if (fresh_robots) continue;
     for (dBodyID b : robots_[i]->bodies()) {
       still_steps_left.push_back(s.bodies[body].still_steps_left);
+      kept_bodies[body] = b;
       detail::set_body_state(b, s.bodies[body++]);
     }
     robots_[i]->load_state(s.robots[i], [this](const std::string& object) -> dBodyID {
       const auto id = objects_view_.find_object(object);
       return id ? find(*id)->body : nullptr;
     });
+  }
+  // What was added for the next step stays with the bodies kept (not with those made fresh).
+  for (const auto& w : s.wrenches) {
+    if (dBodyID b = w.body < kept_bodies.size() ? kept_bodies[w.body] : nullptr) {
+      dBodySetForce(b, w.force.x(), w.force.y(), w.force.z());
+      dBodySetTorque(b, w.torque.x(), w.torque.y(), w.torque.z());
+    }
   }
   refresh_bodies();
   std::copy(still_steps_left.begin(), still_steps_left.end(), still_steps_left_.begin());
@@ -202,10 +222,16 @@ std::optional<std::string> state_problem(const WorldState& s) {
     // The quaternion goes into ODE as it is (bit for bit): it must be a unit one already.
     if (!detail::plausible(b) || std::abs(b.orientation.norm() - 1.0) > 1e-9)
       return std::string("a body that is not plausible");
-    // What add_force and add_torque leave for the next step: many of bounds::kMaxForce at most.
-    if (!b.force.allFinite() || !b.torque.allFinite() || b.force.norm() > 1e9 ||
-        b.torque.norm() > 1e9)
-      return std::string("a body with a force or torque that is not plausible");
+  }
+  // What add_force and add_torque leave for the next step: many of bounds::kMaxForce at most,
+  // each body once, in order.
+  for (std::size_t i = 0; i < s.wrenches.size(); ++i) {
+    const PendingWrench& w = s.wrenches[i];
+    if (w.body >= s.bodies.size() || (i > 0 && w.body <= s.wrenches[i - 1].body) ||
+        !w.force.allFinite() || !w.torque.allFinite() || w.force.norm() > 1e9 ||
+        w.torque.norm() > 1e9) {
+      return std::string("a force or torque for the next step that is not plausible");
+    }
   }
   return std::nullopt;
 }

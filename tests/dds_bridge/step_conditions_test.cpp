@@ -197,6 +197,20 @@ TEST(StepConditions, TheStepTraceCoversEveryStepAndRepeats) {
   EXPECT_NE(trace(40), 0u);
 }
 
+TEST(StepConditions, HoldingTheCommandsOfARobotTheWorldLacksIsRefusedNamingIt) {
+  Stepper s;
+  auto q = until::request(100, 1, mm::STEP_HOLD_COMMANDS);
+  q.hold_robots({"kurt", "rover"});
+  const auto refused = s.serve(q);
+  EXPECT_EQ(refused.code(), mm::ERR_INVALID_ARGUMENT);
+  EXPECT_NE(refused.message().find("hold_robots names 'rover'"), std::string::npos)
+      << refused.message();
+  EXPECT_EQ(s.runner.world().steps(), 0u);
+  q.hold_robots({"kurt"});
+  EXPECT_EQ(s.serve(q).code(), mm::ERR_OK);
+  EXPECT_EQ(s.runner.world().steps(), 100u);
+}
+
 TEST(StepConditions, ARequestCountsItsStepsForOtherThreadsAndACancelSaysSo) {
   Stepper s;
   const auto ended = s.serve(steps(300, 10, until::above(mm::STEP_READ_SIM_TIME, 0.1)));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <cmath>
 #include <mutex>
 #include <set>
 #include <vector>
@@ -155,6 +156,46 @@ TEST(Lockstep, EveryCameraInstantIsRenderedAndOutBeforeItsStepIsAnswered) {
   EXPECT_NE(macsim.output().find(" 0 skipped"), std::string::npos) << macsim.output();
   std::lock_guard<std::mutex> lock(mutex);
   EXPECT_GE(stamps.size(), 12u);  // one image per instant reached the client
+}
+
+TEST(Lockstep, AStepRequestHoldsTheCommandsOfTheRobotItNamesAndNoOther) {
+  // Two robots, each sent one drive; 2 s of steps holding "kurt": the KURT3D drives on past
+  // the 0.6 s command timeout, the rover stops (by their odometry, read in macsim at the end).
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/two_robots.xml"), "--domain",
+                       std::to_string(domain), "--lockstep", "--cameras", "off"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "lockstep_test"});
+  client::SimulationClient sim(p);
+  client::RobotClient kurt(p, "kurt"), rover(p, "rover");
+  ASSERT_TRUE(sim.wait_for_server(20s));
+  for (int i = 0; i < 100 && !(kurt.commander_matched() && rover.commander_matched()); ++i)
+    std::this_thread::sleep_for(50ms);
+  const auto x = [&](int32_t steps, uint32_t options, std::vector<std::string> hold) {
+    auto q = client::step_until::request(uint64_t(steps), uint64_t(steps), options);
+    q.samples({client::step_until::reading(mm::STEP_READ_ODOMETRY_X),
+               client::step_until::reading(mm::STEP_READ_ODOMETRY_X)});
+    q.samples()[0].robot("kurt");
+    q.samples()[1].robot("rover");
+    q.hold_robots(hold);
+    const auto reply = sim.call(q, 20s);
+    EXPECT_TRUE(reply && reply->code() == mm::ERR_OK) << (reply ? reply->message() : "no reply");
+    if (!reply || reply->samples().size() != 2) return std::make_pair(std::nan(""), std::nan(""));
+    return std::make_pair(reply->samples()[0], reply->samples()[1]);
+  };
+  ASSERT_TRUE(kurt.drive(0.3, 0.0) && rover.drive(0.3, 0.0));
+  ASSERT_TRUE(kurt.wait_delivered() && rover.wait_delivered());
+  const auto [kurt1, rover1] = x(2000, mm::STEP_HOLD_COMMANDS, {"kurt"});
+  EXPECT_GT(kurt1, 0.45);   // about 0.3 m/s for 2 s (odometry starts at 0)
+  EXPECT_LT(rover1, 0.25);  // stopped after 0.6 s
+  EXPECT_GT(rover1, 0.05);
+  // A robot the world lacks is refused by name.
+  auto bad = client::step_until::request(10, 10, mm::STEP_HOLD_COMMANDS);
+  bad.hold_robots({"nobody"});
+  const auto refused = sim.call(bad, 10s);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->code(), mm::ERR_INVALID_ARGUMENT);
+  EXPECT_NE(refused->message().find("hold_robots names 'nobody'"), std::string::npos);
 }
 
 TEST(Lockstep, ARequestWantingItsDataAtItsEndGetsTheNewestSampleOfEachAndNoUnaskedImages) {

@@ -185,7 +185,7 @@ def test_step_until_ends_on_the_published_odometry_and_reads_samples(domain, spa
     wait_connected(robot)
     command_while_paused(robot, 0.3, 0.0)
     status = simulation.step_until(
-        5000, check_every=10, publish_at_end=True, hold_commands=True,
+        5000, check_every=10, publish_at_end=True, hold_commands=True, hold_robots=["kurt"],
         until=[macsim.StepCondition(macsim.STEP_READ_ODOMETRY_X, macsim.STEP_TEST_ABOVE, 0.1)],
         samples=[macsim.StepCondition(macsim.STEP_READ_ODOMETRY_X),
                  macsim.StepCondition(macsim.STEP_READ_SIM_TIME)])

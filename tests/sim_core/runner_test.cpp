@@ -292,6 +292,36 @@ TEST(Runner, AStepRequestThatHoldsCommandsKeepsTheRobotDrivingPastTheCommandTime
   EXPECT_LT(timed_out, 0.25);  // stopped after 0.6 s
 }
 
+TEST(Runner, AStepRequestHoldsTheCommandsOfTheRobotsItNamesOnly) {
+  // Both robots are sent a drive once; a 2 s request holding "kurt" keeps the KURT3D driving
+  // past the 0.6 s command timeout and lets the rover stop; naming both holds both.
+  const auto travelled = [](const std::string& held) {
+    Runner runner(load_world_file(test::source("worlds/two_robots.xml")), RunSettings{true, 0.0});
+    std::atomic<bool> stop{false};
+    const auto x = [&](const char* robot) {
+      return runner.world().robot(robot)->base_footprint_pose().position.x();
+    };
+    const double kurt0 = x("kurt"), rover0 = x("rover");
+    for (const char* robot : {"kurt", "rover"})
+      runner.world().robot(robot)->execute(robot::Twist{0.3, 0.0}, runner.world().time());
+    StepRequest request;
+    request.steps = static_cast<uint64_t>(std::lround(2.0 / runner.world().step_size()));
+    request.hold_commands = true;
+    request.hold_robots = held;
+    request.done = [&](bool) { stop = true; };
+    EXPECT_TRUE(runner.push([&](World&) { runner.request_steps(std::move(request)); }));
+    runner.run(stop, 100000, {});
+    return std::make_pair(x("kurt") - kurt0, x("rover") - rover0);
+  };
+  const auto [kurt, rover] = travelled("kurt");
+  EXPECT_GT(kurt, 0.45);   // about 0.3 m/s for 2 s
+  EXPECT_LT(rover, 0.25);  // stopped after 0.6 s
+  EXPECT_GT(rover, 0.05);  // but it drove until then
+  const auto [kurt_both, rover_both] = travelled("kurt,rover");
+  EXPECT_GT(kurt_both, 0.45);
+  EXPECT_GT(rover_both, 0.45);
+}
+
 TEST(Runner, AResetThatTakesTheTimeBackCancelsAStepRequestWithNoStepAfterIt) {
   Runner runner(small_room(), RunSettings{true, 0.0});
   std::atomic<bool> stop{false};

@@ -337,7 +337,9 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
     writer.hash(0, 1);
     for (uint64_t step = 0; step < 250; ++step) {
       if (step == 100 || step == 200) writer.hash(step, step);
-      writer.command(step, keep);
+      Command k = keep;
+      if (step >= 150 && step < 200) k.target = "kurt";  // a request holding one robot
+      writer.command(step, k);
       ran.emplace_back(step, keep.operation);
       if (step == 120) {
         writer.command(step, robot_command("kurt", robot::Twist{0.2, 0.0}));
@@ -347,14 +349,18 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
     writer.finish(250);
   }
   const std::string text = read_text(path);
-  for (const char* run : {"\nk 0 99\n", "\nk 100 120\nc 120 robot twist", "\nk 121 199\n",
-                          "\nk 200 249\nend 250 251 3\n"}) {
+  for (const char* run : {"\nk 0 99\n", "\nk 100 120\nc 120 robot twist", "\nk 121 149\n",
+                          "\nk 150 199 kurt\n", "\nk 200 249\nend 250 251 3\n"}) {
     EXPECT_NE(text.find(run), std::string::npos) << run << " in\n" << text;
   }
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 17) << text;  // header 8, h 3, k 4, c, end
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 18) << text;  // header 8, h 3, k 5, c, end
   const Session session = read_session(path);
   ASSERT_EQ(session.commands.size(), ran.size());
   for (std::size_t i = 0; i < ran.size(); ++i) {
+    // The twist is kurt's; so are the steps held for kurt alone; the rest held every robot.
+    const uint64_t step = session.commands[i].step;
+    const bool kurts = ran[i].second == "twist" || (step >= 150 && step < 200);
+    EXPECT_EQ(session.commands[i].command.target, kurts ? "kurt" : "") << i;
     EXPECT_EQ(session.commands[i].step, ran[i].first) << i;
     EXPECT_EQ(session.commands[i].command.operation, ran[i].second) << i;
   }
@@ -365,9 +371,9 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
   // A run that ends before it starts, or longer than a run may be, is refused by line.
   for (const auto& [from, to, says] :
        std::vector<std::tuple<std::string, std::string, std::string>>{
-           {"k 121 199", "k 199 121", ":14: a run ends before it starts"},
-           {"k 121 199", "k 121 99999999999", ":14: a run of more than 10000000 steps"},
-           {"k 121 199", "k 12x 199", ":14: a run's first step must be a whole number"}}) {
+           {"k 121 149", "k 149 121", ":14: a run ends before it starts"},
+           {"k 121 149", "k 121 99999999999", ":14: a run of more than 10000000 steps"},
+           {"k 121 149", "k 12x 149", ":14: a run's first step must be a whole number"}}) {
     std::string bad_text = text;
     bad_text.replace(bad_text.find(from), from.size(), to);
     const std::string bad = dir.path() + "/bad.session";

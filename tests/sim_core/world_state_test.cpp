@@ -223,15 +223,16 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
     EXPECT_NE(status.message.find("robot 'kurt'"), std::string::npos) << status.message;
     EXPECT_EQ(world.state_hash(), before);
   }
-  // The last body's sleep flag: before its still steps (4 bytes), its force and torque (6
-  // doubles), the robots and the body order (empty here: their counts, 8 bytes each).
+  // The last body's sleep flag: before its still steps (4 bytes), the robots, the body order
+  // and the wrenches (empty here: their counts, 8 bytes each).
   WorldSnapshot bad_flag = snapshot;
   const WorldState decoded = deserialize(bad_flag.bytes);
   const std::size_t flag = [&] {
     WorldState cut = decoded;
     cut.robots.clear();
     cut.body_order.clear();
-    return serialize(cut).size() - 2 * sizeof(uint64_t) - 6 * sizeof(double) - sizeof(int32_t) - 1;
+    cut.wrenches.clear();
+    return serialize(cut).size() - 3 * sizeof(uint64_t) - sizeof(int32_t) - 1;
   }();
   ASSERT_EQ(bad_flag.bytes[flag], decoded.bodies.back().enabled ? 1 : 0);
   bad_flag.bytes[flag] = 2;
@@ -239,10 +240,18 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
   EXPECT_EQ(world.state_hash(), hash);
   // A force left for the next step that is not finite.
   {
-    const Status status = damaged([](WorldState& s) { s.bodies.back().force.x() = std::nan(""); });
+    const Status status = damaged([](WorldState& s) {
+      s.wrenches.push_back({0, {std::nan(""), 0, 0}, {0, 0, 0}});
+    });
     EXPECT_EQ(status.code, ErrorCode::InvalidArgument);
-    EXPECT_NE(status.message.find("a force or torque that is not plausible"), std::string::npos)
+    EXPECT_NE(status.message.find("a force or torque for the next step that is not plausible"),
+              std::string::npos)
         << status.message;
+    EXPECT_EQ(world.state_hash(), hash);
+    const Status beyond = damaged([](WorldState& s) {
+      s.wrenches.push_back({static_cast<uint32_t>(s.bodies.size()), {1, 0, 0}, {0, 0, 0}});
+    });
+    EXPECT_EQ(beyond.code, ErrorCode::InvalidArgument);
     EXPECT_EQ(world.state_hash(), hash);
   }
 }

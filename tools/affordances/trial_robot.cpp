@@ -265,6 +265,7 @@ struct TrialRobot::Impl {
     if (!render) options |= mm::STEP_NO_CAMERAS;
     if (o.hash_every_step) options |= mm::STEP_TRACE_HASH;
     auto request = until::request(static_cast<uint64_t>(n), dt > 0 ? tick_steps() : 1, options);
+    request.hold_robots({o.robot});  // this instance's robot only: others drive their own
     request.until(conditions);
     request.samples(samples);
     for (auto* list : {&request.until(), &request.samples()}) {

@@ -273,7 +273,7 @@ void bind_supervisor(py::module_& m) {
           [](Sim& s, uint64_t steps, const std::vector<mm::StepCondition_>& until,
              const std::vector<mm::StepCondition_>& samples, uint32_t check_every,
              bool publish_at_end, bool cameras, bool hold_commands, bool trace_hash,
-             std::optional<double> timeout) {
+             std::optional<double> timeout, const std::vector<std::string>& hold_robots) {
             uint32_t options = 0;
             if (publish_at_end) options |= mm::STEP_PUBLISH_AT_END;
             if (!cameras) options |= mm::STEP_NO_CAMERAS;
@@ -282,19 +282,21 @@ void bind_supervisor(py::module_& m) {
             auto request = client::step_until::request(steps, check_every, options);
             request.until(until);
             request.samples(samples);
+            request.hold_robots(hold_robots);
             return s.step(request, timeout);
           },
           py::arg("steps"), py::arg("until") = std::vector<mm::StepCondition_>{},
           py::arg("samples") = std::vector<mm::StepCondition_>{}, py::arg("check_every") = 1,
           py::arg("publish_at_end") = false, py::arg("cameras") = true,
           py::arg("hold_commands") = false, py::arg("trace_hash") = false,
-          py::arg("timeout") = py::none(),
+          py::arg("timeout") = py::none(), py::arg("hold_robots") = std::vector<std::string>{},
           "Lock-step: at most `steps` steps, ended at the first check (every `check_every` "
           "steps) where a group of `until` conditions holds; `samples` read at every check. "
           "The reply's ended_by names the group (-1: the steps ran out), its samples hold the "
           "readings. publish_at_end: topics bring only their newest sample, at the end; "
           "cameras=False: no images of its instants; hold_commands: drive commands do not time "
-          "out meanwhile. A bad condition: SupervisorError naming the field.")
+          "out meanwhile, those of the robots in hold_robots (empty: every robot's). A bad "
+          "condition or robot: SupervisorError naming the field.")
       .def(
           "status", [](Sim& s) { return s.command(mm::SIM_STATUS); },
           "Time, steps, state hash, paused, real-time factor.")

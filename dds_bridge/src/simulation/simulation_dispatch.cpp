@@ -54,6 +54,15 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
                                 "step_options " + std::to_string(q.step_options()) +
                                     " has bits that are no STEP_* option");
       }
+      std::string held;  // the robots STEP_HOLD_COMMANDS holds, comma-separated
+      for (const std::string& robot : q.hold_robots()) {
+        if (!runner.world().robot(robot)) {
+          return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT,
+                                  "hold_robots names '" + robot.substr(0, 64) +
+                                      "', and this world has no robot of that name");
+        }
+        held += (held.empty() ? "" : ",") + robot;
+      }
       auto compiled = StepConditions::compile(q, runner.world(), readings);
       if (auto* error = std::get_if<std::string>(&compiled)) {
         return simulation_reply(q, runner, mm::ERR_INVALID_ARGUMENT, *error);
@@ -76,6 +85,7 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
         if (trace) conditions->trace(world);
       };
       request.hold_commands = q.step_options() & mm::STEP_HOLD_COMMANDS;
+      request.hold_robots = held;
       request.publish_at_end = q.step_options() & mm::STEP_PUBLISH_AT_END;
       request.cameras = !(q.step_options() & mm::STEP_NO_CAMERAS);
       request.done = [&runner, q, conditions, steps_done, stepped = std::move(stepped)](bool done) {

@@ -87,6 +87,8 @@ struct StepRequest {
   std::function<bool(const World&)> until;
   std::function<void(const World&)> each_step;  ///< after every step's hooks (e.g. hash it)
   bool hold_commands = false;   ///< the robots' last commands do not time out meanwhile
+  /// The robots hold_commands holds, comma-separated (empty: every robot).
+  std::string hold_robots;
   bool publish_at_end = false;  ///< the hooks need publish only the newest data, at the end
   bool cameras = true;          ///< the hooks render the camera instants within it
   std::function<void(bool completed)> done;  ///< false: a pause cancelled it

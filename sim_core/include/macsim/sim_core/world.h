@@ -308,8 +308,9 @@ class World {
   /// went unstable or ODE reported an error (then this world steps no more).
   bool step();
   /// Robot drive commands still in force are renewed now (a controller stepping the world
-  /// through a long request keeps its robot moving).
-  void keep_robot_commands();
+  /// through a long request keeps its robot moving): those of the robots named, comma-separated
+  /// (robot names have no commas), or of every robot when `robots` is empty.
+  void keep_robot_commands(const std::string& robots = "");
   double time() const { return static_cast<double>(steps_) * spec_.physics.step; }
   uint64_t steps() const { return steps_; }
   double step_size() const { return spec_.physics.step; }

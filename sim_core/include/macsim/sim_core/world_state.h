@@ -22,7 +22,11 @@ struct BodyState {
   bool enabled = true;  ///< false while it sleeps at rest
   /// Still steps it may take before it falls asleep (World decides sleep: World::step).
   int32_t still_steps_left = 50;
-  /// Force and torque added for the next step (add_force, add_torque; zero after each step).
+};
+
+/// A force and torque added to a body for the next step (add_force, add_torque), not yet used.
+struct PendingWrench {
+  uint32_t body = 0;  ///< its index in WorldState::bodies
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();
 };
@@ -51,6 +55,8 @@ struct WorldState {
   /// The order the bodies were made in, which ODE's solver follows: object ids, and robots as
   /// -1 - their index. A restore makes them in this order again.
   std::vector<int64_t> body_order;
+  /// What was added for the next step, for the bodies that have any (ODE clears it each step).
+  std::vector<PendingWrench> wrenches;
 };
 
 /// A world's complete state, serialised, marked with the world it belongs to.
