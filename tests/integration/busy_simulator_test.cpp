@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <fstream>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -269,6 +270,65 @@ TEST(BusySimulator, ASimulatorKilledDuringALongStepIsReportedGoneWithinSeconds) 
   const std::string said = client::describe(outcome, "simulation control", domain);
   EXPECT_NE(said.find("stopped answering"), std::string::npos) << said;
   EXPECT_EQ(macsim.wait_for_exit(5s), 128 + SIGKILL);
+}
+
+TEST(BusySimulator, RequestsBeyondAFullQueueAreRefusedWithTheCodeAndTheFlagThatSetsIt) {
+  // A world of 90,000 boxes takes a second or more to parse: requests sent meanwhile wait
+  // behind its load, and with room for 2 (the load and one more) the rest are refused at once
+  // with ERR_LIMIT_REACHED naming --max-queued-commands; once served, it takes requests again.
+  TempDir dir("macsim_queue_");
+  const std::string big = dir.path() + "/big.xml";
+  {
+    std::ofstream out(big);
+    out << "<WORLD><NAME>big</NAME><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>\n";
+    for (int i = 0; i < 90000; ++i) {
+      out << "<OBJECT><ID>b" << i << "</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE>"
+          << "<DIMS>0.1,0.1,0.1</DIMS><POS>" << 2 + (i % 300) * 0.3 << "," << -45 + (i / 300) * 0.3
+          << ",0.05</POS></OBJECT>\n";
+    }
+    out << "</WORLD>\n";
+  }
+  const int domain = unique_test_domain();
+  auto args = lockstep_macsim(domain);
+  args.insert(args.end(), {"--max-queued-commands", "2", "--data-path", dir.path()});
+  ChildProcess macsim(args);
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({domain, "", "busy_test"});
+  client::SimulationClient sim(p);
+  client::SupervisorClient supervisor(p);
+  ASSERT_TRUE(sim.wait_for_server(20s) && supervisor.wait_for_server(20s));
+  auto load = client::SimulationClient::request(mm::SIM_LOAD_WORLD);
+  load.world_file(big);
+  auto loaded = std::async(std::launch::async, [&] { return sim.call(load, 120s); });
+  std::this_thread::sleep_for(300ms);  // the load is parsing
+  std::vector<std::future<std::optional<client::SupervisorClient::Reply>>> asked;
+  for (int i = 0; i < 4; ++i) {
+    asked.push_back(std::async(std::launch::async, [&] {
+      return supervisor.call(client::supervisor::state_hash(), 120s);
+    }));
+  }
+  int refused = 0, answered = 0;
+  for (auto& a : asked) {
+    const auto reply = a.get();
+    ASSERT_TRUE(reply.has_value());
+    if (reply->code() == mm::ERR_LIMIT_REACHED) {
+      ++refused;
+      EXPECT_NE(reply->message().find("--max-queued-commands"), std::string::npos)
+          << reply->message();
+    } else {
+      EXPECT_EQ(reply->code(), mm::ERR_OK) << reply->message();
+      ++answered;
+    }
+  }
+  const auto done = loaded.get();
+  ASSERT_TRUE(done.has_value());
+  EXPECT_EQ(done->code(), mm::ERR_OK) << done->message();
+  EXPECT_GE(refused, 2) << "the queue had room for the load and one request";
+  EXPECT_LE(answered, 2);
+  // The queue takes requests again once served.
+  const auto after = supervisor.call(client::supervisor::state_hash(), 30s);
+  ASSERT_TRUE(after.has_value());
+  EXPECT_EQ(after->code(), mm::ERR_OK);
 }
 
 TEST(BusySimulator, NoSimulatorIsReportedNotFound) {
