@@ -355,6 +355,7 @@ Session parse_session(const std::string& whole, const std::string& path) {
   bool has_settings = true;  // strict, limits and snapshots: a version 4 file must say (below)
   bool has_strict = false, has_limits = false, has_snapshots = false;
   uint64_t last_step = 0;
+  uint64_t commands = 0;  // as many as ran: a run of held steps counts each step
   int version = 0;
   while (std::getline(in, line)) {
     ++r.line;
@@ -465,6 +466,8 @@ Session parse_session(const std::string& whole, const std::string& path) {
       }
       if (rc.step < last_step) r.fail("steps must not go back");
       last_step = rc.step;
+      rc.last_step = rc.step;
+      ++commands;
       session.commands.push_back(std::move(rc));
     } else if (f[0] == "k" && (f.size() == 3 || (f.size() == 4 && version >= 4)) && version >= 3) {
       const uint64_t first = r.number(f[1], "a run's first step");
@@ -473,17 +476,17 @@ Session parse_session(const std::string& whole, const std::string& path) {
       if (first < last_step) r.fail("steps must not go back");
       if (last - first >= kMaxRunSteps)
         r.fail("a run of more than " + std::to_string(kMaxRunSteps) + " steps");
-      RecordedCommand keep;
+      RecordedCommand keep;  // one record however many steps it holds
       keep.command.source = CommandSource::Simulation;
       keep.command.operation = "keep_robot_commands";
       if (f.size() == 4) {
         keep.command.target = r.text(f[3], "the robots held");
         if (keep.command.target.empty()) r.fail("a run names no robot to hold");
       }
-      for (uint64_t step = first; step <= last; ++step) {
-        keep.step = step;
-        session.commands.push_back(keep);
-      }
+      keep.step = first;
+      keep.last_step = last;
+      commands += keep.count();
+      session.commands.push_back(std::move(keep));
       last_step = last;
     } else if (f[0] == "h" && f.size() == 3) {
       RecordedHash h;
@@ -497,11 +500,11 @@ Session parse_session(const std::string& whole, const std::string& path) {
     } else if (f[0] == "end" && f.size() == 4) {
       session.steps = r.number(f[1], "the steps");
       if (session.steps < last_step) r.fail("the session ends before its last record");
-      if (r.number(f[2], "the command count") != session.commands.size() ||
+      if (r.number(f[2], "the command count") != commands ||
           r.number(f[3], "the hash count") != session.hashes.size()) {
         r.fail("the closing line's counts do not match the records before it (" +
-               std::to_string(session.commands.size()) + " commands, " +
-               std::to_string(session.hashes.size()) + " hashes): lines are missing");
+               std::to_string(commands) + " commands, " + std::to_string(session.hashes.size()) +
+               " hashes): lines are missing");
       }
       ended = true;
     } else {
@@ -530,19 +533,26 @@ void write_session(const std::string& path, const Session& session) {
       text += run.close() + file_line(session.files[f].path, session.files[f].bytes);
   };
   files_until(0);  // what the first world was read from, before its first hash
+  uint64_t commands = 0;
   for (std::size_t i = 0; i < session.commands.size(); ++i) {
     const auto& c = session.commands[i];
     for (; h < session.hashes.size() && session.hashes[h].step <= c.step; ++h)
       text += run.close() + hash_line(session.hashes[h].step, session.hashes[h].hash);
     files_until(i);
-    text += run.add(c.step, c.command);
+    if (c.count() == 1) {
+      text += run.add(c.step, c.command);
+    } else {  // a run read back: its record again (a hash within it would have split it)
+      text += run.close() + "k " + std::to_string(c.step) + " " + std::to_string(c.last_step) +
+              (c.command.target.empty() ? "" : " " + encode(c.command.target)) + "\n";
+    }
+    commands += c.count();
   }
   text += run.close();
   files_until(session.commands.size());
   for (; h < session.hashes.size(); ++h)
     text += hash_line(session.hashes[h].step, session.hashes[h].hash);
-  text += "end " + std::to_string(session.steps) + " " + std::to_string(session.commands.size()) +
-          " " + std::to_string(session.hashes.size()) + "\n";
+  text += "end " + std::to_string(session.steps) + " " + std::to_string(commands) + " " +
+          std::to_string(session.hashes.size()) + "\n";
   const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
   if (std::fclose(file) != 0 || !written)
     throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
@@ -581,11 +591,19 @@ ReplayOutcome replay_session(const Session& session, Runner& runner, const Sessi
       }
       out.last_equal = step;
     }
-    for (; c < session.commands.size() && session.commands[c].step == step; ++c) {
+    // Each command recorded before this step; a run stays at hand until its last step.
+    for (; c < session.commands.size() && session.commands[c].step <= step; ++c) {
       // What the recorded run had read before this command, as it read it.
       for (; files && f < session.files.size() && session.files[f].commands_before <= c; ++f)
         files->add(session.files[f].path, session.files[f].bytes);
-      const Command& command = session.commands[c].command;
+      const RecordedCommand& recorded = session.commands[c];
+      if (recorded.count() > 1) {
+        runner.execute(recorded.command);
+        ++out.commands_run;
+        if (step < recorded.last_step) break;  // again before the next step
+        continue;
+      }
+      const Command& command = recorded.command;
       if (auto parse = load(command)) {
         std::optional<LoadOutcome> loaded;
         (void)runner.load(

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -355,14 +356,20 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
   }
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 18) << text;  // header 8, h 3, k 5, c, end
   const Session session = read_session(path);
-  ASSERT_EQ(session.commands.size(), ran.size());
+  // A run is one record in memory too (a file of a few bytes may name millions of steps).
+  EXPECT_EQ(session.commands.size(), 6u);                 // 5 runs and the twist
+  std::vector<std::pair<uint64_t, const Command*>> read;  // each step's command, runs unrolled
+  for (const auto& r : session.commands) {
+    for (uint64_t k = 0; k < r.count(); ++k) read.emplace_back(r.step + k, &r.command);
+  }
+  ASSERT_EQ(read.size(), ran.size());
   for (std::size_t i = 0; i < ran.size(); ++i) {
     // The twist is kurt's; so are the steps held for kurt alone; the rest held every robot.
-    const uint64_t step = session.commands[i].step;
+    const uint64_t step = read[i].first;
     const bool kurts = ran[i].second == "twist" || (step >= 150 && step < 200);
-    EXPECT_EQ(session.commands[i].command.target, kurts ? "kurt" : "") << i;
-    EXPECT_EQ(session.commands[i].step, ran[i].first) << i;
-    EXPECT_EQ(session.commands[i].command.operation, ran[i].second) << i;
+    EXPECT_EQ(read[i].second->target, kurts ? "kurt" : "") << i;
+    EXPECT_EQ(step, ran[i].first) << i;
+    EXPECT_EQ(read[i].second->operation, ran[i].second) << i;
   }
   // Written again from what was read, the file is the same.
   const std::string again = dir.path() + "/again.session";
@@ -385,6 +392,37 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
       EXPECT_NE(std::string(e.what()).find(bad + says), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(Session, ARunOfHeldStepsReplaysToEveryHash) {
+  // A step request holding the robot's drive for 1.5 s (past the 0.6 s timeout) between two
+  // twists: one k record, replayed step by step.
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/held.session";
+  {
+    Runner runner(small_room(), RunSettings{true, 0.0});
+    runner.record(std::make_shared<SessionWriter>(path, header(kWorld, 500)));
+    EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.3, 0.2})));
+    std::atomic<bool> stop{false};
+    StepRequest request;
+    request.steps = 1500;
+    request.hold_commands = true;
+    request.hold_robots = "kurt";
+    request.done = [&](bool) { stop = true; };
+    EXPECT_TRUE(runner.push([&](World&) { runner.request_steps(std::move(request)); }));
+    runner.run(stop, 100000, {});
+    EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{-0.2, 0.0})));
+    for (int i = 0; i < 300; ++i) runner.step();
+    runner.record(nullptr);
+  }
+  const Session session = read_session(path);
+  // Runs end at the hash lines (every 500 steps).
+  EXPECT_NE(read_text(path).find("\nh 500 "), std::string::npos);
+  EXPECT_NE(read_text(path).find("\nk 500 999 kurt\n"), std::string::npos) << read_text(path);
+  const ReplayOutcome outcome = replay(session);
+  EXPECT_TRUE(outcome.equal) << outcome.message;
+  EXPECT_EQ(outcome.hashes_checked, 4u);   // steps 0, 500, 1000, 1500
+  EXPECT_EQ(outcome.commands_run, 1502u);  // a twist, 1500 held steps, a twist
 }
 
 TEST(Session, ARobotCommandOfAnUnknownRobotOrOneItLacksDoesNothing) {

@@ -64,6 +64,11 @@ struct EmbeddedFile {
 struct RecordedCommand {
   uint64_t step = 0;
   Command command;
+  /// A run (a `k` record): the same command before every step from `step` to `last_step`;
+  /// equal to `step` for one command.
+  uint64_t last_step = 0;
+  /// How many commands it stands for.
+  uint64_t count() const { return last_step > step ? last_step - step + 1 : 1; }
 };
 
 /// The world's state hash after `step` steps.
@@ -75,7 +80,7 @@ struct RecordedHash {
 /// A whole session file.
 struct Session {
   SessionHeader header;
-  std::vector<RecordedCommand> commands;  ///< in the order they ran
+  std::vector<RecordedCommand> commands;  ///< in the order they ran (a run of held steps is one)
   std::vector<RecordedHash> hashes;       ///< by step
   std::vector<EmbeddedFile> files;        ///< in the order they were read
   uint64_t steps = 0;                     ///< steps run when it ended
