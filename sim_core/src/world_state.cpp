@@ -180,6 +180,16 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
       return id ? find(*id)->body : nullptr;
     });
   }
+  // Asleep or awake as saved: a robot taking its state back (the magnet's hold made again)
+  // may have woken a body it touches.
+  for (std::size_t i = 0; i < kept_bodies.size(); ++i) {
+    if (!kept_bodies[i]) continue;
+    if (s.bodies[i].enabled) {
+      dBodyEnable(kept_bodies[i]);
+    } else {
+      dBodyDisable(kept_bodies[i]);
+    }
+  }
   // What was added for the next step stays with the bodies kept (not with those made fresh).
   for (const auto& w : s.wrenches) {
     if (dBodyID b = w.body < kept_bodies.size() ? kept_bodies[w.body] : nullptr) {
@@ -224,12 +234,12 @@ std::optional<std::string> state_problem(const WorldState& s) {
       return std::string("a body that is not plausible");
   }
   // What add_force and add_torque leave for the next step: many of bounds::kMaxForce at most,
-  // each body once, in order.
+  // each body once, in order, and only bodies that have some (as state() lists them).
   for (std::size_t i = 0; i < s.wrenches.size(); ++i) {
     const PendingWrench& w = s.wrenches[i];
     if (w.body >= s.bodies.size() || (i > 0 && w.body <= s.wrenches[i - 1].body) ||
         !w.force.allFinite() || !w.torque.allFinite() || w.force.norm() > 1e9 ||
-        w.torque.norm() > 1e9) {
+        w.torque.norm() > 1e9 || (w.force.isZero(0) && w.torque.isZero(0))) {
       return std::string("a force or torque for the next step that is not plausible");
     }
   }
