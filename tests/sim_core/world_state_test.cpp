@@ -5,6 +5,7 @@
 #include <array>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -479,9 +480,10 @@ TEST(RestoreContinues, TheRobotPushingIntoAPileOfSleepers) {
   EXPECT_LT(asleep(world), 18);  // it woke some
 }
 
-TEST(RestoreContinues, ACanHeldByTheMagnet) {
-  World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
-                                "crane.xml"));
+/// A KURT3D whose magnet took a can and hoisted it, then `hang` s more with the crane still.
+std::unique_ptr<World> can_on_the_magnet(double hang) {
+  auto world = std::make_unique<World>(load_world_string(
+      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>", "crane.xml"));
   ObjectSpec can;
   can.name = "can";
   can.components = {
@@ -490,56 +492,45 @@ TEST(RestoreContinues, ACanHeldByTheMagnet) {
   can.pose.position = {0.55, 0.0, 0.0};  // under the magnet
   can.density = 190;
   can.magnetizable = true;
-  ASSERT_TRUE(world.edit().create_object(can).ok());
-  RobotModel& kurt = *world.robot("kurt");
-  run_for(world, 0.5);
-  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.2}, world.time());
-  run_for(world, 2.0);
-  kurt.execute(robot::MagnetSwitch{true}, world.time());
-  run_for(world, 0.2);
-  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.0}, world.time());
-  run_for(world, 1.0);  // hoisting: saved with the can held and moving
-  expect_restore_continues(world, 300, [](World& w, int i) {
+  EXPECT_TRUE(world->edit().create_object(can).ok());
+  RobotModel& kurt = *world->robot("kurt");
+  run_for(*world, 0.5);
+  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.2}, world->time());
+  run_for(*world, 2.0);
+  kurt.execute(robot::MagnetSwitch{true}, world->time());
+  run_for(*world, 0.2);
+  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.0}, world->time());
+  run_for(*world, hang);
+  return world;
+}
+
+TEST(RestoreContinues, ACanHeldByTheMagnet) {
+  auto world = can_on_the_magnet(1.0);  // hoisting: saved with the can held and moving
+  expect_restore_continues(*world, 300, [](World& w, int i) {
     if (i == 100) w.robot("kurt")->execute(robot::CraneTarget{0.5, 0.0, 0.0}, w.time());
     if (i == 250) w.robot("kurt")->execute(robot::Twist{0.2, 0.3}, w.time());
   });
-  EXPECT_GT(world.objects().object_state(id_of(world, "can")).value.pose.position.z(), 0.1);
+  EXPECT_GT(world->objects().object_state(id_of(*world, "can")).value.pose.position.z(), 0.1);
 }
 
 TEST(RestoreContinues, ACanHeldStillByTheMagnetAsleepOrAwake) {
   // The can hoisted, then left hanging still: saved as it is then (asleep if it fell asleep,
   // awake otherwise), and as the snapshot fuzzer found it, asleep though held. A restore
   // makes the magnet's hold again without waking it.
-  World world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
-                                "crane.xml"));
-  ObjectSpec can;
-  can.name = "can";
-  can.components = {
-      {Shape::Cylinder, {0.033, 0, 0.115}, at(0, 0, 0.0575), {0.8f, 0.1f, 0.1f, 1.0f}, ""}};
-  can.pose.position = {0.55, 0.0, 0.0};  // under the magnet
-  can.density = 190;
-  can.magnetizable = true;
-  ASSERT_TRUE(world.edit().create_object(can).ok());
-  RobotModel& kurt = *world.robot("kurt");
-  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.2}, world.time());
-  run_for(world, 2.5);
-  kurt.execute(robot::MagnetSwitch{true}, world.time());
-  run_for(world, 0.2);
-  kurt.execute(robot::CraneTarget{0.0, 0.0, 0.0}, world.time());
-  run_for(world, 3.0);  // hanging still
+  auto world = can_on_the_magnet(3.0);
   const auto swing = [](World& w, int i) {
     if (i == 100) w.robot("kurt")->execute(robot::CraneTarget{0.5, 0.0, 0.0}, w.time());
   };
-  expect_restore_continues(world, 300, swing);
+  expect_restore_continues(*world, 300, swing);
   // The held can asleep, as a state may hold it: it comes back asleep, bit for bit.
-  WorldState s = world.state();
+  WorldState s = world->state();
   s.bodies[0].enabled = false;
   s.bodies[0].still_steps_left = 0;
   const std::vector<uint8_t> bytes = serialize(s);
-  ASSERT_TRUE(world.restore({world.fingerprint(), bytes}).ok());
-  EXPECT_EQ(serialize(world.state()), bytes);
-  EXPECT_EQ(asleep(world), 1);
-  expect_restore_continues(world, 300, swing);
+  ASSERT_TRUE(world->restore({world->fingerprint(), bytes}).ok());
+  EXPECT_EQ(serialize(world->state()), bytes);
+  EXPECT_EQ(asleep(*world), 1);
+  expect_restore_continues(*world, 300, swing);
 }
 
 TEST(RestoreContinues, TheDemonstratorsDoorsRampsAndObjects) {
