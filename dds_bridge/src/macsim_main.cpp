@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
   if (!o.snapshots.empty()) {
     return write_snapshots(*runner, o.snapshots, o.settle, o.snapshot_size);
   }
+  if (o.session && !o.resume.empty()) return resume(*runner, o);
   if (o.session) return replay(*runner, o);
   std::shared_ptr<macsim::SessionWriter> session;
   if (!o.record_session.empty()) {

@@ -39,6 +39,53 @@ std::string world_summary(const macsim::WorldSpec& spec) {
       spec.physics.step * 1e3);
 }
 
+namespace {
+
+/// The world, files and settings of the session read into `o` (`doing`: "replaying",
+/// "resuming"), warning of command-line options it overrides.
+std::optional<int> take_session_settings(Options& o, const char* doing) {
+  const auto& header = o.session->header;
+  if (header.self_contained) {
+    // Everything from the session: its files (never the disk's) and its settings.
+    if (!o.world_file.empty() && o.world_file != header.world_file) {
+      macsim::log::warn("macsim: --world {} ignored: the session holds its world, {}", o.world_file,
+                        header.world_file);
+    }
+    o.world_file = header.world_file;
+    o.seed = static_cast<int>(header.seed);
+    o.keep_overlaps = !header.overlaps_parted;
+    o.strict = header.strict;
+    o.max_import_depth = int(std::min<std::size_t>(header.limits.max_import_depth, INT_MAX));
+    o.max_imported_files = int(std::min<std::size_t>(header.limits.max_imported_files, INT_MAX));
+    o.max_objects = int(std::min<std::size_t>(header.limits.max_objects, INT_MAX));
+    o.max_snapshots = int(std::min<std::size_t>(header.snapshot_limits.max_count, INT_MAX));
+    o.max_snapshot_bytes = std::to_string(header.snapshot_limits.max_bytes);
+    o.session_files = std::make_shared<macsim::MemoryFiles>();
+    macsim::embed_first_files(*o.session, *o.session_files);
+  } else if (!o.world_file.empty() && o.world_file != header.world_file) {
+    macsim::log::warn("macsim: {} on --world {}, not the session's {}", doing, o.world_file,
+                      header.world_file);
+  }
+  if (o.seed != -1 && o.seed != header.seed) {
+    macsim::log::warn("macsim: {} with --seed {}, not the session's {}", doing, o.seed,
+                      header.seed);
+  }
+  if (o.world_file.empty()) o.world_file = header.world_file;
+  if (o.seed == -1) o.seed = static_cast<int>(header.seed);
+  // Objects started inside each other are parted or kept as they were when it was recorded.
+  if (!header.overlaps_parted) {
+    o.keep_overlaps = true;
+  } else if (o.keep_overlaps || o.strict) {
+    macsim::log::warn(
+        "macsim: {} with {}, but the session parted objects that started "
+        "inside each other",
+        doing, o.strict ? "--strict" : "--keep-overlaps");
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<int> parse_options(int argc, char** argv, Options& o) {
   macsim::dds::CommandLine cli("macsim",
                                "Loads a MACSim world, steps its physics and serves it over DDS.");
@@ -152,6 +199,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "the world and settings are the session's (its files are read from it, never from "
              "the disk)",
              &o.replay);
+  cli.option("resume", "FILE",
+             "carry on a session a killed (or stopped) macsim was recording to FILE: rebuild its "
+             "world from it, run it to its last whole record, serve on and record on to FILE; "
+             "with no session at FILE yet, record a new one there (as --record-session)",
+             &o.resume);
   cli.option("extract", "DIR",
              "with --replay: write the files the session holds under DIR instead of replaying",
              &o.extract);
@@ -160,6 +212,34 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     macsim::log::error("macsim: --session-hash-every must be at least 1");
     return 2;
   }
+  if (!o.resume.empty() && (!o.replay.empty() || !o.record_session.empty())) {
+    macsim::log::error(
+        "macsim: --resume FILE records to FILE: it goes with neither --replay nor "
+        "--record-session");
+    return 2;
+  }
+  if (!o.resume.empty()) {
+    std::error_code error;
+    if (std::filesystem::file_size(o.resume, error) > 0 && !error) {
+      try {
+        o.session = macsim::read_session(o.resume, macsim::SessionRead::UpToLastWholeRecord);
+      } catch (const macsim::SessionFileError& e) {
+        macsim::log::error("macsim: --resume: {}", e.what());
+        return 2;
+      }
+      if (!o.session->header.self_contained) {
+        macsim::log::error(
+            "macsim: --resume: {} is a session of format version 3 or older, which does not "
+            "hold its files",
+            o.resume);
+        return 2;
+      }
+      if (auto code = take_session_settings(o, "resuming")) return code;
+    } else {
+      macsim::log::info("macsim: no session at {} yet: recording a new one", o.resume);
+      o.record_session = o.resume;  // nothing to resume yet: a new session
+    }
+  }
   if (!o.replay.empty()) {
     try {
       o.session = macsim::read_session(o.replay);
@@ -167,43 +247,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
       macsim::log::error("macsim: --replay: {}", e.what());
       return 2;
     }
-    const auto& header = o.session->header;
-    if (header.self_contained) {
-      // Everything from the session: its files (never the disk's) and its settings.
-      if (!o.world_file.empty() && o.world_file != header.world_file) {
-        macsim::log::warn("macsim: --world {} ignored: the session holds its world, {}",
-                          o.world_file, header.world_file);
-      }
-      o.world_file = header.world_file;
-      o.seed = static_cast<int>(header.seed);
-      o.keep_overlaps = !header.overlaps_parted;
-      o.strict = header.strict;
-      o.max_import_depth = int(std::min<std::size_t>(header.limits.max_import_depth, INT_MAX));
-      o.max_imported_files = int(std::min<std::size_t>(header.limits.max_imported_files, INT_MAX));
-      o.max_objects = int(std::min<std::size_t>(header.limits.max_objects, INT_MAX));
-      o.max_snapshots = int(std::min<std::size_t>(header.snapshot_limits.max_count, INT_MAX));
-      o.max_snapshot_bytes = std::to_string(header.snapshot_limits.max_bytes);
-      o.session_files = std::make_shared<macsim::MemoryFiles>();
-      macsim::embed_first_files(*o.session, *o.session_files);
-    } else if (!o.world_file.empty() && o.world_file != header.world_file) {
-      macsim::log::warn("macsim: replaying on --world {}, not the session's {}", o.world_file,
-                        header.world_file);
-    }
-    if (o.seed != -1 && o.seed != header.seed) {
-      macsim::log::warn("macsim: replaying with --seed {}, not the session's {}", o.seed,
-                        header.seed);
-    }
-    if (o.world_file.empty()) o.world_file = header.world_file;
-    if (o.seed == -1) o.seed = static_cast<int>(header.seed);
-    // Objects started inside each other are parted or kept as they were when it was recorded.
-    if (!header.overlaps_parted) {
-      o.keep_overlaps = true;
-    } else if (o.keep_overlaps || o.strict) {
-      macsim::log::warn(
-          "macsim: replaying with {}, but the session parted objects that started "
-          "inside each other",
-          o.strict ? "--strict" : "--keep-overlaps");
-    }
+    if (auto code = take_session_settings(o, "replaying")) return code;
   }
   {
     unsigned long long bytes = 0;

@@ -58,7 +58,8 @@ struct Options {
   int session_hash_every = 100;
   std::string replay;
   std::string extract;                     // --replay FILE --extract DIR
-  std::optional<macsim::Session> session;  // read from --replay
+  std::string resume;                      // --resume FILE
+  std::optional<macsim::Session> session;  // read from --replay, or from --resume if it exists
   /// The files a self-contained session holds (--replay): all a replay reads.
   std::shared_ptr<macsim::MemoryFiles> session_files;
 

@@ -96,7 +96,8 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
   return 0;
 }
 
-int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session) {
+int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session,
+          const Resumed* resumed) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   macsim::render::ViewerOptions viewer_options;
@@ -150,6 +151,10 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     }
     macsim::PictureServer pictures(dds, runner, o.pictures, o.snapshot_size,
                                    std::size_t(o.max_pictures));
+    if (resumed) {  // what the killed run answered is answered again, never run again
+      supervisor.remember(resumed->supervisor_replies);
+      control.resume(resumed->requests);
+    }
     std::vector<std::string> served = bridge.topic_names();
     for (const auto& topic : macsim::SupervisorServer::topic_names()) served.push_back(topic);
     namespace topics = macsim::dds::topics;
@@ -265,14 +270,14 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
           "and were dropped",
           late);
     }
-    if (!o.record_session.empty()) {
+    if (session) {
+      const std::string& path = o.record_session.empty() ? o.resume : o.record_session;
       runner.record(nullptr);  // its closing line
-      if (session && !session->ok()) {
-        macsim::log::error("macsim: the session {} is incomplete: a write failed (above)",
-                           o.record_session);
+      if (!session->ok()) {
+        macsim::log::error("macsim: the session {} is incomplete: a write failed (above)", path);
         return 1;
       }
-      macsim::log::info("macsim: session recorded to {}", o.record_session);
+      macsim::log::info("macsim: session recorded to {}", path);
     }
   } catch (const macsim::dds::DdsError& e) {
     macsim::log::error("macsim: DDS error: {}", e.what());
@@ -295,6 +300,68 @@ int replay(macsim::Runner& runner, const Options& o) {
   const auto outcome = macsim::replay_session(*o.session, runner, load, o.session_files.get());
   std::printf("macsim: %s\n", outcome.message.c_str());
   return outcome.equal ? 0 : 1;
+}
+
+int resume(macsim::Runner& runner, const Options& o) {
+  const macsim::Session& session = *o.session;
+  Resumed resumed;
+  resumed.requests = session.requests;
+  // The supervisor's requests run as they did, their replies kept for a repeat (the latest
+  // ones: a client repeats only what it had in flight).
+  constexpr std::size_t kKeptReplies = 4096;
+  runner.set_executor(macsim::CommandSource::Supervisor,
+                      [&runner, &resumed](const macsim::Command& c, macsim::World& world) {
+                        namespace mm = macsim_msgs::msg::dds_;
+                        const auto q =
+                            macsim::dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
+                        if (!q) return false;
+                        auto& replies = resumed.supervisor_replies;
+                        if (replies.size() >= 2 * kKeptReplies)
+                          replies.erase(replies.begin(), replies.begin() + kKeptReplies);
+                        replies.push_back(macsim::dispatch(*q, world, runner.snapshots()));
+                        return true;
+                      });
+  runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
+  const auto load = [&runner, limits = o.limits()](const macsim::Command& c) {
+    const auto source = macsim::load_source(c);
+    return source ? macsim::world_parser(runner, limits, *source)
+                  : std::function<macsim::WorldSpec()>();
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const auto outcome = macsim::replay_session(session, runner, load, o.session_files.get());
+  if (!outcome.equal) {
+    macsim::log::error("macsim: --resume: cannot resume {}: {}", o.resume, outcome.message);
+    return 1;
+  }
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  macsim::log::info(
+      "macsim: resumed {} at step {} (sim time {:.3f} s) in {:.2f} s: {} commands and {} "
+      "hashes as recorded; {}",
+      o.resume, runner.steps_run(), runner.world().time(), wall, outcome.commands_run,
+      outcome.hashes_checked,
+      session.cut_short ? "the session was cut short by a kill: steps the killed run took after "
+                          "its last record are run again"
+                        : "the session had ended cleanly");
+  // From here requests read the disk again (the files they read going into the session).
+  Options live = o;
+  live.session_files.reset();
+  std::shared_ptr<macsim::SessionWriter> writer;
+  try {
+    writer = std::make_shared<macsim::SessionWriter>(o.resume, session);
+    runner.set_data_roots(
+        data_roots(live)->watched([writer](const std::string& path, const std::string& bytes) {
+          writer->file(path, bytes);
+        }));
+  } catch (const std::invalid_argument& e) {
+    macsim::log::error("macsim: --data-path: {}", e.what());
+    return 2;
+  } catch (const macsim::SessionFileError& e) {
+    macsim::log::error("macsim: --resume: {}", e.what());
+    return 2;
+  }
+  runner.record(writer, /*resumed=*/true);
+  return serve(runner, o, writer.get(), &resumed);
 }
 
 }  // namespace macsim::program

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "macsim/msg/macsim_msgs.h"
 #include "macsim/render/renderer.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/session.h"
@@ -12,9 +13,21 @@
 
 namespace macsim::program {
 
+/// What a resumed run carries on from: the replies sent before the kill, the requests taken
+/// and answered.
+struct Resumed {
+  std::vector<macsim_msgs::msg::dds_::SupervisorReply_> supervisor_replies;
+  std::vector<macsim::RecordedRequest> requests;
+};
+
 /// Serves the runner's world over DDS until SIGINT/SIGTERM or --duration, recording to
-/// `session` if there is one; the exit code.
-int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session);
+/// `session` if there is one (and carrying on from `resumed` if given); the exit code.
+int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session,
+          const Resumed* resumed = nullptr);
+
+/// --resume: runs the session of `o` on `runner` (its world) to its last whole record, checking
+/// every hash, then serves on, recording on to the same file; the exit code.
+int resume(macsim::Runner& runner, const Options& o);
 
 /// Replays the recorded session of `o` on `runner` (its world): no DDS, the commands at their
 /// steps; 0 when every hash matched.

@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
              &options.loop.timeout);
   cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
              &options.loop.discovery_timeout);
+  cli.option("restart-patience", "SECONDS",
+             "wait this long for a simulator that went away (killed and resumed: macsim --resume) "
+             "or a robot gone silent (default 120; 0: give up at once)",
+             &options.loop.restart_patience);
   cli.flag("pictures",
            "ask the simulator (macsim --pictures DIR) for an overview picture per scene",
            &options.pictures);
@@ -44,7 +48,7 @@ int main(int argc, char** argv) {
              &affordances);
   if (auto code = cli.parse(argc, argv)) return *code;
   if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
-      options.loop.robot.empty()) {
+      !(options.loop.restart_patience >= 0) || options.loop.robot.empty()) {
     macsim::log::error(
         "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not empty");
     return kurt_demo::kUsage;

@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
              &options.loop.timeout);
   cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
              &options.loop.discovery_timeout);
+  cli.option("restart-patience", "SECONDS",
+             "wait this long for a simulator that went away (killed and resumed: macsim --resume) "
+             "or a robot gone silent (default 120; 0: give up at once)",
+             &options.loop.restart_patience);
   if (auto code = cli.parse(argc, argv)) return *code;
   char comma = 0, rest = 0;
   if (std::sscanf(goal.c_str(), "%lf%c%lf%c", &options.goal_x, &comma, &options.goal_y, &rest) !=
@@ -63,7 +67,8 @@ int main(int argc, char** argv) {
     return kUsage;
   }
   if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
-      !(options.tolerance > 0) || options.loop.robot.empty()) {
+      !(options.loop.restart_patience >= 0) || !(options.tolerance > 0) ||
+      options.loop.robot.empty()) {
     macsim::log::error(
         "kurt_navigate: --timeout, --discovery-timeout and --tolerance must be positive, "
         "--robot not empty");

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "macsim/dds/convert.h"
+#include "macsim/dds/log.h"
 
 namespace kurt_loop {
 
@@ -15,6 +16,7 @@ using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 
 constexpr double kTurnRate = 0.6;  // rad/s
+constexpr const char* kLog = "robot loop";  // what its messages begin with
 
 }  // namespace
 
@@ -27,8 +29,32 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
       cameras_(participant, options.robot),
       laser_(participant, options.robot),
       imu_(participant, options.robot) {
-  if (options.lockstep)
+  if (options.lockstep) {
     simulation_ = std::make_unique<macsim::client::SimulationClient>(participant);
+    // A simulator that went away during a step comes back (macsim --resume) without the
+    // set-points it had not yet taken: they go again before the step request does.
+    simulation_->set_restart_patience(
+        std::chrono::milliseconds(static_cast<int64_t>(options.restart_patience * 1000)), [this] {
+          const auto until = std::chrono::steady_clock::now() + 10s;
+          while ((!drive_.commander_matched() || !crane_.matched()) &&
+                 std::chrono::steady_clock::now() < until)
+            std::this_thread::sleep_for(20ms);
+          send_set_points();
+        });
+  }
+}
+
+void RobotLoop::send_set_points() {
+  drive_.drive(linear_, angular_);
+  crane_.command(slew_, lift_, hoist_);
+  crane_.magnet(magnet_);
+  laser_.rotate(rotunit_);
+  if (simulation_) {
+    // Every command must be in before the step: the simulator takes what it received.
+    drive_.wait_delivered();
+    crane_.wait_delivered();
+    laser_.wait_delivered();
+  }
 }
 
 RobotLoop::~RobotLoop() = default;
@@ -72,16 +98,9 @@ void RobotLoop::connect() {
 }
 
 void RobotLoop::tick(double seconds) {
-  drive_.drive(linear_, angular_);
-  crane_.command(slew_, lift_, hoist_);
-  crane_.magnet(magnet_);
-  laser_.rotate(rotunit_);
+  send_set_points();
   const double target = now_ + seconds - 1e-6;
   if (simulation_) {
-    // Every command must be in before the step: the simulator takes what it received.
-    drive_.wait_delivered();
-    crane_.wait_delivered();
-    laser_.wait_delivered();
     const auto steps = static_cast<uint64_t>(std::max(1L, std::lround(seconds / step_size_)));
     // The robot's topics bring their newest sample at the tick's end (the controller reads
     // nothing in between), and the cameras render only while it looks: most of a lock-step
@@ -95,15 +114,33 @@ void RobotLoop::tick(double seconds) {
     }
   }
   std::optional<macsim::client::RobotClient::Odometry> odometry;
-  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  auto deadline = std::chrono::steady_clock::now() + 10s;
+  bool silent = false;  // said so: waiting for the robot to come back
   while (true) {
     odometry = drive_.wait_for_odometry(200ms);
+    if (odometry && silent) {
+      silent = false;
+      macsim::log::info("{}: robot '{}' is back, its odometry at t = {:.3f} s", kLog,
+                        loop_options_.robot, macsim::client::stamp_seconds(odometry->header()));
+    }
     if (odometry && macsim::client::stamp_seconds(odometry->header()) >= target - 0.0105) break;
     if (std::chrono::steady_clock::now() > deadline) {
-      throw LoopError{Stop::NoRobot,
-                      "robot '" + loop_options_.robot + "' went silent (no odometry for 10 s)"};
+      if (silent || !(loop_options_.restart_patience > 0)) {
+        throw LoopError{Stop::NoRobot, "robot '" + loop_options_.robot +
+                                           "' went silent (no odometry for 10 s" +
+                                           (silent ? " and the restart patience after" : "") + ")"};
+      }
+      // A simulator killed and restarting (macsim --resume) or an adapter gone: wait for it.
+      silent = true;
+      macsim::log::warn(
+          "{}: robot '{}' went silent (no odometry for 10 s); waiting up to {:.0f} s "
+          "for it to come back",
+          kLog, loop_options_.robot, loop_options_.restart_patience);
+      deadline =
+          std::chrono::steady_clock::now() +
+          std::chrono::milliseconds(static_cast<int64_t>(loop_options_.restart_patience * 1000));
     }
-    if (!odometry && !simulation_) drive_.drive(linear_, angular_);
+    if (!odometry && !simulation_) send_set_points();
   }
   // In lock-step the IMU's sample of this tick too (it comes on its own writer, and may come
   // after the odometry's): a heading one tick old would make two runs of one layout differ.

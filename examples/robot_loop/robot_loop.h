@@ -30,6 +30,9 @@ struct LoopOptions {
   bool lockstep = false;            ///< step the simulation (SIM_STEP) instead of following it
   double timeout = 400.0;           ///< s of robot time for the whole run
   double discovery_timeout = 20.0;  ///< s of wall time to find the robot
+  /// s of wall time to wait for a simulator that went away (killed, restarting: macsim
+  /// --resume) or a robot gone silent, before giving up; 0: give up at once.
+  double restart_patience = 120.0;
 };
 
 /// A planar pose in the odometry frame.
@@ -51,6 +54,8 @@ class RobotLoop {
  protected:
   static constexpr double kTick = 0.05;  ///< s of robot time per control step
 
+  /// Sends the current set-points (drive, crane, magnet, laser); in lock-step, until delivered.
+  void send_set_points();
   /// Finds the robot (and the lock-step simulator): its odometry, IMU and crane.
   void connect();
   /// Sends the current set-points, lets `seconds` of robot time pass, reads odometry and IMU.

@@ -29,10 +29,19 @@ void Runner::set_executor(CommandSource source, CommandExecutor executor) {
   executors_[static_cast<std::size_t>(source)] = std::move(executor);
 }
 
-void Runner::record(std::shared_ptr<SessionWriter> writer) {
+void Runner::record(std::shared_ptr<SessionWriter> writer, bool resumed) {
   if (recording_ && recording_ != writer) recording_->finish(steps_run_);
   recording_ = std::move(writer);
-  if (recording_) recording_->hash(steps_run_, world_->state_hash());
+  if (recording_ && !resumed) recording_->hash(steps_run_, world_->state_hash());
+}
+
+void Runner::record_now(const Command& command) {
+  if (recording_ && !recorded_now_) recording_->command(steps_run_, command);
+  recorded_now_ = true;
+}
+
+void Runner::record_request(const RecordedRequest& request) {
+  if (recording_) recording_->request(steps_run_, request);
 }
 
 uint64_t Runner::commands_run(CommandSource source) const {
@@ -65,6 +74,7 @@ bool Runner::execute(const Command& command) {
   }
   ++commands_run_[static_cast<std::size_t>(command.source)];
   bool acted = false;
+  recorded_now_ = false;
   switch (command.source) {
     case CommandSource::Local:
       if (command.local) command.local(*world_);
@@ -93,7 +103,8 @@ bool Runner::execute(const Command& command) {
       }
   }
   if (acted && !command.sent_before.empty()) fence(command.sent_before);
-  if (acted && recording_) recording_->command(steps_run_, command);
+  if (acted && recording_ && !recorded_now_) recording_->command(steps_run_, command);
+  recorded_now_ = false;
   return acted;
 }
 

@@ -1,5 +1,6 @@
 #include "macsim/sim_core/session.h"
 
+#include <unistd.h>
 #include <xxhash.h>
 
 #include <algorithm>
@@ -39,6 +40,10 @@ namespace macsim {
 //                                        what a step request holding the robots' commands runs
 //                                        once a step, as one record (version 3); the robots
 //                                        held, comma-separated, when not all (version 4)
+//   r <step> taken|answered <service> <bytes>   a request of a request/reply service taken
+//                                        (a step request that began stepping: the request) or
+//                                        answered (the reply) after `step` steps, in hex
+//                                        (version 5): what a resume must not run twice
 //   h <step> <hash>                      the state hash after `step` steps (16 hex digits)
 //   end <steps> <commands> <hashes>      the closing line: counts of what came before
 // Text fields are percent-encoded; an empty one is "-". Values are %.17g numbers joined by ",";
@@ -138,6 +143,12 @@ std::string hash_line(uint64_t step, uint64_t hash) {
   return "h " + std::to_string(step) + " " + hex16(hash) + "\n";
 }
 
+std::string request_line(uint64_t step, const RecordedRequest& r) {
+  return "r " + std::to_string(step) + " " +
+         (r.kind == RecordedRequest::Kind::Taken ? "taken " : "answered ") + encode(r.service) +
+         " " + bytes_text(r.bytes) + "\n";
+}
+
 std::string file_line(const std::string& path, const std::string& bytes) {
   return "f " + encode(path) + " " + hex16(file_checksum(bytes)) + " " +
          bytes_text(std::string_view(bytes)) + "\n";
@@ -221,14 +232,14 @@ struct LineReader {
     return out;
   }
 
-  std::vector<uint8_t> bytes(const std::string& field) const {
+  std::vector<uint8_t> bytes(const std::string& field, const char* what) const {
     std::vector<uint8_t> out;
     if (field == "-") return out;
-    if (field.size() % 2 != 0) fail("a command's message must be pairs of hex digits");
+    if (field.size() % 2 != 0) fail(std::string(what) + " must be pairs of hex digits");
     for (std::size_t i = 0; i < field.size(); i += 2) {
       const int hi = hex_digit(field[i]), lo = hex_digit(field[i + 1]);
       if (hi < 0 || lo < 0)
-        fail("a command's message must be hex digits; got '" + field.substr(i, 2) + "'");
+        fail(std::string(what) + " must be hex digits; got '" + field.substr(i, 2) + "'");
       out.push_back(static_cast<uint8_t>(hi * 16 + lo));
     }
     return out;
@@ -280,6 +291,20 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
   write_all(file_, path_, header_text(header));
 }
 
+SessionWriter::SessionWriter(const std::string& path, const Session& read)
+    : path_(path), hash_every_(read.header.hash_every), keep_run_(std::make_unique<KeepRun>()) {
+  if (hash_every_ == 0)
+    throw SessionFileError(path + ": the hash interval must be 1 or more steps");
+  for (const auto& c : read.commands) commands_ += c.count();
+  hashes_ = read.hashes.size();
+  for (const auto& f : read.files) embedded_[f.path] = file_checksum(f.bytes);
+  // What follows the last whole record (a line cut by the kill, the closing line) goes.
+  if (::truncate(path.c_str(), static_cast<off_t>(read.whole_bytes)) != 0)
+    throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
+  file_ = std::fopen(path.c_str(), "a");
+  if (!file_) throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
+}
+
 SessionWriter::~SessionWriter() {
   if (file_) std::fclose(file_);  // no closing line: the file reads as cut short
 }
@@ -295,8 +320,17 @@ void SessionWriter::put(const std::string& text) {
 
 void SessionWriter::command(uint64_t step, const Command& command) {
   std::lock_guard<std::mutex> lock(mutex_);
-  put(keep_run_->add(step, command));
+  const std::string text = keep_run_->add(step, command);
+  put(text);
   ++commands_;
+  // In the kernel's hands before the command acts: a process killed now keeps it.
+  if (file_ && !text.empty()) std::fflush(file_);
+}
+
+void SessionWriter::request(uint64_t step, const RecordedRequest& request) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  put(keep_run_->close() + request_line(step, request));
+  if (file_) std::fflush(file_);
 }
 
 void SessionWriter::file(const std::string& path, const std::string& bytes) {
@@ -332,21 +366,27 @@ void SessionWriter::finish(uint64_t steps) {
   }
 }
 
-Session read_session(const std::string& path) {
+Session read_session(const std::string& path, SessionRead read) {
   std::ifstream file(path, std::ios::binary);
   if (!file) throw SessionFileError(path + ": cannot read: " + std::strerror(errno));
   std::stringstream text;
   text << file.rdbuf();
-  return parse_session(text.str(), path);
+  return parse_session(text.str(), path, read);
 }
 
-Session parse_session(const std::string& whole, const std::string& path) {
+Session parse_session(const std::string& text, const std::string& path, SessionRead read) {
+  const bool resuming = read == SessionRead::UpToLastWholeRecord;
+  // A resume reads up to the last whole line: a kill may have cut the one after it.
+  const std::string whole = resuming && !text.empty() && text.back() != '\n'
+                                ? text.substr(0, text.rfind('\n') + 1)
+                                : text;
   std::istringstream in(whole);
   if (!whole.empty() && whole.back() != '\n') {
     throw SessionFileError(path + ":" +
                            std::to_string(std::count(whole.begin(), whole.end(), '\n') + 1) +
                            ": the file is cut short (its last line is incomplete)");
   }
+  std::size_t offset = 0;  // bytes read before this line
   LineReader r{path};
   Session session;
   std::string line;
@@ -359,6 +399,7 @@ Session parse_session(const std::string& whole, const std::string& path) {
   int version = 0;
   while (std::getline(in, line)) {
     ++r.line;
+    offset += line.size() + 1;
     if (ended) r.fail("nothing may follow the closing 'end' line");
     const auto f = fields_of(line);
     if (r.line == 1) {
@@ -437,7 +478,7 @@ Session parse_session(const std::string& whole, const std::string& path) {
       if (file.path.empty()) r.fail("an embedded file must name its path");
       if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
         r.fail("a file's checksum must be 16 hex digits; got '" + f[2].substr(0, 20) + "'");
-      const auto bytes = r.bytes(f[3]);
+      const auto bytes = r.bytes(f[3], "an embedded file's bytes");
       file.bytes.assign(bytes.begin(), bytes.end());
       if (hex16(file_checksum(file.bytes)) != f[2]) {
         r.fail("the embedded file '" + file.path +
@@ -455,7 +496,7 @@ Session parse_session(const std::string& whole, const std::string& path) {
       rc.command.operation = r.text(f[3], "the operation");
       rc.command.target = r.text(f[4], "the target");
       const auto values = r.values(f[5]);
-      rc.command.message = r.bytes(f[6]);
+      rc.command.message = r.bytes(f[6], "a command's message");
       if (rc.command.operation.empty()) r.fail("a command must name its operation");
       if (rc.command.source == CommandSource::Robot) {
         std::string why;
@@ -488,6 +529,21 @@ Session parse_session(const std::string& whole, const std::string& path) {
       commands += keep.count();
       session.commands.push_back(std::move(keep));
       last_step = last;
+    } else if (f[0] == "r" && f.size() == 5 && version >= 5) {
+      RecordedRequest request;
+      request.step = r.number(f[1], "a request's step");
+      if (f[2] != "taken" && f[2] != "answered")
+        r.fail("a request is 'taken' or 'answered'; got '" + f[2].substr(0, 20) + "'");
+      request.kind =
+          f[2] == "taken" ? RecordedRequest::Kind::Taken : RecordedRequest::Kind::Answered;
+      request.service = r.text(f[3], "the service");
+      if (request.service.empty()) r.fail("a request must name its service");
+      request.bytes = r.bytes(f[4], "a request's bytes");
+      if (request.bytes.empty()) r.fail("a request's bytes are empty");
+      if (request.step < last_step) r.fail("steps must not go back");
+      last_step = request.step;
+      request.commands_before = session.commands.size();
+      session.requests.push_back(std::move(request));
     } else if (f[0] == "h" && f.size() == 3) {
       RecordedHash h;
       h.step = r.number(f[1], "a hash's step");
@@ -507,11 +563,21 @@ Session parse_session(const std::string& whole, const std::string& path) {
                " hashes): lines are missing");
       }
       ended = true;
+      session.whole_bytes = offset - line.size() - 1;
     } else {
       r.fail("not a session record: '" + line.substr(0, 60) + "'");
     }
+    if (!ended) session.whole_bytes = offset;
   }
   if (r.line == 0) throw SessionFileError(path + ": empty, not a session file");
+  if (resuming && !ended) {
+    if (session.commands.empty() && session.hashes.empty() && session.requests.empty())
+      throw SessionFileError(path + ":" + std::to_string(r.line) +
+                             ": the session holds no record to resume from");
+    session.cut_short = true;
+    session.steps = last_step;
+    return session;
+  }
   if (!ended) {
     throw SessionFileError(path + ":" + std::to_string(r.line) +
                            ": the file is cut short (no closing 'end' line): the simulator did "
@@ -524,20 +590,33 @@ void write_session(const std::string& path, const Session& session) {
   std::FILE* file = std::fopen(path.c_str(), "w");
   if (!file) throw SessionFileError(path + ": cannot write: " + std::strerror(errno));
   std::string text = header_text(session.header);
-  // Commands before a hash of the same step ran before it: they come first. A file comes
-  // before the first command recorded after it.
-  std::size_t h = 0, f = 0;
+  // Commands before a hash of the same step ran before it: they come first. A file or a
+  // request comes before the first command recorded after it, a request after the hashes of
+  // its step.
+  std::size_t h = 0, f = 0, q = 0;
   KeepRun run;
   const auto files_until = [&](std::size_t commands) {
     for (; f < session.files.size() && session.files[f].commands_before <= commands; ++f)
       text += run.close() + file_line(session.files[f].path, session.files[f].bytes);
   };
+  const auto requests_until = [&](std::size_t commands, uint64_t before_step) {
+    for (; q < session.requests.size() && session.requests[q].commands_before <= commands &&
+           session.requests[q].step < before_step;
+         ++q)
+      text += run.close() + request_line(session.requests[q].step, session.requests[q]);
+  };
+  const auto hashes_until = [&](std::size_t commands, uint64_t through_step) {
+    for (; h < session.hashes.size() && session.hashes[h].step <= through_step; ++h) {
+      requests_until(commands, session.hashes[h].step);
+      text += run.close() + hash_line(session.hashes[h].step, session.hashes[h].hash);
+    }
+  };
   files_until(0);  // what the first world was read from, before its first hash
   uint64_t commands = 0;
   for (std::size_t i = 0; i < session.commands.size(); ++i) {
     const auto& c = session.commands[i];
-    for (; h < session.hashes.size() && session.hashes[h].step <= c.step; ++h)
-      text += run.close() + hash_line(session.hashes[h].step, session.hashes[h].hash);
+    hashes_until(i, c.step);
+    requests_until(i, UINT64_MAX);
     files_until(i);
     if (c.count() == 1) {
       text += run.add(c.step, c.command);
@@ -549,8 +628,8 @@ void write_session(const std::string& path, const Session& session) {
   }
   text += run.close();
   files_until(session.commands.size());
-  for (; h < session.hashes.size(); ++h)
-    text += hash_line(session.hashes[h].step, session.hashes[h].hash);
+  hashes_until(session.commands.size(), UINT64_MAX);
+  requests_until(session.commands.size(), UINT64_MAX);
   text += "end " + std::to_string(session.steps) + " " + std::to_string(commands) + " " +
           std::to_string(session.hashes.size()) + "\n";
   const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();

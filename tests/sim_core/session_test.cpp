@@ -233,10 +233,10 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   const std::string bad = dir.path() + "/bad.session";
   // Another version.
   std::string other = good;
-  other.replace(0, good.find('\n'), "macsim-session 5");
+  other.replace(0, good.find('\n'), "macsim-session 6");
   EXPECT_NE(refusal(bad, other)
-                .find(bad + ":1: session format version 5; this macsim reads "
-                            "versions 1 to 4"),
+                .find(bad + ":1: session format version 6; this macsim reads "
+                            "versions 1 to 5"),
             std::string::npos)
       << refusal(bad, other);
   // Cut short: half of it, ending inside a line.
@@ -298,6 +298,142 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
             std::string::npos)
       << refusal(bad, odd);
   EXPECT_EQ(refusal(bad, good), "");
+}
+
+TEST(Session, ACutFileIsReadUpToItsLastWholeRecordWhereverTheKillCutIt) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  const Session whole = read_session(path);
+  const std::string good = read_text(path);
+  // As a kill leaves it: no closing line, and the last line cut at any byte.
+  const std::string body = good.substr(0, good.rfind("end "));
+  const std::size_t first_record = good.find("\nh 0 ") + 1;
+  const std::string cut_path = dir.path() + "/cut.session";
+  const std::size_t first_record_end = good.find('\n', first_record) + 1;
+  for (std::size_t cut = first_record_end; cut <= body.size(); cut += 5) {
+    write_text(cut_path, body.substr(0, cut));
+    EXPECT_NE(refusal(cut_path, body.substr(0, cut)).find("cut short"), std::string::npos);
+    const Session s = read_session(cut_path, SessionRead::UpToLastWholeRecord);
+    const std::size_t last_line_end = body.rfind('\n', cut - 1) + 1;
+    ASSERT_TRUE(s.cut_short);
+    EXPECT_EQ(s.whole_bytes, last_line_end) << "cut at byte " << cut;
+    // Its records are the whole session's first ones, and it ends at the last one's step.
+    ASSERT_LE(s.commands.size(), whole.commands.size());
+    ASSERT_LE(s.hashes.size(), whole.hashes.size());
+    for (std::size_t i = 0; i < s.hashes.size(); ++i)
+      EXPECT_EQ(s.hashes[i].hash, whole.hashes[i].hash);
+    uint64_t last = s.hashes.back().step;
+    if (!s.commands.empty()) last = std::max(last, s.commands.back().step);
+    EXPECT_EQ(s.steps, last);
+  }
+  // The header alone, or with its first record cut, holds nothing to resume from; a whole
+  // session reads with its end.
+  for (std::size_t cut : {first_record, first_record + 4}) {
+    write_text(cut_path, good.substr(0, cut));
+    EXPECT_THROW(read_session(cut_path, SessionRead::UpToLastWholeRecord), SessionFileError);
+  }
+  const Session ended = read_session(path, SessionRead::UpToLastWholeRecord);
+  EXPECT_FALSE(ended.cut_short);
+  EXPECT_EQ(ended.steps, 600u);
+  EXPECT_EQ(ended.whole_bytes, good.rfind("end "));
+}
+
+TEST(Session, ADamagedLineIsRefusedNamingItWhenResumingToo) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  std::string text = read_text(path);
+  text = text.substr(0, text.rfind("end "));  // killed
+  // The 12th line, a whole line before the last, garbled: not taken for a cut.
+  std::size_t at = 0;
+  for (int line = 1; line < 12; ++line) at = text.find('\n', at) + 1;
+  text.replace(text.find(' ', at) + 1, 1, "x");
+  write_text(path, text);
+  try {
+    read_session(path, SessionRead::UpToLastWholeRecord);
+    ADD_FAILURE() << "a damaged line was read";
+  } catch (const SessionFileError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":12: "), std::string::npos) << e.what();
+  }
+}
+
+TEST(Session, AResumedWriterGoesOnFromTheLastWholeRecordAndTheWholeReplays) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  record(path);
+  std::string text = read_text(path);
+  // Killed in the middle of a line after step 300.
+  const std::size_t middle = text.find("\nh 350 ") + 6;
+  write_text(path, text.substr(0, middle));
+  const Session cut = read_session(path, SessionRead::UpToLastWholeRecord);
+  ASSERT_EQ(cut.steps, 333u);  // its last whole record: a twist at step 333
+  // Resumed: the cut session run to its end, then on with the writer appending.
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  const ReplayOutcome outcome =
+      replay_session(cut, runner, [](const Command&) { return std::function<WorldSpec()>(); });
+  ASSERT_TRUE(outcome.equal) << outcome.message;
+  EXPECT_EQ(runner.steps_run(), 333u);
+  runner.record(std::make_shared<SessionWriter>(path, cut), /*resumed=*/true);
+  RecordedRequest answered{
+      runner.steps_run(), RecordedRequest::Kind::Answered, "simulation", {1, 2, 3}};
+  runner.record_request(answered);
+  for (int step = 333; step < 500; ++step) {
+    if (step % 40 == 0) {
+      EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.1, -0.3 + step * 1e-4})));
+    }
+    runner.step();
+  }
+  runner.record(nullptr);
+  // One whole file again: the first 333 steps as recorded, the rest as resumed.
+  const Session resumed = read_session(path);
+  EXPECT_EQ(resumed.steps, 500u);
+  ASSERT_EQ(resumed.requests.size(), 1u);
+  EXPECT_EQ(resumed.requests[0].step, 333u);
+  EXPECT_EQ(resumed.requests[0].bytes, answered.bytes);
+  EXPECT_EQ(read_text(path).substr(0, cut.whole_bytes), text.substr(0, cut.whole_bytes));
+  const ReplayOutcome again = replay(resumed);
+  EXPECT_TRUE(again.equal) << again.message;
+  EXPECT_EQ(again.steps, 500u);
+}
+
+TEST(Session, RequestsTakenAndAnsweredAreWrittenBackAsRead) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/run.session";
+  {
+    Runner runner(small_room(), RunSettings{true, 0.0});
+    runner.record(std::make_shared<SessionWriter>(path, header(kWorld, 50)));
+    for (int step = 0; step < 200; ++step) {
+      if (step % 30 == 0) {
+        runner.record_request(
+            {runner.steps_run(), RecordedRequest::Kind::Taken, "simulation", {uint8_t(step), 7}});
+      }
+      if (step % 45 == 0) {
+        EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.1, 0.2})));
+        runner.apply_commands();
+        runner.record_request({runner.steps_run(),
+                               RecordedRequest::Kind::Answered,
+                               "simulation",
+                               {uint8_t(step), 9}});
+      }
+      runner.step();
+    }
+    runner.record(nullptr);
+  }
+  const Session session = read_session(path);
+  EXPECT_EQ(session.requests.size(), 7u + 5u);
+  const std::string again = dir.path() + "/again.session";
+  write_session(again, session);
+  EXPECT_EQ(read_text(again), read_text(path));
+  // Bytes that are no hex, or an unknown kind, are refused naming the line.
+  std::string text = read_text(path);
+  const std::size_t r = text.find("\nr ") + 1;
+  const int line = int(std::count(text.begin(), text.begin() + long(r), '\n')) + 1;
+  std::string odd = text;
+  odd.replace(odd.find("taken", r), 5, "takan");
+  EXPECT_NE(refusal(path, odd).find(":" + std::to_string(line) + ": a request is 'taken' or"),
+            std::string::npos)
+      << refusal(path, odd);
 }
 
 TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept) {

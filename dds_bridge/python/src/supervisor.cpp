@@ -235,8 +235,29 @@ void bind_supervisor(py::module_& m) {
   py::class_<Sim>(m, "Simulation",
                   "Controls the simulation: pause, run, real-time factor, lock-step steps, "
                   "reset, load a world. No answer within `timeout` s: TimeoutError.")
-      .def(py::init<PythonParticipant&, double>(), py::arg("participant"),
-           py::arg("timeout") = 10.0, py::keep_alive<1, 2>())
+      .def(py::init([](PythonParticipant& p, double timeout, double restart_patience) {
+             auto sim = std::make_unique<Sim>(p, timeout);
+             const auto patience = to_milliseconds(restart_patience, "restart_patience");
+             sim->control.client.set_restart_patience(patience);
+             sim->supervisor.client.set_restart_patience(patience);
+             return sim;
+           }),
+           py::arg("participant"), py::arg("timeout") = 10.0, py::arg("restart_patience") = 0.0,
+           py::keep_alive<1, 2>())
+      .def_property_readonly(
+          "gaps",
+          [](const Sim& s) {
+            py::list gaps;
+            for (const auto& gap : s.control.client.gaps()) {
+              py::dict d;
+              d["seconds"] = gap.seconds;
+              d["step"] = gap.step ? py::cast(*gap.step) : py::none();
+              gaps.append(d);
+            }
+            return gaps;
+          },
+          "The times the simulator went away during a call and came back (restart_patience > "
+          "0): each a dict with its 'seconds' and the 'step' it was back at.")
       .def_property(
           "timeout", [](const Sim& s) { return s.control.timeout; },
           [](Sim& s, double t) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "macsim/dds/log.h"
 #include "macsim/dds/topics.h"
 #include "macsim/dds/wire.h"
 #include "macsim/sim_core/world_loader.h"
@@ -102,7 +103,9 @@ void SimulationServer::refuse_full(const Request& q) {
 bool SimulationServer::load_seen(const Request& r) {
   std::lock_guard<std::mutex> lock(loads_mutex_);
   const uint64_t use = ++load_uses_;
-  auto seen = loads_seen_.find(r.client_id());
+  const std::string& client_id = r.client_id();
+  const uint64_t sequence = r.sequence_number();
+  auto seen = loads_seen_.find(client_id);
   if (seen == loads_seen_.end()) {
     if (loads_seen_.size() >= kMaxLoadClients) {
       const auto oldest = std::min_element(
@@ -110,11 +113,10 @@ bool SimulationServer::load_seen(const Request& r) {
           [](const auto& a, const auto& b) { return a.second.use < b.second.use; });
       loads_seen_.erase(oldest);
     }
-    seen = loads_seen_.emplace(r.client_id(), LoadsSeen{}).first;
+    seen = loads_seen_.emplace(client_id, LoadsSeen{}).first;
   }
   LoadsSeen& loads = seen->second;
   loads.use = use;
-  const uint64_t sequence = r.sequence_number();
   if (loads.recent.count(sequence) || sequence <= loads.forgotten_through) return true;
   loads.recent.insert(sequence);
   if (loads.recent.size() > kLoadWindow) {
@@ -122,6 +124,13 @@ bool SimulationServer::load_seen(const Request& r) {
     loads.recent.erase(loads.recent.begin());
   }
   return false;
+}
+
+void SimulationServer::remember_load(const std::string& client_id, uint64_t sequence_number) {
+  Request r;
+  r.client_id(client_id);
+  r.sequence_number(sequence_number);
+  (void)load_seen(r);
 }
 
 void SimulationServer::forget_load(const Request& r) {
@@ -184,9 +193,12 @@ void SimulationServer::execute(const Request& q) {
       },
       readings_, steps_done);
   if (reply) {
-    send(*reply);
+    send(*reply, q.command() == mm::SIM_STATUS || q.command() == mm::SIM_FEATURES);
     return;
   }
+  // Taken: a resumed simulator finishes it (it is on disk before its first step).
+  runner_.record_request({runner_.steps_run(), RecordedRequest::Kind::Taken, kSessionService,
+                          dds::to_wire<mm::SimulationRequest_PubSubType>(q)});
   stepping_ = q;
   progress_.update(q.client_id(), q.sequence_number(),
                    "stepping " + std::to_string(q.steps()) + " steps",
@@ -225,10 +237,59 @@ SimulationServer::Reply SimulationServer::cancel(const Request& q) {
   return reply;
 }
 
-void SimulationServer::send(const Reply& reply) {
+void SimulationServer::send(const Reply& reply, bool query) {
   progress_.end(reply.client_id(), reply.sequence_number());
   replied_.remember(reply);
+  // On disk before it goes out: a repeat after a resume gets it again, and runs nothing.
+  if (!query) {
+    runner_.record_request({runner_.steps_run(), RecordedRequest::Kind::Answered, kSessionService,
+                            dds::to_wire<mm::SimulationReply_PubSubType>(reply)});
+  }
   service_.reply(reply);
+}
+
+void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
+  std::optional<Reply> last;
+  // By client and sequence number: the step request taken, and whether it was answered.
+  std::map<std::pair<std::string, uint64_t>, std::pair<RecordedRequest, bool>> taken;
+  for (const auto& recorded : requests) {
+    if (recorded.service != kSessionService) continue;
+    if (recorded.kind == RecordedRequest::Kind::Taken) {
+      const auto q = dds::from_wire<mm::SimulationRequest_PubSubType>(recorded.bytes);
+      if (q) taken[{q->client_id(), q->sequence_number()}] = {recorded, false};
+      continue;
+    }
+    const auto reply = dds::from_wire<mm::SimulationReply_PubSubType>(recorded.bytes);
+    if (!reply) continue;
+    replied_.remember(*reply);
+    remember_load(reply->client_id(), reply->sequence_number());
+    if (auto t = taken.find({reply->client_id(), reply->sequence_number()}); t != taken.end())
+      t->second.second = true;
+    last = reply;
+  }
+  if (last) {  // the run as its last answer left it
+    if (last->paused()) {
+      runner_.pause();
+    } else {
+      runner_.resume();
+    }
+    (void)runner_.set_real_time_factor(last->real_time_factor());
+  }
+  for (const auto& [id, entry] : taken) {
+    const auto& [recorded, answered] = entry;
+    if (answered) continue;
+    auto q = *dds::from_wire<mm::SimulationRequest_PubSubType>(recorded.bytes);
+    const uint64_t done = runner_.steps_run() - recorded.step;
+    if (done >= q.steps()) continue;  // its steps ran; its reply was lost with the process
+    log::info(
+        "macsim: step request {} of client {} taken at step {} goes on from step {}: {} "
+        "of its {} steps left",
+        q.sequence_number(), q.client_id(), recorded.step, runner_.steps_run(), q.steps() - done,
+        q.steps());
+    q.steps(q.steps() - done);
+    remember_load(q.client_id(), q.sequence_number());
+    execute(q);  // on from here: its client's repeat is answered when the steps are done
+  }
 }
 
 }  // namespace macsim

@@ -12,6 +12,7 @@
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
+#include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
 #include "reply_cache.h"
 #include "request_progress.h"
@@ -38,6 +39,14 @@ class SimulationServer {
                    LatestReadings readings = {});
   ~SimulationServer();
 
+  /// The service's name in a recorded session (its requests taken and answered).
+  static constexpr const char* kSessionService = "simulation";
+  /// Carries on from a resumed session's requests (on the simulation thread, before the loop):
+  /// a repeat of one answered gets its reply again, a load answered never loads again, the
+  /// run's pause and real-time factor are as its last reply said, and a step request taken
+  /// and not answered steps on from where the world is to the end it asked for.
+  void resume(const std::vector<RecordedRequest>& requests);
+
  private:
   using Request = macsim_msgs::msg::dds_::SimulationRequest_;
   using Reply = macsim_msgs::msg::dds_::SimulationReply_;
@@ -51,7 +60,10 @@ class SimulationServer {
   /// Forgets that this client's load request was seen (it was refused before it was queued).
   void forget_load(const Request& request);
   Reply reply_to(const Request& request, int code, const std::string& message) const;
-  void send(const Reply& reply);
+  /// Answers: remembered for repeats, written to a recorded session first unless `query`.
+  void send(const Reply& reply, bool query = false);
+  /// Remembers that this client's load request was seen.
+  void remember_load(const std::string& client_id, uint64_t sequence_number);
   /// Answers a request the runner's queue refused, from the listener: ERR_LIMIT_REACHED (not
   /// kept for repeats: a repeat is tried again).
   void refuse_full(const Request& request);

@@ -27,7 +27,7 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
       runner_.answered_repeat(c);
       return false;
     }
-    return q && execute(*q, world, std::any_cast<dds::RequestId>(&c.reply_to));
+    return q && execute(*q, world, std::any_cast<dds::RequestId>(&c.reply_to), c);
   });
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later. A
   // repeat of a request still waiting gets its progress and is not queued again.
@@ -74,6 +74,10 @@ Command SupervisorServer::command(const Request& q) {
   return c;
 }
 
+void SupervisorServer::remember(const std::vector<Reply>& replies) {
+  for (const Reply& reply : replies) replied_.remember(reply);
+}
+
 bool SupervisorServer::answer_repeat(const Request& q, const dds::RequestId* id) {
   if (const Reply* again = replied_.find(q)) {  // sent again: answer, do not redo
     progress_.end(q.client_id(), q.sequence_number());
@@ -88,12 +92,15 @@ bool SupervisorServer::answer_repeat(const Request& q, const dds::RequestId* id)
   return false;
 }
 
-bool SupervisorServer::execute(const Request& q, World& world, const dds::RequestId* id) {
+bool SupervisorServer::execute(const Request& q, World& world, const dds::RequestId* id,
+                               const Command& command) {
   const Reply reply = dispatch(q, world, runner_.snapshots());
+  const bool changed = changes_world(q.operation()._d());
+  if (changed) runner_.record_now(command);  // in the session before its client hears of it
   progress_.end(q.client_id(), q.sequence_number());
   replied_.remember(reply);
   service_.reply(reply, id);
-  return changes_world(q.operation()._d());
+  return changed;
 }
 
 void SupervisorServer::publish_world_state(World& world) {

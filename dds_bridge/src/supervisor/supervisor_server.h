@@ -34,13 +34,18 @@ class SupervisorServer {
   /// Topic names it serves, for the start-up banner.
   static std::vector<std::string> topic_names();
 
- private:
   using Request = macsim_msgs::msg::dds_::SupervisorRequest_;
   using Reply = macsim_msgs::msg::dds_::SupervisorReply_;
+  /// A resumed run's replies to the requests that changed the world before the kill, oldest
+  /// first (on the simulation thread, before the loop): a repeat gets its reply, runs nothing.
+  void remember(const std::vector<Reply>& replies);
 
-  /// Runs a request (not one answered before); true when it reached the world. The reply
-  /// names the request's sample identity `id` too, when there is one.
-  bool execute(const Request& request, World& world, const dds::RequestId* id);
+ private:
+  /// Runs a request (not one answered before; `command` its queued form); true when it reached
+  /// the world, which a recorded session then holds before the reply goes out. The reply names
+  /// the request's sample identity `id` too, when there is one.
+  bool execute(const Request& request, World& world, const dds::RequestId* id,
+               const Command& command);
   /// Answers a repeat of a request already run (its reply sent again, or that it is too old to
   /// run again); false for a request not run before.
   bool answer_repeat(const Request& request, const dds::RequestId* id);

@@ -27,6 +27,7 @@
 namespace macsim {
 
 class SessionWriter;
+struct RecordedRequest;
 
 /// Runs the commands of one source on the simulation thread, with the world current at that
 /// moment; true when the command acted on the world (a recorded session keeps it).
@@ -127,12 +128,21 @@ class Runner {
   /// Who runs the commands of `source` (robot, Local and the runner's own commands need none).
   void set_executor(CommandSource source, CommandExecutor executor);
   /// Writes every command that acts on the world from now on, with the step it runs at, and
-  /// the state hash every writer->hash_every() steps (and now). Null stops recording.
-  void record(std::shared_ptr<SessionWriter> writer);
+  /// the state hash every writer->hash_every() steps (and now, unless it goes on with a session
+  /// resumed, whose last step may have its commands written: a hash comes before them). Null
+  /// stops recording.
+  void record(std::shared_ptr<SessionWriter> writer, bool resumed = false);
 
   // ---- on the simulation thread (in commands, hooks or tests) ----------------------------
   /// Runs one command now (its executor), recording it when it acted on the world.
   bool execute(const Command& command);
+  /// Writes the command its executor is running to the session now, before the executor's
+  /// reply goes out (the runner then does not write it again): a reply sent is never of a
+  /// command a killed run's session lacks.
+  void record_now(const Command& command);
+  /// Writes a request taken or answered now (after steps_run() steps) to the session being
+  /// recorded, if any: on disk before its reply goes out.
+  void record_request(const RecordedRequest& request);
   /// Steps this runner has run, over every world it ran (a session's clock).
   uint64_t steps_run() const { return steps_run_; }
   /// Commands run so far from `source` (repeats answered with the reply sent before not counted).
@@ -216,6 +226,7 @@ class Runner {
   std::map<std::array<uint8_t, 16>, uint64_t> fences_;  // by sender: its last command dropped
   uint64_t commands_fenced_ = 0;
   std::shared_ptr<SessionWriter> recording_;
+  bool recorded_now_ = false;  // the command being run was written by record_now()
   uint64_t steps_run_ = 0;
   std::shared_ptr<const DataRoots> data_roots_ = DataRoots::anywhere();
   uint64_t generation_ = 0;

@@ -28,8 +28,9 @@ class Runner;
 /// The version of the session format this build writes and reads (its first line).
 /// Version 2 added the header's `overlaps` line, version 3 the `k` record (a run of steps
 /// that held the robots' commands), version 4 the files read (`f`) and the settings (`strict`,
-/// `limits`, `snapshots`); versions 1 to 3 are still read (their files from the disk).
-inline constexpr int kSessionFormatVersion = 4;
+/// `limits`, `snapshots`), version 5 the requests taken and answered (`r`); versions 1 to 4 are
+/// still read (the files of versions 1 to 3 from the disk).
+inline constexpr int kSessionFormatVersion = 5;
 
 /// A session file that cannot be read: names the file and line.
 class SessionFileError : public std::runtime_error {
@@ -71,6 +72,17 @@ struct RecordedCommand {
   uint64_t count() const { return last_step > step ? last_step - step + 1 : 1; }
 };
 
+/// A request of a request/reply service taken or answered after `step` steps (version 5): what
+/// a resumed simulator must know not to run a request twice, and to finish one it had begun.
+struct RecordedRequest {
+  enum class Kind { Taken, Answered };
+  uint64_t step = 0;
+  Kind kind = Kind::Answered;
+  std::string service;              ///< the service's name, e.g. "simulation"
+  std::vector<uint8_t> bytes;       ///< taken: the request, answered: the reply, as on the wire
+  std::size_t commands_before = 0;  ///< commands recorded before it
+};
+
 /// The world's state hash after `step` steps.
 struct RecordedHash {
   uint64_t step = 0;
@@ -83,7 +95,18 @@ struct Session {
   std::vector<RecordedCommand> commands;  ///< in the order they ran (a run of held steps is one)
   std::vector<RecordedHash> hashes;       ///< by step
   std::vector<EmbeddedFile> files;        ///< in the order they were read
-  uint64_t steps = 0;                     ///< steps run when it ended
+  std::vector<RecordedRequest> requests;  ///< in the order they were taken or answered
+  uint64_t steps = 0;                     ///< steps run when it ended (or at its last record)
+  /// Read for resuming (SessionRead::UpToLastWholeRecord): the file had no closing line (its
+  /// writer was killed), and the bytes of its last whole record end here.
+  bool cut_short = false;
+  std::size_t whole_bytes = 0;  ///< the file's bytes up to its last record (closing line not)
+};
+
+/// How much of a session file read_session() takes.
+enum class SessionRead {
+  Whole,                ///< the whole file with its closing line (a replay)
+  UpToLastWholeRecord,  ///< up to its last whole record (a resume after a kill)
 };
 
 namespace detail {
@@ -97,11 +120,19 @@ class SessionWriter {
  public:
   /// Opens `path` for writing and writes the header; throws SessionFileError if it cannot.
   SessionWriter(const std::string& path, const SessionHeader& header);
+  /// Goes on writing the session `read` from `path` (read for resuming): cuts the file after
+  /// its last whole record and appends, counting on from what it holds.
+  SessionWriter(const std::string& path, const Session& read);
   ~SessionWriter();
   SessionWriter(const SessionWriter&) = delete;
   SessionWriter& operator=(const SessionWriter&) = delete;
 
+  /// Writes a command that ran before step `step` + 1; on disk before this returns (a write per
+  /// command: a process killed after it keeps it; a machine crash may lose what the kernel had
+  /// not written back), except a held step extending a run (`k`), written when the run ends.
   void command(uint64_t step, const Command& command);
+  /// Writes a request taken or answered after `step` steps; on disk before this returns.
+  void request(uint64_t step, const RecordedRequest& request);
   /// Embeds a file the run read (its path as asked), now, unless the same bytes were embedded
   /// under that path before; flushed at once.
   void file(const std::string& path, const std::string& bytes);
@@ -129,10 +160,11 @@ class SessionWriter {
 };
 
 /// Reads a session file; throws SessionFileError naming the file and line of what is wrong (a
-/// damaged line, a file cut short, another format version).
-Session read_session(const std::string& path);
+/// damaged line, a file cut short unless read up to its last whole record, another version).
+Session read_session(const std::string& path, SessionRead read = SessionRead::Whole);
 /// The same for a session's text already read; errors name `path`.
-Session parse_session(const std::string& text, const std::string& path);
+Session parse_session(const std::string& text, const std::string& path,
+                      SessionRead read = SessionRead::Whole);
 /// Writes a whole session (e.g. one with a command changed).
 void write_session(const std::string& path, const Session& session);
 

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -19,6 +20,7 @@
 #include <thread>
 
 #include "macsim/client/commands_sent.h"
+#include "macsim/dds/log.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgs.h"
 
@@ -41,6 +43,12 @@ struct CallOutcome {
   uint64_t steps_asked = 0;   ///< and the steps it asked for (0: no step request)
   double waited = 0;          ///< s the call waited
   double since_heard = 0;     ///< s since the server was last heard of (acknowledged: progress)
+};
+
+/// A time the server was gone (killed, restarting) during a call and came back.
+struct Gap {
+  double seconds = 0;            ///< s from its going to the first reply after it came back
+  std::optional<uint64_t> step;  ///< the simulator's step count in that reply, if it says
 };
 
 /// `n` with thousands separated by commas: 2,147,483,648.
@@ -128,10 +136,27 @@ class RequestReply {
       : client_id_(client_id.empty() ? unique_client_id() : std::move(client_id)),
         requests_(participant, request_topic, dds::QosFamily::Command),
         replies_(participant, reply_topic, dds::QosFamily::Command,
-                 [this](const Reply& r) { heard(r); }) {}
+                 typename dds::Reader<ReplyPubSub>::SentCallback(
+                     [this](const Reply& r, const dds::SampleId& id) { heard(r, id); })) {}
 
   /// Asked at least every 100 ms while a call waits: true gives up at once (a Ctrl-C).
   using Interrupted = std::function<bool()>;
+
+  /// A server that goes away during a call (killed, restarting: macsim --resume) is waited
+  /// for up to `patience`, then the same request is sent again (a resumed simulator answers
+  /// what it answered before, finishes a step request it had begun, runs nothing twice);
+  /// `before_resend` runs first (e.g. to send the set-points again). Each such gap is said on
+  /// stderr and kept (gaps()). 0, the default: the call ends, Gone. Before any call.
+  void set_restart_patience(std::chrono::milliseconds patience,
+                            std::function<void()> before_resend = {}) {
+    patience_ = patience;
+    before_resend_ = std::move(before_resend);
+  }
+  /// The gaps calls rode out so far, oldest first.
+  std::vector<Gap> gaps() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return gaps_;
+  }
 
   /// Sends `request` and waits for its reply; nullopt if none came within `timeout` (or
   /// `interrupted` said so, or the server stopped answering); `outcome` (and last_outcome())
@@ -140,7 +165,7 @@ class RequestReply {
                             std::chrono::milliseconds timeout = std::chrono::seconds(10),
                             const Interrupted& interrupted = {}, CallOutcome* outcome = nullptr) {
     const auto start = Clock::now();
-    const auto deadline = start + timeout;
+    auto deadline = start + timeout;
     CallOutcome result;
     const auto finish = [&](CallOutcome::Kind kind) {
       result.kind = kind;
@@ -151,10 +176,20 @@ class RequestReply {
     };
     bool stopped = false;
     const Interrupted watched = [&] { return stopped = interrupted && interrupted(); };
-    if (!wait_for_server(timeout, watched)) {
+    // The server that answered the last call is gone (killed, restarting), or another came
+    // (restarted before the old one's lease ran out): a gap from here.
+    std::optional<Clock::time_point> gone;
+    if (patience_ > std::chrono::milliseconds::zero() && served_.load() &&
+        (requests_.matched() == 0 || replies_.matched() == 0 ||
+         requests_.matched_ever() != served_by_.load())) {
+      gone = start;
+      say_gone();
+    }
+    if (!wait_for_server(std::max(timeout, patience_), watched)) {
       finish(stopped ? CallOutcome::Kind::Interrupted : CallOutcome::Kind::NoServer);
       return std::nullopt;
     }
+    if (gone && before_resend_) before_resend_();
     request.client_id(client_id_);
     // What this process's robot commands were: none acts after a request that puts the world
     // back, whenever DDS delivers it.
@@ -185,6 +220,15 @@ class RequestReply {
         awake = now;
         if (pending.reply) {
           reply = std::move(pending.reply);
+          // Another server than the last one answered: the last one went away between calls
+          // (killed, and restarted before this client saw it go).
+          if (!gone && patience_ > std::chrono::milliseconds::zero() && server_ &&
+              pending.server != *server_)
+            gone = last_served_;
+          if (gone) came_back(*gone, *reply);
+          served_by_.store(requests_.matched_ever());
+          server_ = pending.server;
+          last_served_ = Clock::now();
           break;
         }
         if (now >= deadline) {
@@ -194,8 +238,10 @@ class RequestReply {
           break;
         }
         if (pending.acknowledged && now - pending.heard > kSilence) {
-          kind = CallOutcome::Kind::Gone;
-          break;
+          if (!ride_out(gone, now, deadline, pending)) {
+            kind = CallOutcome::Kind::Gone;
+            break;
+          }
         }
         // Unacknowledged, or acknowledged and silent for a second (a progress or the final
         // reply lost, or overwritten in the reply writer's history): sent again; the server
@@ -218,6 +264,15 @@ class RequestReply {
           break;
         }
         if (unmatched && !pending.reply) {
+          if (ride_out(gone, Clock::now(), deadline, pending)) {
+            // Back once matched both ways: the same request again, at once.
+            lock.unlock();
+            const bool back = wait_for_server(kSlice, interrupted);
+            if (back && before_resend_) before_resend_();
+            lock.lock();
+            if (back) resend = Clock::now();
+            continue;
+          }
           result.unmatched = true;
           kind = CallOutcome::Kind::Gone;
           break;
@@ -265,6 +320,7 @@ class RequestReply {
     std::string progress;
     uint64_t steps_done = 0;
     uint64_t steps_asked = 0;
+    std::array<uint8_t, 16> server{};  // the writer of the reply
   };
 
   static double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -283,8 +339,39 @@ class RequestReply {
     return "client-" + std::to_string(::getpid()) + "-" + std::to_string(++made) + "-" + tag;
   }
 
+  /// A call's server is gone (unmatched, or silent too long): true while the patience lasts
+  /// (the call's deadline moved on by the time waited), said once on stderr. Under mutex_.
+  bool ride_out(std::optional<Clock::time_point>& gone, Clock::time_point now,
+                Clock::time_point& deadline, Pending& pending) {
+    if (patience_ <= std::chrono::milliseconds::zero()) return false;
+    if (!gone) {
+      gone = now;
+      deadline += patience_;
+      say_gone();
+    }
+    pending.heard = now;  // its silence starts again once it is back
+    return now - *gone <= patience_;
+  }
+
+  void say_gone() const {
+    log::warn(
+        "macsim client: the server of {} went away (killed or restarting?); waiting up to "
+        "{:.0f} s for it to come back",
+        requests_.topic_name(), seconds(patience_));
+  }
+
+  /// The first reply after a gap: said, and kept. Under mutex_.
+  void came_back(Clock::time_point gone, const Reply& reply) {
+    Gap gap;
+    gap.seconds = seconds(Clock::now() - gone);
+    if constexpr (requires { reply.steps(); }) gap.step = reply.steps();
+    gaps_.push_back(gap);
+    log::info("macsim client: the server of {} is back after {:.1f} s{}", requests_.topic_name(),
+              gap.seconds, gap.step ? " at step " + std::to_string(*gap.step) : std::string());
+  }
+
   /// On Fast DDS's thread: a reply or progress of one of this client's calls.
-  void heard(const Reply& r) {
+  void heard(const Reply& r, const dds::SampleId& id) {
     if (r.client_id() != client_id_) return;
     std::lock_guard<std::mutex> lock(mutex_);
     const auto pending = pending_.find(r.sequence_number());
@@ -300,6 +387,8 @@ class RequestReply {
       }
     } else {
       p.reply = r;
+      p.server = id.writer;
+      served_.store(true);
     }
     replied_.notify_all();
   }
@@ -309,6 +398,13 @@ class RequestReply {
   uint64_t next_sequence_ = 1;
   std::map<uint64_t, Pending> pending_;  // by sequence number: the calls waiting
   CallOutcome last_outcome_;
+  std::chrono::milliseconds patience_{0};
+  std::function<void()> before_resend_;
+  std::vector<Gap> gaps_;
+  std::atomic<bool> served_{false};  // a final reply came (a server answered this client)
+  std::atomic<int> served_by_{0};    // requests_.matched_ever() when the last reply came
+  std::optional<std::array<uint8_t, 16>> server_;  // the last reply's writer (under mutex_)
+  Clock::time_point last_served_;                  // when it came (under mutex_)
   std::condition_variable replied_;
   dds::Writer<RequestPubSub> requests_;
   dds::Reader<ReplyPubSub> replies_;

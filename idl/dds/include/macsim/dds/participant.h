@@ -170,6 +170,12 @@ class Writer {
     writer_->get_publication_matched_status(status);
     return status.current_count;
   }
+  /// Readers matched so far, those gone included: a reader new since shows as a change.
+  int matched_ever() const {
+    fdds::PublicationMatchedStatus status;
+    writer_->get_publication_matched_status(status);
+    return status.total_count;
+  }
   const std::string& topic_name() const { return topic_name_; }
   /// Waits until every matched reliable reader acknowledged what was written (lock-step:
   /// the command is in the simulator's queue before the next step request).
