@@ -35,10 +35,20 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
     // set-points it had not yet taken: they go again before the step request does.
     simulation_->set_restart_patience(
         std::chrono::milliseconds(static_cast<int64_t>(options.restart_patience * 1000)), [this] {
-          const auto until = std::chrono::steady_clock::now() + 10s;
-          while ((!drive_.commander_matched() || !crane_.matched()) &&
+          // The new simulator's data must reach this loop: its odometry writer matched (the
+          // rest of its endpoints come in the same exchange), else the step's data is lost.
+          // And the set-points must reach it: a killed simulator's readers, until their lease
+          // runs out, hold the writers' shared-memory samples (Fast DDS data sharing), and
+          // commands written then can be lost to the live reader too.
+          const auto until = std::chrono::steady_clock::now() + 12s;
+          while ((drive_.odometry_writers_seen() <= odometry_writers_ ||
+                  !drive_.commander_matched() || !crane_.matched() ||
+                  drive_.command_readers() > 1 || crane_.command_readers() > 1 ||
+                  laser_.command_readers() > 1) &&
                  std::chrono::steady_clock::now() < until)
             std::this_thread::sleep_for(20ms);
+          std::this_thread::sleep_for(300ms);
+          odometry_writers_ = drive_.odometry_writers_seen();
           send_set_points();
         });
   }
@@ -151,6 +161,7 @@ void RobotLoop::tick(double seconds) {
     std::this_thread::sleep_for(1ms);
   }
   now_ = macsim::client::stamp_seconds(odometry->header());
+  odometry_writers_ = drive_.odometry_writers_seen();
   // Position: the odometry's distance travelled, along the IMU's heading.
   const auto& p = odometry->pose().pose().position();
   const double yaw = imu_.yaw().value_or(pose_.yaw);

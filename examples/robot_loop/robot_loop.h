@@ -104,6 +104,7 @@ class RobotLoop {
 
  private:
   std::optional<std::pair<double, double>> last_position_;  // odometry's, for the distance
+  int odometry_writers_ = 0;  // drive_.odometry_writers_seen() at the last tick
 };
 
 }  // namespace kurt_loop

@@ -40,6 +40,8 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
       runner_.answered_repeat(c);
     } else if (c.operation == "answer_load_running") {
       send(reply_to(*r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
+    } else if (auto resumed = resumable_.extract({r->client_id(), r->sequence_number()})) {
+      execute(resumed.mapped());  // begun before a kill: on to the end it asked for
     } else if (repeated(*r)) {
       runner_.answered_repeat(c);
     } else {
@@ -282,13 +284,14 @@ void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
     const uint64_t done = runner_.steps_run() - recorded.step;
     if (done >= q.steps()) continue;  // its steps ran; its reply was lost with the process
     log::info(
-        "macsim: step request {} of client {} taken at step {} goes on from step {}: {} "
-        "of its {} steps left",
+        "macsim: step request {} of client {}, taken at step {}, goes on from step {} when "
+        "its client sends it again ({} of its {} steps left)",
         q.sequence_number(), q.client_id(), recorded.step, runner_.steps_run(), q.steps() - done,
         q.steps());
     q.steps(q.steps() - done);
     remember_load(q.client_id(), q.sequence_number());
-    execute(q);  // on from here: its client's repeat is answered when the steps are done
+    // Not at once: its data would go out before the client's readers have found this process.
+    resumable_[id] = q;
   }
 }
 

@@ -44,7 +44,8 @@ class SimulationServer {
   /// Carries on from a resumed session's requests (on the simulation thread, before the loop):
   /// a repeat of one answered gets its reply again, a load answered never loads again, the
   /// run's pause and real-time factor are as its last reply said, and a step request taken
-  /// and not answered steps on from where the world is to the end it asked for.
+  /// and not answered steps on from where the world is to the end it asked for, once its
+  /// client sends it again (its readers then know this process).
   void resume(const std::vector<RecordedRequest>& requests);
 
  private:
@@ -76,6 +77,8 @@ class SimulationServer {
   std::optional<Request> stepping_;  // the SIM_STEP request being served
   bool cancelling_ = false;          // a SIM_CANCEL is ending stepping_
   std::optional<Reply> cancelled_;   // the reply of the request it ended
+  /// Step requests a killed run had begun, their steps left: run when their client repeats.
+  std::map<std::pair<std::string, uint64_t>, Request> resumable_;
   ReplyCache<Reply> replied_;
   std::mutex loads_mutex_;  // guards loads_seen_ and load_uses_ (Fast DDS's threads)
   struct LoadsSeen {

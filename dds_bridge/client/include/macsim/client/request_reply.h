@@ -179,6 +179,7 @@ class RequestReply {
     // The server that answered the last call is gone (killed, restarting), or another came
     // (restarted before the old one's lease ran out): a gap from here.
     std::optional<Clock::time_point> gone;
+    bool resent_to_new_ = false;  // what precedes a request to a new server went (below)
     if (patience_ > std::chrono::milliseconds::zero() && served_.load() &&
         (requests_.matched() == 0 || replies_.matched() == 0 ||
          requests_.matched_ever() != served_by_.load())) {
@@ -189,7 +190,10 @@ class RequestReply {
       finish(stopped ? CallOutcome::Kind::Interrupted : CallOutcome::Kind::NoServer);
       return std::nullopt;
     }
-    if (gone && before_resend_) before_resend_();
+    if (gone && before_resend_) {
+      before_resend_();
+      resent_to_new_ = true;
+    }
     request.client_id(client_id_);
     // What this process's robot commands were: none acts after a request that puts the world
     // back, whenever DDS delivers it.
@@ -247,7 +251,19 @@ class RequestReply {
         // reply lost, or overwritten in the reply writer's history): sent again; the server
         // answers the repeat with its progress or its reply, and never runs it twice.
         if (now >= resend && (!pending.acknowledged || now - pending.heard >= kResend)) {
+          // A server matched since the last reply (restarted while the old one still looks
+          // matched): a gap; what must precede the request goes first.
+          const bool new_server = patience_ > std::chrono::milliseconds::zero() && served_.load() &&
+                                  !resent_to_new_ && requests_.matched_ever() != served_by_.load();
+          if (new_server) {
+            resent_to_new_ = true;
+            if (!gone) {
+              gone = now;
+              say_gone();
+            }
+          }
           lock.unlock();
+          if (new_server && before_resend_) before_resend_();
           requests_.write(request);
           lock.lock();
           resend = Clock::now() + kResend;

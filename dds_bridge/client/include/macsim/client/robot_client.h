@@ -53,8 +53,14 @@ class RobotClient {
   Next next_odometry(std::chrono::milliseconds silence, std::chrono::milliseconds patience);
   /// The latest odometry received, if any.
   std::optional<Odometry> latest_odometry() const;
+  /// Odometry writers matched so far, those gone included (a simulator restarted brings a new
+  /// one).
+  int odometry_writers_seen() const { return odom_.matched_ever(); }
   /// True once a participant serving this robot's cmd_vel has been matched.
   bool commander_matched() const { return cmd_vel_.matched() > 0; }
+  /// Readers its cmd_vel writer has matched (a killed simulator's count until its lease runs
+  /// out).
+  int command_readers() const { return cmd_vel_.matched(); }
 
   const std::string& robot_name() const { return robot_name_; }
 

@@ -3,6 +3,7 @@
 // The same topics whether a simulator or the real robot's adapter serves them.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <map>
@@ -33,6 +34,9 @@ class Crane {
   std::optional<State> state() const { return state_.get(); }
   /// True once the robot's crane and magnet readers are matched.
   bool matched() const { return command_.matched() > 0 && magnet_.matched() > 0; }
+  /// The most readers one of its command writers has matched (a killed simulator's count
+  /// until its lease runs out).
+  int command_readers() const { return std::max(command_.matched(), magnet_.matched()); }
   /// Waits until the robot received every crane and magnet command sent so far (lock-step).
   bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
@@ -96,6 +100,9 @@ class Laser {
   uint64_t clouds() const { return points_.count(); }
   /// True once the robot's rotating unit reads our commands and its clouds' writer is matched.
   bool matched() const { return rot_vel_.matched() > 0 && points_.matched() > 0; }
+  /// Readers its rotation command writer has matched (a killed simulator's count until its
+  /// lease runs out).
+  int command_readers() const { return rot_vel_.matched(); }
 
  private:
   CommandWriter<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel_;

@@ -231,6 +231,8 @@ class Reader : private fdds::DataReaderListener {
 
   /// Number of writers currently matched.
   int matched() const { return matched_.load(); }
+  /// Writers matched so far, those gone included: a writer new since shows as a change.
+  int matched_ever() const { return matched_ever_.load(); }
   /// Hands every sample already received to the callback now, on the caller's thread (the
   /// simulation's drain point: whatever a writer saw acknowledged is taken in this step).
   /// Samples reach the callback in the order they were received, whichever thread takes them.
@@ -279,6 +281,7 @@ class Reader : private fdds::DataReaderListener {
   void on_subscription_matched(fdds::DataReader*,
                                const fdds::SubscriptionMatchedStatus& status) override {
     matched_.store(status.current_count);
+    matched_ever_.store(status.total_count);
   }
 
   Participant& participant_;
@@ -288,6 +291,7 @@ class Reader : private fdds::DataReaderListener {
   std::atomic<bool> deferred_{false};
   std::map<fdds::InstanceHandle_t, Data> last_;  // only with on_gone_
   std::atomic<int> matched_{0};
+  std::atomic<int> matched_ever_{0};
   fdds::DataReader* reader_ = nullptr;
 };
 
