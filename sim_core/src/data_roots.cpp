@@ -1,10 +1,13 @@
 #include "macsim/sim_core/data_roots.h"
 
 #include <fcntl.h>
+#include <linux/openat2.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 
@@ -42,7 +45,51 @@ struct Descriptor {
   }
 };
 
+std::atomic<bool> g_openat2{true};  // false once the kernel said it has none (or a test)
+
+/// The flags a file under a root is opened with: read only, without blocking (a FIFO swapped
+/// in), no terminal, the last component no link.
+constexpr int kOpenFlags = O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC;
+
+/// Opens `relative` (no `..`, no link: a canonical path's tail) beneath the folder `root`
+/// holds; -1 with errno set (EXDEV, ELOOP: a link or `..` met that leaves it).
+int open_beneath(int root, const fs::path& relative) {
+  if (g_openat2.load(std::memory_order_relaxed)) {
+    open_how how{};
+    how.flags = kOpenFlags;
+    how.resolve = RESOLVE_BENEATH | RESOLVE_NO_MAGICLINKS;
+    const long fd = ::syscall(SYS_openat2, root, relative.c_str(), &how, sizeof how);
+    if (fd >= 0 || errno != ENOSYS) return static_cast<int>(fd);
+    g_openat2.store(false);  // a kernel older than 5.6
+  }
+  // One component at a time, none followed if it is a link: what canonical() resolved has
+  // none, so a link met here was swapped in since, and is refused wherever it stands.
+  int at = ::dup(root);
+  if (at < 0) return -1;
+  const std::vector<fs::path> parts(relative.begin(), relative.end());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const bool last = i + 1 == parts.size();
+    if (parts[i] == ".." || parts[i] == "." || parts[i].empty()) {
+      ::close(at);
+      errno = EXDEV;
+      return -1;
+    }
+    const int next = ::openat(at, parts[i].c_str(),
+                              last ? kOpenFlags : O_PATH | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    const int saved = errno;
+    ::close(at);
+    if (next < 0) {
+      errno = saved == ENOTDIR ? ELOOP : saved;  // a link where a folder was
+      return -1;
+    }
+    at = next;
+  }
+  return at;
+}
+
 }  // namespace
+
+void DataRoots::use_openat2(bool use) { g_openat2.store(use); }
 
 std::shared_ptr<const DataRoots> DataRoots::anywhere() {
   static const std::shared_ptr<const DataRoots> everywhere(new DataRoots());
@@ -162,9 +209,25 @@ std::optional<std::string> DataRoots::read_disk(const std::string& path) const {
                        std::to_string(max_file_bytes_ >> 20) + " MiB a file read on request may be");
   };
   if (std::size_t(seen.st_size) > max_file_bytes_) throw too_large();
-  // Opened without following a link and without blocking, then checked to be what was seen.
-  const Descriptor file{::open(canonical->c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY |
-                                                     O_CLOEXEC)};
+  // Opened without following a link and without blocking, then checked to be what was seen;
+  // under a root, beneath the root's own folder, so that a folder on the way swapped for a
+  // link since it was resolved cannot lead out of it.
+  const fs::path* root = nullptr;
+  for (const fs::path& folder : folders_) {
+    if (is_under(*canonical, folder) && (!root || std::distance(folder.begin(), folder.end()) >
+                                                      std::distance(root->begin(), root->end())))
+      root = &folder;
+  }
+  int fd = -1;
+  if (root) {
+    const Descriptor folder{::open(root->c_str(), O_PATH | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)};
+    const fs::path relative = canonical->lexically_relative(*root);
+    fd = folder.fd < 0 ? -1 : open_beneath(folder.fd, relative);
+    if (fd < 0 && (errno == EXDEV || errno == ELOOP)) throw FileRefused(outside_message(path));
+  } else {
+    fd = ::open(canonical->c_str(), kOpenFlags);
+  }
+  const Descriptor file{fd};
   if (file.fd < 0) {
     if (errno == ENOENT) return std::nullopt;
     throw FileRefused(quoted(path) + " cannot be read: " + std::strerror(errno));

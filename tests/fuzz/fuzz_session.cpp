@@ -49,7 +49,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     if (text_of(written) != once) finding("a session read back writes another text");
     if (again.commands.size() != session.commands.size() ||
         again.hashes.size() != session.hashes.size() ||
-        again.files.size() != session.files.size() || again.steps != session.steps) {
+        again.files.size() != session.files.size() ||
+        again.requests.size() != session.requests.size() || again.steps != session.steps) {
       finding("a session written and read back lost records");
     }
   } catch (const std::exception& e) {

@@ -210,7 +210,7 @@ TEST_F(DemonstratorSession, ADamagedOrOtherVersionFileIsRefused) {
   Replay r = replay(other);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(
-      r.output.find(other + ":1: session format version 99; this macsim reads versions 1 to 4"),
+      r.output.find(other + ":1: session format version 99; this macsim reads versions 1 to 5"),
       std::string::npos)
       << r.output;
   const std::string cut = dir_->path() + "/cut.session";

@@ -282,6 +282,32 @@ def test_a_simulator_killed_during_a_step_is_reported_gone(domain, spawn):
                          r"this simulation control request", said), said
 
 
+def test_a_simulator_killed_during_a_step_and_resumed_is_waited_for(domain, spawn, tmp_path):
+    session = tmp_path / "run.session"
+    args = (*LOCKSTEP, "--resume", str(session))
+    process = start_macsim(spawn, domain, "worlds/small_room.xml", *args)
+    simulation = macsim.Simulation(macsim.Participant(domain=domain), restart_patience=60)
+    simulation.step(100)
+    assert simulation.gaps == []
+
+    def kill_and_resume():
+        steps_grow_past(simulation, 200)  # killed while its step runs
+        os.killpg(process.proc.pid, signal.SIGKILL)
+        process.proc.wait()
+        start_macsim(spawn, domain, "worlds/small_room.xml", *args, ready="stepping on request")
+
+    killer = threading.Thread(target=kill_and_resume)
+    killer.start()
+    try:
+        status = simulation.step(30000, timeout=120)  # the same request, answered after the gap
+    finally:
+        killer.join()
+    assert status.steps == 30100  # finished by the resumed simulator, no step run twice
+    [gap] = simulation.gaps
+    assert gap["seconds"] > 0 and gap["step"] == 30100, gap
+    assert simulation.step(10).steps == 30110
+
+
 def test_no_simulator_is_reported_not_found(domain):
     simulation = macsim.Simulation(macsim.Participant(domain=domain), timeout=1)
     with pytest.raises(TimeoutError) as none:

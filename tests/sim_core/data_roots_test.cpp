@@ -8,11 +8,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
-
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "macsim/sim_core/world.h"
 #include "macsim/sim_core/world_loader.h"
@@ -160,6 +162,66 @@ TEST_F(DataRootsTest, DotDotIsAppliedOnPaperSoNothingOutsideIsLookedAt) {
             refusal((outside_ / "secret.xml").string()));
   EXPECT_EQ(roots_->identity((root_ / "deep" / ".." / "inside.xml").string()),
             (fs::canonical(root_) / "inside.xml").string());
+}
+
+/// Reads root/swap/f.xml over and over while another thread swaps the folder `swap` with a link
+/// to outside/ (an atomic exchange of the two names); counts the reads of each content.
+struct SwapRace {
+  int inside = 0, refused = 0, missing = 0, outside = 0;
+};
+SwapRace race_a_swapped_folder(const DataRoots& roots, const fs::path& root,
+                               const fs::path& outside) {
+  write(root / "swap" / "f.xml", "inside");
+  write(outside / "f.xml", "OUTSIDE");
+  fs::create_symlink(outside, root / "other");
+  std::atomic<bool> done{false};
+  std::thread swapper([&] {
+    while (!done.load()) {
+      ::renameat2(AT_FDCWD, (root / "swap").c_str(), AT_FDCWD, (root / "other").c_str(),
+                  RENAME_EXCHANGE);
+    }
+  });
+  SwapRace seen;
+  const std::string path = (root / "swap" / "f.xml").string();
+  for (int i = 0; i < 20000; ++i) {
+    try {
+      const auto bytes = roots.read(path);
+      if (!bytes) {
+        ++seen.missing;
+      } else if (*bytes == "inside") {
+        ++seen.inside;
+      } else {
+        ++seen.outside;
+      }
+    } catch (const FileRefused&) {
+      ++seen.refused;
+    }
+  }
+  done.store(true);
+  swapper.join();
+  return seen;
+}
+
+TEST_F(DataRootsTest, AFolderSwappedForALinkDuringAReadNeverLeadsOutOfTheRoot) {
+  for (const bool openat2 : {true, false}) {
+    DataRoots::use_openat2(openat2);
+    fs::remove_all(root_ / "swap");
+    fs::remove_all(root_ / "other");
+    const SwapRace seen = race_a_swapped_folder(*roots_, root_, outside_);
+    // The race was run (both outcomes met) and never read what lies outside.
+    EXPECT_EQ(seen.outside, 0) << (openat2 ? "openat2" : "one component at a time");
+    EXPECT_GT(seen.inside, 0);
+    EXPECT_GT(seen.refused, 0);
+  }
+  DataRoots::use_openat2(true);
+  // Links and `..` that stay beneath the root still read, by either way.
+  for (const bool openat2 : {true, false}) {
+    DataRoots::use_openat2(openat2);
+    EXPECT_EQ(roots_->read((root_ / "link_in.xml").string()), "<ENVIRONMENT/>");
+    EXPECT_EQ(roots_->read((root_ / "sub" / ".." / "inside.xml").string()), "<ENVIRONMENT/>");
+    EXPECT_EQ(roots_->read((root_ / "sub" / "deeper.xml").string()), "deeper");
+  }
+  DataRoots::use_openat2(true);
 }
 
 TEST_F(DataRootsTest, FilesOverTheSizeCapAreRefused) {

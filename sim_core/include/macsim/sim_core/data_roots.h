@@ -56,6 +56,10 @@ class DataRoots : public WorldFiles {
 
   /// The answer for a path outside the roots (the same whether it exists or not).
   static std::string outside_message(const std::string& path);
+  /// Files under roots are opened with openat2(RESOLVE_BENEATH) from the root's folder, or,
+  /// where the kernel lacks it (or `use` is false: tests), one component at a time without
+  /// following a link: either way nothing swapped in during a read leads out of the root.
+  static void use_openat2(bool use);
 
  private:
   DataRoots() = default;

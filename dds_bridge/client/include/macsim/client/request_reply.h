@@ -190,9 +190,10 @@ class RequestReply {
       finish(stopped ? CallOutcome::Kind::Interrupted : CallOutcome::Kind::NoServer);
       return std::nullopt;
     }
-    if (gone && before_resend_) {
-      before_resend_();
+    if (gone) {
+      if (before_resend_) before_resend_();
       resent_to_new_ = true;
+      deadline = Clock::now() + timeout;  // the call's time starts once the server is back
     }
     request.client_id(client_id_);
     // What this process's robot commands were: none acts after a request that puts the world
@@ -263,7 +264,10 @@ class RequestReply {
             }
           }
           lock.unlock();
-          if (new_server && before_resend_) before_resend_();
+          if (new_server) {
+            if (before_resend_) before_resend_();
+            deadline = std::max(deadline, Clock::now() + timeout);
+          }
           requests_.write(request);
           lock.lock();
           resend = Clock::now() + kResend;
