@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Kills macsim (SIGKILL) at random instants of the final demonstrator and resumes it.
 
-One outage at a time: a kill comes at its instant, or once the simulator started after the last
-kill has served the controller if that is later (a simulator killed again while its controller
-has not yet found it is a case of its own: see dds_bridge/README.md).
+One outage at a time: a kill comes at its instant, or, if that is later, once the simulator
+started after the last kill has served the controller and the killed one's DDS lease has run
+out (kills in quicker succession are a known limit: see dds_bridge/README.md).
 
 Each run plays kurt_demo on one seeded layout against `macsim --resume SESSION`; while it plays,
 macsim is killed at random instants and started again on the same arguments, so that it resumes
@@ -28,6 +28,7 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+LEASE = 6.0  # s: the shipped profiles' participant lease (5 s), and a margin
 
 
 def hashes(session):
@@ -87,10 +88,13 @@ class Run:
         try:
             for at in sorted(kill_at):
                 # At the instant, once the simulator started last has served the controller
-                # (the session grew after its resume): one outage at a time.
+                # (the session grew after its resume) and the killed one's lease (5 s) ran
+                # out: one outage at a time.
                 served = os.path.getsize(self.session) if kills else 0
+                restarted = time.time()
                 while (time.time() - start < at or
-                       (kills and os.path.getsize(self.session) <= served + 2000)) \
+                       (kills and (os.path.getsize(self.session) <= served + 2000 or
+                                   time.time() - restarted < LEASE))) \
                         and demo.poll() is None:
                     time.sleep(0.01)
                 if demo.poll() is not None:
@@ -155,7 +159,10 @@ def main():
                 run = Run(args, mode, folder, f"{mode}_{runs}", domain)
                 code, output, done = run.play(instants)
                 runs += 1
-                kills += max(done, 1)  # a demonstrator faster than its kills: counted once
+                kills += done
+                if runs >= 4 * args.kills:
+                    failures.append(f"{mode}: the demonstrator ends before its kills come")
+                    break
                 resume_seconds += run.resume_seconds
                 ok = code == 0 and "SUCCESS" in output and len(run.resume_seconds) == done
                 why = "" if ok else f"kurt_demo exit {code}, {len(run.resume_seconds)} of {done} resumed"

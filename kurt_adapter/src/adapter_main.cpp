@@ -140,9 +140,9 @@ int main(int argc, char** argv) {
     // The simulation control topic: a real robot answers SIM_FEATURES only (macsim_msgs.idl), so
     // a simulator on the same domain stays the only one answering the rest.
     macsim::dds::Writer<mm::SimulationReply_PubSubType> sim_replies(
-        dds, macsim::dds::topics::kSimulationReply, QosFamily::Command);
+        dds, macsim::dds::topics::kSimulationReply, QosFamily::Request);
     macsim::dds::Reader<mm::SimulationRequest_PubSubType> sim_requests(
-        dds, macsim::dds::topics::kSimulationRequest, QosFamily::Command,
+        dds, macsim::dds::topics::kSimulationRequest, QosFamily::Request,
         [&](const mm::SimulationRequest_& request) {
           if (request.command() != mm::SIM_FEATURES) return;
           queue.push([&sim_replies, request](macsim::robot::RobotInterface&) {

@@ -30,6 +30,13 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
   // a lost command is sent again within 0.1 s, not after Fast DDS's default 3 s heartbeat
   EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.seconds, 0);
   EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.nanosec, 100000000u);
+  // requests and replies: the command family without data sharing
+  const auto request = dds::writer_qos(dds::QosFamily::Request, p.publisher());
+  EXPECT_EQ(request.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(request.history().depth, 10);
+  EXPECT_EQ(request.data_sharing().kind(), fdds::DataSharingKind::OFF);
+  EXPECT_EQ(dds::reader_qos(dds::QosFamily::Request, p.subscriber()).data_sharing().kind(),
+            fdds::DataSharingKind::OFF);
   const auto sensor = dds::reader_qos(dds::QosFamily::Sensor, p.subscriber());
   EXPECT_EQ(sensor.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
   EXPECT_EQ(sensor.history().depth, 5);
@@ -94,7 +101,7 @@ std::set<std::string> qos_profiles_of(const std::string& path) {
 TEST(QosFamilies, AreWrittenOnceInQosXmlAndNoDeploymentRepeatsThem) {
   std::set<std::string> expected;
   for (auto family : {dds::QosFamily::Command, dds::QosFamily::Sensor, dds::QosFamily::State,
-                      dds::QosFamily::Latched}) {
+                      dds::QosFamily::Latched, dds::QosFamily::Request}) {
     expected.insert(std::string("data_writer ") + dds::profile_name(family));
     expected.insert(std::string("data_reader ") + dds::profile_name(family));
   }

@@ -43,6 +43,8 @@ const char* profile_name(QosFamily family) {
       return "macsim_state";
     case QosFamily::Latched:
       return "macsim_latched";
+    case QosFamily::Request:
+      return "macsim_request";
   }
   return "";
 }

@@ -134,8 +134,8 @@ class RequestReply {
   RequestReply(dds::Participant& participant, const std::string& request_topic,
                const std::string& reply_topic, std::string client_id)
       : client_id_(client_id.empty() ? unique_client_id() : std::move(client_id)),
-        requests_(participant, request_topic, dds::QosFamily::Command),
-        replies_(participant, reply_topic, dds::QosFamily::Command,
+        requests_(participant, request_topic, dds::QosFamily::Request),
+        replies_(participant, reply_topic, dds::QosFamily::Request,
                  typename dds::Reader<ReplyPubSub>::SentCallback(
                      [this](const Reply& r, const dds::SampleId& id) { heard(r, id); })) {}
 

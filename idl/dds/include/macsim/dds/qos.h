@@ -15,6 +15,8 @@ enum class QosFamily {
   State,    ///< odometry, IMU, joint and crane states, clock: reliable, volatile, keep last 10
             ///< (writers keep 100; a default ROS 2 subscription matches; best effort too)
   Latched,  ///< state a late joiner must see: reliable, transient local, keep last 1
+  Request,  ///< requests and replies of a service: command's, without data sharing (a killed
+            ///< peer's reader would hold the writer's samples until its lease ran out)
 };
 
 /// The XML profile name of a family's data writers and readers ("macsim_command", ...).

@@ -94,11 +94,11 @@ class ServiceServer : private fdds::DataReaderListener, private fdds::DataWriter
       : participant_(participant), service_(service), on_request_(std::move(on_request)) {
     writer_ = participant.publisher()->create_datawriter(
         participant.topic<ResponseType>(topics.reply),
-        writer_qos(QosFamily::Command, participant.publisher()), this,
+        writer_qos(QosFamily::Request, participant.publisher()), this,
         fdds::StatusMask::publication_matched());
     reader_ = participant.subscriber()->create_datareader(
         participant.topic<RequestType>(topics.request),
-        reader_qos(QosFamily::Command, participant.subscriber()), this);
+        reader_qos(QosFamily::Request, participant.subscriber()), this);
     if (!writer_ || !reader_) throw DdsError("cannot serve the service " + service);
     participant.endpoints_changed();
   }
@@ -173,10 +173,10 @@ class ServiceClient : private fdds::DataReaderListener {
   ServiceClient(Participant& participant, const std::string& service) : participant_(participant) {
     writer_ = participant.publisher()->create_datawriter(
         participant.topic<RequestType>(service_request_topic(service)),
-        writer_qos(QosFamily::Command, participant.publisher()));
+        writer_qos(QosFamily::Request, participant.publisher()));
     reader_ = participant.subscriber()->create_datareader(
         participant.topic<ResponseType>(service_reply_topic(service)),
-        reader_qos(QosFamily::Command, participant.subscriber()), this);
+        reader_qos(QosFamily::Request, participant.subscriber()), this);
     if (!writer_ || !reader_) throw DdsError("cannot be a client of the service " + service);
     participant.endpoints_changed();
   }
