@@ -132,9 +132,10 @@ def test_units_are_hardened_and_start_installed_programs(root):
     assert exposure(bare) > 8
 
 
-def unit_command(unit_text, overrides, root):
+def unit_command(unit_text, overrides, root, state="/var/lib"):
     """ExecStart with ${VAR} and $VAR taken from the unit's Environment= (as systemd expands
-    them, without /etc/default), installed paths under `root`."""
+    them, without /etc/default), %S (the state folders' root) as `state`, installed paths under
+    `root`."""
     env = {}
     for m in re.finditer(r'^Environment="?([A-Z_]+)=(.*?)"?$', unit_text, re.M):
         env[m.group(1)] = m.group(2)
@@ -147,7 +148,7 @@ def unit_command(unit_text, overrides, root):
         elif re.fullmatch(r"\$([A-Z_]+)", word):
             argv.extend(env[word[1:]].split())  # systemd splits $VAR at white space
         else:
-            argv.append(word)
+            argv.append(word.replace("%S", str(state)))
     return [str(root) + a if a.startswith("/usr/") else a for a in argv]
 
 
@@ -155,8 +156,16 @@ def test_macsim_runs_unprivileged_as_its_unit_runs_it(root, domain, spawn):
     assert os.geteuid() == 0, "this test runs programs as nobody and daemon (setpriv): run it as root"
     text = (root / "usr/lib/systemd/system/macsim.service").read_text()
     # The unit's own defaults (its world, its arguments), on the test's domain, on this machine.
+    # Its state folder as StateDirectory=macsim makes it: the service's own, mode 0700.
+    assert re.search(r"^StateDirectory=macsim$", text, re.M), text
+    state = Path(tempfile.mkdtemp(prefix="macsim_state_"))
+    state.chmod(0o755)
+    (state / "macsim").mkdir(mode=0o700)
+    os.chown(state / "macsim", 65534, 65534)  # nobody, as below
     argv = unit_command(text, {"MACSIM_DOMAIN": str(domain),
-                               "MACSIM_PROFILE": "/usr/share/macsim/dds/service_localhost.xml"}, root)
+                               "MACSIM_PROFILE": "/usr/share/macsim/dds/service_localhost.xml"}, root,
+                        state)
+    assert "--resume" in argv and str(state / "macsim/session.macsim") in argv, argv
     assert argv[0] == f"{root}/usr/bin/macsim", argv
     umask = re.search(r"^UMask=(\d+)$", text, re.M).group(1)
     # The service's user: no root, no capability, none to gain (setpriv, as DynamicUser= and
@@ -180,3 +189,7 @@ def test_macsim_runs_unprivileged_as_its_unit_runs_it(root, domain, spawn):
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.count("pose:") >= 2, result.stdout
     assert "macsim" in sim.output() and "DemoWorld_v1" in sim.output()
+    # It records its session in its state folder, to resume from when it is started again.
+    assert "recording a new one" in sim.output(), sim.output()
+    assert (state / "macsim/session.macsim").stat().st_size > 0
+    shutil.rmtree(state)
