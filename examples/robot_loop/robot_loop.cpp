@@ -31,14 +31,16 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
       imu_(participant, options.robot) {
   if (options.lockstep) {
     simulation_ = std::make_unique<macsim::client::SimulationClient>(participant);
-    // A simulator that went away during a step comes back (macsim --resume) without the
-    // set-points it had not yet taken: they go again before the step request does.
+    // A simulator that went away during a step comes back (macsim --resume) with every
+    // set-point it had taken (they are in its session); the step request goes again once this
+    // loop's readers and writers know the new process. The set-points are not sent again: one
+    // given again in the middle of a step request would act at another step than it did.
     simulation_->set_restart_patience(
         std::chrono::milliseconds(static_cast<int64_t>(options.restart_patience * 1000)), [this] {
           // The new simulator's data must reach this loop: its odometry writer matched (the
           // rest of its endpoints come in the same exchange), else the step's data is lost.
-          // And the set-points must reach it: a killed simulator's readers, until their lease
-          // runs out, hold the writers' shared-memory samples (Fast DDS data sharing), and
+          // And the next set-points must reach it: a killed simulator's readers, until their
+          // lease runs out, hold the writers' shared-memory samples (Fast DDS data sharing), and
           // commands written then can be lost to the live reader too.
           const auto until = std::chrono::steady_clock::now() + 12s;
           while ((drive_.odometry_writers_seen() <= odometry_writers_ ||
@@ -49,7 +51,6 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
             std::this_thread::sleep_for(20ms);
           std::this_thread::sleep_for(300ms);
           odometry_writers_ = drive_.odometry_writers_seen();
-          send_set_points();
         });
   }
 }

@@ -31,7 +31,7 @@ mm::SimulationReply_ simulation_reply(const mm::SimulationRequest_& q, const Run
 std::optional<mm::SimulationReply_> dispatch_simulation(
     const mm::SimulationRequest_& q, Runner& runner,
     std::function<void(const mm::SimulationReply_&)> stepped, const LatestReadings& readings,
-    std::shared_ptr<std::atomic<uint64_t>> steps_done) {
+    std::shared_ptr<std::atomic<uint64_t>> steps_done, std::function<void()> first_step) {
   switch (q.command()) {
     case mm::SIM_PAUSE:
       runner.pause();
@@ -79,9 +79,11 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       if (!steps_done) steps_done = std::make_shared<std::atomic<uint64_t>>(0);
       steps_done->store(0, std::memory_order_relaxed);
       const bool trace = q.step_options() & mm::STEP_TRACE_HASH;
-      request.each_step = [conditions, steps_done, trace](const World& world) {
-        steps_done->store(steps_done->load(std::memory_order_relaxed) + 1,
-                          std::memory_order_relaxed);  // written here only
+      request.each_step = [conditions, steps_done, trace,
+                           first_step = std::move(first_step)](const World& world) {
+        const uint64_t done = steps_done->load(std::memory_order_relaxed) + 1;
+        steps_done->store(done, std::memory_order_relaxed);  // written here only
+        if (done == 1 && first_step) first_step();
         if (trace) conditions->trace(world);
       };
       request.hold_commands = q.step_options() & mm::STEP_HOLD_COMMANDS;

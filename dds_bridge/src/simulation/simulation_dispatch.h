@@ -51,6 +51,7 @@ std::optional<macsim_msgs::msg::dds_::SimulationReply_> dispatch_simulation(
     const macsim_msgs::msg::dds_::SimulationRequest_& request, Runner& runner,
     std::function<void(const macsim_msgs::msg::dds_::SimulationReply_&)> stepped,
     const LatestReadings& readings = {},
-    std::shared_ptr<std::atomic<uint64_t>> steps_done = nullptr);
+    std::shared_ptr<std::atomic<uint64_t>> steps_done = nullptr,
+    std::function<void()> first_step = {});
 
 }  // namespace macsim

@@ -193,14 +193,19 @@ void SimulationServer::execute(const Request& q) {
         cancelled_ = cancelled;
         send(cancelled);
       },
-      readings_, steps_done);
+      readings_, steps_done,
+      [this, q] {
+        // Taken, as it stands after its first step (the robot commands sent before it are
+        // written before this): a resumed simulator finishes it.
+        Request left = q;
+        left.steps(q.steps() - 1);
+        runner_.record_request({runner_.steps_run(), RecordedRequest::Kind::Taken, kSessionService,
+                                dds::to_wire<mm::SimulationRequest_PubSubType>(left)});
+      });
   if (reply) {
     send(*reply, q.command() == mm::SIM_STATUS || q.command() == mm::SIM_FEATURES);
     return;
   }
-  // Taken: a resumed simulator finishes it (it is on disk before its first step).
-  runner_.record_request({runner_.steps_run(), RecordedRequest::Kind::Taken, kSessionService,
-                          dds::to_wire<mm::SimulationRequest_PubSubType>(q)});
   stepping_ = q;
   progress_.update(q.client_id(), q.sequence_number(),
                    "stepping " + std::to_string(q.steps()) + " steps",
@@ -281,8 +286,8 @@ void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
     const auto& [recorded, answered] = entry;
     if (answered) continue;
     auto q = *dds::from_wire<mm::SimulationRequest_PubSubType>(recorded.bytes);
-    const uint64_t done = runner_.steps_run() - recorded.step;
-    if (done >= q.steps()) continue;  // its steps ran; its reply was lost with the process
+    // Its steps ran and its reply was lost with the process: a repeat is answered at once.
+    const uint64_t done = std::min<uint64_t>(runner_.steps_run() - recorded.step, q.steps());
     log::info(
         "macsim: step request {} of client {}, taken at step {}, goes on from step {} when "
         "its client sends it again ({} of its {} steps left)",
