@@ -51,6 +51,15 @@ void print_status(const macsim::World& world) {
   }
 }
 
+/// What parses the world a recorded load names, as the live run did (replay and resume).
+macsim::SessionWorldLoader session_world_loader(const macsim::Runner& runner, const Options& o) {
+  return [&runner, limits = o.limits()](const macsim::Command& c) {
+    const auto source = macsim::load_source(c);
+    return source ? macsim::world_parser(runner, limits, *source)
+                  : std::function<macsim::WorldSpec()>();
+  };
+}
+
 }  // namespace
 
 int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requests, double settle,
@@ -292,11 +301,7 @@ int replay(macsim::Runner& runner, const Options& o) {
                         return macsim::replay(c, world, runner.snapshots());
                       });
   runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
-  const auto load = [&runner, limits = o.limits()](const macsim::Command& c) {
-    const auto source = macsim::load_source(c);
-    return source ? macsim::world_parser(runner, limits, *source)
-                  : std::function<macsim::WorldSpec()>();
-  };
+  const auto load = session_world_loader(runner, o);
   const auto outcome = macsim::replay_session(*o.session, runner, load, o.session_files.get());
   std::printf("macsim: %s\n", outcome.message.c_str());
   return outcome.equal ? 0 : 1;
@@ -322,11 +327,7 @@ int resume(macsim::Runner& runner, const Options& o) {
                         return true;
                       });
   runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
-  const auto load = [&runner, limits = o.limits()](const macsim::Command& c) {
-    const auto source = macsim::load_source(c);
-    return source ? macsim::world_parser(runner, limits, *source)
-                  : std::function<macsim::WorldSpec()>();
-  };
+  const auto load = session_world_loader(runner, o);
   const auto start = std::chrono::steady_clock::now();
   const auto outcome = macsim::replay_session(session, runner, load, o.session_files.get());
   if (!outcome.equal) {

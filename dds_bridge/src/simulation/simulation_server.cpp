@@ -105,9 +105,7 @@ void SimulationServer::refuse_full(const Request& q) {
 bool SimulationServer::load_seen(const Request& r) {
   std::lock_guard<std::mutex> lock(loads_mutex_);
   const uint64_t use = ++load_uses_;
-  const std::string& client_id = r.client_id();
-  const uint64_t sequence = r.sequence_number();
-  auto seen = loads_seen_.find(client_id);
+  auto seen = loads_seen_.find(r.client_id());
   if (seen == loads_seen_.end()) {
     if (loads_seen_.size() >= kMaxLoadClients) {
       const auto oldest = std::min_element(
@@ -115,10 +113,11 @@ bool SimulationServer::load_seen(const Request& r) {
           [](const auto& a, const auto& b) { return a.second.use < b.second.use; });
       loads_seen_.erase(oldest);
     }
-    seen = loads_seen_.emplace(client_id, LoadsSeen{}).first;
+    seen = loads_seen_.emplace(r.client_id(), LoadsSeen{}).first;
   }
   LoadsSeen& loads = seen->second;
   loads.use = use;
+  const uint64_t sequence = r.sequence_number();
   if (loads.recent.count(sequence) || sequence <= loads.forgotten_through) return true;
   loads.recent.insert(sequence);
   if (loads.recent.size() > kLoadWindow) {

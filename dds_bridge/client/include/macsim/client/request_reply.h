@@ -179,7 +179,7 @@ class RequestReply {
     // The server that answered the last call is gone (killed, restarting), or another came
     // (restarted before the old one's lease ran out): a gap from here.
     std::optional<Clock::time_point> gone;
-    bool resent_to_new_ = false;  // what precedes a request to a new server went (below)
+    bool new_server_prepared = false;  // what precedes a request to a new server went (below)
     if (patience_ > std::chrono::milliseconds::zero() && served_.load() &&
         (requests_.matched() == 0 || replies_.matched() == 0 ||
          requests_.matched_ever() != served_by_.load())) {
@@ -192,7 +192,7 @@ class RequestReply {
     }
     if (gone) {
       if (before_resend_) before_resend_();
-      resent_to_new_ = true;
+      new_server_prepared = true;
       deadline = Clock::now() + timeout;  // the call's time starts once the server is back
     }
     request.client_id(client_id_);
@@ -255,9 +255,10 @@ class RequestReply {
           // A server matched since the last reply (restarted while the old one still looks
           // matched): a gap; what must precede the request goes first.
           const bool new_server = patience_ > std::chrono::milliseconds::zero() && served_.load() &&
-                                  !resent_to_new_ && requests_.matched_ever() != served_by_.load();
+                                  !new_server_prepared &&
+                                  requests_.matched_ever() != served_by_.load();
           if (new_server) {
-            resent_to_new_ = true;
+            new_server_prepared = true;
             if (!gone) {
               gone = now;
               say_gone();
