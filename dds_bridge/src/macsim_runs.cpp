@@ -133,6 +133,7 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     bridge_options.camera_rate = o.camera_rate;
     bridge_options.robot_frames = o.robot_frames;
     bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
+    bridge_options.lockstep = o.lockstep;
     if (bridge_options.cameras &&
         (!macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
                                         &bridge_options.camera.height) ||

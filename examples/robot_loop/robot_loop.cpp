@@ -18,17 +18,22 @@ namespace mm = macsim_msgs::msg::dds_;
 constexpr double kTurnRate = 0.6;  // rad/s
 constexpr const char* kLog = "robot loop";  // what its messages begin with
 
+/// A lock-step simulator sends each sample once: read reliably, so none is lost on a network.
+macsim::dds::QosFamily reading(const LoopOptions& options) {
+  return options.lockstep ? macsim::dds::QosFamily::LockstepSensor : macsim::dds::QosFamily::Sensor;
+}
+
 }  // namespace
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& options)
     : loop_options_(options),
-      drive_(participant, options.robot),
-      crane_(participant, options.robot),
-      cameras_(participant, options.robot),
-      laser_(participant, options.robot),
-      imu_(participant, options.robot) {
+      drive_(participant, options.robot, reading(options)),
+      crane_(participant, options.robot, reading(options)),
+      cameras_(participant, options.robot, reading(options)),
+      laser_(participant, options.robot, true, reading(options)),
+      imu_(participant, options.robot, reading(options)) {
   if (options.lockstep) {
     simulation_ = std::make_unique<macsim::client::SimulationClient>(participant);
     // A simulator that went away during a step comes back (macsim --resume) with every

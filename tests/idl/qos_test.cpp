@@ -100,8 +100,9 @@ std::set<std::string> qos_profiles_of(const std::string& path) {
 
 TEST(QosFamilies, AreWrittenOnceInQosXmlAndNoDeploymentRepeatsThem) {
   std::set<std::string> expected;
-  for (auto family : {dds::QosFamily::Command, dds::QosFamily::Sensor, dds::QosFamily::State,
-                      dds::QosFamily::Latched, dds::QosFamily::Request}) {
+  for (auto family :
+       {dds::QosFamily::Command, dds::QosFamily::Sensor, dds::QosFamily::State,
+        dds::QosFamily::Latched, dds::QosFamily::Request, dds::QosFamily::LockstepSensor}) {
     expected.insert(std::string("data_writer ") + dds::profile_name(family));
     expected.insert(std::string("data_reader ") + dds::profile_name(family));
   }

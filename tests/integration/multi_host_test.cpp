@@ -16,7 +16,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -106,17 +108,17 @@ class TwoHosts : public ::testing::Test {
   }
 
   /// Drops `percent` % of the UDP packets host `ns` receives over the link, at random
-  /// (nftables; 0 removes the rule). False if nft is missing or refused.
+  /// (nftables; 0 removes the rule, 100 cuts the link). False if nft is missing or refused.
   bool lose(const std::string& ns, int percent) const {
     const std::string nft = ip_ + " netns exec " + ns + " nft ";
     run(nft + "delete table inet macsim_loss");
     if (percent == 0) return true;
+    const std::string some =
+        percent >= 100 ? "" : "numgen random mod 100 '<' " + std::to_string(percent) + " ";
     return run(nft + "add table inet macsim_loss") &&
            run(nft + "'add chain inet macsim_loss in { type filter hook input priority 0; }'") &&
-           run(nft +
-               "add rule inet macsim_loss in iifname != lo meta l4proto udp numgen random "
-               "mod 100 '<' " +
-               std::to_string(percent) + " drop");
+           run(nft + "add rule inet macsim_loss in iifname != lo meta l4proto udp " + some +
+               "drop");
   }
 
   /// What a controller on host b sees in `seconds`: odometry samples (best effort) and the
@@ -196,6 +198,106 @@ class TwoHosts : public ::testing::Test {
     return seen;
   }
 
+  /// What a lock-step controller on host b saw (lockstep_from_b()).
+  struct Stepped {
+    int answered = 0;      // step requests answered
+    uint64_t steps = 0;    // the simulator's step count in the last reply
+    uint64_t trace = 0;    // every reply's state hash, mixed in order
+    double median_ms = 0;  // a step request's round trip
+    double p95_ms = 0;
+    double seconds = 0;      // the whole run's wall time
+    int gaps = 0;            // times the client rode out a simulator gone
+    double gap_seconds = 0;  // the longest
+    uint64_t gap_step = 0;   // the step its first reply after that gap said
+  };
+  /// A lock-step controller on host b, a participant of its own: a twist, 10 step requests of
+  /// `kStepsPerRequest`, then one byte on the pipe (the caller's `ready` runs then), then
+  /// `requests` more `pace` apart, another twist and 10 more. It rides out a simulator gone for
+  /// up to 60 s (the client's restart patience) and keeps the gaps.
+  static constexpr int kStepsPerRequest = 20;
+  Stepped lockstep_from_b(int requests, std::chrono::milliseconds pace,
+                          const std::function<void()>& ready = {}) const {
+    int out[2];
+    if (pipe(out) != 0) return {};
+    const pid_t child = fork();
+    if (child == 0) {
+      close(out[0]);
+      const int ns = open(("/var/run/netns/" + host_b_).c_str(), O_RDONLY);
+      if (ns < 0 || setns(ns, CLONE_NEWNET) != 0) _exit(3);
+      Stepped seen;
+      const auto start = std::chrono::steady_clock::now();
+      {
+        dds::Participant participant({domain_, "", "lockstep_probe"});
+        client::SimulationClient sim(participant);
+        client::RobotClient kurt(participant, "kurt");
+        const auto commander = [&] {
+          for (int i = 0; i < 600 && !kurt.commander_matched(); ++i)
+            std::this_thread::sleep_for(50ms);
+        };
+        sim.set_restart_patience(60s, commander);
+        if (!sim.wait_for_server(60s)) _exit(4);
+        commander();
+        std::vector<double> round_trips;
+        const auto phase = [&](std::optional<std::pair<double, double>> twist, int n,
+                               std::chrono::milliseconds gap) {
+          if (twist) {
+            // Sent until surely taken (at this step: nothing steps meanwhile), then delivered.
+            for (int i = 0; i < 10; ++i) {
+              kurt.drive(twist->first, twist->second);
+              std::this_thread::sleep_for(50ms);
+            }
+            kurt.wait_delivered(30s);
+          }
+          for (int i = 0; i < n; ++i) {
+            const auto sent = std::chrono::steady_clock::now();
+            const auto reply = sim.step(kStepsPerRequest, 90s);
+            round_trips.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent)
+                    .count());
+            if (reply && reply->code() == macsim_msgs::msg::dds_::ERR_OK) {
+              ++seen.answered;
+              seen.steps = reply->steps();
+              seen.trace = (seen.trace ^ reply->state_hash()) * 0x100000001b3ULL;
+            }
+            if (gap.count() > 0) std::this_thread::sleep_for(gap);
+          }
+        };
+        phase(std::pair{0.2, 0.3}, 10, 0ms);
+        const char byte = 'r';
+        if (write(out[1], &byte, 1) != 1) _exit(5);
+        phase(std::nullopt, requests, pace);
+        phase(std::pair{0.15, -0.2}, 10, 0ms);
+        std::sort(round_trips.begin(), round_trips.end());
+        if (!round_trips.empty()) {
+          seen.median_ms = round_trips[round_trips.size() / 2];
+          seen.p95_ms = round_trips[round_trips.size() * 95 / 100];
+        }
+        for (const auto& gap : sim.gaps()) {
+          if (seen.gaps++ == 0) seen.gap_step = gap.step.value_or(0);
+          seen.gap_seconds = std::max(seen.gap_seconds, gap.seconds);
+        }
+      }
+      seen.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const bool written = write(out[1], &seen, sizeof seen) == sizeof seen;
+      _exit(written ? 0 : 5);
+    }
+    close(out[1]);
+    Stepped seen;
+    char byte = 0;
+    if (read(out[0], &byte, 1) == 1 && ready) ready();
+    if (read(out[0], &seen, sizeof seen) != sizeof seen) seen = {};
+    close(out[0]);
+    int status = 0;
+    waitpid(child, &status, 0);
+    return seen;
+  }
+  /// macsim on host a, in lock-step, on `world`.
+  std::vector<std::string> lockstep_macsim(const std::string& world) const {
+    return on(host_a_, {bin("macsim"), "--world", source(world), "--domain",
+                        std::to_string(domain_), "--lockstep", "--cameras", "off"});
+  }
+
   int domain_ = 0;
   std::string ip_, host_a_, host_b_, address_a_, address_b_;
   bool created_ = false;
@@ -257,6 +359,130 @@ TEST_F(TwoHosts, UnderPacketLossReliableTopicsLoseNothingAndSensorsDegradeByTheL
     EXPECT_LT(kept, 1.0 - percent / 100.0 + 0.08);
   }
   EXPECT_TRUE(sim.running()) << sim.output();
+}
+
+/// A CSV's lines without their last two columns (the trial's instance and wall time).
+std::vector<std::string> rows_without_wall_time(const std::string& path) {
+  std::vector<std::string> rows;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    const auto last = line.rfind(',');
+    const auto instance = last == std::string::npos ? last : line.rfind(',', last - 1);
+    rows.push_back(line.substr(0, instance));
+  }
+  return rows;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+TEST_F(TwoHosts, UnderPacketLossLockstepResultsAreBitIdenticalAndControllersStillArrive) {
+  // At each loss rate, on both hosts' receiving side: affordance trials in lock-step (their
+  // rows, hashes and step counts included, equal to the loss-free run's), a lock-step
+  // controller's 220 step requests (every reply's hash equal, the step count exact: no request
+  // ran twice or was lost), and helloKurt against a real-time simulator.
+  ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
+  TempDir dir("lossy_hosts_");
+  std::vector<std::string> reference_rows;
+  Stepped reference;
+  double reference_trials = 0, reference_hello = 0;
+  for (int percent : {0, 5, 20}) {
+    SCOPED_TRACE(std::to_string(percent) + " % loss");
+    ASSERT_TRUE(lose(host_a_, percent) && lose(host_b_, percent)) << "nft refused the rules";
+    double trials_seconds = 0, hello_seconds = 0;
+    std::vector<std::string> rows;
+    {
+      ChildProcess sim(
+          on(host_a_, {bin("macsim"), "--world", source("worlds/affordance_trials.xml"), "--domain",
+                       std::to_string(domain_), "--lockstep", "--camera-rate", "1.25"}));
+      ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+      const std::string csv = dir.path() + "/rows" + std::to_string(percent) + ".csv";
+      const auto start = std::chrono::steady_clock::now();
+      ChildProcess trials(
+          on(host_b_, {bin("affordance_trials"), "--attach", std::to_string(domain_), "--trials",
+                       "3", "--seed", "4", "--out", csv}));
+      ASSERT_EQ(trials.wait_for_exit(180s), 0) << trials.output() << sim.output();
+      trials_seconds = seconds_since(start);
+      rows = rows_without_wall_time(csv);
+      ASSERT_EQ(rows.size(), 4u) << trials.output();  // the header and three rows
+    }
+    Stepped stepped;
+    {
+      ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
+      ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+      stepped = lockstep_from_b(200, 0ms);
+      EXPECT_EQ(stepped.answered, 220) << sim.output();
+      EXPECT_EQ(stepped.steps, 220u * kStepsPerRequest) << "a step request lost or run twice";
+      EXPECT_EQ(stepped.gaps, 0);
+    }
+    {
+      ChildProcess sim(macsim());
+      ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+      const auto start = std::chrono::steady_clock::now();
+      ChildProcess controller(hello_kurt("60"));
+      EXPECT_EQ(controller.wait_for_exit(120s), 0) << controller.output() << sim.output();
+      hello_seconds = seconds_since(start);
+      EXPECT_NE(controller.output().find("arrived"), std::string::npos) << controller.output();
+    }
+    lose(host_a_, 0);
+    lose(host_b_, 0);
+    if (percent == 0) {
+      reference_rows = rows;
+      reference = stepped;
+      reference_trials = trials_seconds;
+      reference_hello = hello_seconds;
+    } else {
+      EXPECT_EQ(rows, reference_rows) << "a trial's result differs from the loss-free run's";
+      EXPECT_EQ(stepped.trace, reference.trace) << "a step reply's hash differs";
+    }
+    std::printf(
+        "loss %2d %%: 3 lock-step trials %.2f s (%.2fx loss-free), step round trip median %.2f "
+        "ms, p95 %.2f ms (%.2fx loss-free median), helloKurt %.2f s (%.2fx)\n",
+        percent, trials_seconds, trials_seconds / reference_trials, stepped.median_ms,
+        stepped.p95_ms, stepped.median_ms / reference.median_ms, hello_seconds,
+        hello_seconds / reference_hello);
+  }
+}
+
+TEST_F(TwoHosts, APartitionOfTenSecondsIsReportedAsAGapAndTheWorkGoesOnUnchanged) {
+  // A lock-step controller on host b; the link cut both ways for 10 s (longer than the 5 s
+  // lease: each side sees the other leave) while it steps. Its client says the simulator was
+  // gone and back, sends the request it was waiting on again (answered once: the simulator
+  // keeps its replies), and every reply's hash and the step count equal a run never cut.
+  ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
+  Stepped reference;
+  {
+    ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
+    ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+    reference = lockstep_from_b(600, 0ms);
+    ASSERT_EQ(reference.answered, 620) << sim.output();
+    ASSERT_EQ(reference.gaps, 0);
+  }
+  ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
+  ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
+  bool cut = false;
+  const Stepped healed = lockstep_from_b(600, 25ms, [&] {
+    std::this_thread::sleep_for(2s);
+    cut = lose(host_a_, 100) && lose(host_b_, 100);
+    std::this_thread::sleep_for(10s);
+    lose(host_a_, 0);
+    lose(host_b_, 0);
+  });
+  ASSERT_TRUE(cut) << "nft refused the rules";
+  EXPECT_EQ(healed.answered, 620) << sim.output();
+  EXPECT_EQ(healed.steps, reference.steps) << "a step request lost or run twice";
+  EXPECT_EQ(healed.trace, reference.trace) << "a step reply's hash differs";
+  EXPECT_EQ(healed.gaps, 1) << "the client did not report the partition as one gap";
+  EXPECT_GT(healed.gap_seconds, 1.0);
+  EXPECT_LT(healed.gap_seconds, 30.0);
+  EXPECT_GT(healed.gap_step, 10u * kStepsPerRequest);
+  EXPECT_TRUE(sim.running()) << sim.output();
+  std::printf(
+      "10 s partition: the client was told of a gap of %.1f s (back at step %llu); "
+      "%d of 620 step requests answered, the run took %.1f s\n",
+      healed.gap_seconds, static_cast<unsigned long long>(healed.gap_step), healed.answered,
+      healed.seconds);
 }
 
 TEST_F(TwoHosts, ThroughADiscoveryServerAndNotWithoutIt) {

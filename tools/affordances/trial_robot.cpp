@@ -170,13 +170,16 @@ struct TrialRobot::Impl {
   explicit Impl(const InstanceOptions& options)
       : o(options),
         participant({options.domain, options.profile, "affordance_trials"}),
-        drive(participant, options.robot),
-        crane(participant, options.robot),
-        cameras(participant, options.robot),
-        laser(participant, options.robot, true),
+        drive(participant, options.robot, kReading),
+        crane(participant, options.robot, kReading),
+        cameras(participant, options.robot, kReading),
+        laser(participant, options.robot, true, kReading),
         supervisor(participant),
         simulation(participant),
-        truth(participant, macsim::dds::topics::ground_truth(options.robot)) {}
+        truth(participant, macsim::dds::topics::ground_truth(options.robot), kReading) {}
+  /// A lock-step simulator sends each sample once, at a request's end: read reliably, so that
+  /// one lost on a network is sent again.
+  static constexpr auto kReading = macsim::dds::QosFamily::LockstepSensor;
 
   InstanceOptions o;
   macsim::dds::Participant participant;
@@ -364,6 +367,14 @@ struct TrialRobot::Impl {
     // Nothing of the last trial acts after the reset, however late DDS delivers it: the
     // request names the last command of each writer, and the simulator drops them.
     call(sv::reset(mm::RESET_EVERYTHING), "reset");
+    // Sim time starts again at 0: a sample of the last trial could pass for one of this
+    // trial's with the same stamp until this trial's came (a network slow to repair a loss).
+    // Each topic's samples come in order, and the last trial read its last images and clouds.
+    drive.forget_odometry();
+    crane.forget();
+    cameras.forget();
+    laser.forget();
+    truth.forget();
     now = 0;
     trace = 0;
     speed = 0;

@@ -8,19 +8,19 @@
 
 namespace macsim::client {
 
-RobotClient::RobotClient(dds::Participant& participant, const std::string& robot_name)
+RobotClient::RobotClient(dds::Participant& participant, const std::string& robot_name,
+                         dds::QosFamily reading)
     : robot_name_(robot_name),
       cmd_vel_(participant, dds::topics::cmd_vel(robot_name)),
       wheel_speeds_(participant, dds::topics::wheel_speeds(robot_name)),
-      odom_(participant, dds::topics::odom(robot_name), dds::QosFamily::Sensor,
-            [this](const Odometry& odom) {
-              {
-                std::lock_guard<std::mutex> lock(mutex_);
-                latest_ = odom;
-                ++received_;
-              }
-              arrived_.notify_all();
-            }) {}
+      odom_(participant, dds::topics::odom(robot_name), reading, [this](const Odometry& odom) {
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          latest_ = odom;
+          ++received_;
+        }
+        arrived_.notify_all();
+      }) {}
 
 bool RobotClient::drive(double linear, double angular) {
   return cmd_vel_.write(dds::planar_twist(linear, angular));
@@ -60,6 +60,11 @@ RobotClient::Next RobotClient::next_odometry(std::chrono::milliseconds silence,
 std::optional<RobotClient::Odometry> RobotClient::latest_odometry() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return latest_;
+}
+
+void RobotClient::forget_odometry() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  latest_.reset();
 }
 
 }  // namespace macsim::client

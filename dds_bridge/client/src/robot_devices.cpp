@@ -19,10 +19,10 @@ double stamp_seconds(const std_msgs::msg::dds_::Header_& header) {
 
 // ---- crane ---------------------------------------------------------------------------------
 
-Crane::Crane(dds::Participant& participant, const std::string& robot_name)
+Crane::Crane(dds::Participant& participant, const std::string& robot_name, dds::QosFamily reading)
     : command_(participant, dds::topics::crane_command(robot_name)),
       magnet_(participant, dds::topics::crane_magnet(robot_name)),
-      state_(participant, dds::topics::crane_state(robot_name)) {}
+      state_(participant, dds::topics::crane_state(robot_name), reading) {}
 
 bool Crane::command(double slew, double lift, double hoist) {
   km::CraneCommand_ c;
@@ -64,10 +64,11 @@ cv::Mat to_bgr(const sm::Image_& image) {
   return bgr;
 }
 
-StereoCamera::StereoCamera(dds::Participant& participant, const std::string& robot_name)
-    : left_(participant, dds::topics::image(robot_name, "left")),
-      right_(participant, dds::topics::image(robot_name, "right")),
-      right_info_(participant, dds::topics::camera_info(robot_name, "right")) {}
+StereoCamera::StereoCamera(dds::Participant& participant, const std::string& robot_name,
+                           dds::QosFamily reading)
+    : left_(participant, dds::topics::image(robot_name, "left"), reading),
+      right_(participant, dds::topics::image(robot_name, "right"), reading),
+      right_info_(participant, dds::topics::camera_info(robot_name, "right"), reading) {}
 
 std::optional<StereoFrame> StereoCamera::latest(double after) const {
   const auto left = left_.get();
@@ -117,10 +118,11 @@ std::optional<StereoFrame> StereoCamera::wait(double after,
 
 // ---- laser ---------------------------------------------------------------------------------
 
-Laser::Laser(dds::Participant& participant, const std::string& robot_name, bool rotating)
+Laser::Laser(dds::Participant& participant, const std::string& robot_name, bool rotating,
+             dds::QosFamily reading)
     : rot_vel_(participant, dds::topics::rot_vel(robot_name)),
-      scan_(participant, dds::topics::scan(robot_name, rotating)),
-      points_(participant, dds::topics::points(robot_name)) {}
+      scan_(participant, dds::topics::scan(robot_name, rotating), reading),
+      points_(participant, dds::topics::points(robot_name), reading) {}
 
 bool Laser::rotate(double speed) { return rot_vel_.write(dds::planar_twist(0.0, speed)); }
 
@@ -160,20 +162,20 @@ Cloud to_cloud(const sm::PointCloud2_& message) {
 
 // ---- ranges and IMU ------------------------------------------------------------------------
 
-RangeSensors::RangeSensors(dds::Participant& participant, const std::string& robot_name)
-    : reader_(participant, dds::topics::range(robot_name), dds::QosFamily::Sensor,
-              [this](const sm::Range_& r) {
-                std::lock_guard<std::mutex> lock(mutex_);
-                latest_[r.header().frame_id()] = r.range();
-              }) {}
+RangeSensors::RangeSensors(dds::Participant& participant, const std::string& robot_name,
+                           dds::QosFamily reading)
+    : reader_(participant, dds::topics::range(robot_name), reading, [this](const sm::Range_& r) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        latest_[r.header().frame_id()] = r.range();
+      }) {}
 
 std::map<std::string, double> RangeSensors::latest() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return latest_;
 }
 
-Imu::Imu(dds::Participant& participant, const std::string& robot_name)
-    : imu_(participant, dds::topics::imu(robot_name)) {}
+Imu::Imu(dds::Participant& participant, const std::string& robot_name, dds::QosFamily reading)
+    : imu_(participant, dds::topics::imu(robot_name), reading) {}
 
 std::optional<double> Imu::yaw() const {
   const auto imu = imu_.get();

@@ -105,22 +105,23 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     : runner_(runner),
       options_(options),
       clock_(new Clock{{participant, dds::topics::kClock, QosFamily::State}}) {
+  const QosFamily sensors = options_.lockstep ? QosFamily::LockstepSensor : QosFamily::Sensor;
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     const std::string frames = options_.robot_frames ? name + "/" : "";
     auto topics = std::make_unique<RobotTopics>(
-        participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped});
+        participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped, sensors});
     const auto stereo = robot->cameras();  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
       t->left_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(
-          participant, dds::topics::image(name, "left"), QosFamily::Sensor);
+          participant, dds::topics::image(name, "left"), sensors);
       t->right_image = std::make_unique<dds::Writer<sm::Image_PubSubType>>(
-          participant, dds::topics::image(name, "right"), QosFamily::Sensor);
+          participant, dds::topics::image(name, "right"), sensors);
       t->left_info = std::make_unique<dds::Writer<sm::CameraInfo_PubSubType>>(
-          participant, dds::topics::camera_info(name, "left"), QosFamily::Sensor);
+          participant, dds::topics::camera_info(name, "left"), sensors);
       t->right_info = std::make_unique<dds::Writer<sm::CameraInfo_PubSubType>>(
-          participant, dds::topics::camera_info(name, "right"), QosFamily::Sensor);
+          participant, dds::topics::camera_info(name, "right"), sensors);
       const render::CameraIntrinsics in = options_.camera;
       const double baseline = stereo->baseline();
       // Runs on the render thread: writers are thread-safe, the world is never touched.

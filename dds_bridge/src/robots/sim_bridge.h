@@ -21,6 +21,7 @@ struct BridgeOptions {
   double camera_rate = 15.0;        ///< Hz of sim time
   bool robot_frames = false;        ///< frame ids start with "<robot>/" (several robots, one tree)
   bool cmd_vel_stamped = false;     ///< cmd_vel as geometry_msgs/TwistStamped
+  bool lockstep = false;            ///< sensor data sent reliably (QosFamily::LockstepSensor)
 };
 
 /// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's

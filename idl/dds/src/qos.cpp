@@ -45,6 +45,8 @@ const char* profile_name(QosFamily family) {
       return "macsim_latched";
     case QosFamily::Request:
       return "macsim_request";
+    case QosFamily::LockstepSensor:
+      return "macsim_lockstep_sensor";
   }
   return "";
 }

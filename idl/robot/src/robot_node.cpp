@@ -66,7 +66,7 @@ bool finite(std::initializer_list<double> values) {
 
 template <class T>
 std::unique_ptr<dds::Writer<T>> writer_if(bool has, dds::Participant& p, const std::string& topic,
-                                          QosFamily family = QosFamily::Sensor) {
+                                          QosFamily family) {
   return has ? std::make_unique<dds::Writer<T>>(p, topic, family) : nullptr;
 }
 
@@ -160,7 +160,7 @@ struct RobotNode::Topics {
   // A plug-in's own commands (Capabilities::commands).
   std::vector<std::unique_ptr<dds::Reader<sd::Float64MultiArray_PubSubType>>> own_commands;
 
-  Topics(dds::Participant& p, const std::string& robot, const Capabilities& c)
+  Topics(dds::Participant& p, const std::string& robot, const Capabilities& c, QosFamily sensors)
       : name(robot),
         has(c),
         tf(p, dds::topics::kTf, QosFamily::State),
@@ -169,11 +169,12 @@ struct RobotNode::Topics {
         joint_states(p, dds::topics::joint_states(robot), QosFamily::State),
         ground_truth(writer_if<nm::Odometry_PubSubType>(
             c.ground_truth, p, dds::topics::ground_truth(robot), QosFamily::State)),
-        range(writer_if<sm::Range_PubSubType>(c.ranges, p, dds::topics::range(robot))),
+        range(writer_if<sm::Range_PubSubType>(c.ranges, p, dds::topics::range(robot), sensors)),
         imu(writer_if<sm::Imu_PubSubType>(c.imu, p, dds::topics::imu(robot), QosFamily::State)),
-        scan(writer_if<sm::LaserScan_PubSubType>(c.laser, p,
-                                                 dds::topics::scan(robot, c.laser_rotating))),
-        points(writer_if<sm::PointCloud2_PubSubType>(c.points, p, dds::topics::points(robot))),
+        scan(writer_if<sm::LaserScan_PubSubType>(
+            c.laser, p, dds::topics::scan(robot, c.laser_rotating), sensors)),
+        points(writer_if<sm::PointCloud2_PubSubType>(c.points, p, dds::topics::points(robot),
+                                                     sensors)),
         crane_state(writer_if<km::CraneState_PubSubType>(
             c.crane, p, dds::topics::crane_state(robot), QosFamily::State)) {}
 };
@@ -183,7 +184,7 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     : robot_(robot),
       options_(std::move(options)),
       frames_(robot.frames()),
-      topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities())),
+      topics_(std::make_unique<Topics>(p, robot.name(), robot.capabilities(), options_.sensors)),
       outbox_(std::make_unique<Outbox>()),
       held_(std::make_unique<Held>()) {
   Topics& t = *topics_;

@@ -43,6 +43,12 @@ class Latest {
     std::lock_guard<std::mutex> lock(mutex_);
     return latest_;
   }
+  /// Forgets the latest sample (after a world reset sim time starts again, so stamps repeat);
+  /// count() goes on.
+  void forget() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    latest_.reset();
+  }
   /// How many samples came so far.
   uint64_t count() const {
     std::lock_guard<std::mutex> lock(mutex_);

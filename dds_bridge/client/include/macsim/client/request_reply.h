@@ -142,7 +142,8 @@ class RequestReply {
   /// Asked at least every 100 ms while a call waits: true gives up at once (a Ctrl-C).
   using Interrupted = std::function<bool()>;
 
-  /// A server that goes away during a call (killed, restarting: macsim --resume) is waited
+  /// A server that goes away during a call (killed, restarting: macsim --resume; or a network
+  /// partition longer than the participants' lease) is waited
   /// for up to `patience`, then the same request is sent again (a resumed simulator answers
   /// what it answered before, finishes a step request it had begun, runs nothing twice);
   /// `before_resend` runs first (e.g. to send the set-points again). Each such gap is said on
@@ -376,8 +377,8 @@ class RequestReply {
 
   void say_gone() const {
     log::warn(
-        "macsim client: the server of {} went away (killed or restarting?); waiting up to "
-        "{:.0f} s for it to come back",
+        "macsim client: the server of {} went away (killed, restarting, or the network cut?); "
+        "waiting up to {:.0f} s for it to come back",
         requests_.topic_name(), seconds(patience_));
   }
 

@@ -24,7 +24,9 @@ class RobotClient {
  public:
   using Odometry = nav_msgs::msg::dds_::Odometry_;
 
-  RobotClient(dds::Participant& participant, const std::string& robot_name);
+  /// `reading`: the QoS family of its odometry reader, as Crane's (robot_devices.h).
+  RobotClient(dds::Participant& participant, const std::string& robot_name,
+              dds::QosFamily reading = dds::QosFamily::Sensor);
 
   /// Publishes a velocity command (m/s forward, rad/s counter-clockwise) on cmd_vel.
   /// The robot stops by itself 0.6 s after the last command, so repeat it while moving.
@@ -53,6 +55,9 @@ class RobotClient {
   Next next_odometry(std::chrono::milliseconds silence, std::chrono::milliseconds patience);
   /// The latest odometry received, if any.
   std::optional<Odometry> latest_odometry() const;
+  /// Forgets the odometry received so far (after a world reset sim time starts again, so
+  /// stamps repeat).
+  void forget_odometry();
   /// Odometry writers matched so far, those gone included (a simulator restarted brings a new
   /// one).
   int odometry_writers_seen() const { return odom_.matched_ever(); }

@@ -25,13 +25,18 @@ class Crane {
  public:
   using State = kurt_msgs::msg::dds_::CraneState_;
 
-  Crane(dds::Participant& participant, const std::string& robot_name);
+  /// `reading`: the QoS family of its readers: Sensor (best effort, matches every server) or
+  /// LockstepSensor (reliable: a lock-step simulator's samples, each sent once, never lost).
+  Crane(dds::Participant& participant, const std::string& robot_name,
+        dds::QosFamily reading = dds::QosFamily::Sensor);
   /// Joint targets: slew (rad, counter-clockwise), lift (rad, tip up), hoist (m below the tip).
   bool command(double slew, double lift, double hoist);
   /// Switches the magnet; off drops what it holds.
   bool magnet(bool on);
   /// The latest crane state (joints as measured, magnet, what it holds), if any came.
   std::optional<State> state() const { return state_.get(); }
+  /// Forgets the states received so far (Latest::forget()).
+  void forget() { state_.forget(); }
   /// True once the robot's crane and magnet readers are matched.
   bool matched() const { return command_.matched() > 0 && magnet_.matched() > 0; }
   /// The most readers one of its command writers has matched (a killed simulator's count
@@ -58,11 +63,18 @@ struct StereoFrame {
 /// The two cameras of a stereo pair.
 class StereoCamera {
  public:
-  StereoCamera(dds::Participant& participant, const std::string& robot_name);
+  /// `reading`: as Crane's.
+  StereoCamera(dds::Participant& participant, const std::string& robot_name,
+               dds::QosFamily reading = dds::QosFamily::Sensor);
   /// The newest pair whose two images share a stamp later than `after` (s), if one came.
   std::optional<StereoFrame> latest(double after = -1.0) const;
   /// Waits up to `timeout` for a pair later than `after`.
   std::optional<StereoFrame> wait(double after, std::chrono::milliseconds timeout) const;
+  /// Forgets the images received so far (Latest::forget()).
+  void forget() {
+    left_.forget();
+    right_.forget();
+  }
   /// One eye's images as they come ("left" or "right"; anything else: std::invalid_argument).
   const Latest<sensor_msgs::msg::dds_::Image_PubSubType>& eye(const std::string& side) const;
 
@@ -87,13 +99,20 @@ class Laser {
   using Scan = sensor_msgs::msg::dds_::LaserScan_;
 
   /// `rotating`: the scanner turns on a rotating unit (scan360); otherwise fixed (scan).
-  Laser(dds::Participant& participant, const std::string& robot_name, bool rotating = true);
+  /// `reading`: as Crane's.
+  Laser(dds::Participant& participant, const std::string& robot_name, bool rotating = true,
+        dds::QosFamily reading = dds::QosFamily::Sensor);
   /// Turns the rotating unit at `speed` rad/s (0 stops it; a cloud comes once per turn).
   bool rotate(double speed);
   bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
     return rot_vel_.wait_acknowledged(timeout);
   }
   std::optional<Scan> scan() const { return scan_.get(); }
+  /// Forgets the scans and clouds received so far (Latest::forget()); clouds() goes on.
+  void forget() {
+    scan_.forget();
+    points_.forget();
+  }
   /// The latest cloud with a stamp later than `after` (s), decoded, if one came.
   std::optional<Cloud> cloud(double after = -1.0) const;
   /// How many clouds came so far.
@@ -116,7 +135,9 @@ Cloud to_cloud(const sensor_msgs::msg::dds_::PointCloud2_& message);
 /// The IR and sonar distance sensors, by frame.
 class RangeSensors {
  public:
-  RangeSensors(dds::Participant& participant, const std::string& robot_name);
+  /// `reading`: as Crane's.
+  RangeSensors(dds::Participant& participant, const std::string& robot_name,
+               dds::QosFamily reading = dds::QosFamily::Sensor);
   /// The latest reading of each sensor (m; the KURT reports -0.01 when invalid), by frame_id.
   std::map<std::string, double> latest() const;
 
@@ -130,7 +151,9 @@ class RangeSensors {
 class Imu {
  public:
   using Data = sensor_msgs::msg::dds_::Imu_;
-  Imu(dds::Participant& participant, const std::string& robot_name);
+  /// `reading`: as Crane's.
+  Imu(dds::Participant& participant, const std::string& robot_name,
+      dds::QosFamily reading = dds::QosFamily::Sensor);
   std::optional<Data> latest() const { return imu_.get(); }
   /// The latest yaw (rad, counter-clockwise), if any came.
   std::optional<double> yaw() const;

@@ -17,6 +17,9 @@ enum class QosFamily {
   Latched,  ///< state a late joiner must see: reliable, transient local, keep last 1
   Request,  ///< requests and replies of a service: command's, without data sharing (a killed
             ///< peer's reader would hold the writer's samples until its lease ran out)
+  LockstepSensor,  ///< sensor data of a lock-step simulator: sensor's, but reliable (a sample
+                   ///< sent once, at a request's end, is repaired when lost; SensorDataQoS
+                   ///< readers still match); a reader of it reads state topics reliably too
 };
 
 /// The XML profile name of a family's data writers and readers ("macsim_command", ...).

@@ -24,6 +24,9 @@ struct NodeOptions {
   std::string frame_prefix;
   /// cmd_vel as geometry_msgs/TwistStamped instead of Twist (Nav2 from ROS 2 Kilted on).
   bool cmd_vel_stamped = false;
+  /// The QoS family of its sensor writers (ranges, scans, clouds): LockstepSensor for a
+  /// lock-step simulator, whose samples are sent once each.
+  dds::QosFamily sensors = dds::QosFamily::Sensor;
 };
 
 /// Serves one robot over DDS.
