@@ -12,6 +12,7 @@
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/ros2_service.h"
+#include "macsim/msg/action_msgsPubSubTypes.h"
 #include "macsim/msg/rmw_dds_commonPubSubTypes.h"
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
 #include "support/child_process.h"
@@ -27,6 +28,8 @@ namespace si = simulation_interfaces::msg::dds_;
 namespace ss = simulation_interfaces::srv::dds_;
 namespace rc = si::Result_Constants;
 namespace st = si::SimulationState_Constants;
+namespace sa = simulation_interfaces::action::dds_;
+namespace am = action_msgs;
 
 namespace tag {  // each service as one type: its request and response types
 struct DeleteEntity {
@@ -355,6 +358,148 @@ TEST_F(SimulationInterfaces, WorldsAreListedAndLoadedAndBadOnesRefused) {
   EXPECT_NE(broken.result().error_message().find("resource_string.xml"), std::string::npos)
       << broken.result().error_message();
   EXPECT_EQ(call<tag::GetCurrentWorld>("get_current_world", {}).world().name(), "small_room");
+}
+
+/// A ROS 2 action client of SimulateSteps as rmw_fastrtps carries one: three services under
+/// /macsim/simulate_steps/_action/ and the feedback and status topics.
+struct SimulateStepsClient {
+  using Uuid = unique_identifier_msgs::msg::dds_::UUID_;
+  explicit SimulateStepsClient(dds::Participant& p)
+      : send_goal(p, std::string(kAction) + "send_goal"),
+        cancel_goal(p, std::string(kAction) + "cancel_goal"),
+        get_result(p, std::string(kAction) + "get_result"),
+        feedback(p, "rt/macsim/simulate_steps/_action/feedback", 100000, dds::QosFamily::State),
+        status(p, "rt/macsim/simulate_steps/_action/status", 100, dds::QosFamily::Latched) {}
+  bool ready() {
+    return send_goal.wait_for_service(10s) && cancel_goal.wait_for_service(10s) &&
+           get_result.wait_for_service(10s);
+  }
+  static Uuid id(uint8_t n) {
+    Uuid u;
+    u.uuid().fill(0x5a);
+    u.uuid()[15] = n;
+    return u;
+  }
+  bool send(uint8_t n, uint64_t steps) {
+    sa::SimulateSteps_SendGoal_Request_ q;
+    q.goal_id(id(n));
+    q.goal().steps(steps);
+    const auto r = send_goal.call(q, 10s);
+    return r && r->accepted();
+  }
+  sa::SimulateSteps_GetResult_Response_ result(uint8_t n, std::chrono::milliseconds timeout = 60s) {
+    sa::SimulateSteps_GetResult_Request_ q;
+    q.goal_id(id(n));
+    return get_result.call(q, timeout).value_or(sa::SimulateSteps_GetResult_Response_{});
+  }
+  std::optional<am::srv::dds_::CancelGoal_Response_> cancel(std::optional<uint8_t> n) {
+    am::srv::dds_::CancelGoal_Request_ q;
+    if (n) q.goal_info().goal_id(id(*n));
+    return cancel_goal.call(q, 10s);
+  }
+  /// The feedback of goal n, in order.
+  std::vector<sa::SimulateSteps_Feedback_> feedback_of(uint8_t n) {
+    std::vector<sa::SimulateSteps_Feedback_> of;
+    for (const auto& m : feedback.all())
+      if (m.goal_id().uuid() == id(n).uuid()) of.push_back(m.feedback());
+    return of;
+  }
+  static constexpr const char* kAction = "/macsim/simulate_steps/_action/";
+  dds::ServiceClient<sa::SimulateSteps_SendGoal_Request_PubSubType,
+                     sa::SimulateSteps_SendGoal_Response_PubSubType>
+      send_goal;
+  dds::ServiceClient<am::srv::dds_::CancelGoal_Request_PubSubType,
+                     am::srv::dds_::CancelGoal_Response_PubSubType>
+      cancel_goal;
+  dds::ServiceClient<sa::SimulateSteps_GetResult_Request_PubSubType,
+                     sa::SimulateSteps_GetResult_Response_PubSubType>
+      get_result;
+  Samples<sa::SimulateSteps_FeedbackMessage_PubSubType> feedback;
+  Samples<am::msg::dds_::GoalStatusArray_PubSubType> status;
+};
+
+TEST_F(SimulationInterfaces, SimulateStepsGivesProgressAndIsCancelledAtTheStepItReached) {
+  namespace gs = am::msg::dds_::GoalStatus_Constants;
+  namespace cg = am::srv::dds_::CancelGoal_Response_Constants;
+  const auto f =
+      call<tag::GetSimulatorFeatures>("get_simulator_features", {}).features().features();
+  EXPECT_EQ(std::count(f.begin(), f.end(), si::SimulatorFeatures_Constants::STEP_SIMULATION_ACTION),
+            1);
+  SimulateStepsClient action(*participant_);
+  ASSERT_TRUE(action.ready());
+
+  // Playing: accepted, then aborted saying why (the action's definition).
+  ASSERT_TRUE(action.send(1, 10));
+  const auto playing = action.result(1);
+  EXPECT_EQ(playing.status(), gs::STATUS_ABORTED);
+  EXPECT_EQ(playing.result().result().result(), rc::RESULT_OPERATION_FAILED);
+  EXPECT_NE(playing.result().result().error_message().find("playing"), std::string::npos);
+  EXPECT_FALSE(action.send(1, 10)) << "a goal id taken twice";
+
+  // Paused: 3,000 steps (small_room steps 1 ms) take the clock exactly 3 s on, with feedback
+  // that counts up to them.
+  ASSERT_EQ(set_state(st::STATE_PAUSED), rc::RESULT_OK);
+  const double before = dds::to_seconds(entity_state("kurt").state().header().stamp());
+  ASSERT_TRUE(action.send(2, 3000));
+  const auto done = action.result(2);
+  EXPECT_EQ(done.status(), gs::STATUS_SUCCEEDED);
+  EXPECT_EQ(done.result().result().result(), rc::RESULT_OK);
+  EXPECT_NEAR(dds::to_seconds(entity_state("kurt").state().header().stamp()) - before, 3.0, 1e-9);
+  ASSERT_TRUE(action.feedback.wait_for_count(2, 5s));
+  auto progress = action.feedback_of(2);
+  ASSERT_GE(progress.size(), 2u);
+  for (std::size_t i = 0; i < progress.size(); ++i) {
+    EXPECT_EQ(progress[i].completed_steps() + progress[i].remaining_steps(), 3000u);
+    if (i > 0) {
+      EXPECT_GT(progress[i].completed_steps(), progress[i - 1].completed_steps());
+    }
+  }
+  EXPECT_EQ(progress.front().completed_steps(), 0u);
+  EXPECT_EQ(progress.back().completed_steps(), 3000u);
+
+  // A billion steps, cancelled once they run: the result names the step reached, and the
+  // clock stops there.
+  ASSERT_TRUE(action.send(3, 1000000000));
+  const auto running = action.feedback.wait_for(
+      [&](const sa::SimulateSteps_FeedbackMessage_& m) {
+        return m.goal_id().uuid() == SimulateStepsClient::id(3).uuid() &&
+               m.feedback().completed_steps() > 1000;
+      },
+      30s);
+  ASSERT_TRUE(running.has_value()) << "no feedback of a running goal";
+  const auto cancelled = action.cancel(3);
+  ASSERT_TRUE(cancelled.has_value());
+  EXPECT_EQ(cancelled->return_code(), cg::ERROR_NONE);
+  ASSERT_EQ(cancelled->goals_canceling().size(), 1u);
+  EXPECT_EQ(cancelled->goals_canceling()[0].goal_id().uuid(), SimulateStepsClient::id(3).uuid());
+  const auto ended = action.result(3);
+  EXPECT_EQ(ended.status(), gs::STATUS_CANCELED);
+  const std::string why = ended.result().result().error_message();
+  EXPECT_NE(why.find("cancelled by its client after"), std::string::npos) << why;
+  EXPECT_NE(why.find("of 1000000000 steps"), std::string::npos) << why;
+  const double stopped = dds::to_seconds(entity_state("kurt").state().header().stamp());
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(dds::to_seconds(entity_state("kurt").state().header().stamp()), stopped);
+  EXPECT_LT(stopped - before, 3.0 + 1e6 * 0.001) << "a billion steps cannot have run";
+  EXPECT_EQ(state(), st::STATE_PAUSED);
+  // The status topic says what became of each goal.
+  const auto statuses = action.status.wait_for(
+      [](const am::msg::dds_::GoalStatusArray_& a) {
+        return a.status_list().size() == 3 && a.status_list()[2].status() == gs::STATUS_CANCELED;
+      },
+      5s);
+  ASSERT_TRUE(statuses.has_value());
+  EXPECT_EQ(statuses->status_list()[0].status(), gs::STATUS_ABORTED);
+  EXPECT_EQ(statuses->status_list()[1].status(), gs::STATUS_SUCCEEDED);
+
+  // Cancelling it again, or a goal never sent, says which.
+  EXPECT_EQ(action.cancel(3)->return_code(), cg::ERROR_GOAL_TERMINATED);
+  EXPECT_EQ(action.cancel(9)->return_code(), cg::ERROR_UNKNOWN_GOAL_ID);
+  EXPECT_EQ(action.result(9, 10s).status(), gs::STATUS_UNKNOWN);
+  // The simulation steps on request again.
+  ss::StepSimulation_Request_ one;
+  one.steps(1);
+  EXPECT_EQ(call<tag::StepSimulation>("step_simulation", one).result().result(), rc::RESULT_OK);
 }
 
 TEST_F(SimulationInterfaces, RosDiscoveryInfoNamesTheNodeAndItsEndpoints) {

@@ -364,6 +364,7 @@ ss::GetSimulatorFeatures_Response_ features() {
                              f::SIMULATION_STATE_PAUSE,
                              f::STEP_SIMULATION_SINGLE,
                              f::STEP_SIMULATION_MULTIPLE,
+                             f::STEP_SIMULATION_ACTION,
                              f::WORLD_LOADING,
                              f::WORLD_RESOURCE_STRING,
                              f::WORLD_INFO_GETTING,

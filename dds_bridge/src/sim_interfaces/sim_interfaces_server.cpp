@@ -270,9 +270,12 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
                                         "world files of this simulator name no poses");
   refuse<MACSIM_SERVICE(GetNamedPoseBounds)>("get_named_pose_bounds",
                                              "world files of this simulator name no poses");
+  simulate_steps_ = std::make_unique<SimulateStepsAction>(
+      participant_, runner_, kNamespace + std::string("simulate_steps"));
 }
 
 SimInterfacesServer::~SimInterfacesServer() {
+  simulate_steps_.reset();
   servers_.clear();
   runner_.set_executor(CommandSource::Ros2Service, {});  // what is still queued runs nowhere
 }
@@ -306,6 +309,8 @@ std::vector<std::string> SimInterfacesServer::service_names() {
     names.push_back(std::string(kNamespace) + line.substr(0, space) +
                     " (simulation_interfaces/srv/" + line.substr(space + 1) + ", ROS 2 service)");
   }
+  names.push_back(std::string(kNamespace) +
+                  "simulate_steps (simulation_interfaces/action/SimulateSteps, ROS 2 action)");
   return names;
 }
 

@@ -12,12 +12,14 @@
 #include "macsim/dds/ros2_service.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
+#include "sim_interfaces/simulate_steps_action.h"
 
 namespace macsim {
 
-/// Serves the 22 services of simulation_interfaces: each request runs on the simulation thread
-/// between two steps; a step request is answered once its steps are done, a load once the new
-/// world runs; the four this simulator has no use for answer RESULT_FEATURE_UNSUPPORTED.
+/// Serves the 22 services of simulation_interfaces and its action SimulateSteps: each request
+/// runs on the simulation thread between two steps; a step request is answered once its steps
+/// are done, a load once the new world runs; the four this simulator has no use for answer
+/// RESULT_FEATURE_UNSUPPORTED.
 class SimInterfacesServer {
  public:
   /// Worlds loaded on request are held to `limits`; `quit` ends macsim (STATE_QUITTING).
@@ -55,6 +57,7 @@ class SimInterfacesServer {
   std::vector<std::shared_ptr<void>> servers_;
   /// What runs each service's command on the simulation thread, by service name.
   std::map<std::string, std::function<bool(const Command&, World&)>> on_world_;
+  std::unique_ptr<SimulateStepsAction> simulate_steps_;  // progress and cancel of steps
 };
 
 }  // namespace macsim
