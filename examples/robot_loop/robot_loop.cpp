@@ -42,22 +42,36 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
     // given again in the middle of a step request would act at another step than it did.
     simulation_->set_restart_patience(
         std::chrono::milliseconds(static_cast<int64_t>(options.restart_patience * 1000)), [this] {
-          // The new simulator's data must reach this loop: its odometry writer matched (the
-          // rest of its endpoints come in the same exchange), else the step's data is lost.
-          // And the next set-points must reach it: a killed simulator's readers, until their
-          // lease runs out, hold the writers' shared-memory samples (Fast DDS data sharing), and
-          // commands written then can be lost to the live reader too.
+          // The new simulator's data must reach this loop: each of its readers matched a new
+          // writer (one that found the new process late would miss a step's image or IMU
+          // sample, and the loop would decide a tick later than a run never killed). And the
+          // next set-points must reach it: a killed simulator's readers, until their lease runs
+          // out, hold the writers' shared-memory samples (Fast DDS data sharing), and commands
+          // written then can be lost to the live reader too.
           const auto until = std::chrono::steady_clock::now() + 12s;
-          while ((drive_.odometry_writers_seen() <= odometry_writers_ ||
-                  !drive_.commander_matched() || !crane_.matched() ||
+          while ((!new_data_writers() || !drive_.commander_matched() || !crane_.matched() ||
                   drive_.command_readers() > 1 || crane_.command_readers() > 1 ||
                   laser_.command_readers() > 1) &&
                  std::chrono::steady_clock::now() < until)
             std::this_thread::sleep_for(20ms);
           std::this_thread::sleep_for(300ms);
-          odometry_writers_ = drive_.odometry_writers_seen();
+          data_writers_ = data_writers();
         });
   }
+}
+
+RobotLoop::DataWriters RobotLoop::data_writers() const {
+  return {drive_.odometry_writers_seen(), imu_.writers_seen(), cameras_.writers_seen(),
+          laser_.writers_seen(), crane_.writers_seen()};
+}
+
+bool RobotLoop::new_data_writers() const {
+  const DataWriters now = data_writers();
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    // A topic the simulator did not serve before (cameras off) is not waited for.
+    if (data_writers_[i] > 0 && now[i] <= data_writers_[i]) return false;
+  }
+  return now[0] > data_writers_[0];  // the odometry at least
 }
 
 void RobotLoop::send_set_points() {
@@ -167,7 +181,7 @@ void RobotLoop::tick(double seconds) {
     std::this_thread::sleep_for(1ms);
   }
   now_ = macsim::client::stamp_seconds(odometry->header());
-  odometry_writers_ = drive_.odometry_writers_seen();
+  data_writers_ = data_writers();
   // Position: the odometry's distance travelled, along the IMU's heading.
   const auto& p = odometry->pose().pose().position();
   const double yaw = imu_.yaw().value_or(pose_.yaw);

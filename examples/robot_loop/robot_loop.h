@@ -4,6 +4,7 @@
 // and the real robot (kurt_adapter). kurt_demo and kurt_navigate are made of it.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -104,7 +105,12 @@ class RobotLoop {
 
  private:
   std::optional<std::pair<double, double>> last_position_;  // odometry's, for the distance
-  int odometry_writers_ = 0;  // drive_.odometry_writers_seen() at the last tick
+  /// Writers each data reader matched so far: odometry, IMU, cameras, laser, crane state.
+  using DataWriters = std::array<int, 5>;
+  DataWriters data_writers() const;
+  /// True once every reader that had a writer at the last tick matched a new one.
+  bool new_data_writers() const;
+  DataWriters data_writers_{};  // data_writers() at the last tick
 };
 
 }  // namespace kurt_loop

@@ -54,7 +54,8 @@ def lockstep_run(domain, spawn):
     participant = macsim.Participant(domain=domain, name="lockstep_test")
     simulation = macsim.Simulation(participant)
     supervisor = macsim.Supervisor(participant)
-    robot = macsim.Robot(participant)
+    # Read reliably, as a lock-step simulator sends: every step request's odometry comes.
+    robot = macsim.Robot(participant, lockstep=True)
     wait_connected(robot)
     command_while_paused(robot, 0.3, 0.4)
     hashes = []
@@ -68,6 +69,10 @@ def lockstep_run(domain, spawn):
         hashes.append(status.state_hash)
         assert status.steps == 50 * (k + 1)
         assert status.sim_time == pytest.approx(0.05 * (k + 1))
+        odometry = robot.odometry(timeout=10)
+        while odometry.stamp < status.sim_time - 1e-9:
+            odometry = robot.odometry(timeout=10)
+        assert odometry.stamp == pytest.approx(status.sim_time)
     return hashes
 
 

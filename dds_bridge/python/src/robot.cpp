@@ -56,14 +56,20 @@ struct CameraImage {
 
 /// Every handle on one robot's topics.
 struct PythonRobot {
-  PythonRobot(PythonParticipant& p, const std::string& robot_name, bool rotating_laser)
+  PythonRobot(PythonParticipant& p, const std::string& robot_name, bool rotating_laser,
+              bool lockstep)
       : domain(p.domain),
-        drive(p.dds, robot_name),
-        crane(p.dds, robot_name),
-        cameras(p.dds, robot_name),
-        laser(p.dds, robot_name, rotating_laser),
-        ranges(p.dds, robot_name),
-        imu(p.dds, robot_name) {}
+        drive(p.dds, robot_name, reading(lockstep)),
+        crane(p.dds, robot_name, reading(lockstep)),
+        cameras(p.dds, robot_name, reading(lockstep)),
+        laser(p.dds, robot_name, rotating_laser, reading(lockstep)),
+        ranges(p.dds, robot_name, reading(lockstep)),
+        imu(p.dds, robot_name, reading(lockstep)) {}
+
+  /// A lock-step simulator sends each sample once: read reliably, so none is lost on a network.
+  static dds::QosFamily reading(bool lockstep) {
+    return lockstep ? dds::QosFamily::LockstepSensor : dds::QosFamily::Sensor;
+  }
 
   /// "no X from robot 'kurt' on DDS domain 7 within 2 s: ..."
   [[noreturn]] void raise_nothing(const std::string& what, double timeout) const {
@@ -172,10 +178,14 @@ void bind_robot(py::module_& m) {
   py::class_<PythonRobot>(m, "Robot",
                           "One KURT3D over DDS: the same topics whether macsim or the real "
                           "robot's kurt_adapter serves them.")
-      .def(py::init<PythonParticipant&, const std::string&, bool>(), py::arg("participant"),
-           py::arg("name") = "kurt", py::arg("rotating_laser") = true, py::keep_alive<1, 2>(),
+      .def(py::init<PythonParticipant&, const std::string&, bool, bool>(), py::arg("participant"),
+           py::arg("name") = "kurt", py::arg("rotating_laser") = true, py::arg("lockstep") = false,
+           py::keep_alive<1, 2>(),
            "Handles on robot `name`'s topics. `rotating_laser`: the scanner turns on the "
-           "rotating unit (scan360), else it is fixed (scan).")
+           "rotating unit (scan360), else it is fixed (scan). `lockstep`: its data is read "
+           "reliably, as a lock-step simulator (macsim --lockstep) sends it, each sample once: "
+           "none is lost on a network (a real-time simulator's or the real robot's sensors are "
+           "then not heard).")
       .def_property_readonly("name", [](const PythonRobot& r) { return r.drive.robot_name(); })
       .def_property_readonly(
           "connected", [](const PythonRobot& r) { return r.drive.commander_matched(); },

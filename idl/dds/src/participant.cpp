@@ -1,12 +1,14 @@
 #include "macsim/dds/participant.h"
 
+#include <fastrtps/xmlparser/XMLProfileManager.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <mutex>
 
 #include "macsim/dds/log.h"
@@ -59,6 +61,39 @@ std::string same_file_as_default(const std::string& file) {
   return file;
 }
 
+/// The lowest participant id whose two unicast shared-memory ports (Fast DDS's default port
+/// mapping: 7400 + 250 * domain + 10 + 2 * id, and the next) have no segment in /dev/shm yet,
+/// or -1 (Fast DDS then chooses). Fast DDS 2.9 itself takes the lowest id whose port no live
+/// process holds, and so takes a killed participant's: it removes that "zombie" port's segment
+/// and makes a new one, while the participants that wrote to the killed one keep writing into
+/// the removed segment, and the new process never hears them (eProsima/Fast-DDS#5053, PR
+/// #4728). A simulator killed and started again (macsim --resume) met this: its controller's
+/// step requests never reached it.
+/// The participant ids this process's participants hold, by participant (Fast DDS refuses an id
+/// one of them has, whatever its domain). Under profile_loading().
+std::map<const fdds::DomainParticipant*, int>& ids_held() {
+  static std::map<const fdds::DomainParticipant*, int> held;
+  return held;
+}
+
+int fresh_participant_id(int domain) {
+  std::error_code error;
+  if (!std::filesystem::is_directory("/dev/shm", error)) return -1;
+  for (int id = 0; id < 120; ++id) {
+    const auto& held = ids_held();
+    if (std::any_of(held.begin(), held.end(), [&](const auto& h) { return h.second == id; }))
+      continue;
+    const int port = 7400 + 250 * domain + 10 + 2 * id;
+    if (port + 1 > 65535) break;
+    const auto taken = [&](int p) {
+      std::error_code e;
+      return std::filesystem::exists("/dev/shm/fastrtps_port" + std::to_string(p), e);
+    };
+    if (!taken(port) && !taken(port + 1)) return id;
+  }
+  return -1;
+}
+
 rdc::Gid_ gid_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
   rdc::Gid_ gid;
   std::copy(guid.guidPrefix.value, guid.guidPrefix.value + 12, gid.data().begin());
@@ -102,8 +137,19 @@ Participant::Participant(const ParticipantOptions& options) : domain_(options.do
         std::vector<eprosima::fastrtps::rtps::octet>(enclave.begin(), enclave.end()));
   }
   // StatusMask::none(): discovery callbacks still come, data callbacks stay with the readers.
+  // Ports no killed participant left behind (fresh_participant_id()); Fast DDS's own choice if
+  // that id cannot be had (another participant of this process took it without shared memory).
+  if (qos.wire_protocol().participant_id < 0)
+    qos.wire_protocol().participant_id = fresh_participant_id(options.domain);
   participant_ =
       factory->create_participant(options.domain, qos, options.listener, fdds::StatusMask::none());
+  if (!participant_ && qos.wire_protocol().participant_id >= 0) {
+    qos.wire_protocol().participant_id = -1;
+    participant_ = factory->create_participant(options.domain, qos, options.listener,
+                                               fdds::StatusMask::none());
+  }
+  if (participant_ && qos.wire_protocol().participant_id >= 0)
+    ids_held()[participant_] = qos.wire_protocol().participant_id;
   loading.unlock();
   if (!participant_)
     throw DdsError("cannot create a participant on domain " + std::to_string(options.domain));
@@ -148,6 +194,8 @@ Participant::~Participant() {
   if (!participant_) return;
   participant_->delete_contained_entities();
   fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  std::lock_guard<std::mutex> loading(profile_loading());
+  ids_held().erase(participant_);
 }
 
 fdds::Topic* Participant::make_topic(const std::string& name, fdds::TypeSupport type) {

@@ -69,6 +69,8 @@ class Latest {
   }
   /// Number of writers matched.
   int matched() const { return reader_.matched(); }
+  /// Writers matched so far, those gone included (a simulator restarted brings new ones).
+  int writers_seen() const { return reader_.matched_ever(); }
 
  private:
   mutable std::mutex mutex_;

@@ -37,6 +37,8 @@ class Crane {
   std::optional<State> state() const { return state_.get(); }
   /// Forgets the states received so far (Latest::forget()).
   void forget() { state_.forget(); }
+  /// State writers matched so far, those gone included (Latest::writers_seen()).
+  int writers_seen() const { return state_.writers_seen(); }
   /// True once the robot's crane and magnet readers are matched.
   bool matched() const { return command_.matched() > 0 && magnet_.matched() > 0; }
   /// The most readers one of its command writers has matched (a killed simulator's count
@@ -74,6 +76,10 @@ class StereoCamera {
   void forget() {
     left_.forget();
     right_.forget();
+  }
+  /// The fewest writers one of its readers matched so far, those gone included.
+  int writers_seen() const {
+    return std::min({left_.writers_seen(), right_.writers_seen(), right_info_.writers_seen()});
   }
   /// One eye's images as they come ("left" or "right"; anything else: std::invalid_argument).
   const Latest<sensor_msgs::msg::dds_::Image_PubSubType>& eye(const std::string& side) const;
@@ -113,6 +119,8 @@ class Laser {
     scan_.forget();
     points_.forget();
   }
+  /// The fewest writers its scan or cloud reader matched so far, those gone included.
+  int writers_seen() const { return std::min(scan_.writers_seen(), points_.writers_seen()); }
   /// The latest cloud with a stamp later than `after` (s), decoded, if one came.
   std::optional<Cloud> cloud(double after = -1.0) const;
   /// How many clouds came so far.
@@ -155,6 +163,8 @@ class Imu {
   Imu(dds::Participant& participant, const std::string& robot_name,
       dds::QosFamily reading = dds::QosFamily::Sensor);
   std::optional<Data> latest() const { return imu_.get(); }
+  /// IMU writers matched so far, those gone included.
+  int writers_seen() const { return imu_.writers_seen(); }
   /// The latest yaw (rad, counter-clockwise), if any came.
   std::optional<double> yaw() const;
 
