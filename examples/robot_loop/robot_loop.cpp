@@ -38,8 +38,9 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
     simulation_ = std::make_unique<macsim::client::SimulationClient>(participant);
     // A simulator that went away during a step comes back (macsim --resume) with every
     // set-point it had taken (they are in its session); the step request goes again once this
-    // loop's readers and writers know the new process. The set-points are not sent again: one
-    // given again in the middle of a step request would act at another step than it did.
+    // loop's readers and writers know the new process, after the set-points (the simulator
+    // drops them if it had begun that request: given in its middle they would act at another
+    // step than they did).
     simulation_->set_restart_patience(
         std::chrono::milliseconds(static_cast<int64_t>(options.restart_patience * 1000)), [this] {
           // The new simulator's data must reach this loop: each of its readers matched a new
@@ -56,6 +57,10 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
             std::this_thread::sleep_for(20ms);
           std::this_thread::sleep_for(300ms);
           data_writers_ = data_writers();
+          // The set-points again: a simulator killed after they were delivered and before its
+          // step took them never wrote them. One that had begun the step request goes on with
+          // those it took and drops these (macsim --resume).
+          send_set_points();
         });
   }
 }

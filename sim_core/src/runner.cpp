@@ -72,6 +72,7 @@ bool Runner::execute(const Command& command) {
     ++commands_fenced_;
     return false;
   }
+  if (drop_robot_commands_ && command.source == CommandSource::Robot) return false;
   ++commands_run_[static_cast<std::size_t>(command.source)];
   bool acted = false;
   recorded_now_ = false;
@@ -282,6 +283,7 @@ void Runner::step() {
   const double before = world_->time();
   const uint64_t generation = generation_;
   apply_commands();
+  drop_robot_commands_ = false;
   // A request does not run on into a reset that took the time back or into another world: its
   // conditions and samples were about the world it started in.
   if (requested_steps_ > 0 && (generation_ != generation || world_->time() < before)) {

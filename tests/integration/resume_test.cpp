@@ -141,9 +141,15 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
     client::RobotClient kurt(p, "kurt");
     HandClient hand(p);
     robot::Twist twist{0.2, 0.3};
-    // The set-points are not sent again after a gap: the resumed simulator has those it took.
+    // The set-point again after a gap, as the robot loop does: a step request the killed
+    // simulator never took needs it; one it had begun goes on without it (macsim drops it).
     sim.set_restart_patience(90s, [&] {
       for (int i = 0; i < 200 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(50ms);
+      // The killed simulator's command reader gone (its lease ended): a data-sharing writer's
+      // sample waits for every reader it knows.
+      for (int i = 0; i < 200 && kurt.command_readers() > 1; ++i) std::this_thread::sleep_for(50ms);
+      kurt.drive(twist.linear, twist.angular);
+      kurt.wait_delivered();
     });
     EXPECT_TRUE(sim.wait_for_server(20s));
     for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);

@@ -292,6 +292,35 @@ TEST(Runner, AStepRequestThatHoldsCommandsKeepsTheRobotDrivingPastTheCommandTime
   EXPECT_LT(timed_out, 0.25);  // stopped after 0.6 s
 }
 
+TEST(Runner, RobotCommandsAreDroppedUntilTheNextStepWhenAsked) {
+  // A step request cut by a kill goes on with the set-points it had: the copies its client
+  // sends again before the repeat are dropped, while paused and at the first step; the next
+  // step's commands run again.
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  const std::string name = runner.world().robots().front()->name();
+  KurtRobot& robot = dynamic_cast<KurtRobot&>(*runner.world().robots().front());
+  const auto x = [&] { return robot.base_footprint_pose().position.x(); };
+  std::atomic<bool> stop{false};
+  const auto steps = [&](uint64_t n) {
+    StepRequest request;
+    request.steps = n;
+    request.done = [&](bool) { stop = true; };
+    ASSERT_TRUE(runner.push(
+        [&runner, request](World&) mutable { runner.request_steps(std::move(request)); }));
+    stop = false;
+    runner.run(stop, 100000, {});
+  };
+  const double x0 = x();
+  runner.drop_robot_commands_until_next_step();
+  ASSERT_TRUE(runner.push(robot_command(name, robot::Twist{0.4, 0.0})));  // dropped, paused
+  steps(200);
+  const double still = x();
+  EXPECT_NEAR(still, x0, 1e-3);                                           // the twist never acted
+  ASSERT_TRUE(runner.push(robot_command(name, robot::Twist{0.4, 0.0})));  // runs
+  steps(200);
+  EXPECT_GT(x() - still, 0.02);  // it drove once the first step had passed
+}
+
 TEST(Runner, AStepRequestHoldsTheCommandsOfTheRobotsItNamesOnly) {
   // Both robots are sent a drive once; a 2 s request holding "kurt" keeps the KURT3D driving
   // past the 0.6 s command timeout and lets the rover stop; naming both holds both.

@@ -296,6 +296,9 @@ void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
     remember_load(q.client_id(), q.sequence_number());
     // Not at once: its data would go out before the client's readers have found this process.
     resumable_[id] = q;
+    // With the set-points it had: its client, not knowing it was begun, sends them again
+    // before the repeat, and they must not act in its middle (the first step drops them).
+    if (q.steps() > 0) runner_.drop_robot_commands_until_next_step();
   }
 }
 

@@ -150,6 +150,10 @@ class Runner {
   /// Robot commands dropped because their sender had sent them before a request that put the
   /// world back (Command::sent_before), and they arrived after it.
   uint64_t commands_sent_before_reset() const { return commands_fenced_; }
+  /// Robot commands are dropped, not run, until the next step has run its commands (a step
+  /// request cut by a kill goes on with the set-points it had: its client's copies, sent again
+  /// before it repeats the request, must not act in its middle).
+  void drop_robot_commands_until_next_step() { drop_robot_commands_ = true; }
   /// Said by an executor that answered `command` as a repeat of a request already run (a client
   /// that did not hear its reply in time sent it again): it is not counted as run.
   void answered_repeat(const Command& command);
@@ -225,6 +229,7 @@ class Runner {
   std::vector<uint64_t> commands_run_;      // by CommandSource
   std::map<std::array<uint8_t, 16>, uint64_t> fences_;  // by sender: its last command dropped
   uint64_t commands_fenced_ = 0;
+  bool drop_robot_commands_ = false;  // drop_robot_commands_until_next_step()
   std::shared_ptr<SessionWriter> recording_;
   bool recorded_now_ = false;  // the command being run was written by record_now()
   uint64_t steps_run_ = 0;
