@@ -209,6 +209,7 @@ class TwoHosts : public ::testing::Test {
     int gaps = 0;            // times the client rode out a simulator gone
     double gap_seconds = 0;  // the longest
     uint64_t gap_step = 0;   // the step its first reply after that gap said
+    int exit_code = -1;      // the controller's: 0, or 3 (no host b), 4 (no simulator found)
   };
   /// A lock-step controller on host b, a participant of its own: a twist, 10 step requests of
   /// `kStepsPerRequest`, then one byte on the pipe (the caller's `ready` runs then), then
@@ -290,6 +291,7 @@ class TwoHosts : public ::testing::Test {
     close(out[0]);
     int status = 0;
     waitpid(child, &status, 0);
+    seen.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return seen;
   }
   /// macsim on host a, in lock-step, on `world`.
@@ -412,7 +414,9 @@ TEST_F(TwoHosts, UnderPacketLossLockstepResultsAreBitIdenticalAndControllersStil
       ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
       ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
       stepped = lockstep_from_b(200, 0ms);
-      EXPECT_EQ(stepped.answered, 220) << sim.output();
+      EXPECT_EQ(stepped.answered, 220)
+          << "the controller on host b ended with " << stepped.exit_code << "\n"
+          << sim.output();
       EXPECT_EQ(stepped.steps, 220u * kStepsPerRequest) << "a step request lost or run twice";
       EXPECT_EQ(stepped.gaps, 0);
     }
@@ -456,7 +460,9 @@ TEST_F(TwoHosts, APartitionOfTenSecondsIsReportedAsAGapAndTheWorkGoesOnUnchanged
     ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
     ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
     reference = lockstep_from_b(600, 0ms);
-    ASSERT_EQ(reference.answered, 620) << sim.output();
+    ASSERT_EQ(reference.answered, 620)
+        << "the controller on host b ended with " << reference.exit_code << "\n"
+        << sim.output();
     ASSERT_EQ(reference.gaps, 0);
   }
   ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
@@ -470,7 +476,9 @@ TEST_F(TwoHosts, APartitionOfTenSecondsIsReportedAsAGapAndTheWorkGoesOnUnchanged
     lose(host_b_, 0);
   });
   ASSERT_TRUE(cut) << "nft refused the rules";
-  EXPECT_EQ(healed.answered, 620) << sim.output();
+  EXPECT_EQ(healed.answered, 620) << "the controller on host b ended with " << healed.exit_code
+                                  << "\n"
+                                  << sim.output();
   EXPECT_EQ(healed.steps, reference.steps) << "a step request lost or run twice";
   EXPECT_EQ(healed.trace, reference.trace) << "a step reply's hash differs";
   EXPECT_EQ(healed.gaps, 1) << "the client did not report the partition as one gap";
