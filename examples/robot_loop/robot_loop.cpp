@@ -66,14 +66,17 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
 }
 
 RobotLoop::DataWriters RobotLoop::data_writers() const {
-  return {drive_.odometry_writers_seen(), imu_.writers_seen(), cameras_.writers_seen(),
-          laser_.writers_seen(), crane_.writers_seen()};
+  return {drive_.odometry_writers_seen(), imu_.writers_seen(),
+          cameras_.writers_seen(),        laser_.writers_seen(),
+          crane_.writers_seen(),          drive_.command_readers_seen(),
+          crane_.command_readers_seen(),  laser_.command_readers_seen()};
 }
 
 bool RobotLoop::new_data_writers() const {
   const DataWriters now = data_writers();
   for (std::size_t i = 0; i < now.size(); ++i) {
-    // A topic the simulator did not serve before (cameras off) is not waited for.
+    // A topic the simulator did not serve before (cameras off) is not waited for; the command
+    // topics' new readers must have matched too.
     if (data_writers_[i] > 0 && now[i] <= data_writers_[i]) return false;
   }
   return now[0] > data_writers_[0];  // the odometry at least

@@ -105,8 +105,9 @@ class RobotLoop {
 
  private:
   std::optional<std::pair<double, double>> last_position_;  // odometry's, for the distance
-  /// Writers each data reader matched so far: odometry, IMU, cameras, laser, crane state.
-  using DataWriters = std::array<int, 5>;
+  /// Writers each data reader matched so far (odometry, IMU, cameras, laser, crane state), and
+  /// readers each command writer matched (drive, crane and magnet, rotating unit).
+  using DataWriters = std::array<int, 8>;
   DataWriters data_writers() const;
   /// True once every reader that had a writer at the last tick matched a new one.
   bool new_data_writers() const;

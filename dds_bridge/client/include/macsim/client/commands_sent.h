@@ -43,6 +43,8 @@ class CommandWriter {
   }
   /// Number of readers currently matched.
   int matched() const { return writer_.matched(); }
+  /// Readers matched so far, those gone included (a simulator restarted brings a new one).
+  int readers_seen() const { return writer_.matched_ever(); }
 
  private:
   dds::Writer<PubSubType> writer_;

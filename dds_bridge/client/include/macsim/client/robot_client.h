@@ -66,6 +66,8 @@ class RobotClient {
   /// Readers its cmd_vel writer has matched (a killed simulator's count until its lease runs
   /// out).
   int command_readers() const { return cmd_vel_.matched(); }
+  /// Readers its cmd_vel writer matched so far, those gone included.
+  int command_readers_seen() const { return cmd_vel_.readers_seen(); }
 
   const std::string& robot_name() const { return robot_name_; }
 

@@ -44,6 +44,10 @@ class Crane {
   /// The most readers one of its command writers has matched (a killed simulator's count
   /// until its lease runs out).
   int command_readers() const { return std::max(command_.matched(), magnet_.matched()); }
+  /// The fewest readers one of its command writers matched so far, those gone included.
+  int command_readers_seen() const {
+    return std::min(command_.readers_seen(), magnet_.readers_seen());
+  }
   /// Waits until the robot received every crane and magnet command sent so far (lock-step).
   bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
@@ -130,6 +134,8 @@ class Laser {
   /// Readers its rotation command writer has matched (a killed simulator's count until its
   /// lease runs out).
   int command_readers() const { return rot_vel_.matched(); }
+  /// Readers its rotation command writer matched so far, those gone included.
+  int command_readers_seen() const { return rot_vel_.readers_seen(); }
 
  private:
   CommandWriter<geometry_msgs::msg::dds_::Twist_PubSubType> rot_vel_;
