@@ -18,22 +18,17 @@ namespace mm = macsim_msgs::msg::dds_;
 constexpr double kTurnRate = 0.6;  // rad/s
 constexpr const char* kLog = "robot loop";  // what its messages begin with
 
-/// A lock-step simulator sends each sample once: read reliably, so none is lost on a network.
-macsim::dds::QosFamily reading(const LoopOptions& options) {
-  return options.lockstep ? macsim::dds::QosFamily::LockstepSensor : macsim::dds::QosFamily::Sensor;
-}
-
 }  // namespace
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& options)
     : loop_options_(options),
-      drive_(participant, options.robot, reading(options)),
-      crane_(participant, options.robot, reading(options)),
-      cameras_(participant, options.robot, reading(options)),
-      laser_(participant, options.robot, true, reading(options)),
-      imu_(participant, options.robot, reading(options)) {
+      drive_(participant, options.robot, macsim::dds::sensor_family(options.lockstep)),
+      crane_(participant, options.robot, macsim::dds::sensor_family(options.lockstep)),
+      cameras_(participant, options.robot, macsim::dds::sensor_family(options.lockstep)),
+      laser_(participant, options.robot, true, macsim::dds::sensor_family(options.lockstep)),
+      imu_(participant, options.robot, macsim::dds::sensor_family(options.lockstep)) {
   if (options.lockstep) {
     simulation_ = std::make_unique<macsim::client::SimulationClient>(participant);
     // A simulator that went away during a step comes back (macsim --resume) with every
@@ -50,13 +45,13 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
           // out, hold the writers' shared-memory samples (Fast DDS data sharing), and commands
           // written then can be lost to the live reader too.
           const auto until = std::chrono::steady_clock::now() + 12s;
-          while ((!new_data_writers() || !drive_.commander_matched() || !crane_.matched() ||
+          while ((!simulator_renewed() || !drive_.commander_matched() || !crane_.matched() ||
                   drive_.command_readers() > 1 || crane_.command_readers() > 1 ||
                   laser_.command_readers() > 1) &&
                  std::chrono::steady_clock::now() < until)
             std::this_thread::sleep_for(20ms);
           std::this_thread::sleep_for(300ms);
-          data_writers_ = data_writers();
+          peers_seen_ = peers_seen();
           // The set-points again: a simulator killed after they were delivered and before its
           // step took them never wrote them. One that had begun the step request goes on with
           // those it took and drops these (macsim --resume).
@@ -65,21 +60,21 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
   }
 }
 
-RobotLoop::DataWriters RobotLoop::data_writers() const {
+RobotLoop::PeersSeen RobotLoop::peers_seen() const {
   return {drive_.odometry_writers_seen(), imu_.writers_seen(),
           cameras_.writers_seen(),        laser_.writers_seen(),
           crane_.writers_seen(),          drive_.command_readers_seen(),
           crane_.command_readers_seen(),  laser_.command_readers_seen()};
 }
 
-bool RobotLoop::new_data_writers() const {
-  const DataWriters now = data_writers();
+bool RobotLoop::simulator_renewed() const {
+  const PeersSeen now = peers_seen();
   for (std::size_t i = 0; i < now.size(); ++i) {
     // A topic the simulator did not serve before (cameras off) is not waited for; the command
     // topics' new readers must have matched too.
-    if (data_writers_[i] > 0 && now[i] <= data_writers_[i]) return false;
+    if (peers_seen_[i] > 0 && now[i] <= peers_seen_[i]) return false;
   }
-  return now[0] > data_writers_[0];  // the odometry at least
+  return now[0] > peers_seen_[0];  // the odometry at least
 }
 
 void RobotLoop::send_set_points() {
@@ -189,7 +184,7 @@ void RobotLoop::tick(double seconds) {
     std::this_thread::sleep_for(1ms);
   }
   now_ = macsim::client::stamp_seconds(odometry->header());
-  data_writers_ = data_writers();
+  peers_seen_ = peers_seen();
   // Position: the odometry's distance travelled, along the IMU's heading.
   const auto& p = odometry->pose().pose().position();
   const double yaw = imu_.yaw().value_or(pose_.yaw);

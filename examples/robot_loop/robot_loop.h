@@ -107,11 +107,12 @@ class RobotLoop {
   std::optional<std::pair<double, double>> last_position_;  // odometry's, for the distance
   /// Writers each data reader matched so far (odometry, IMU, cameras, laser, crane state), and
   /// readers each command writer matched (drive, crane and magnet, rotating unit).
-  using DataWriters = std::array<int, 8>;
-  DataWriters data_writers() const;
-  /// True once every reader that had a writer at the last tick matched a new one.
-  bool new_data_writers() const;
-  DataWriters data_writers_{};  // data_writers() at the last tick
+  using PeersSeen = std::array<int, 8>;
+  PeersSeen peers_seen() const;
+  /// True once every endpoint that had a peer at the last tick matched a new one (the
+  /// simulator restarted: its endpoints are new).
+  bool simulator_renewed() const;
+  PeersSeen peers_seen_{};  // peers_seen() at the last tick
 };
 
 }  // namespace kurt_loop

@@ -7,6 +7,8 @@
 
 #include <atomic>
 #include <fastdds/dds/log/Log.hpp>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -30,6 +32,29 @@ class ErrorCounter : public fdds::LogConsumer {
  private:
   std::atomic<int>& errors_;
 };
+
+TEST(Participant, NeverTakesThePortsAKilledParticipantLeftBehind) {
+  // A killed participant's port segments stay in /dev/shm while another process maps them;
+  // Fast DDS 2.9 would take that id again and make new segments the others never write to.
+  // Here id 0's two segments are left behind: the participant takes id 1's ports.
+  if (!std::filesystem::is_directory("/dev/shm")) GTEST_SKIP() << "no /dev/shm here";
+  const int domain = unique_test_domain();
+  const int port = 7400 + 250 * domain + 10;
+  const auto segment = [](int p) { return "/dev/shm/fastrtps_port" + std::to_string(p); };
+  for (int p : {port, port + 1}) {
+    ASSERT_FALSE(std::filesystem::exists(segment(p))) << segment(p);
+    std::ofstream(segment(p)) << "left behind";
+  }
+  {
+    dds::Participant participant({domain, source("deploy/dds/localhost.xml"), "port_test"});
+    EXPECT_TRUE(std::filesystem::exists(segment(port + 2))) << "id 1's ports not taken";
+    std::ifstream left(segment(port));
+    std::string text;
+    std::getline(left, text);
+    EXPECT_EQ(text, "left behind") << "the segment left behind was made anew";
+  }
+  for (int p : {port, port + 1}) std::filesystem::remove(segment(p));
+}
 
 TEST(Participant, ManyMadeAtOnceFromThreadsAllComeUpWithTheProfile) {
   constexpr int kThreads = 6;

@@ -59,17 +59,12 @@ struct PythonRobot {
   PythonRobot(PythonParticipant& p, const std::string& robot_name, bool rotating_laser,
               bool lockstep)
       : domain(p.domain),
-        drive(p.dds, robot_name, reading(lockstep)),
-        crane(p.dds, robot_name, reading(lockstep)),
-        cameras(p.dds, robot_name, reading(lockstep)),
-        laser(p.dds, robot_name, rotating_laser, reading(lockstep)),
-        ranges(p.dds, robot_name, reading(lockstep)),
-        imu(p.dds, robot_name, reading(lockstep)) {}
-
-  /// A lock-step simulator sends each sample once: read reliably, so none is lost on a network.
-  static dds::QosFamily reading(bool lockstep) {
-    return lockstep ? dds::QosFamily::LockstepSensor : dds::QosFamily::Sensor;
-  }
+        drive(p.dds, robot_name, dds::sensor_family(lockstep)),
+        crane(p.dds, robot_name, dds::sensor_family(lockstep)),
+        cameras(p.dds, robot_name, dds::sensor_family(lockstep)),
+        laser(p.dds, robot_name, rotating_laser, dds::sensor_family(lockstep)),
+        ranges(p.dds, robot_name, dds::sensor_family(lockstep)),
+        imu(p.dds, robot_name, dds::sensor_family(lockstep)) {}
 
   /// "no X from robot 'kurt' on DDS domain 7 within 2 s: ..."
   [[noreturn]] void raise_nothing(const std::string& what, double timeout) const {

@@ -105,7 +105,7 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     : runner_(runner),
       options_(options),
       clock_(new Clock{{participant, dds::topics::kClock, QosFamily::State}}) {
-  const QosFamily sensors = options_.lockstep ? QosFamily::LockstepSensor : QosFamily::Sensor;
+  const QosFamily sensors = dds::sensor_family(options_.lockstep);
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     const std::string frames = options_.robot_frames ? name + "/" : "";

@@ -60,8 +60,13 @@ SimulateStepsAction::SimulateStepsAction(dds::Participant& participant, Runner& 
   send_goal_ = std::make_unique<SendGoal>(
       participant, name + "/_action/send_goal",
       [this](const SendGoal::Request& q, const dds::RequestId& id) { on_send_goal(q, id); });
+  served_.store(true);
   std::lock_guard<std::mutex> lock(mutex_);
   publish_status();  // an empty list: late joiners see the action's status topic served
+}
+
+void SimulateStepsAction::wait_until_served() const {
+  while (!served_.load()) std::this_thread::yield();
 }
 
 SimulateStepsAction::~SimulateStepsAction() {
@@ -77,16 +82,15 @@ bool SimulateStepsAction::terminal(int8_t status) {
 
 SimulateStepsAction::Goal* SimulateStepsAction::find(const Uuid& id) {
   for (auto& g : goals_)
-    if (g.id == id) return &g;
+    if (g.info.goal_id().uuid() == id) return &g;
   return nullptr;
 }
 
 void SimulateStepsAction::on_send_goal(const SendGoal::Request& q, const dds::RequestId& id) {
-  while (!send_goal_) std::this_thread::yield();  // the constructor is still assigning it
+  wait_until_served();
   SendGoal::Response response;
   response.stamp(wall_now());
-  Uuid uuid{};
-  std::copy(q.goal_id().uuid().begin(), q.goal_id().uuid().end(), uuid.begin());
+  const Uuid& uuid = q.goal_id().uuid();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     // A goal id already taken, or no room in the runner's queue: rejected (a ROS 2 action
@@ -95,14 +99,13 @@ void SimulateStepsAction::on_send_goal(const SendGoal::Request& q, const dds::Re
       response.accepted(false);
     } else {
       Goal goal;
-      goal.id = uuid;
       goal.info.goal_id(q.goal_id());
       goal.info.stamp(response.stamp());
       goal.status = gs::STATUS_ACCEPTED;
       goal.steps = q.goal().steps();
       goals_.push_back(std::move(goal));
       while (goals_.size() > kKeptResults && terminal(goals_.front().status)) goals_.pop_front();
-      response.accepted(runner_.push([this, uuid](World&) { start(uuid); }));
+      response.accepted(runner_.push([this, id = uuid](World&) { start(id); }));
       if (!response.accepted()) {
         goals_.pop_back();
         log::warn("macsim: SimulateSteps goal rejected: {}", runner_.queue_full_message());
@@ -180,11 +183,9 @@ void SimulateStepsAction::start(const Uuid& id) {
 }
 
 void SimulateStepsAction::on_cancel(const CancelGoal::Request& q, const dds::RequestId& id) {
-  while (!cancel_goal_) std::this_thread::yield();
+  wait_until_served();
   CancelGoal::Response response;
-  Uuid uuid{};
-  std::copy(q.goal_info().goal_id().uuid().begin(), q.goal_info().goal_id().uuid().end(),
-            uuid.begin());
+  const Uuid& uuid = q.goal_info().goal_id().uuid();
   const auto& stamp = q.goal_info().stamp();
   const bool any_stamp = stamp.sec() != 0 || stamp.nanosec() != 0;
   bool running = false;
@@ -227,9 +228,8 @@ void SimulateStepsAction::on_cancel(const CancelGoal::Request& q, const dds::Req
 }
 
 void SimulateStepsAction::on_get_result(const GetResult::Request& q, const dds::RequestId& id) {
-  while (!get_result_) std::this_thread::yield();
-  Uuid uuid{};
-  std::copy(q.goal_id().uuid().begin(), q.goal_id().uuid().end(), uuid.begin());
+  wait_until_served();
+  const Uuid& uuid = q.goal_id().uuid();
   GetResult::Response response;
   {
     std::lock_guard<std::mutex> lock(mutex_);

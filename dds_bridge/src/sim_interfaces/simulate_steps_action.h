@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -51,8 +52,7 @@ class SimulateStepsAction {
       simulation_interfaces::action::dds_::SimulateSteps_GetResult_Request_PubSubType,
       simulation_interfaces::action::dds_::SimulateSteps_GetResult_Response_PubSubType>;
   struct Goal {
-    Uuid id{};
-    action_msgs::msg::dds_::GoalInfo_ info;
+    action_msgs::msg::dds_::GoalInfo_ info;  // its id and when it was accepted
     int8_t status = 0;  // action_msgs GoalStatus STATUS_*
     uint64_t steps = 0, done = 0;
     simulation_interfaces::msg::dds_::Result_ result;
@@ -72,7 +72,11 @@ class SimulateStepsAction {
   Goal* find(const Uuid& id);
   static bool terminal(int8_t status);
 
+  /// Until the constructor has made the servers, a request's handler waits.
+  void wait_until_served() const;
+
   Runner& runner_;
+  std::atomic<bool> served_{false};
   std::mutex mutex_;               // guards goals_
   std::deque<Goal> goals_;         // accepted, oldest first
   std::optional<Uuid> executing_;  // the goal whose steps run (simulation thread only)

@@ -22,6 +22,12 @@ enum class QosFamily {
                    ///< readers still match); a reader of it reads state topics reliably too
 };
 
+/// The family of sensor data: LockstepSensor between a lock-step simulator and its clients,
+/// Sensor otherwise.
+constexpr QosFamily sensor_family(bool lockstep) {
+  return lockstep ? QosFamily::LockstepSensor : QosFamily::Sensor;
+}
+
 /// The XML profile name of a family's data writers and readers ("macsim_command", ...).
 const char* profile_name(QosFamily family);
 /// Loads the built-in family profiles (deploy/dds/qos.xml) the loaded XML does not define yet;
