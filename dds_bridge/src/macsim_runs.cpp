@@ -134,6 +134,7 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     bridge_options.robot_frames = o.robot_frames;
     bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
     bridge_options.lockstep = o.lockstep;
+    bridge_options.resumed = resumed != nullptr;
     if (bridge_options.cameras &&
         (!macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
                                         &bridge_options.camera.height) ||

@@ -56,6 +56,24 @@ TEST(SimulatedRobot, ReadingsComeAsTheStepsProduceThem) {
   EXPECT_GT(runner.world().robot("kurt")->odometry().x, 0.0);
 }
 
+TEST(SimulatedRobot, MarkedReadItGivesOnlyWhatLaterStepsProduce) {
+  // A bridge serving a resumed world: what the steps so far produced went out already.
+  Runner runner(one_robot("kurt3d"));
+  for (int i = 0; i < 55; ++i) runner.step();
+  SimulatedRobot fresh(runner, "kurt"), resumed(runner, "kurt");
+  const robot::Readings everything = fresh.read();  // a new world's first read: all it has
+  EXPECT_TRUE(everything.odometry && everything.scan);
+  resumed.mark_read();
+  const robot::Readings nothing = resumed.read();
+  EXPECT_FALSE(nothing.odometry || nothing.scan || nothing.cloud);
+  int odometry = 0;
+  for (int i = 0; i < 10; ++i) {  // the next encoder frame, at 60 ms
+    runner.step();
+    odometry += resumed.read().odometry ? 1 : 0;
+  }
+  EXPECT_EQ(odometry, 1);
+}
+
 TEST(SimulatedRobot, ActsOnTheRobotOfTheCurrentWorldAfterALoad) {
   Runner runner(one_robot("kurt3d"));
   SimulatedRobot kurt(runner, "kurt");

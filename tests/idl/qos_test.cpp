@@ -27,14 +27,25 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
   EXPECT_EQ(command.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(command.durability().kind, fdds::VOLATILE_DURABILITY_QOS);
   EXPECT_EQ(command.history().depth, 10);
-  // a lost command is sent again within 0.1 s, not after Fast DDS's default 3 s heartbeat
+  // acknowledged within a fraction of a millisecond (a lock-step controller waits for it
+  // before each step): a heartbeat every 0.2 ms while unacknowledged, answered at once
   EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.seconds, 0);
-  EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.nanosec, 100000000u);
-  // requests and replies: the command family without data sharing
+  EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.nanosec, 200000u);
+  EXPECT_EQ(dds::reader_qos(dds::QosFamily::Command, p.subscriber())
+                .reliable_reader_qos()
+                .times.heartbeatResponseDelay.nanosec,
+            0u);
+  // no data sharing: a killed reader would hold a writer's samples until its lease ran out
+  EXPECT_EQ(command.data_sharing().kind(), fdds::DataSharingKind::OFF);
+  EXPECT_EQ(dds::reader_qos(dds::QosFamily::Command, p.subscriber()).data_sharing().kind(),
+            fdds::DataSharingKind::OFF);
+  // requests and replies: the command family's QoS
   const auto request = dds::writer_qos(dds::QosFamily::Request, p.publisher());
   EXPECT_EQ(request.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(request.history().depth, 10);
   EXPECT_EQ(request.data_sharing().kind(), fdds::DataSharingKind::OFF);
+  // a lost request or reply is sent again within 0.1 s, not after Fast DDS's default 3 s
+  EXPECT_EQ(request.reliable_writer_qos().times.heartbeatPeriod.nanosec, 100000000u);
   EXPECT_EQ(dds::reader_qos(dds::QosFamily::Request, p.subscriber()).data_sharing().kind(),
             fdds::DataSharingKind::OFF);
   const auto sensor = dds::reader_qos(dds::QosFamily::Sensor, p.subscriber());

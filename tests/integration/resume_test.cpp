@@ -11,6 +11,7 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -18,6 +19,8 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/participant.h"
 #include "macsim/dds/topics.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
@@ -114,7 +117,32 @@ class HandClient {
   dds::Reader<mm::SimulationReply_PubSubType> replies_;
 };
 
+/// Stamps (ns of sim time) of the samples a topic brought.
+class StampsSeen {
+ public:
+  template <class PubSubType>
+  static std::unique_ptr<dds::Reader<PubSubType>> reader(dds::Participant& p,
+                                                         const std::string& topic,
+                                                         dds::QosFamily family, StampsSeen& into) {
+    return std::make_unique<dds::Reader<PubSubType>>(
+        p, topic, family, [&into](const typename PubSubType::type& m) {
+          const auto& t = m.header().stamp();
+          std::lock_guard<std::mutex> lock(into.mutex_);
+          into.stamps_.insert(int64_t{t.sec()} * 1000000000 + t.nanosec());
+        });
+  }
+  std::set<int64_t> stamps() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stamps_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::set<int64_t> stamps_;
+};
+
 struct LockstepRun {
+  std::set<int64_t> odometry_stamps, image_stamps;  // of every sample received
   std::vector<uint64_t> hashes;  // after every step request
   std::vector<client::Gap> gaps;
   std::optional<mm::SimulationReply_> hand_reply, hand_repeat;  // the request sent by hand
@@ -132,7 +160,7 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
   const int domain = unique_test_domain();
   Restartable macsim(
       {bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
-       std::to_string(domain), "--lockstep", "--cameras", "off", "--resume", session},
+       std::to_string(domain), "--lockstep", "--cameras", "64x48", "--resume", session},
       "stepping on request");
   LockstepRun run;
   {
@@ -140,6 +168,11 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
     client::SimulationClient sim(p);
     client::RobotClient kurt(p, "kurt");
     HandClient hand(p);
+    StampsSeen odometry, images;
+    auto odometry_reader = StampsSeen::reader<nav_msgs::msg::dds_::Odometry_PubSubType>(
+        p, dds::topics::odom("kurt"), dds::QosFamily::LockstepSensor, odometry);
+    auto image_reader = StampsSeen::reader<sensor_msgs::msg::dds_::Image_PubSubType>(
+        p, dds::topics::image("kurt", "left"), dds::QosFamily::LockstepSensor, images);
     robot::Twist twist{0.2, 0.3};
     // The set-point again after a gap, as the robot loop does: a step request the killed
     // simulator never took needs it; one it had begun goes on without it (macsim drops it).
@@ -195,6 +228,8 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
       run.hashes.push_back(reply ? reply->state_hash() : 0);
     }
     run.gaps = sim.gaps();
+    run.odometry_stamps = odometry.stamps();
+    run.image_stamps = images.stamps();
   }
   run.exit_code = macsim.stop();
   run.output = macsim.output();
@@ -213,6 +248,16 @@ TEST(Resume, InLockstepTheHashAfterEveryRequestIsAsIfNeverKilled) {
   for (std::size_t k = 0; k < killed.hashes.size(); ++k)
     EXPECT_EQ(killed.hashes[k], reference.hashes[k]) << "step request " << k << "\n"
                                                      << killed.output;
+  // The data came at the instants of a run never killed: the resumed process sent nothing
+  // again stamped anew, and its cameras kept their schedule.
+  for (const auto* seen : {&killed.odometry_stamps, &killed.image_stamps}) {
+    const auto& expected =
+        seen == &killed.image_stamps ? reference.image_stamps : reference.odometry_stamps;
+    EXPECT_GT(seen->size(), expected.size() * 9 / 10);
+    for (const int64_t stamp : *seen)
+      EXPECT_TRUE(expected.count(stamp))
+          << "a sample stamped " << stamp * 1e-9 << " s that a run never killed did not send";
+  }
   // Both kills were ridden out by the client, and said so.
   EXPECT_EQ(killed.gaps.size(), 2u) << killed.output;
   // Twice resumed, the first time in the middle of the long request, which then went on.

@@ -57,10 +57,7 @@ struct SimBridge::RobotTopics {
   uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
   uint64_t stereo_waited = 0;   // camera instants the simulation waited for a busy renderer
   double seconds_waited = 0.0;  // wall time of those waits
-  // Camera instants are camera_epoch + k / rate, k = next_camera_instant, ...: counted, not summed,
-  // so which instants a run reaches does not drift with floating-point sums.
-  double camera_epoch = 0.0;
-  uint64_t next_camera_instant = 0;
+  Schedule camera_instants{1.0};  // at the bridge's camera rate
   std::unique_ptr<dds::Writer<sm::Image_PubSubType>> left_image, right_image;
   std::unique_ptr<dds::Writer<sm::CameraInfo_PubSubType>> left_info, right_info;
   // Each eye's last image message, filled again in place by that eye's render thread: a
@@ -111,6 +108,10 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     const std::string frames = options_.robot_frames ? name + "/" : "";
     auto topics = std::make_unique<RobotTopics>(
         participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped, sensors});
+    topics->camera_instants = Schedule(options_.camera_rate);
+    // Resumed: the killed process published the readings so far, each stamped when it went
+    // out; again now, they would go out as new ones stamped now.
+    if (options_.resumed) topics->simulated.mark_read();
     const auto stereo = robot->cameras();  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
@@ -155,23 +156,29 @@ void SimBridge::poll_commands() {
 void SimBridge::publish() {
   World& world = runner_.world();
   const double now = world.time();
-  if (now < last_time_ || runner_.generation() != generation_) {
-    // A reset or a new world: start the schedules again.
+  if (!started_ || now < last_time_ || runner_.generation() != generation_ ||
+      runner_.time_origin() != time_origin_) {
+    // The first step, a reset, a snapshot restored or a new world: the schedules start at the
+    // time's origin (its first instant due at the first step after it). The instants due
+    // before this step were published already, by the process a resumed run took over from.
+    started_ = true;
     generation_ = runner_.generation();
-    next_clock_time_ = now;
-    for (auto& t : robots_) {
-      t->camera_epoch = now;
-      t->next_camera_instant = 0;
-    }
+    time_origin_ = runner_.time_origin();
+    const double step = world.step_size();
+    const double epoch = static_cast<double>(time_origin_) * step;
+    const double served = world.steps() > time_origin_ + 1
+                              ? static_cast<double>(world.steps() - 1) * step
+                              : epoch - step;  // none: the origin's own instant is due now
+    clock_instants_.start(epoch, served);
+    for (auto& t : robots_) t->camera_instants.start(epoch, served);
   }
   last_time_ = now;
   // A controller's request may ask for its data only at its end (it reads nothing before).
   const StepRequest* request = runner_.step_request();
   const bool hold = request && request->publish_at_end;
-  if (now + 1e-9 >= next_clock_time_) {
+  if (clock_instants_.due(now)) {
     held_clock_.emplace();
     held_clock_->clock(dds::to_time(now));
-    next_clock_time_ += 0.01;
   }
   if (!hold) flush_clock();
   for (auto& topics : robots_) {
@@ -199,10 +206,8 @@ const robot::Readings* SimBridge::latest_readings(const std::string& robot) cons
 }
 
 void SimBridge::publish_cameras(RobotTopics& t, double now, bool render) {
-  const double due =
-      t.camera_epoch + static_cast<double>(t.next_camera_instant) / options_.camera_rate;
-  if (!t.cameras.empty() && now + 1e-9 >= due) {
-    ++t.next_camera_instant;  // the schedule goes on whether this instant is rendered or not
+  // The schedule goes on whether an instant is rendered or not.
+  if (!t.cameras.empty() && t.camera_instants.due(now)) {
     if (!render) return;
     // Both eyes render the same scene or neither does: a stereo pair never mixes two instants.
     bool ready = std::all_of(t.cameras.begin(), t.cameras.end(),

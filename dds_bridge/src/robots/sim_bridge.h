@@ -11,6 +11,7 @@
 #include "macsim/render/renderer.h"
 #include "macsim/robot/robot_interface.h"
 #include "macsim/sim_core/runner.h"
+#include "robots/schedule.h"
 
 namespace macsim {
 
@@ -22,6 +23,7 @@ struct BridgeOptions {
   bool robot_frames = false;        ///< frame ids start with "<robot>/" (several robots, one tree)
   bool cmd_vel_stamped = false;     ///< cmd_vel as geometry_msgs/TwistStamped
   bool lockstep = false;            ///< sensor data sent reliably (QosFamily::LockstepSensor)
+  bool resumed = false;  ///< the world was resumed: what its robots read so far went out already
 };
 
 /// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's
@@ -60,10 +62,12 @@ class SimBridge {
 
   Runner& runner_;
   BridgeOptions options_;
-  double next_clock_time_ = 0.0;
+  Schedule clock_instants_{100.0};  // /clock at 100 Hz of sim time
+  bool started_ = false;            // the schedules run
   double last_time_ = 0.0;
   std::optional<rosgraph_msgs::msg::dds_::Clock_> held_clock_;
-  uint64_t generation_ = 0;  // of the world whose schedules run
+  uint64_t generation_ = 0;   // of the world whose schedules run
+  uint64_t time_origin_ = 0;  // the step its time started from (Runner::time_origin)
   struct Clock;
   std::unique_ptr<Clock> clock_;
   std::vector<std::unique_ptr<RobotTopics>> robots_;

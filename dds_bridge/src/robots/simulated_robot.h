@@ -24,6 +24,8 @@ class SimulatedRobot : public robot::RobotInterface {
   /// What the steps since the last call produced (RobotModel::read); after a reset or a new
   /// world, everything the robot has.
   robot::Readings read() override;
+  /// Counts every reading the robot has now as read: read() returns what later steps produce.
+  void mark_read() { read(); }
   /// From the robot's description (RobotModel::frames).
   robot::Frames frames() const override { return frame_tree_; }
 

@@ -10,13 +10,13 @@ namespace macsim::dds {
 
 /// What kind of data a topic carries, which decides its QoS.
 enum class QosFamily {
-  Command,  ///< controller -> robot: reliable, volatile, keep last 10
+  Command,  ///< controller -> robot: reliable, volatile, keep last 10, acknowledged within
+            ///< ~0.2 ms, no data sharing (a killed peer's reader would hold the samples)
   Sensor,   ///< images, scans, clouds, ranges: best effort, volatile, keep last 5 (SensorDataQoS)
   State,    ///< odometry, IMU, joint and crane states, clock: reliable, volatile, keep last 10
             ///< (writers keep 100; a default ROS 2 subscription matches; best effort too)
   Latched,  ///< state a late joiner must see: reliable, transient local, keep last 1
-  Request,  ///< requests and replies of a service: command's, without data sharing (a killed
-            ///< peer's reader would hold the writer's samples until its lease ran out)
+  Request,  ///< requests and replies of a service: command's, with a heartbeat of 0.1 s
   LockstepSensor,  ///< sensor data of a lock-step simulator: sensor's, but reliable (a sample
                    ///< sent once, at a request's end, is repaired when lost; SensorDataQoS
                    ///< readers still match); a reader of it reads state topics reliably too
