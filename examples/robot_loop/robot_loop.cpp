@@ -41,9 +41,8 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
           // The new simulator's data must reach this loop: each of its readers matched a new
           // writer (one that found the new process late would miss a step's image or IMU
           // sample, and the loop would decide a tick later than a run never killed). And the
-          // next set-points must reach it: a killed simulator's readers, until their lease runs
-          // out, hold the writers' shared-memory samples (Fast DDS data sharing), and commands
-          // written then can be lost to the live reader too.
+          // next set-points must be acknowledged by it alone: a killed simulator's readers stay
+          // matched until their lease runs out, and would never acknowledge them.
           const auto until = std::chrono::steady_clock::now() + 12s;
           while ((!simulator_renewed() || !drive_.commander_matched() || !crane_.matched() ||
                   drive_.command_readers() > 1 || crane_.command_readers() > 1 ||

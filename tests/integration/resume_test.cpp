@@ -178,8 +178,8 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
     // simulator never took needs it; one it had begun goes on without it (macsim drops it).
     sim.set_restart_patience(90s, [&] {
       for (int i = 0; i < 200 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(50ms);
-      // The killed simulator's command reader gone (its lease ended): a data-sharing writer's
-      // sample waits for every reader it knows.
+      // The killed simulator's command reader gone (its lease ended): it would never
+      // acknowledge the set-point.
       for (int i = 0; i < 200 && kurt.command_readers() > 1; ++i) std::this_thread::sleep_for(50ms);
       kurt.drive(twist.linear, twist.angular);
       kurt.wait_delivered();
