@@ -159,16 +159,14 @@ void SimBridge::publish() {
   if (!started_ || now < last_time_ || runner_.generation() != generation_ ||
       runner_.time_origin() != time_origin_) {
     // The first step, a reset, a snapshot restored or a new world: the schedules start at the
-    // time's origin (its first instant due at the first step after it). The instants due
-    // before this step were published already, by the process a resumed run took over from.
+    // first step after the time's origin, whatever set it. The instants due before this step
+    // were published already, by the process a resumed run took over from.
     started_ = true;
     generation_ = runner_.generation();
     time_origin_ = runner_.time_origin();
     const double step = world.step_size();
-    const double epoch = static_cast<double>(time_origin_) * step;
-    const double served = world.steps() > time_origin_ + 1
-                              ? static_cast<double>(world.steps() - 1) * step
-                              : epoch - step;  // none: the origin's own instant is due now
+    const double epoch = static_cast<double>(time_origin_ + 1) * step;
+    const double served = static_cast<double>(world.steps() - 1) * step;
     clock_instants_.start(epoch, served);
     for (auto& t : robots_) t->camera_instants.start(epoch, served);
   }
