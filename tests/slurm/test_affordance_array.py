@@ -61,6 +61,16 @@ def submit(cluster, out_dir, domains, *more):
     return array_job, merge_job, shlex.split(rerun), shlex.split(merge), said
 
 
+def simulator_logs(out_dir, shard):
+    """The ends of the logs a task's simulators left (kept by the trials when one was lost)."""
+    folder = out_dir / "logs" / f"lift-shard-{shard}-of-{SHARDS}"
+    tails = []
+    for log in sorted(folder.rglob("*")) if folder.is_dir() else []:
+        if log.is_file():
+            tails.append(f"\n--- {log.name} (end) ---\n{log.read_text(errors='replace')[-3000:]}")
+    return "".join(tails)
+
+
 def wait_array(cluster, array_job, count, timeout=150):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
@@ -91,7 +101,8 @@ def test_an_array_of_four_tasks_and_its_merge_give_the_rows_of_one_run(cluster, 
     tasks = wait_array(cluster, array_job, SHARDS)
     outputs = {i: (out_dir / f"slurm-{array_job}_{i}.out").read_text() for i in range(SHARDS)}
     for i, task in tasks.items():
-        assert task["JobState"] == "COMPLETED" and task["ExitCode"] == "0:0", outputs[i]
+        assert task["JobState"] == "COMPLETED" and task["ExitCode"] == "0:0", \
+            outputs[i] + simulator_logs(out_dir, i)
     merge = cluster.wait_job(merge_job)
     report = (out_dir / f"slurm-merge-{merge_job}.out").read_text()
     assert merge["JobState"] == "COMPLETED" and merge["ExitCode"] == "0:0", report

@@ -166,7 +166,9 @@ void SimBridge::publish() {
     time_origin_ = runner_.time_origin();
     const double step = world.step_size();
     const double epoch = static_cast<double>(time_origin_ + 1) * step;
-    const double served = static_cast<double>(world.steps() - 1) * step;
+    // (A request cancelled by a reset publishes without a step: nothing since the origin.)
+    const uint64_t last_served = std::max(world.steps(), time_origin_ + 1) - 1;
+    const double served = static_cast<double>(last_served) * step;
     clock_instants_.start(epoch, served);
     for (auto& t : robots_) t->camera_instants.start(epoch, served);
   }
