@@ -135,10 +135,11 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
     bridge_options.lockstep = o.lockstep;
     bridge_options.resumed = resumed != nullptr;
-    if (bridge_options.cameras &&
-        (!macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
-                                        &bridge_options.camera.height) ||
-         !(o.camera_rate > 0))) {
+    // The camera schedule runs with cameras off too (a world's schedule is one).
+    if (!(std::isfinite(o.camera_rate) && o.camera_rate > 0) ||
+        (bridge_options.cameras &&
+         !macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
+                                        &bridge_options.camera.height))) {
       macsim::log::error(
           "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive rate; "
           "got '{}'",

@@ -198,9 +198,6 @@ bool Runner::wait_for_commands(Clock::time_point deadline) {
 
 std::size_t Runner::apply_commands() {
   std::size_t ran = 0;
-  // A command or a load that set the world's time (a reset, a snapshot restored, another
-  // world) gives it a new origin.
-  const uint64_t steps_before = world_->steps(), generation_before = generation_;
   for (;;) {  // one batch per pass: up to and including a parsed load
     std::size_t ran_now = 0;
     std::deque<Item> batch;
@@ -233,11 +230,7 @@ std::size_t Runner::apply_commands() {
       pending_.insert(pending_.begin(), std::make_move_iterator(batch.begin()),
                       std::make_move_iterator(batch.end()));
     }
-    if (!more) {
-      if (world_->steps() != steps_before || generation_ != generation_before)
-        time_origin_ = world_->steps();
-      return ran;
-    }
+    if (!more) return ran;
   }
 }
 

@@ -307,6 +307,7 @@ Status World::restore(const WorldSnapshot& snapshot) {
     return Status::error(ErrorCode::InvalidArgument, "the snapshot's parts do not fit this world");
   }
   rebuild(s, {}, false);
+  time_origin_ = {steps_, time_origin_.count + 1};
   return {};
 }
 
@@ -334,6 +335,7 @@ void World::reset(ResetScope scope) {
     s.random_seed = initial_.random_seed;
   }
   rebuild(s, loaded, true);
+  if (scope != ResetScope::Poses) time_origin_ = {steps_, time_origin_.count + 1};
 }
 
 }  // namespace macsim

@@ -56,22 +56,23 @@ TEST(SimulatedRobot, ReadingsComeAsTheStepsProduceThem) {
   EXPECT_GT(runner.world().robot("kurt")->odometry().x, 0.0);
 }
 
-TEST(SimulatedRobot, MarkedReadItGivesOnlyWhatLaterStepsProduce) {
-  // A bridge serving a resumed world: what the steps so far produced went out already.
+TEST(SimulatedRobot, AfterARestoreOrAResetItsFirstReadTakesEverything) {
   Runner runner(one_robot("kurt3d"));
-  for (int i = 0; i < 55; ++i) runner.step();
-  SimulatedRobot fresh(runner, "kurt"), resumed(runner, "kurt");
-  const robot::Readings everything = fresh.read();  // a new world's first read: all it has
-  EXPECT_TRUE(everything.odometry && everything.scan);
-  resumed.mark_read();
-  const robot::Readings nothing = resumed.read();
-  EXPECT_FALSE(nothing.odometry || nothing.scan || nothing.cloud);
-  int odometry = 0;
-  for (int i = 0; i < 10; ++i) {  // the next encoder frame, at 60 ms
-    runner.step();
-    odometry += resumed.read().odometry ? 1 : 0;
-  }
-  EXPECT_EQ(odometry, 1);
+  SimulatedRobot kurt(runner, "kurt");
+  for (int i = 0; i < 30; ++i) runner.step();
+  const WorldSnapshot at30 = runner.world().snapshot();
+  for (int i = 0; i < 25; ++i) runner.step();
+  kurt.read();
+  runner.step();  // step 56: no encoder frame, no sweep
+  EXPECT_FALSE(kurt.read().odometry.has_value());
+  ASSERT_TRUE(runner.world().restore(at30).ok());  // to step 30: no frame produced there either
+  EXPECT_TRUE(kurt.read().odometry.has_value());
+  EXPECT_FALSE(kurt.read().odometry.has_value());
+  // A robot first read after the world was put back (a resumed run whose session ends right
+  // after a reset): everything, as its first read after one would have.
+  runner.world().reset(ResetScope::Everything);
+  SimulatedRobot late(runner, "kurt");
+  EXPECT_TRUE(late.read().odometry.has_value());
 }
 
 TEST(SimulatedRobot, ActsOnTheRobotOfTheCurrentWorldAfterALoad) {

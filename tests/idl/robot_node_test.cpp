@@ -81,6 +81,24 @@ TEST(RobotNode, ServesAMockRobotCommandsInReadingsOut) {
   EXPECT_NEAR(sonar->range(), 0.7, 1e-6);
 }
 
+TEST(RobotNode, PrimedItKnowsTheRobotsReadingsAndWritesNone) {
+  // A simulator resumed from a session: what the robot has went out before the kill.
+  Served s;
+  client::RobotClient controller(s.controller_side, "kurt");
+  for (int i = 0; i < 3000 && !controller.odometry_writers_seen(); ++i)
+    std::this_thread::sleep_for(10ms);
+  ASSERT_GT(controller.odometry_writers_seen(), 0);
+  s.mock.advance(0.5);
+  EXPECT_FALSE(s.node.latest().odometry.has_value());
+  s.node.prime();
+  EXPECT_TRUE(s.node.latest().odometry.has_value());
+  EXPECT_FALSE(controller.wait_for_odometry(500ms).has_value());
+  s.node.publish();  // the readings since: none new, but a publish writes what it reads
+  s.mock.advance(0.6);
+  s.node.publish();
+  EXPECT_TRUE(controller.wait_for_odometry(2s).has_value());
+}
+
 TEST(RobotNode, ServesWhatTheRobotHasAndNamesWhatItLacks) {
   Served s;
   const auto lines = s.node.topic_lines();

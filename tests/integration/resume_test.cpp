@@ -186,6 +186,9 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
     });
     EXPECT_TRUE(sim.wait_for_server(20s));
     for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);
+    for (int i = 0; i < 100 && (odometry_reader->matched() == 0 || image_reader->matched() == 0);
+         ++i)
+      std::this_thread::sleep_for(50ms);  // every stamp from the first step on, in both runs
     for (int i = 0; i < 40; ++i) {  // at sim time 0 while discovery settles (lockstep_test)
       kurt.drive(twist.linear, twist.angular);
       std::this_thread::sleep_for(50ms);

@@ -351,39 +351,6 @@ TEST(Runner, AStepRequestHoldsTheCommandsOfTheRobotsItNamesOnly) {
   EXPECT_GT(rover_both, 0.45);
 }
 
-TEST(Runner, TheTimeOriginIsTheStepAResetARestoreOrALoadSetTheTimeTo) {
-  Runner runner(small_room());
-  auto run = [&](int steps) {
-    for (int i = 0; i < steps; ++i) runner.step();
-  };
-  run(30);
-  EXPECT_EQ(runner.time_origin(), 0u);
-  const WorldSnapshot at30 = runner.world().snapshot();
-  run(20);
-  EXPECT_TRUE(runner.push([&](World& world) { EXPECT_TRUE(world.restore(at30).ok()); }));
-  runner.apply_commands();
-  EXPECT_EQ(runner.time_origin(), 30u);
-  run(10);
-  EXPECT_TRUE(runner.push([](World&) {}));  // a command that leaves the time alone
-  runner.apply_commands();
-  EXPECT_EQ(runner.time_origin(), 30u);
-  EXPECT_TRUE(runner.push([](World& world) { world.reset(ResetScope::Everything); }));
-  runner.apply_commands();
-  EXPECT_EQ(runner.time_origin(), 0u);
-  run(10);
-  EXPECT_TRUE(runner.push([&](World& world) { EXPECT_TRUE(world.restore(at30).ok()); }));
-  runner.apply_commands();  // forward in time, too
-  EXPECT_EQ(runner.time_origin(), 30u);
-  bool loaded = false;
-  runner.load([] { return small_room(); }, [&](const LoadOutcome& o) { loaded = o.ok; });
-  for (int i = 0; i < 100 && !loaded; ++i) {
-    runner.wait_for_commands(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
-    runner.apply_commands();
-  }
-  ASSERT_TRUE(loaded);
-  EXPECT_EQ(runner.time_origin(), 0u);
-}
-
 TEST(Runner, AResetThatTakesTheTimeBackCancelsAStepRequestWithNoStepAfterIt) {
   Runner runner(small_room(), RunSettings{true, 0.0});
   std::atomic<bool> stop{false};

@@ -362,6 +362,32 @@ TEST(WorldState, ResetPosesAndTimeRewindsTheClockAndTheRandomSeed) {
   EXPECT_EQ(world.state_hash(), loaded);  // nothing was spawned: exactly the loaded state
 }
 
+TEST(WorldState, TheTimeOriginIsWhereAResetOrARestoreSetTheTime) {
+  World world(shipped_world("DemoWorld_v1.xml"));
+  auto origin = [&] { return std::pair{world.time_origin().step, world.time_origin().count}; };
+  auto steps = [&](int n) {
+    for (int i = 0; i < n; ++i) world.step();
+  };
+  EXPECT_EQ(origin(), std::pair(uint64_t{0}, uint64_t{0}));
+  steps(30);
+  const WorldSnapshot at30 = world.snapshot();
+  steps(20);
+  ASSERT_TRUE(world.restore(at30).ok());
+  EXPECT_EQ(origin(), std::pair(uint64_t{30}, uint64_t{1}));
+  ASSERT_TRUE(world.restore(at30).ok());  // to the step it is at: set all the same
+  EXPECT_EQ(origin(), std::pair(uint64_t{30}, uint64_t{2}));
+  steps(10);
+  world.reset(ResetScope::Poses);  // time goes on
+  EXPECT_EQ(origin(), std::pair(uint64_t{30}, uint64_t{2}));
+  world.reset(ResetScope::PosesAndTime);
+  EXPECT_EQ(origin(), std::pair(uint64_t{0}, uint64_t{3}));
+  ASSERT_TRUE(world.restore(at30).ok());  // forward in time, too
+  world.reset(ResetScope::Everything);
+  EXPECT_EQ(origin(), std::pair(uint64_t{0}, uint64_t{5}));
+  EXPECT_FALSE(world.restore(WorldSnapshot{}).ok());  // refused: nothing set
+  EXPECT_EQ(origin(), std::pair(uint64_t{0}, uint64_t{5}));
+}
+
 TEST(WorldState, ASnapshotOfAnotherWorldIsRefused) {
   World demo(shipped_world("DemoWorld_v1.xml"));
   World two_robots(load_world_string(R"(<WORLD>

@@ -109,9 +109,12 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     auto topics = std::make_unique<RobotTopics>(
         participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped, sensors});
     topics->camera_instants = Schedule(options_.camera_rate);
-    // Resumed: the killed process published the readings so far, each stamped when it went
-    // out; again now, they would go out as new ones stamped now.
-    if (options_.resumed) topics->simulated.mark_read();
+    // Resumed after a step since the world's time was last set: the killed process published
+    // the readings so far, each stamped when it went out (again now, they would go out as new
+    // ones stamped now); they are the newest a step request's conditions look at. Resumed
+    // before one: the first read takes everything, as the killed process's would have.
+    const World& world = runner.world();
+    if (options_.resumed && world.steps() > world.time_origin().step) topics->node.prime();
     const auto stereo = robot->cameras();  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
@@ -156,23 +159,22 @@ void SimBridge::poll_commands() {
 void SimBridge::publish() {
   World& world = runner_.world();
   const double now = world.time();
-  if (!started_ || now < last_time_ || runner_.generation() != generation_ ||
-      runner_.time_origin() != time_origin_) {
+  const World::TimeOrigin origin = world.time_origin();
+  if (!started_ || runner_.generation() != generation_ || origin.count != time_origins_) {
     // The first step, a reset, a snapshot restored or a new world: the schedules start at the
     // first step after the time's origin, whatever set it. The instants due before this step
     // were published already, by the process a resumed run took over from.
     started_ = true;
     generation_ = runner_.generation();
-    time_origin_ = runner_.time_origin();
+    time_origins_ = origin.count;
     const double step = world.step_size();
-    const double epoch = static_cast<double>(time_origin_ + 1) * step;
+    const double epoch = static_cast<double>(origin.step + 1) * step;
     // (A request cancelled by a reset publishes without a step: nothing since the origin.)
-    const uint64_t last_served = std::max(world.steps(), time_origin_ + 1) - 1;
+    const uint64_t last_served = std::max(world.steps(), origin.step + 1) - 1;
     const double served = static_cast<double>(last_served) * step;
     clock_instants_.start(epoch, served);
     for (auto& t : robots_) t->camera_instants.start(epoch, served);
   }
-  last_time_ = now;
   // A controller's request may ask for its data only at its end (it reads nothing before).
   const StepRequest* request = runner_.step_request();
   const bool hold = request && request->publish_at_end;

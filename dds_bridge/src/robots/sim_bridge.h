@@ -64,10 +64,9 @@ class SimBridge {
   BridgeOptions options_;
   Schedule clock_instants_{100.0};  // /clock at 100 Hz of sim time
   bool started_ = false;            // the schedules run
-  double last_time_ = 0.0;
   std::optional<rosgraph_msgs::msg::dds_::Clock_> held_clock_;
   uint64_t generation_ = 0;   // of the world whose schedules run
-  uint64_t time_origin_ = 0;  // the step its time started from (Runner::time_origin)
+  uint64_t time_origins_ = 0;  // World::time_origin().count the schedules started at
   struct Clock;
   std::unique_ptr<Clock> clock_;
   std::vector<std::unique_ptr<RobotTopics>> robots_;

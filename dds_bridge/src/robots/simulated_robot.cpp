@@ -11,6 +11,10 @@ SimulatedRobot::SimulatedRobot(Runner& runner, std::string name)
   capabilities_ = r->capabilities();
   frame_tree_ = r->frames();
   generation_ = runner.generation();
+  time_origins_ = runner.world().time_origin().count;
+  // The world was put back before this robot's first read (a resumed run, its session ending
+  // right after a reset, a restore or a load): everything, as after one.
+  if (generation_ > 0 || time_origins_ > 0) mark_ = ReadMark::everything();
 }
 
 bool SimulatedRobot::execute(const robot::RobotCommand& command) {
@@ -21,14 +25,14 @@ bool SimulatedRobot::execute(const robot::RobotCommand& command) {
 robot::Readings SimulatedRobot::read() {
   RobotModel* r = robot();
   if (!r) return {};
-  const double now = runner_.world().time();
-  if (now < last_time_ || runner_.generation() != generation_) {
-    // A reset or a new world: its first readings are new, whatever their counters say.
+  const World& world = runner_.world();
+  if (runner_.generation() != generation_ || world.time_origin().count != time_origins_) {
+    // A reset, a restore or a new world: its first readings are new, whatever their counters.
     generation_ = runner_.generation();
+    time_origins_ = world.time_origin().count;
     mark_ = ReadMark::everything();
   }
-  last_time_ = now;
-  return r->read(mark_, now);
+  return r->read(mark_, world.time());
 }
 
 }  // namespace macsim

@@ -21,11 +21,9 @@ class SimulatedRobot : public robot::RobotInterface {
   robot::Capabilities capabilities() const override { return capabilities_; }
   /// The robot's own RobotModel::execute, at the world's time.
   bool execute(const robot::RobotCommand& command) override;
-  /// What the steps since the last call produced (RobotModel::read); after a reset or a new
-  /// world, everything the robot has.
+  /// What the steps since the last call produced (RobotModel::read); after a reset, a restore
+  /// or a new world (also one before this robot's first read), everything the robot has.
   robot::Readings read() override;
-  /// Counts every reading the robot has now as read: read() returns what later steps produce.
-  void mark_read() { read(); }
   /// From the robot's description (RobotModel::frames).
   robot::Frames frames() const override { return frame_tree_; }
 
@@ -38,7 +36,7 @@ class SimulatedRobot : public robot::RobotInterface {
   robot::Capabilities capabilities_;
   robot::Frames frame_tree_;
   uint64_t generation_ = 0;  // of the world the mark below belongs to
-  double last_time_ = 0.0;
+  uint64_t time_origins_ = 0;  // World::time_origin().count the mark below belongs to
   ReadMark mark_;  // what was read last
 };
 

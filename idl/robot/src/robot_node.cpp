@@ -304,8 +304,7 @@ struct RobotNode::Outbox {
   std::optional<tf::TFMessage_> tf_static;
 };
 
-void RobotNode::publish(bool hold) {
-  Readings r = robot_.read();
+void RobotNode::remember(const Readings& r) {
   // The newest of each kind, for whoever asks (a step request's conditions).
   if (r.odometry) latest_.odometry = r.odometry;
   if (r.ground_truth) latest_.ground_truth = r.ground_truth;
@@ -315,6 +314,13 @@ void RobotNode::publish(bool hold) {
   if (r.scan) latest_.scan = r.scan;
   if (r.rotunit) latest_.rotunit = r.rotunit;
   latest_.stamp = r.stamp;
+}
+
+void RobotNode::prime() { remember(robot_.read()); }
+
+void RobotNode::publish(bool hold) {
+  Readings r = robot_.read();
+  remember(r);
   if (!hold) {
     flush();  // what a held request kept (one cancelled by a pause) goes first: it is older
     fill(r);

@@ -192,9 +192,6 @@ class Runner {
   const World& world() const { return *world_; }
   /// Counts world replacements: ids, snapshots and schedules of an older generation are void.
   uint64_t generation() const { return generation_; }
-  /// The world step its time last started from: 0 for a world loaded or reset, a snapshot's
-  /// step once restored. Sensor schedules count from it, so a resumed run keeps them.
-  uint64_t time_origin() const { return time_origin_; }
   /// Where this world and every later one read the files operations name (nullptr: anywhere).
   void set_data_roots(std::shared_ptr<const DataRoots> roots);
   /// Where requests may read files (anywhere until set); lives as long as the runner.
@@ -238,7 +235,6 @@ class Runner {
   uint64_t steps_run_ = 0;
   std::shared_ptr<const DataRoots> data_roots_ = DataRoots::anywhere();
   uint64_t generation_ = 0;
-  uint64_t time_origin_ = 0;  // time_origin()
   SnapshotStore snapshots_;
   std::size_t max_objects_ = bounds::kMaxObjects;
   RunSettings settings_;

@@ -313,6 +313,13 @@ class World {
   void keep_robot_commands(const std::string& robots = "");
   double time() const { return static_cast<double>(steps_) * spec_.physics.step; }
   uint64_t steps() const { return steps_; }
+  /// The step its time was last set to, and how often it was set: sensor schedules begin anew
+  /// at each (a resumed run, replaying the same resets and restores, keeps them).
+  struct TimeOrigin {
+    uint64_t step = 0;   ///< 0 as loaded or reset, a restored snapshot's step
+    uint64_t count = 0;  ///< resets (of the time) and restores since the world was loaded
+  };
+  TimeOrigin time_origin() const { return time_origin_; }
   double step_size() const { return spec_.physics.step; }
   /// The world as loaded.
   const WorldSpec& spec() const { return spec_; }
@@ -458,6 +465,7 @@ class World {
   unsigned long random_seed_ = 0;  // this world's dRand state
   ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
+  TimeOrigin time_origin_;
   int contacts_ = 0;
   StepProfile profile_;
   WorldObjects objects_view_{*this};

@@ -52,6 +52,9 @@ class RobotNode {
   void publish(bool hold = false);
   /// Writes what publish(true) held back.
   void flush();
+  /// Reads the robot into latest() and writes nothing: what it has went out already (a
+  /// simulator resumed from a session, the killed process having published it).
+  void prime();
   /// The newest of each reading published (or held) so far.
   const Readings& latest() const { return latest_; }
   /// "topic (type, in|out)" of each topic served.
@@ -65,6 +68,8 @@ class RobotNode {
   struct Held;
   /// Makes the messages of `readings` (what is in them) into the outbox.
   void fill(const Readings& readings);
+  /// Keeps the newest of each kind of `readings` in latest().
+  void remember(const Readings& readings);
   RobotInterface& robot_;
   NodeOptions options_;
   Frames frames_;
