@@ -258,6 +258,42 @@ TEST(AffordanceTrials, AnInstanceKilledMidRunIsNoticedAndItsTrialsRunElsewhere) 
   EXPECT_EQ(keys.size(), 20u);
 }
 
+/// The children of process `pid` (of any of its threads).
+std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> found;
+  for (const auto& task :
+       std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    std::ifstream in(task.path() / "children");
+    for (pid_t child = 0; in >> child;) found.push_back(child);
+  }
+  return found;
+}
+
+TEST(AffordanceTrials, ASimulatorOfTheRunLostWhileItStillRunsIsConnectedToAgain) {
+  // Stopped for 10 s (as a starved process would look): its participant's lease runs out, the
+  // runner calls it lost, and once it goes on the runner connects to it again.
+  TempDir dir("affordance_reconnect_");
+  const std::string csv = dir.path() + "/rows.csv";
+  ChildProcess runner({bin("affordance_trials"), "--domain", std::to_string(unique_test_domain()),
+                       "--instances", "1", "--trials", "6", "--seed", "11", "--timeout", "2",
+                       "--out", csv});
+  for (int i = 0; i < 1200 && lines_of(csv).size() < 3; ++i) std::this_thread::sleep_for(50ms);
+  ASSERT_GE(lines_of(csv).size(), 3u) << runner.output();
+  const auto simulators = children_of(runner.pid());
+  ASSERT_EQ(simulators.size(), 1u) << runner.output();
+  ASSERT_EQ(::kill(simulators[0], SIGSTOP), 0);
+  ASSERT_TRUE(runner.wait_for_output("connecting again", 30s)) << runner.output();
+  std::this_thread::sleep_for(2s);
+  ASSERT_EQ(::kill(simulators[0], SIGCONT), 0);
+  ASSERT_EQ(runner.wait_for_exit(120s), 0) << runner.output();
+  EXPECT_NE(runner.output().find("1 reconnection(s)"), std::string::npos) << runner.output();
+  const auto rows = lines_of(csv);
+  ASSERT_EQ(rows.size(), 7u) << runner.output();
+  std::set<std::string> keys;
+  for (std::size_t i = 1; i < rows.size(); ++i) keys.insert(key_of(rows[i]));
+  EXPECT_EQ(keys.size(), 6u);
+}
+
 TEST(AffordanceLearn, LearnsFromTrialRowsAndDrawsItsPlots) {
   TempDir dir("affordance_learn_");
   std::string output;

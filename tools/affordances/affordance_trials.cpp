@@ -629,6 +629,9 @@ int main(int argc, char** argv) {
     std::printf("sim_time_per_trial.%s %.3f s\n", name(*affordance),
                 done ? sim_seconds / done : 0.0);
   }
+  if (summary.reconnects > 0)
+    std::printf("affordance_trials: %d reconnection(s) to a simulator lost while it still ran\n",
+                summary.reconnects);
   if (summary.lost_instances > 0)
     std::printf("affordance_trials: %d instance(s) lost; their trials ran elsewhere\n",
                 summary.lost_instances);

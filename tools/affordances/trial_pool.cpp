@@ -15,6 +15,9 @@ namespace affordances {
 
 namespace {
 
+/// Times a lost simulator of this run that still runs is connected to again.
+constexpr int kReconnects = 3;
+
 /// The last `lines` lines of a text file (or what there is).
 std::string log_tail(const std::string& file, std::size_t lines) {
   std::ifstream in(file);
@@ -107,27 +110,40 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
       }
       InstanceOptions o = options_.instance;
       o.domain = domain;
-      TrialRobot robot(o);
-      robot.connect(std::chrono::seconds(30));
-      TrialSpec trial;
-      while (queue.take(trial)) {
+      // A simulator of ours lost while its process still runs (unmatched or silent under a
+      // heavy load) is connected to again, a few times: its trials start over from their reset.
+      for (int reconnects = 0;; ++reconnects) {
         try {
-          TrialRecord record = robot.run(trial);
-          record.instance = index;
-          {
-            std::lock_guard<std::mutex> lock(report);
-            ++summary.done;
-            done(record);
+          TrialRobot robot(o);
+          robot.connect(std::chrono::seconds(30));
+          TrialSpec trial;
+          while (queue.take(trial)) {
+            try {
+              TrialRecord record = robot.run(trial);
+              record.instance = index;
+              {
+                std::lock_guard<std::mutex> lock(report);
+                ++summary.done;
+                done(record);
+              }
+              queue.finished();
+            } catch (const InstanceLost&) {
+              queue.give_back(trial);
+              throw;
+            } catch (const std::exception& e) {
+              say("trial " + std::to_string(trial.seed) + " refused: " + e.what());
+              queue.finished();
+              std::lock_guard<std::mutex> lock(report);
+              ++summary.failed;
+            }
           }
-          queue.finished();
-        } catch (const InstanceLost&) {
-          queue.give_back(trial);
-          throw;
-        } catch (const std::exception& e) {
-          say("trial " + std::to_string(trial.seed) + " refused: " + e.what());
-          queue.finished();
+          break;
+        } catch (const InstanceLost& e) {
+          if (!simulator || !simulator->running() || reconnects == kReconnects) throw;
+          say(std::string("lost: ") + e.what() + "; its simulator still runs: connecting again (" +
+              std::to_string(reconnects + 1) + " of " + std::to_string(kReconnects) + ")");
           std::lock_guard<std::mutex> lock(report);
-          ++summary.failed;
+          ++summary.reconnects;
         }
       }
     } catch (const std::exception& e) {

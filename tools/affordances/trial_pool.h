@@ -26,6 +26,7 @@ struct PoolOptions {
 struct PoolSummary {
   int done = 0;
   int lost_instances = 0;
+  int reconnects = 0;              ///< to simulators of this run lost while still running
   int failed = 0;                  ///< trials refused by the simulator (not retried)
   std::vector<TrialSpec> not_run;  ///< every instance was lost before these ran
 };
