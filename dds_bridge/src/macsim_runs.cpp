@@ -141,9 +141,9 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
          !macsim::dds::parse_image_size(o.cameras, &bridge_options.camera.width,
                                         &bridge_options.camera.height))) {
       macsim::log::error(
-          "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a positive rate; "
-          "got '{}'",
-          o.cameras);
+          "macsim: --cameras takes WxH (e.g. 320x240) or off, --camera-rate a finite positive "
+          "rate (Hz); got --cameras '{}' --camera-rate {}",
+          o.cameras, o.camera_rate);
       return 2;
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);

@@ -77,6 +77,15 @@ int run(std::vector<std::string> argv, std::string* output = nullptr,
   return code.value_or(-1);
 }
 
+/// The rows file has a header and a row of each of `trials` trials, none twice.
+void expect_each_trial_once(const std::string& csv, std::size_t trials, const std::string& output) {
+  const auto rows = lines_of(csv);
+  ASSERT_EQ(rows.size(), trials + 1) << output;
+  std::set<std::string> keys;
+  for (std::size_t i = 1; i < rows.size(); ++i) keys.insert(key_of(rows[i]));
+  EXPECT_EQ(keys.size(), trials);
+}
+
 class ByAffordance : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ByAffordance, OneInstanceAndThreeGiveTheSameRows) {
@@ -251,11 +260,7 @@ TEST(AffordanceTrials, AnInstanceKilledMidRunIsNoticedAndItsTrialsRunElsewhere) 
             std::string::npos)
       << runner.output();
   EXPECT_NE(runner.output().find("1 instance(s) lost"), std::string::npos) << runner.output();
-  const auto rows = lines_of(csv);
-  ASSERT_EQ(rows.size(), 21u) << runner.output();
-  std::set<std::string> keys;
-  for (std::size_t i = 1; i < rows.size(); ++i) keys.insert(key_of(rows[i]));
-  EXPECT_EQ(keys.size(), 20u);
+  expect_each_trial_once(csv, 20, runner.output());
 }
 
 /// The children of process `pid` (of any of its threads).
@@ -270,8 +275,8 @@ std::vector<pid_t> children_of(pid_t pid) {
 }
 
 TEST(AffordanceTrials, ASimulatorOfTheRunLostWhileItStillRunsIsConnectedToAgain) {
-  // Stopped for 10 s (as a starved process would look): its participant's lease runs out, the
-  // runner calls it lost, and once it goes on the runner connects to it again.
+  // Stopped (as a starved process looks) until the runner calls it lost, and 2 s more: once it
+  // goes on, the runner connects to it again.
   TempDir dir("affordance_reconnect_");
   const std::string csv = dir.path() + "/rows.csv";
   ChildProcess runner({bin("affordance_trials"), "--domain", std::to_string(unique_test_domain()),
@@ -287,11 +292,7 @@ TEST(AffordanceTrials, ASimulatorOfTheRunLostWhileItStillRunsIsConnectedToAgain)
   ASSERT_EQ(::kill(simulators[0], SIGCONT), 0);
   ASSERT_EQ(runner.wait_for_exit(120s), 0) << runner.output();
   EXPECT_NE(runner.output().find("1 reconnection(s)"), std::string::npos) << runner.output();
-  const auto rows = lines_of(csv);
-  ASSERT_EQ(rows.size(), 7u) << runner.output();
-  std::set<std::string> keys;
-  for (std::size_t i = 1; i < rows.size(); ++i) keys.insert(key_of(rows[i]));
-  EXPECT_EQ(keys.size(), 6u);
+  expect_each_trial_once(csv, 6, runner.output());
 }
 
 TEST(AffordanceLearn, LearnsFromTrialRowsAndDrawsItsPlots) {

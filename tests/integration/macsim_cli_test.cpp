@@ -272,6 +272,15 @@ TEST(MacsimCli, UsageErrorsExitTwo) {
     EXPECT_EQ(p.wait_for_exit(10s), 2);
     EXPECT_NE(p.output().find("--domain"), std::string::npos) << p.output();
   }
+  for (const char* cameras : {"off", "64x48"}) {  // the camera schedule runs either way
+    for (const char* rate : {"0", "-5", "inf"}) {
+      ChildProcess p({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                      std::to_string(unique_test_domain()), "--cameras", cameras, "--camera-rate",
+                      rate});
+      EXPECT_EQ(p.wait_for_exit(20s), 2) << p.output();
+      EXPECT_NE(p.output().find("--camera-rate"), std::string::npos) << p.output();
+    }
+  }
   {
     ChildProcess p({bin("helloKurt"), "--speed", "fast"});
     EXPECT_EQ(p.wait_for_exit(10s), 2);

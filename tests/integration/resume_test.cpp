@@ -253,12 +253,12 @@ TEST(Resume, InLockstepTheHashAfterEveryRequestIsAsIfNeverKilled) {
                                                      << killed.output;
   // The data came at the instants of a run never killed: the resumed process sent nothing
   // again stamped anew, and its cameras kept their schedule.
-  for (const auto* seen : {&killed.odometry_stamps, &killed.image_stamps}) {
-    const auto& expected =
-        seen == &killed.image_stamps ? reference.image_stamps : reference.odometry_stamps;
-    EXPECT_GT(seen->size(), expected.size() * 9 / 10);
+  for (const auto& [seen, expected] :
+       {std::pair{&killed.odometry_stamps, &reference.odometry_stamps},
+        std::pair{&killed.image_stamps, &reference.image_stamps}}) {
+    EXPECT_GT(seen->size(), expected->size() * 9 / 10);
     for (const int64_t stamp : *seen)
-      EXPECT_TRUE(expected.count(stamp))
+      EXPECT_TRUE(expected->count(stamp))
           << "a sample stamped " << stamp * 1e-9 << " s that a run never killed did not send";
   }
   // Both kills were ridden out by the client, and said so.

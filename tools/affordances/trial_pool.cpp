@@ -110,33 +110,37 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
       }
       InstanceOptions o = options_.instance;
       o.domain = domain;
+      // Connects and plays trials until none is left; throws InstanceLost, its trial given back.
+      auto play_trials = [&] {
+        TrialRobot robot(o);
+        robot.connect(std::chrono::seconds(30));
+        TrialSpec trial;
+        while (queue.take(trial)) {
+          try {
+            TrialRecord record = robot.run(trial);
+            record.instance = index;
+            {
+              std::lock_guard<std::mutex> lock(report);
+              ++summary.done;
+              done(record);
+            }
+            queue.finished();
+          } catch (const InstanceLost&) {
+            queue.give_back(trial);
+            throw;
+          } catch (const std::exception& e) {
+            say("trial " + std::to_string(trial.seed) + " refused: " + e.what());
+            queue.finished();
+            std::lock_guard<std::mutex> lock(report);
+            ++summary.failed;
+          }
+        }
+      };
       // A simulator of ours lost while its process still runs (unmatched or silent under a
       // heavy load) is connected to again, a few times: its trials start over from their reset.
       for (int reconnects = 0;; ++reconnects) {
         try {
-          TrialRobot robot(o);
-          robot.connect(std::chrono::seconds(30));
-          TrialSpec trial;
-          while (queue.take(trial)) {
-            try {
-              TrialRecord record = robot.run(trial);
-              record.instance = index;
-              {
-                std::lock_guard<std::mutex> lock(report);
-                ++summary.done;
-                done(record);
-              }
-              queue.finished();
-            } catch (const InstanceLost&) {
-              queue.give_back(trial);
-              throw;
-            } catch (const std::exception& e) {
-              say("trial " + std::to_string(trial.seed) + " refused: " + e.what());
-              queue.finished();
-              std::lock_guard<std::mutex> lock(report);
-              ++summary.failed;
-            }
-          }
+          play_trials();
           break;
         } catch (const InstanceLost& e) {
           if (!simulator || !simulator->running() || reconnects == kReconnects) throw;

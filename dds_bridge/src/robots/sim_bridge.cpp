@@ -31,7 +31,7 @@ struct SimBridge::Clock {
 
 struct SimBridge::RobotTopics {
   RobotTopics(dds::Participant& p, Runner& runner, const std::string& robot_name,
-              const robot::NodeOptions& node_options)
+              const robot::NodeOptions& node_options, double camera_rate)
       : name(robot_name),
         simulated(runner, robot_name),
         // Commands run on the simulation thread, between steps, on the current world's robot.
@@ -48,7 +48,8 @@ struct SimBridge::RobotTopics {
                           runner.queue_full_message());
               }
             },
-            node_options) {}
+            node_options),
+        camera_instants(camera_rate) {}
 
   std::string name;
   std::atomic<uint64_t> commands_dropped{0};  // the runner's queue was full (before node)
@@ -57,7 +58,7 @@ struct SimBridge::RobotTopics {
   uint64_t stereo_skipped = 0;  // camera instants skipped while a renderer was still busy
   uint64_t stereo_waited = 0;   // camera instants the simulation waited for a busy renderer
   double seconds_waited = 0.0;  // wall time of those waits
-  Schedule camera_instants{1.0};  // at the bridge's camera rate
+  Schedule camera_instants;
   std::unique_ptr<dds::Writer<sm::Image_PubSubType>> left_image, right_image;
   std::unique_ptr<dds::Writer<sm::CameraInfo_PubSubType>> left_info, right_info;
   // Each eye's last image message, filled again in place by that eye's render thread: a
@@ -107,8 +108,8 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     const std::string name = robot->name();
     const std::string frames = options_.robot_frames ? name + "/" : "";
     auto topics = std::make_unique<RobotTopics>(
-        participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped, sensors});
-    topics->camera_instants = Schedule(options_.camera_rate);
+        participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped, sensors},
+        options_.camera_rate);
     // Resumed after a step since the world's time was last set: the killed process published
     // the readings so far, each stamped when it went out (again now, they would go out as new
     // ones stamped now); they are the newest a step request's conditions look at. Resumed
