@@ -216,6 +216,12 @@ std::optional<std::string> state_problem(const WorldState& s) {
       return std::string("an object of an unknown kind");
     }
     if (auto p = bounds::object_problem(o)) return "'" + o.name + "': " + *p;
+    // The world keeps every object's orientations unit (normalize_orientations, at load and
+    // when made); one far from it would go into ODE's rotations as it is.
+    auto unit = [](const Eigen::Quaterniond& q) { return std::abs(q.norm() - 1.0) <= 1e-9; };
+    bool all_unit = unit(o.pose.orientation);
+    for (const auto& c : o.components) all_unit = all_unit && unit(c.pose.orientation);
+    if (!all_unit) return "'" + o.name + "': an orientation that is not a unit quaternion";
   }
   for (const auto& j : s.joints) {
     if (j.type != JointSpec::Type::Slider && j.type != JointSpec::Type::Hinge) {

@@ -175,6 +175,14 @@ TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {
             ErrorCode::InvalidArgument);
   EXPECT_EQ(damaged([](WorldState& s) { s.door_flags[0].gap = static_cast<DoorGap>(9); }).code,
             ErrorCode::InvalidArgument);
+  // Found by fuzz_snapshot: a quaternion of an object's spec, finite and far from unit (its y
+  // 6.5e91), made a box's pose non-finite at the first step.
+  EXPECT_EQ(damaged([](WorldState& s) { s.objects[3].second.pose.orientation.y() = 6.5e91; }).code,
+            ErrorCode::InvalidArgument);
+  EXPECT_EQ(damaged([](WorldState& s) {
+              s.objects[3].second.components[0].pose.orientation.y() = 6.5e91;
+            }).code,
+            ErrorCode::InvalidArgument);
   // A body order that names a body twice, misses one, or names a robot that is not there.
   for (const auto& change : std::vector<std::function<void(WorldState&)>>{
            [](WorldState& s) { s.body_order.push_back(s.body_order.front()); },
