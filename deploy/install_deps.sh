@@ -31,6 +31,8 @@ PACKAGES=(
   libmujoco-dev libqhull-dev
   # profiles for bench/README.md
   linux-perf
+  # bench_planning only: clingo (ASP) beside the project's own planner on the same problems
+  gringo
   # several hosts in tests: network namespaces joined by a veth pair; DDS Security certificates
   iproute2 openssl
   # packet loss on those links (nftables' random drop; kernels without netem have it too)

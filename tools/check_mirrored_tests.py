@@ -19,7 +19,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-PRODUCTION_FOLDERS = ("idl", "sim_core", "dds_bridge", "kurt_adapter", "examples", "tools")
+PRODUCTION_FOLDERS = ("idl", "sim_core", "dds_bridge", "kurt_adapter", "affordances", "examples",
+                      "tools")
 SECTION = "## Where is the test for X"
 
 

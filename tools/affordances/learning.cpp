@@ -79,13 +79,6 @@ std::map<std::string, Dataset> datasets(const CsvTable& table,
   return out;
 }
 
-bool held_out(uint64_t seed) {
-  uint64_t z = seed + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return (z ^ (z >> 31)) % 10 < 3;
-}
-
 Evaluation evaluate(const Dataset& data, int max_train) {
   cv::Mat train_x, test_x;
   std::vector<int> train_y, test_y;

@@ -29,9 +29,8 @@ struct Dataset {
 std::map<std::string, Dataset> datasets(const CsvTable& table,
                                         const std::vector<std::string>& features = {});
 
-/// Trials held out for testing: 30 % of the seeds, chosen by a hash of the seed (the same
-/// trials whatever the file's order or size).
-bool held_out(uint64_t seed);
+/// Trials held out for testing (model.h): 30 % of the seeds, by a hash of the seed.
+using macsim::affordances::held_out;
 
 struct Evaluation {
   int trained = 0, tested = 0;

@@ -9,6 +9,13 @@
 
 namespace macsim::affordances {
 
+bool held_out(std::uint64_t seed) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return (z ^ (z >> 31)) % 10 < 3;
+}
+
 namespace {
 
 constexpr const char* kForestNode = "opencv_ml_rtrees";  // where RTrees::save() writes it

@@ -3,6 +3,7 @@
 // the rows came from, the held-out accuracy). find_package(macsim) -> macsim::affordances.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -14,6 +15,10 @@ namespace macsim::affordances {
 
 /// The version of the model file's layout this build writes and reads.
 inline constexpr int kModelFormatVersion = 1;
+
+/// Trials held out for testing a learner: 30 % of the seeds, chosen by a hash of the seed (the
+/// same seed is held out in every run, whatever else the rows hold).
+bool held_out(std::uint64_t seed);
 
 /// A model that cannot be loaded, saved or asked: the message names the file or the feature.
 class ModelError : public std::runtime_error {

@@ -1,0 +1,163 @@
+// The planner on fixed problems of the hand-written room domain: the shortest plan in each kind
+// of room, the likeliest of equally short plans, an unreachable goal reported with what cannot be
+// made true, and a plan's steps applied one after the other reach the goal.
+#include "macsim/affordances/planner.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "support/child_process.h"
+
+namespace macsim::affordances {
+namespace {
+
+using macsim::test::source;
+using pddl::Atom;
+
+const pddl::Domain& room() {
+  static const pddl::Domain d =
+      pddl::load_domain(source("affordances/domains/kurt3d_room_by_hand.pddl"));
+  return d;
+}
+
+/// A room with `things` things (the first `liftable` of them liftable, then `pushable`), a switch
+/// and a door, the robot at its start; the goal: beyond the door.
+pddl::Problem room_problem(int things, int liftable, int pushable) {
+  pddl::Problem p;
+  p.name = "room";
+  p.domain = "kurt3d-room";
+  p.objects = {{"start", "place"}, {"switch-1", "switch"}, {"door-1", "door"}};
+  p.init = {{"robot-at", {"start"}}, {"hand-free", {}}, {"opens", {"switch-1", "door-1"}}};
+  for (int i = 0; i < things; ++i) {
+    const std::string t = "thing-" + std::to_string(i + 1);
+    p.objects.push_back({t, "thing"});
+    if (i < liftable) p.init.push_back({"liftable", {t}});
+    else if (i < liftable + pushable) p.init.push_back({"pushable", {t}});
+  }
+  p.goal_true = {{"beyond", {"door-1"}}};
+  return p;
+}
+
+std::vector<std::string> names(const Plan& plan) {
+  std::vector<std::string> out;
+  for (const auto& s : plan.steps) out.push_back(s.text());
+  return out;
+}
+
+/// Applies the plan's expected outcomes from the start, checking each step's preconditions.
+void expect_plan_reaches_goal(const pddl::Problem& p, const Plan& plan) {
+  std::vector<Atom> state = p.init;
+  for (const auto& step : plan.steps) state = state_after(state, step);
+  EXPECT_TRUE(satisfies(state, p));
+}
+
+TEST(Planner, TheDemonstratorsRoomTakesSixSteps) {
+  const pddl::Problem p = room_problem(4, 1, 0);
+  const PlanResult r = plan(room(), p);
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_EQ(names(*r.plan),
+            (std::vector<std::string>{"(go start thing-1)", "(lift thing-1)",
+                                      "(go thing-1 switch-1)",
+                                      "(put-down thing-1 switch-1 door-1)",
+                                      "(go switch-1 door-1)", "(drive-through door-1)"}));
+  expect_plan_reaches_goal(p, *r.plan);
+}
+
+TEST(Planner, AnOpenDoorIsDrivenThroughAtOnce) {
+  pddl::Problem p = room_problem(4, 2, 0);
+  p.init.push_back({"open", {"door-1"}});
+  const PlanResult r = plan(room(), p);
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_EQ(names(*r.plan),
+            (std::vector<std::string>{"(go start door-1)", "(drive-through door-1)"}));
+}
+
+TEST(Planner, AStiffSwitchTakesTwoThingsAndTenSteps) {
+  pddl::Problem p = room_problem(5, 2, 0);
+  p.init.push_back({"stiff", {"switch-1"}});
+  const PlanResult r = plan(room(), p);
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_EQ(r.plan->steps.size(), 10U);
+  EXPECT_EQ(r.plan->steps[3].operator_name, "put-down-first-on-stiff");
+  EXPECT_EQ(r.plan->steps[7].operator_name, "put-down-second-on-stiff");
+  expect_plan_reaches_goal(p, *r.plan);
+}
+
+TEST(Planner, AFlushSwitchIsPressedByPushingABox) {
+  pddl::Problem p = room_problem(3, 0, 1);
+  p.init.push_back({"flush", {"switch-1"}});
+  const PlanResult r = plan(room(), p);
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_EQ(names(*r.plan),
+            (std::vector<std::string>{"(go start thing-1)", "(push thing-1 switch-1 door-1)",
+                                      "(go switch-1 door-1)", "(drive-through door-1)"}));
+}
+
+TEST(Planner, AnUnreachableGoalIsReportedWithWhatCannotBeMadeTrue) {
+  const pddl::Problem p = room_problem(3, 0, 0);  // nothing liftable, no flush switch
+  const PlanResult r = plan(room(), p);
+  EXPECT_FALSE(r.plan);
+  EXPECT_FALSE(r.limit_reached);
+  EXPECT_NE(r.reason.find("(beyond door-1)"), std::string::npos) << r.reason;
+  // A goal on a predicate nothing changes, false at the start.
+  pddl::Problem q = room_problem(1, 1, 0);
+  q.goal_true = {{"liftable", {"start"}}};
+  q.goal_true.clear();
+  q.goal_true.push_back({"stiff", {"switch-1"}});
+  const PlanResult s = plan(room(), q);
+  EXPECT_FALSE(s.plan);
+  EXPECT_NE(s.reason.find("(stiff switch-1) (nothing makes it true)"), std::string::npos) << s.reason;
+}
+
+TEST(Planner, AGoalMetAtTheStartNeedsNoStep) {
+  pddl::Problem p = room_problem(1, 1, 0);
+  p.goal_true = {{"hand-free", {}}};
+  const PlanResult r = plan(room(), p);
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_TRUE(r.plan->steps.empty());
+}
+
+TEST(Planner, OfEquallyShortPlansTheLikeliestIsTaken) {
+  pddl::Domain d;
+  d.name = "coin";
+  d.types = {{"coin", "object"}};
+  d.predicates = {{"won", {}}, {"fair", {{"?c", "coin"}}}};
+  pddl::Operator toss;
+  toss.name = "toss";
+  toss.parameters = {{"?c", "coin"}};
+  toss.requires_true = {{"fair", {"?c"}}};
+  toss.outcomes = {{0.6, {{"won", {}}}, {}}};
+  pddl::Operator bet = toss;
+  bet.name = "bet";
+  bet.outcomes = {{0.9, {{"won", {}}}, {}}};
+  pddl::Operator gamble = toss;
+  gamble.name = "gamble";
+  gamble.outcomes = {{0.3, {{"won", {}}}, {}}};  // nothing changes is likelier: never planned
+  d.operators = {toss, bet, gamble};
+  pddl::Problem p;
+  p.name = "p";
+  p.domain = "coin";
+  p.objects = {{"c", "coin"}};
+  p.init = {{"fair", {"c"}}};
+  p.goal_true = {{"won", {}}};
+  const PlanResult r = plan(d, p);
+  ASSERT_TRUE(r.plan) << r.reason;
+  ASSERT_EQ(r.plan->steps.size(), 1U);
+  EXPECT_EQ(r.plan->steps[0].operator_name, "bet");
+  EXPECT_DOUBLE_EQ(r.plan->probability, 0.9);
+  d.operators = {gamble};
+  EXPECT_FALSE(plan(d, p).plan);
+}
+
+TEST(Planner, TwentyThingsAndTheLongestPlanStayWithinTheSearchsLimit) {
+  pddl::Problem p = room_problem(20, 20, 0);
+  p.init.push_back({"stiff", {"switch-1"}});
+  const PlanResult r = plan(room(), p, PlanLimits{200'000, 30});
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_EQ(r.plan->steps.size(), 10U);
+  EXPECT_FALSE(r.limit_reached);
+}
+
+}  // namespace
+}  // namespace macsim::affordances
