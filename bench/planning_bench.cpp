@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -20,6 +21,7 @@
 
 #include "macsim/affordances/planner.h"
 #include "macsim/process/child_process.h"
+#include <unistd.h>
 
 namespace {
 
@@ -181,12 +183,25 @@ pddl::Problem room(int things, int liftable, int pushable, bool open, bool stiff
 
 int main(int argc, char** argv) {
   int runs = 20;
-  if (argc > 2 || (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h"))) {
-    std::printf("usage: bench_planning [RUNS]: the planner beside clingo on the hand-written room "
-                "domain (from the repository root)\n");
-    return argc > 2 ? 2 : 0;
+  if (argc > 2) {
+    std::fprintf(stderr, "usage: bench_planning [RUNS]\n");
+    return 2;
   }
-  if (argc == 2) runs = std::max(1, std::atoi(argv[1]));
+  if (argc == 2) {
+    const std::string arg = argv[1];
+    if (arg == "--help" || arg == "-h") {
+      std::printf("usage: bench_planning [RUNS]: the planner beside clingo on the hand-written "
+                  "room domain (run from the repository root)\n");
+      return 0;
+    }
+    char* end = nullptr;
+    const long n = std::strtol(arg.c_str(), &end, 10);
+    if (arg.empty() || *end || n < 1 || n > 100000) {
+      std::fprintf(stderr, "bench_planning: RUNS must be positive, not '%s'\n", arg.c_str());
+      return 2;
+    }
+    runs = static_cast<int>(n);
+  }
   const pddl::Domain domain = pddl::load_domain("affordances/domains/kurt3d_room_by_hand.pddl");
   const bool have_clingo = std::filesystem::exists("/usr/bin/clingo");
   const auto dir = std::filesystem::temp_directory_path() / ("bench_planning_" + std::to_string(::getpid()));

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       demo.run();
     } catch (const kurt_demo::Failure& failure) {
       return failed(failure.code, failure.reason);
-    } catch (const kurt_loop::LoopError& e) {
+    } catch (const macsim::affordances::LoopError& e) {
       constexpr kurt_demo::Exit kCodes[] = {kurt_demo::kNoRobot, kurt_demo::kTimeout,
                                             kurt_demo::kNoPassage};
       return failed(kCodes[static_cast<int>(e.stop)], e.what());

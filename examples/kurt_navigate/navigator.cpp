@@ -9,7 +9,7 @@ namespace kurt_navigate {
 
 namespace {
 
-using kurt_loop::wrap;
+using macsim::affordances::wrap;
 
 constexpr double kSpeed = 0.4;    // m/s, the traverse trials' speed
 constexpr double kStretch = 1.0;  // m of the way driven before looking again
@@ -218,7 +218,7 @@ void Navigator::back_off(Outcome& out, const std::string& why) {
 
 bool Navigator::follow(const std::vector<Point2>& way, double stretch) {
   double travelled = 0, best = 0, best_at = now_;
-  kurt_loop::Pose2 last = pose_;
+  macsim::affordances::Pose2 last = pose_;
   std::size_t along = 0;  // the way's point nearest the robot
   // A stretch takes a few times what driving it straight would; a track slipping on what it is
   // wedged on makes headway by the wheels but none by the ground.
@@ -266,7 +266,7 @@ Outcome Navigator::run() {
   Outcome out;
   try {
     drive(out);
-  } catch (const kurt_loop::LoopError& e) {
+  } catch (const macsim::affordances::LoopError& e) {
     constexpr Exit kCodes[] = {kNoRobot, kTimeout, kNoCloud};
     out.code = kCodes[static_cast<int>(e.stop)];
     out.reason = e.what();
@@ -287,7 +287,7 @@ void Navigator::drive(Outcome& out) {
   rotunit_ = kRotunitSpeed;
   crane_to(kAsideSlew, kBoomUp, 0.0);
   StaticMap map;                  // what stands still, odometry frame
-  kurt_loop::Pose2 stretch_from;  // where the last stretch began...
+  macsim::affordances::Pose2 stretch_from;  // where the last stretch began...
   double asked = 0;               // ...and the m its wheels made on it (0: none to judge)
   int faced = 0;                  // turns in a row to face a thing to judge
   while (true) {

@@ -12,7 +12,7 @@
 
 #include "macsim/affordances/model.h"
 #include "plan.h"
-#include "robot_loop.h"
+#include "macsim/affordances/robot_loop.h"
 #include "ways.h"
 
 namespace kurt_navigate {
@@ -30,7 +30,7 @@ enum Exit : int {
 enum class Policy { Model, Avoid };
 
 struct NavigateOptions {
-  kurt_loop::LoopOptions loop;        ///< robot, lock-step, timeouts
+  macsim::affordances::LoopOptions loop;        ///< robot, lock-step, timeouts
   double goal_x = 6.0, goal_y = 0.0;  ///< m, odometry frame
   double tolerance = 0.3;             ///< m from the goal that counts as there
   Policy policy = Policy::Model;
@@ -46,7 +46,7 @@ struct Outcome {
   Sightings::Counts things;
 };
 
-class Navigator : public kurt_loop::RobotLoop {
+class Navigator : public macsim::affordances::RobotLoop {
  public:
   Navigator(macsim::dds::Participant& participant, const NavigateOptions& options);
   /// Drives to the goal; the outcome says whether it got there (or why not: no robot, no way,
@@ -80,7 +80,7 @@ class Navigator : public kurt_loop::RobotLoop {
   /// Follows `way` for `stretch` m (or to its end); false when it stalled (its wheels made no
   /// 2 cm in a second).
   bool follow(const std::vector<Point2>& way, double stretch);
-  /// The run itself; throws kurt_loop::LoopError.
+  /// The run itself; throws macsim::affordances::LoopError.
   void drive(Outcome& out);
   void say(const std::string& text);
   void after_tick() override;

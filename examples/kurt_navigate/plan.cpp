@@ -25,7 +25,7 @@ bool on_body(const std::array<float, 3>& q) {
 
 }  // namespace
 
-std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose,
+std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose,
                              double range) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   using Key = std::pair<int, int>;

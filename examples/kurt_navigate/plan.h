@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "macsim/client/robot_devices.h"
-#include "robot_loop.h"
+#include "macsim/affordances/robot_loop.h"
 #include "ways.h"
 
 namespace kurt_navigate {
@@ -39,7 +39,7 @@ inline constexpr double kLowThing = 0.08;
 
 /// The things of a cloud (base_link) taken at `pose`, up to `range` m away; the robot's own body
 /// is left out.
-std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose,
+std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose,
                              double range = 4.0);
 
 /// The cloud without the returns of the things but `kept` (of those with 3 returns or more): what

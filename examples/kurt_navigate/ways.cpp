@@ -45,7 +45,7 @@ std::pair<int, int> cell_of(const Point2& p) {
 }
 
 std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
-                                     const kurt_loop::Pose2& pose) {
+                                     const macsim::affordances::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   std::map<std::pair<int, int>, Point2> cells;
   for (const auto& q : cloud.points) {
@@ -231,7 +231,7 @@ af::AffordanceModel load_traverse_model(const std::string& dir) {
   return model;
 }
 
-void Sightings::add(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose) {
+void Sightings::add(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   for (const auto& q : cloud.points) {
     const double h = height_above_floor(q);
@@ -244,7 +244,7 @@ void Sightings::add(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& 
   }
 }
 
-void Sightings::pass(const kurt_loop::Pose2& pose) {
+void Sightings::pass(const macsim::affordances::Pose2& pose) {
   if (path_.empty() || std::hypot(pose.x - path_.back().first, pose.y - path_.back().second) > 0.02)
     path_.emplace_back(pose.x, pose.y);
 }

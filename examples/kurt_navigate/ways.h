@@ -12,7 +12,7 @@
 
 #include "macsim/affordances/model.h"
 #include "macsim/client/robot_devices.h"
-#include "robot_loop.h"
+#include "macsim/affordances/robot_loop.h"
 
 namespace kurt_navigate {
 
@@ -41,7 +41,7 @@ double height_above_floor(const std::array<float, 3>& point);
 /// (higher than anything the robot may push aside or drive over), 0.6-9.5 m away, in the
 /// odometry frame, one per 5 cm cell.
 std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
-                                     const kurt_loop::Pose2& pose);
+                                     const macsim::affordances::Pose2& pose);
 /// Returns this high above the floor or higher belong to what stands still, m.
 inline constexpr double kStaticHeight = 0.25;
 
@@ -83,9 +83,9 @@ macsim::affordances::AffordanceModel load_traverse_model(const std::string& dir)
 class Sightings {
  public:
   /// Adds a cloud taken at `pose` (points up to 3 m away, 3-45 cm above the floor).
-  void add(const macsim::client::Cloud& cloud, const kurt_loop::Pose2& pose);
+  void add(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose);
   /// Adds where the robot's middle was.
-  void pass(const kurt_loop::Pose2& pose);
+  void pass(const macsim::affordances::Pose2& pose);
   struct Counts {
     int through = 0, around = 0, seen = 0;
   };

@@ -57,7 +57,7 @@ TEST(NavigatePlan, ACloudsThingsAreItsReturnsAboveTheFloorGroupedLeavingOutTheRo
   add_post(cloud, 1.0, 0.5, 0.3);
   add_post(cloud, 1.0, -0.5, 0.3);
   add_post(cloud, 0.1, 0.0, 0.2);             // on the robot's own body
-  kurt_loop::Pose2 pose{2.0, 1.0, M_PI / 2};  // facing +y in the odometry frame
+  macsim::affordances::Pose2 pose{2.0, 1.0, M_PI / 2};  // facing +y in the odometry frame
   const auto things = things_in(cloud, pose);
   ASSERT_EQ(things.size(), 2u);
   for (const auto& t : things) {
@@ -97,7 +97,7 @@ TEST(NavigatePlan, ThingsAreGroupedByHeightAndWhatRisesAboveTheViewIsAWall) {
   add_box(cloud, 1.0, 0.02, 1.12, 0.4, 0.12);
   add_box(cloud, -1.0, 1.5, 3.0, 1.6, 0.5);
   add_box(cloud, 2.0, 1.2, 2.25, 1.48, 0.2);
-  const auto things = things_in(cloud, kurt_loop::Pose2{});
+  const auto things = things_in(cloud, macsim::affordances::Pose2{});
   const Thing* joist = nullptr;
   const Thing* log = nullptr;
   const Thing* box = nullptr;

@@ -118,7 +118,7 @@ TEST(NavigateWays, WhatStandsStillIsWhatRisesAboveWhatTheRobotPushes) {
   // walls: left out); at 30 cm high: 0.4 m away (its own crane: out), 9 m (kept), 10 m (out).
   for (double h : {0.1, 0.3, 0.7}) cloud.points.push_back({2.0f, 0.0f, float(kFloor + h)});
   for (double r : {0.4, 9.0, 10.0}) cloud.points.push_back({0.0f, float(r), float(kFloor + 0.3)});
-  const auto still = static_structure(cloud, kurt_loop::Pose2{1.0, 2.0, M_PI / 2});
+  const auto still = static_structure(cloud, macsim::affordances::Pose2{1.0, 2.0, M_PI / 2});
   ASSERT_EQ(still.size(), 2u);
   std::vector<Point2> expected{{1.0, 4.0},
                                {-8.0, 2.0}};  // base (2, 0) and (0, 9), turned a quarter
@@ -180,7 +180,7 @@ TEST(NavigateWays, ThingsOnThePathAreDrivenThroughAndThoseBesideItAround) {
   for (double y = -2.0; y <= 2.0; y += 0.05)
     cloud.points.push_back({2.9f, float(y), float(kFloor + 0.2)});  // a wall: not a thing
   // Taken facing +y from (1.5, -0.5): the point (x, y) is at (y + 0.5, 1.5 - x) in base_link.
-  const kurt_loop::Pose2 at{1.5, -0.5, M_PI / 2};
+  const macsim::affordances::Pose2 at{1.5, -0.5, M_PI / 2};
   macsim::client::Cloud turned;
   for (const auto& q : cloud.points) turned.points.push_back({q[1] + 0.5f, 1.5f - q[0], q[2]});
   s.add(turned, at);

@@ -70,6 +70,8 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_peers"), "--engine", "bullet"}, 2, "unknown engine 'bullet'"},
            {{bin("bench_models"), "--help"}, 0, "usage: bench_models"},
            {{bin("bench_models"), "5x"}, 2, "PREDICTIONS must be positive, not '5x'"},
+           {{bin("bench_planning"), "--help"}, 0, "usage: bench_planning"},
+           {{bin("bench_planning"), "0"}, 2, "RUNS must be positive, not '0'"},
            {{bin("bench_client"), "--help"}, 0, "usage: bench_client"},
            {{bin("bench_client")}, 2, "--domain"}}) {
     ChildProcess p(c.argv);
@@ -208,7 +210,8 @@ TEST(MacsimCli, NoProgramActsOnHelpABadArgumentOrWithoutADomain) {
 TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
   for (const char* program :
        {"sim_core_tests", "dds_bridge_tests", "idl_tests", "kurt_adapter_tests", "render_tests",
-        "examples_tests", "asan_tests", "affordance_tests", "topic_tests", "process_tests",
+        "examples_tests", "asan_tests", "affordance_tests", "affordances_tests", "topic_tests",
+        "process_tests",
         "integration_tests"}) {
     ChildProcess p({bin(program), "--bogus"});
     EXPECT_EQ(p.wait_for_exit(10s), 2) << program << ": " << p.output();

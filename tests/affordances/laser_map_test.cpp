@@ -1,12 +1,12 @@
 // kurt_demo's laser map on synthetic clouds: the wall's line and the opening in it (or none
 // while the leaf closes it), corridors, the obstacle grid.
-#include "laser_map.h"
+#include "macsim/affordances/laser_map.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-namespace kurt_demo {
+namespace macsim::affordances {
 namespace {
 
 /// A wall across x = `distance` from y0 to y1 (points every 2 cm), at the height the slice keeps.
@@ -70,4 +70,4 @@ TEST(KurtDemoLaserMap, CorridorIgnoresTheGoalButNotWhatIsInFrontOfIt) {
 }
 
 }  // namespace
-}  // namespace kurt_demo
+}  // namespace macsim::affordances

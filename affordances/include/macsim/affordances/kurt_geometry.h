@@ -5,7 +5,7 @@
 
 #include "macsim/robot/kurt3d_description.h"
 
-namespace kurt_demo {
+namespace macsim::affordances {
 
 namespace description = macsim::robot::kurt3d;
 
@@ -28,4 +28,4 @@ struct KurtGeometry {
   double front = description::kFront;           ///< m, base_link to the front bumper
 };
 
-}  // namespace kurt_demo
+}  // namespace macsim::affordances

@@ -1,7 +1,7 @@
 // kurt_demo's eyes on real renderings: a KURT3D's stereo pair rendered offscreen from a world
 // with cans, a switch and look-alikes; the cans and the switch are found where they stand (in
 // base_link, within a few centimetres), the rest is not taken for them.
-#include "vision.h"
+#include "macsim/affordances/vision.h"
 
 #include <gtest/gtest.h>
 
@@ -44,9 +44,9 @@ client::StereoFrame stereo(const World& world) {
   return frame;
 }
 
-const kurt_demo::Sighting* nearest(const std::vector<kurt_demo::Sighting>& seen,
-                                   kurt_demo::Kind kind, double x, double y) {
-  const kurt_demo::Sighting* best = nullptr;
+const macsim::affordances::Sighting* nearest(const std::vector<macsim::affordances::Sighting>& seen,
+                                   macsim::affordances::Kind kind, double x, double y) {
+  const macsim::affordances::Sighting* best = nullptr;
   for (const auto& s : seen) {
     if (s.kind == kind && (!best || std::hypot(s.x - x, s.y - y) < std::hypot(best->x - x, best->y - y)))
       best = &s;
@@ -80,9 +80,9 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
     return base.orientation.inverse() * (Eigen::Vector3d(x, y, 0) - base.position);
   };
 
-  const auto seen = kurt_demo::find_objects(stereo(world), kurt_demo::KurtGeometry{});
+  const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
   int cans = 0, switches = 0;
-  for (const auto& s : seen) (s.kind == kurt_demo::Kind::Can ? cans : switches)++;
+  for (const auto& s : seen) (s.kind == macsim::affordances::Kind::Can ? cans : switches)++;
   EXPECT_EQ(cans, 3);      // not the cube
   EXPECT_EQ(switches, 1);  // not the yellow box, which stands on the light floor
   const struct {
@@ -91,7 +91,7 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
   } expected[] = {{"red", 1.3, 0.35}, {"blue", 2.1, -0.5}, {"green", 1.0, -0.2}};
   for (const auto& e : expected) {
     const Eigen::Vector3d truth = in_base(e.x, e.y);
-    const auto* s = nearest(seen, kurt_demo::Kind::Can, truth.x(), truth.y());
+    const auto* s = nearest(seen, macsim::affordances::Kind::Can, truth.x(), truth.y());
     ASSERT_NE(s, nullptr) << e.colour;
     EXPECT_EQ(s->colour, e.colour);
     // Stereo at 320x240 with a 0.12 m baseline: a few centimetres, growing with the range.
@@ -100,7 +100,7 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
     EXPECT_NEAR(s->width, 0.066, 0.03) << e.colour;
   }
   const Eigen::Vector3d platform = in_base(1.8, 0.5);
-  const auto* sw = nearest(seen, kurt_demo::Kind::Switch, platform.x(), platform.y());
+  const auto* sw = nearest(seen, macsim::affordances::Kind::Switch, platform.x(), platform.y());
   ASSERT_NE(sw, nullptr);
   EXPECT_NEAR(sw->x, platform.x(), 0.08);
   EXPECT_NEAR(sw->y, platform.y(), 0.05);
@@ -112,10 +112,10 @@ TEST(KurtDemoVision, SeesNothingInAnEmptyRoomAndNothingWithoutAStereoMatch) {
   world.robot("kurt")->execute(macsim::robot::CraneTarget{M_PI / 2, 0.6, 0.0}, world.time());
   run_for(world, 2.0);
   auto frame = stereo(world);
-  EXPECT_TRUE(kurt_demo::find_objects(frame, kurt_demo::KurtGeometry{}).empty());
+  EXPECT_TRUE(macsim::affordances::find_objects(frame, macsim::affordances::KurtGeometry{}).empty());
   // A red can drawn into the left image only: no partner in the right one, no sighting.
   cv::rectangle(frame.left, cv::Rect(150, 150, 12, 24), cv::Scalar(25, 25, 215), cv::FILLED);
-  EXPECT_TRUE(kurt_demo::find_objects(frame, kurt_demo::KurtGeometry{}).empty());
+  EXPECT_TRUE(macsim::affordances::find_objects(frame, macsim::affordances::KurtGeometry{}).empty());
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "robot_loop.h"
+#include "macsim/affordances/robot_loop.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "macsim/dds/convert.h"
 #include "macsim/dds/log.h"
 
-namespace kurt_loop {
+namespace macsim::affordances {
 
 namespace {
 
@@ -317,4 +317,4 @@ Pose2 RobotLoop::to_base(double x, double y) const {
   return {c * dx + s * dy, -s * dx + c * dy, 0};
 }
 
-}  // namespace kurt_loop
+}  // namespace macsim::affordances

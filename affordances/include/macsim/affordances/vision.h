@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "kurt_geometry.h"
+#include "macsim/affordances/kurt_geometry.h"
 #include "macsim/client/robot_devices.h"
 
-namespace kurt_demo {
+namespace macsim::affordances {
 
 /// What a sighting looks like.
 enum class Kind { Can, Switch };
@@ -33,4 +33,4 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
 /// The left image with the sightings drawn on it (for --debug-images).
 cv::Mat draw_sightings(const cv::Mat& left, const std::vector<Sighting>& sightings);
 
-}  // namespace kurt_demo
+}  // namespace macsim::affordances

@@ -15,7 +15,7 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/robot/kurt3d_description.h"
 
-namespace kurt_loop {
+namespace macsim::affordances {
 
 /// Why the loop cannot go on.
 enum class Stop { NoRobot, Timeout, NoCloud };
@@ -115,4 +115,4 @@ class RobotLoop {
   PeersSeen peers_seen_{};  // peers_seen() at the last tick
 };
 
-}  // namespace kurt_loop
+}  // namespace macsim::affordances

@@ -7,10 +7,10 @@
 #include <unordered_set>
 #include <vector>
 
-#include "kurt_geometry.h"
+#include "macsim/affordances/kurt_geometry.h"
 #include "macsim/client/robot_devices.h"
 
-namespace kurt_demo {
+namespace macsim::affordances {
 
 struct Point {
   double x = 0, y = 0;
@@ -64,4 +64,4 @@ class ObstacleMap {
   std::unordered_set<int64_t> cells_;
 };
 
-}  // namespace kurt_demo
+}  // namespace macsim::affordances

@@ -1,10 +1,10 @@
-#include "laser_map.h"
+#include "macsim/affordances/laser_map.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 
-namespace kurt_demo {
+namespace macsim::affordances {
 
 std::vector<Point> slice(const macsim::client::Cloud& cloud, const KurtGeometry& g, double low,
                          double high, double near, double far) {
@@ -153,4 +153,4 @@ bool ObstacleMap::free(Point a, Point b, double half_width, Point except, double
   return true;
 }
 
-}  // namespace kurt_demo
+}  // namespace macsim::affordances

@@ -1,4 +1,4 @@
-#include "vision.h"
+#include "macsim/affordances/vision.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-namespace kurt_demo {
+namespace macsim::affordances {
 
 namespace {
 
@@ -177,4 +177,4 @@ cv::Mat draw_sightings(const cv::Mat& left, const std::vector<Sighting>& sightin
   return out;
 }
 
-}  // namespace kurt_demo
+}  // namespace macsim::affordances

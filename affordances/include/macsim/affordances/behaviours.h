@@ -1,0 +1,155 @@
+// The KURT3D's behaviours, closed-loop on the robot's own topics (odometry, IMU, stereo images,
+// laser clouds, crane state; never the supervisor or the world state), shared by every
+// controller: look around, go to a thing or to the switch, lift a thing with the crane's magnet,
+// put what it holds down on the switch, drive through the door. Each reports the scene as the
+// robot perceived it before and after, so the same program drives the simulated and the real
+// robot, and a planner can compare what a step did with what it predicted.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "macsim/affordances/kurt_geometry.h"
+#include "macsim/affordances/laser_map.h"
+#include "macsim/affordances/model.h"
+#include "macsim/affordances/pddl.h"
+#include "macsim/affordances/robot_loop.h"
+#include "macsim/affordances/vision.h"
+
+namespace macsim::affordances {
+
+/// Something the cameras found, in the odometry frame: a can, or the switch's platform.
+struct SeenThing {
+  std::string name;    ///< the colour and a number, "red_1"; "switch" for the switch
+  std::string colour;  ///< "red", ..., "yellow" (the switch's platform)
+  double x = 0, y = 0;  ///< m, the mean of its sightings
+  int seen = 0;         ///< sightings
+  bool tried = false;   ///< a lift was tried on it
+  std::string outcome;  ///< what came of the last behaviour on it
+  double liftable = 0;  ///< a lift model's mean probability of `liftable` over the sightings
+  int judged = 0;       ///< sightings the model judged
+};
+
+/// The door's gap as the laser saw it, in the odometry frame.
+struct SeenDoor {
+  double x = 0, y = 0;    ///< the gap's middle on the wall's line
+  double nx = 0, ny = 0;  ///< unit vector across the wall, away from where the robot looked
+  double width = 0;       ///< m
+};
+
+/// What the robot perceives of the room: itself, the things, the switch, the door.
+struct Scene {
+  Pose2 robot;
+  std::vector<SeenThing> things;
+  std::optional<SeenThing> switch_platform;
+  std::optional<SeenDoor> door;  ///< a gap of a door's width was seen in the wall
+  std::string holding;           ///< the thing on the magnet, or empty
+  std::string at = "start";      ///< the thing or place it last went to
+  std::vector<std::string> on_switch;  ///< things it put down on the switch's platform
+  bool beyond_door = false;            ///< it drove through the door's gap
+};
+
+/// The scene as atoms of the room's vocabulary (affordances/README.md, "The scene's atoms"):
+/// robot-at, hand-free or holding, on, loaded, open and beyond; objects named as in the scene
+/// ("switch", "door", "start").
+std::vector<pddl::Atom> scene_atoms(const Scene& scene);
+
+/// Why a behaviour did not do what it set out to do.
+enum class Setback {
+  None,
+  NotSeen,       ///< the thing is no longer where it was seen
+  NotHeld,       ///< the magnet does not hold it (not magnetizable)
+  TooHeavy,      ///< it did not come up
+  NoSwitch,      ///< no switch in sight, or not where it was seen
+  DoorClosed,    ///< the laser sees the wall without a gap
+  NoDoor,        ///< no wall with a door around the robot
+  NotThrough,    ///< the robot did not get through the gap
+};
+
+/// What a behaviour did: the scene before and after, and whether it did what it set out to do.
+struct BehaviourReport {
+  std::string behaviour;
+  std::string argument;  ///< the thing or place it acted on
+  Scene before, after;
+  Setback setback = Setback::None;
+  std::string reason;  ///< why not, in words
+  bool done() const { return setback == Setback::None; }
+};
+
+struct BehaviourOptions {
+  LoopOptions loop;           ///< robot, lock-step, timeouts
+  std::string program = "kurt";  ///< what progress lines begin with ("kurt_demo")
+  std::string debug_images;   ///< folder for the camera images with what was seen, or empty
+  /// A lift model to judge each can by while looking (SeenThing::liftable).
+  std::optional<AffordanceModel> lift_model;
+};
+
+/// A controller's behaviours on the robot loop; a program derives from it or holds one.
+class Behaviours : public RobotLoop {
+ public:
+  Behaviours(macsim::dds::Participant& participant, const BehaviourOptions& options);
+  ~Behaviours() override;
+
+  /// Finds the robot, parks the crane, starts the laser's rotating unit, maps around it.
+  void start();
+  /// Stops the drive and the rotating unit.
+  void halt();
+
+  /// Progress lines: "PROGRAM: [t=  12.3 s] STAGE: text". Behaviours speak in the stage set last.
+  void set_stage(const std::string& stage) { stage_ = stage; }
+  void say(const std::string& stage, const std::string& text);
+  /// Called as things happen ("lifted", "door_open", "through"), e.g. to take a picture.
+  std::function<void(const std::string& event)> on_event;
+
+  /// Turns once on the spot, looking (nine stereo pairs); stops early once the switch is seen
+  /// if `until_switch`.
+  BehaviourReport look_around(bool until_switch = false);
+  /// Walks up to the thing (standing off where the way in is free, looking again from close
+  /// by) and drives in until it is at the crane's reach.
+  BehaviourReport go_to(const std::string& thing);
+  /// Lowers the magnet onto the thing at the crane's reach and lifts it off the floor; lets go
+  /// when it does not come up.
+  BehaviourReport lift(const std::string& thing);
+  /// Goes to the switch (looking around for it first if it was not seen yet).
+  BehaviourReport go_to_switch();
+  /// Lowers what the magnet holds onto the switch's platform and lets go.
+  BehaviourReport put_down();
+  /// Backs off, watches the wall for the door's gap, stands in front of it and drives through.
+  BehaviourReport drive_through();
+
+  const Scene& scene() const { return scene_; }
+  /// A thing of the scene by name (nullptr if there is none).
+  SeenThing* thing(const std::string& name);
+  int lift_attempts() const { return lift_attempts_; }
+
+ protected:
+  /// Records sightings into the scene (names new things).
+  void record(const std::vector<std::pair<Sighting, Pose2>>& sightings);
+
+ private:
+  void emit(const std::string& event);
+  void park_crane();
+  std::string lower_onto(double lift, double height, bool until_held);
+  std::vector<std::pair<Sighting, Pose2>> look(int frames = 1);
+  void map_here();
+  Point approach_point(Point target, double standoff, double reach) const;
+  void travel_to(Point goal, double tolerance);
+  std::optional<Point> find_again(const SeenThing& target, Kind kind);
+  bool close_in(SeenThing& target, Kind kind);
+  BehaviourReport report(const std::string& behaviour, const std::string& argument) const;
+  BehaviourReport& finish(BehaviourReport& r, Setback setback = Setback::None,
+                          const std::string& reason = {});
+
+  BehaviourOptions options_;
+  KurtGeometry geometry_;
+  std::string stage_;
+  Scene scene_;
+  int lift_attempts_ = 0;
+  ObstacleMap obstacles_;
+  int debug_count_ = 0;
+};
+
+}  // namespace macsim::affordances

@@ -1,0 +1,492 @@
+#include "macsim/affordances/behaviours.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "macsim/affordances/perception.h"
+
+namespace macsim::affordances {
+
+namespace {
+
+constexpr double kStandoff = 0.9;        // m from an object to look at it closely
+constexpr double kPickupRadius = 0.485;  // m from the crane's pivot to the object
+constexpr double kRotunitSpeed = M_PI;   // rad/s: a cloud every 2 s
+constexpr double kParkSlew = M_PI / 2, kParkLift = 0.6;
+constexpr double kRobotRadius = 0.33;  // m: the chassis and wheels, from base_link
+constexpr double kHalfWidth = 0.25;    // m: half the corridor the robot drives in
+constexpr double kCanTop = 0.135;      // m: where the magnet meets a can
+constexpr double kPlatformTop = 0.07;  // m: the switch's platform above the floor
+
+std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char* format, ...) {
+  char text[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(text, sizeof text, format, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace
+
+std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
+  std::vector<pddl::Atom> atoms{{"robot-at", {scene.at}}};
+  if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
+  else atoms.push_back({"holding", {scene.holding}});
+  for (const auto& t : scene.on_switch) atoms.push_back({"on", {t, "switch"}});
+  if (!scene.on_switch.empty()) atoms.push_back({"loaded", {"switch"}});
+  if (scene.door) atoms.push_back({"open", {"door"}});
+  if (scene.beyond_door) atoms.push_back({"beyond", {"door"}});
+  if (scene.switch_platform) atoms.push_back({"opens", {"switch", "door"}});
+  std::sort(atoms.begin(), atoms.end());
+  return atoms;
+}
+
+Behaviours::Behaviours(macsim::dds::Participant& participant, const BehaviourOptions& options)
+    : RobotLoop(participant, options.loop), options_(options) {}
+
+Behaviours::~Behaviours() = default;
+
+void Behaviours::say(const std::string& stage, const std::string& text) {
+  std::printf("%s: [t=%6.1f s] %s: %s\n", options_.program.c_str(), elapsed(), stage.c_str(),
+              text.c_str());
+  std::fflush(stdout);
+}
+
+void Behaviours::emit(const std::string& event) {
+  if (on_event) on_event(event);
+}
+
+SeenThing* Behaviours::thing(const std::string& name) {
+  const auto it = std::find_if(scene_.things.begin(), scene_.things.end(),
+                               [&](const SeenThing& t) { return t.name == name; });
+  return it == scene_.things.end() ? nullptr : &*it;
+}
+
+BehaviourReport Behaviours::report(const std::string& behaviour, const std::string& argument) const {
+  BehaviourReport r;
+  r.behaviour = behaviour;
+  r.argument = argument;
+  r.before = scene_;
+  r.before.robot = pose_;
+  return r;
+}
+
+BehaviourReport& Behaviours::finish(BehaviourReport& r, Setback setback, const std::string& reason) {
+  scene_.robot = pose_;
+  r.after = scene_;
+  r.setback = setback;
+  r.reason = reason;
+  return r;
+}
+
+void Behaviours::start() {
+  say("start", "looking for robot '" + options_.loop.robot + "'" + (simulation_ ? " (lock-step)" : ""));
+  connect();
+  start_ = now_;
+  say("start", "found it; parking the crane, starting the laser's rotating unit");
+  rotunit_ = kRotunitSpeed;
+  park_crane();
+  map_here();
+  scene_.robot = pose_;
+}
+
+void Behaviours::halt() {
+  linear_ = angular_ = 0;
+  rotunit_ = 0;
+  tick();
+}
+
+// ---- motion -------------------------------------------------------------------------------
+
+std::string Behaviours::lower_onto(double lift, double height, bool until_held) {
+  // Quickly to a few centimetres above, then slowly (2 cm/s): a magnet that grips at speed
+  // jerks the load hard enough to lose it.
+  const double tip = geometry_.base_height + geometry_.pivot_z + geometry_.boom_length * std::sin(lift);
+  const double contact = (tip - geometry_.magnet_below_tip - height) / std::cos(lift);
+  crane_to(slew_, lift, std::max(0.0, contact - 0.04), 3.0);
+  double still_since = now_;
+  const double give_up = now_ + 8.0;
+  while (now_ < give_up) {
+    hoist_ = std::min(geometry_.max_hoist, hoist_ + 0.001);
+    tick();
+    const auto s = crane_.state();
+    if (!s) continue;
+    if (until_held && !s->held_object().empty()) {
+      hoist_ = s->hoist();
+      return s->held_object();
+    }
+    // Resting on something (held or not), or at the end of the hoist.
+    if (hoist_ - s->hoist() < 0.006) {
+      still_since = now_;
+    } else if (now_ - still_since > 0.3) {
+      break;
+    }
+  }
+  hoist_ = crane_.state() ? crane_.state()->hoist() : hoist_;
+  return {};
+}
+
+void Behaviours::park_crane() {
+  crane_to(crane_.state() ? crane_.state()->slew() : 0.0, kParkLift, 0.0, 3.0);
+  crane_to(kParkSlew, kParkLift, 0.0);
+}
+
+// ---- sensing ------------------------------------------------------------------------------
+
+std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
+  linear_ = angular_ = 0;
+  wait(0.3);  // let the chassis come to rest
+  looking_ = true;
+  struct Done {
+    bool& looking;
+    ~Done() { looking = false; }
+  } done{looking_};
+  std::vector<std::pair<Sighting, Pose2>> seen;
+  double after = now_ - 1e-6;
+  for (int taken = 0, tries = 0; taken < frames && tries < 40; ++tries) {
+    if (auto frame = cameras_.latest(after)) {
+      after = frame->stamp;
+      ++taken;
+      auto sightings = find_objects(*frame, geometry_);
+      if (options_.lift_model) {
+        // What the lift model says of each can: the trials' perception of the can's blob.
+        for (auto& s : sightings) {
+          if (s.kind != Kind::Can) continue;
+          const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
+          Percept p;
+          perceive_image(*frame, p, around);
+          if (!p.seen) continue;
+          try {
+            const auto said = options_.lift_model->predict(named_features(p, Affordance::Lift));
+            s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
+          } catch (const ModelError& e) {
+            say("look", std::string("the lift model could not judge a can: ") + e.what());
+          }
+        }
+      }
+      for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
+      if (!options_.debug_images.empty()) {
+        cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
+                    draw_sightings(frame->left, sightings));
+      }
+      continue;
+    }
+    tick();
+  }
+  return seen;
+}
+
+void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings) {
+  for (const auto& [s, at] : sightings) {
+    if (s.range > 3.5) continue;  // too far to place well
+    if (s.kind == Kind::Switch) {
+      if (!scene_.switch_platform)
+        scene_.switch_platform = SeenThing{"switch", "yellow", at.x, at.y, 0, false, "", 0, 0};
+      auto& w = *scene_.switch_platform;
+      w.x = (w.x * w.seen + at.x) / (w.seen + 1);
+      w.y = (w.y * w.seen + at.y) / (w.seen + 1);
+      ++w.seen;
+      continue;
+    }
+    auto same = std::find_if(scene_.things.begin(), scene_.things.end(), [&](const SeenThing& c) {
+      return c.colour == s.colour && std::hypot(c.x - at.x, c.y - at.y) < 0.2;
+    });
+    if (same == scene_.things.end()) {
+      const auto of_colour = std::count_if(scene_.things.begin(), scene_.things.end(),
+                                           [&](const SeenThing& c) { return c.colour == s.colour; });
+      scene_.things.push_back({s.colour + "_" + std::to_string(of_colour + 1), s.colour, at.x, at.y,
+                               0, false, "", 0, 0});
+      same = scene_.things.end() - 1;
+    } else if (same->tried) {
+      continue;
+    }
+    same->x = (same->x * same->seen + at.x) / (same->seen + 1);
+    same->y = (same->y * same->seen + at.y) / (same->seen + 1);
+    ++same->seen;
+    if (s.liftable >= 0) {
+      same->liftable = (same->liftable * same->judged + s.liftable) / (same->judged + 1);
+      ++same->judged;
+    }
+  }
+}
+
+void Behaviours::map_here() {
+  const auto cloud = take_cloud();
+  obstacles_.add(cloud, geometry_, pose_.x, pose_.y, pose_.yaw);
+}
+
+Point Behaviours::approach_point(Point target, double standoff, double reach) const {
+  const double direct = std::atan2(target.y - pose_.y, target.x - pose_.x);
+  for (int k = 0; k < 24; ++k) {
+    // 0, +15, -15, +30, -30, ... degrees off the direct way in
+    const double off = (k + 1) / 2 * (k % 2 ? 1 : -1) * M_PI / 12;
+    const double a = direct + off, ux = std::cos(a), uy = std::sin(a);
+    const Point stand{target.x - standoff * ux, target.y - standoff * uy};
+    const Point near{target.x - reach * ux, target.y - reach * uy};
+    if (obstacles_.clearance(stand, kRobotRadius) >= kRobotRadius &&
+        obstacles_.free(stand, near, kHalfWidth, target, 0.15)) {
+      return stand;
+    }
+  }
+  const double d = std::hypot(target.x - pose_.x, target.y - pose_.y);
+  return {target.x - standoff * (target.x - pose_.x) / d, target.y - standoff * (target.y - pose_.y) / d};
+}
+
+void Behaviours::travel_to(Point goal, double tolerance) {
+  const Point here{pose_.x, pose_.y};
+  if (!obstacles_.free(here, goal, kHalfWidth)) {
+    // Around it: the first waypoint beside the straight way from which both legs are free.
+    const double dx = goal.x - here.x, dy = goal.y - here.y, d = std::hypot(dx, dy);
+    for (double side : {0.5, -0.5, 0.8, -0.8, 1.1, -1.1, 1.4, -1.4}) {
+      for (double along : {0.5, 0.25, 0.75}) {
+        const Point via{here.x + along * dx - side * dy / d, here.y + along * dy + side * dx / d};
+        if (obstacles_.clearance(via, kRobotRadius) >= kRobotRadius &&
+            obstacles_.free(here, via, kHalfWidth) && obstacles_.free(via, goal, kHalfWidth)) {
+          drive_to(via.x, via.y, 0.08);
+          drive_to(goal.x, goal.y, tolerance);
+          return;
+        }
+      }
+    }
+  }
+  drive_to(goal.x, goal.y, tolerance);
+}
+
+std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind) {
+  auto matches = [&](const std::vector<std::pair<Sighting, Pose2>>& seen) {
+    int found = 0;
+    double sx = 0, sy = 0;
+    for (const auto& [s, at] : seen) {
+      if (s.kind == kind && (kind == Kind::Switch || s.colour == target.colour) &&
+          std::hypot(at.x - target.x, at.y - target.y) < 0.45) {
+        sx += at.x;
+        sy += at.y;
+        ++found;
+      }
+    }
+    return found ? std::optional<Point>(Point{sx / found, sy / found}) : std::nullopt;
+  };
+  if (auto at = matches(look(3))) return at;
+  // Not where expected: the odometry drifted. Look a little to each side, then from further
+  // back (closer than about 0.8 m the floor in front is out of the cameras' view).
+  const double ahead = pose_.yaw;
+  for (double off : {0.45, -0.45}) {
+    turn_to(ahead + off);
+    if (auto at = matches(look(2))) return at;
+  }
+  turn_to(ahead);
+  drive_straight(-0.4, 0.15);
+  return matches(look(3));
+}
+
+bool Behaviours::close_in(SeenThing& target, Kind kind) {
+  const double reach = geometry_.pivot_x + kPickupRadius;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    travel_to(approach_point({target.x, target.y}, kStandoff, reach), 0.05);
+    turn_to(std::atan2(target.y - pose_.y, target.x - pose_.x));
+    if (attempt == 0) map_here();
+    const auto at = find_again(target, kind);
+    if (!at) return false;
+    target.x = at->x;
+    target.y = at->y;
+    const double distance = std::hypot(target.x - pose_.x, target.y - pose_.y);
+    if (std::fabs(distance - kStandoff) < 0.25) break;  // else walk up to it again
+  }
+  turn_to(std::atan2(target.y - pose_.y, target.x - pose_.x));
+  drive_straight(std::hypot(target.x - pose_.x, target.y - pose_.y) - reach, 0.15);
+  return true;
+}
+
+// ---- behaviours ---------------------------------------------------------------------------
+
+BehaviourReport Behaviours::look_around(bool until_switch) {
+  BehaviourReport r = report("look_around", "");
+  const double start_yaw = pose_.yaw;
+  for (int k = 0; k < 9; ++k) {
+    if (k > 0) turn_to(start_yaw + k * 2 * M_PI / 9);
+    record(look(1));
+    if (until_switch && scene_.switch_platform) break;
+  }
+  std::ostringstream what;
+  what << scene_.things.size() << " can candidate(s)";
+  for (const auto& c : scene_.things) {
+    what << fmt(" [%s at %.2f,%.2f%s]", c.colour.c_str(), c.x, c.y, c.tried ? ", tried" : "");
+  }
+  if (scene_.switch_platform)
+    what << fmt("; the switch at %.2f,%.2f", scene_.switch_platform->x, scene_.switch_platform->y);
+  say(stage_, "looked around: " + what.str());
+  return finish(r);
+}
+
+BehaviourReport Behaviours::go_to(const std::string& name) {
+  BehaviourReport r = report("go_to", name);
+  SeenThing* can = thing(name);
+  if (!can) return finish(r, Setback::NotSeen, name + " was never seen");
+  say(stage_, fmt("going for the %s can at %.2f,%.2f (odometry frame)", can->colour.c_str(),
+                  can->x, can->y));
+  // Stand off where the way in is free, look again from close by, drive in to the crane's reach.
+  if (!close_in(*can, Kind::Can)) {
+    can->outcome = "not seen again";
+    say(stage_, "the " + can->colour + " can is not where it was seen; next candidate");
+    return finish(r, Setback::NotSeen, "the " + can->colour + " can is not where it was seen");
+  }
+  scene_.at = name;
+  return finish(r);
+}
+
+BehaviourReport Behaviours::lift(const std::string& name) {
+  BehaviourReport r = report("lift", name);
+  SeenThing* can = thing(name);
+  if (!can) return finish(r, Setback::NotSeen, name + " was never seen");
+  // Over it with the magnet, then down until the magnet holds it or rests on it.
+  ++lift_attempts_;
+  const Pose2 b = to_base(can->x, can->y);
+  const double dx = b.x - geometry_.pivot_x, dy = b.y;
+  const double slew = std::atan2(dy, dx);
+  const double radius = std::clamp(std::hypot(dx, dy) / geometry_.boom_length, 0.0, 1.0);
+  const double lift = std::clamp(-std::acos(radius), -0.24, 0.36);
+  say(stage_, fmt("can at %.3f m ahead, %.3f m left: slew %.2f rad, lift %.2f rad, magnet on, "
+                  "lowering",
+                  b.x, b.y, slew, lift));
+  crane_to(slew, kParkLift, 0.0);
+  crane_to(slew, lift, 0.0);
+  magnet_ = true;
+  const std::string held = lower_onto(lift, kCanTop, true);
+  if (held.empty()) {
+    magnet_ = false;
+    crane_to(slew, lift, 0.0);
+    park_crane();
+    can->outcome = "the magnet does not hold it (not magnetizable)";
+    say(stage_, "the magnet does not hold the " + can->colour + " can: not magnetizable? "
+                "Remembered; next candidate");
+    return finish(r, Setback::NotHeld, can->outcome);
+  }
+  // Up: the load came up if the hoist could pull it in.
+  const auto at_grip = crane_.state();
+  crane_to(slew, lift, 0.0, 3.0);
+  crane_to(slew, kParkLift, 0.0, 3.0);
+  const auto s = crane_.state();
+  if (!s || s->held_object().empty() || s->hoist() > 0.03) {
+    const double hoist = s ? s->hoist() : 0;
+    magnet_ = false;
+    crane_to(slew, lift_, 0.0, 2.0);
+    park_crane();
+    can->outcome = fmt("too heavy (the hoist stayed at %.2f m)", hoist);
+    say(stage_, fmt("the %s can did not come up (hoist at %.2f m, gripped at %.2f m): too "
+                    "heavy; let go, remembered; next candidate",
+                    can->colour.c_str(), hoist, at_grip ? at_grip->hoist() : 0.0));
+    return finish(r, Setback::TooHeavy, can->outcome);
+  }
+  say(stage_, "lifted the " + can->colour + " can (" + s->held_object() + ") off the floor");
+  can->outcome = "lifted";
+  scene_.holding = name;
+  obstacles_.clear({can->x, can->y}, 0.12);
+  crane_to(kParkSlew, kParkLift, 0.0);
+  emit("lifted");
+  return finish(r);
+}
+
+BehaviourReport Behaviours::go_to_switch() {
+  BehaviourReport r = report("go_to", "switch");
+  if (!scene_.switch_platform) {
+    say(stage_, "the switch has not been seen yet; looking around");
+    look_around(true);
+  }
+  if (!scene_.switch_platform)
+    return finish(r, Setback::NoSwitch, "no door switch (a yellow floor platform) in sight");
+  say(stage_, fmt("carrying the can to the switch at %.2f,%.2f", scene_.switch_platform->x,
+                  scene_.switch_platform->y));
+  map_here();
+  if (!close_in(*scene_.switch_platform, Kind::Switch))
+    return finish(r, Setback::NoSwitch, "the switch is not where it was seen");
+  scene_.at = "switch";
+  return finish(r);
+}
+
+BehaviourReport Behaviours::put_down() {
+  BehaviourReport r = report("put_down", scene_.holding);
+  if (!scene_.switch_platform) return finish(r, Setback::NoSwitch, "no switch was seen");
+  const Pose2 b = to_base(scene_.switch_platform->x, scene_.switch_platform->y);
+  const double dx = b.x - geometry_.pivot_x, dy = b.y;
+  const double slew = std::atan2(dy, dx);
+  const double lift = std::clamp(
+      -std::acos(std::clamp(std::hypot(dx, dy) / geometry_.boom_length, 0.0, 1.0)), -0.1, 0.36);
+  say(stage_, fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it", b.x, b.y));
+  crane_to(slew, kParkLift, 0.0);
+  crane_to(slew, lift, 0.0);
+  // The can meets the platform under the magnet.
+  lower_onto(lift, kPlatformTop + kCanTop, false);
+  magnet_ = false;
+  wait(0.5);
+  say(stage_, "magnet off: the can stands on the switch");
+  crane_to(slew, lift, 0.0, 2.5);
+  park_crane();
+  if (!scene_.holding.empty()) scene_.on_switch.push_back(scene_.holding);
+  scene_.holding.clear();
+  return finish(r);
+}
+
+BehaviourReport Behaviours::drive_through() {
+  BehaviourReport r = report("drive_through", "door");
+  drive_straight(-0.4, 0.2);
+  // The door opens when the switch sinks under the can: watch the wall for the opening.
+  const double give_up = now_ + 25.0;
+  std::optional<Passage> passage;
+  int walls = 0;
+  while (now_ < give_up) {
+    const auto cloud = take_cloud();
+    const auto points = slice(cloud, geometry_, 0.505, 0.615, 0.6, 6.0);
+    passage = find_passage(points, 0.6);
+    if (passage) break;
+    walls += find_passage(points, 0.0) ? 1 : 0;
+  }
+  if (!passage) {
+    scene_.door.reset();
+    return walls > 0 ? finish(r, Setback::DoorClosed,
+                              "the door stayed closed: the laser sees the wall without an opening "
+                              "(the switch did not trigger?)")
+                     : finish(r, Setback::NoDoor, "the laser finds no wall with a door around the robot");
+  }
+  const Pose2 centre = to_odom(passage->centre.x, passage->centre.y);
+  const Pose2 across = to_odom(passage->normal.x, passage->normal.y);
+  double nx = across.x - pose_.x, ny = across.y - pose_.y;
+  scene_.door = SeenDoor{centre.x, centre.y, nx, ny, passage->width};
+  say(stage_, fmt("the door is open: the laser sees a %.2f m gap in the wall at %.2f,%.2f",
+                     passage->width, centre.x, centre.y));
+  emit("door_open");
+  // In front of the opening, square to the wall; then a closer look to centre on it.
+  drive_to(centre.x - 0.9 * nx, centre.y - 0.9 * ny, 0.04);
+  turn_to(std::atan2(ny, nx));
+  scene_.at = "door";
+  const auto closer = find_passage(slice(take_cloud(), geometry_, 0.505, 0.615, 0.3, 4.0), 0.6);
+  Pose2 c = centre;
+  if (closer) {
+    c = to_odom(closer->centre.x, closer->centre.y);
+    const Pose2 n = to_odom(closer->normal.x, closer->normal.y);
+    nx = n.x - pose_.x;
+    ny = n.y - pose_.y;
+    say(stage_, fmt("closer look: a %.2f m gap centred at %.2f,%.2f", closer->width, c.x, c.y));
+  }
+  drive_to(c.x - 0.6 * nx, c.y - 0.6 * ny, 0.03, 0.15);
+  turn_to(std::atan2(ny, nx));
+  say(stage_, "driving through");
+  drive_to(c.x + 1.0 * nx, c.y + 1.0 * ny, 0.05, 0.25);
+  linear_ = angular_ = 0;
+  wait(0.3);
+  // Through: the wall is behind the robot now.
+  const Pose2 b = to_base(c.x, c.y);
+  if (b.x > -0.5)
+    return finish(r, Setback::NotThrough, fmt("did not get through the door (it is %.2f m ahead)", b.x));
+  scene_.beyond_door = true;
+  say(stage_, fmt("through the door: %.2f m beyond it", -b.x));
+  emit("through");
+  return finish(r);
+}
+
+}  // namespace macsim::affordances

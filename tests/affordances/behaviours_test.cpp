@@ -1,0 +1,84 @@
+// What the behaviours report, said in the room's vocabulary: a scene's atoms as the demonstrator's
+// scenes change it, and those atoms make problems of the hand-written domain that plan what is
+// left to do. (The behaviours themselves drive a robot: integration/kurt_demo_test.cpp plays them
+// against macsim.)
+#include "macsim/affordances/behaviours.h"
+
+#include <gtest/gtest.h>
+
+#include "macsim/affordances/planner.h"
+#include "support/child_process.h"
+
+namespace macsim::affordances {
+namespace {
+
+using pddl::Atom;
+
+SeenThing seen(const std::string& name, const std::string& colour) {
+  SeenThing t;
+  t.name = name;
+  t.colour = colour;
+  return t;
+}
+
+bool has(const std::vector<Atom>& atoms, const Atom& a) {
+  return std::find(atoms.begin(), atoms.end(), a) != atoms.end();
+}
+
+/// The plan of the hand-written domain from a scene to "beyond the door".
+std::vector<std::string> plan_from(const Scene& scene) {
+  static const pddl::Domain room =
+      pddl::load_domain(macsim::test::source("affordances/domains/kurt3d_room_by_hand.pddl"));
+  pddl::Problem p;
+  p.name = "scene";
+  p.domain = room.name;
+  p.objects = {{"start", "place"}, {"switch", "switch"}, {"door", "door"}};
+  for (const auto& t : scene.things) p.objects.push_back({t.name, "thing"});
+  p.init = scene_atoms(scene);
+  for (const auto& t : scene.things)
+    if (t.colour == "red") p.init.push_back({"liftable", {t.name}});
+  p.goal_true = {{"beyond", {"door"}}};
+  const PlanResult r = plan(room, p);
+  std::vector<std::string> steps;
+  if (r.plan)
+    for (const auto& s : r.plan->steps) steps.push_back(s.text());
+  return steps;
+}
+
+TEST(Behaviours, TheSceneSaysWhereTheRobotIsAndWhatItHolds) {
+  Scene scene;
+  EXPECT_EQ(scene_atoms(scene), (std::vector<Atom>{{"hand-free", {}}, {"robot-at", {"start"}}}));
+  scene.things = {seen("blue_1", "blue"), seen("red_1", "red")};
+  scene.switch_platform = seen("switch", "yellow");
+  scene.at = "red_1";
+  scene.holding = "red_1";
+  const auto holding = scene_atoms(scene);
+  EXPECT_TRUE(has(holding, {"holding", {"red_1"}}));
+  EXPECT_FALSE(has(holding, {"hand-free", {}}));
+  EXPECT_TRUE(has(holding, {"opens", {"switch", "door"}}));
+  EXPECT_EQ(plan_from(scene),
+            (std::vector<std::string>{"(go red_1 switch)", "(put-down red_1 switch door)",
+                                      "(go switch door)", "(drive-through door)"}));
+}
+
+TEST(Behaviours, ACanOnTheSwitchAndTheDoorsGapAreInTheScene) {
+  Scene scene;
+  scene.things = {seen("red_1", "red")};
+  scene.switch_platform = seen("switch", "yellow");
+  scene.on_switch = {"red_1"};
+  scene.at = "switch";
+  scene.door = SeenDoor{1.5, 0, 1, 0, 0.8};
+  const auto atoms = scene_atoms(scene);
+  EXPECT_TRUE(has(atoms, {"on", {"red_1", "switch"}}));
+  EXPECT_TRUE(has(atoms, {"loaded", {"switch"}}));
+  EXPECT_TRUE(has(atoms, {"open", {"door"}}));
+  EXPECT_TRUE(has(atoms, {"hand-free", {}}));
+  EXPECT_EQ(plan_from(scene),
+            (std::vector<std::string>{"(go switch door)", "(drive-through door)"}));
+  scene.beyond_door = true;
+  EXPECT_TRUE(has(scene_atoms(scene), {"beyond", {"door"}}));
+  EXPECT_TRUE(plan_from(scene).empty());
+}
+
+}  // namespace
+}  // namespace macsim::affordances
