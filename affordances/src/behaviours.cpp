@@ -38,8 +38,17 @@ std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
   std::vector<pddl::Atom> atoms{{"robot-at", {scene.at}}};
   if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
   else atoms.push_back({"holding", {scene.holding}});
+  for (const auto& t : scene.things) {
+    if (t.tried) atoms.push_back({"tried", {t.name}});
+    // Untried, but of the colour of one that did not come up.
+    const bool like_failed = std::any_of(scene.things.begin(), scene.things.end(), [&](const SeenThing& o) {
+      return o.tried && o.colour == t.colour && o.outcome != "lifted";
+    });
+    if (!t.tried && like_failed) atoms.push_back({"like-failed", {t.name}});
+  }
   for (const auto& t : scene.on_switch) atoms.push_back({"on", {t, "switch"}});
   if (!scene.on_switch.empty()) atoms.push_back({"loaded", {"switch"}});
+  if (scene.door && !scene.on_switch.empty()) atoms.push_back({"pressed", {"switch"}});
   if (scene.door) atoms.push_back({"open", {"door"}});
   if (scene.beyond_door) atoms.push_back({"beyond", {"door"}});
   if (scene.switch_platform) atoms.push_back({"opens", {"switch", "door"}});
@@ -346,6 +355,7 @@ BehaviourReport Behaviours::lift(const std::string& name) {
   if (!can) return finish(r, Setback::NotSeen, name + " was never seen");
   // Over it with the magnet, then down until the magnet holds it or rests on it.
   ++lift_attempts_;
+  can->tried = true;
   const Pose2 b = to_base(can->x, can->y);
   const double dx = b.x - geometry_.pivot_x, dy = b.y;
   const double slew = std::atan2(dy, dx);
@@ -403,8 +413,14 @@ BehaviourReport Behaviours::go_to_switch() {
   say(stage_, fmt("carrying the can to the switch at %.2f,%.2f", scene_.switch_platform->x,
                   scene_.switch_platform->y));
   map_here();
-  if (!close_in(*scene_.switch_platform, Kind::Switch))
-    return finish(r, Setback::NoSwitch, "the switch is not where it was seen");
+  if (!close_in(*scene_.switch_platform, Kind::Switch)) {
+    // Seen from far (or the odometry drifted): look for it again from here, once.
+    say(stage_, "the switch is not where it was seen; looking around for it");
+    scene_.switch_platform.reset();
+    look_around(true);
+    if (!scene_.switch_platform || !close_in(*scene_.switch_platform, Kind::Switch))
+      return finish(r, Setback::NoSwitch, "the switch is not where it was seen");
+  }
   scene_.at = "switch";
   return finish(r);
 }
@@ -432,8 +448,21 @@ BehaviourReport Behaviours::put_down() {
   return finish(r);
 }
 
-BehaviourReport Behaviours::drive_through() {
-  BehaviourReport r = report("drive_through", "door");
+bool Behaviours::perceive_door() {
+  const auto points = slice(take_cloud(), geometry_, 0.505, 0.615, 0.3, 6.0);
+  if (const auto passage = find_passage(points, 0.6)) {
+    const Pose2 centre = to_odom(passage->centre.x, passage->centre.y);
+    const Pose2 across = to_odom(passage->normal.x, passage->normal.y);
+    scene_.door = SeenDoor{centre.x, centre.y, across.x - pose_.x, across.y - pose_.y, passage->width};
+    return true;
+  }
+  if (!find_passage(points, 0.0)) return false;
+  scene_.door.reset();
+  return true;
+}
+
+BehaviourReport Behaviours::go_to_door() {
+  BehaviourReport r = report("go_to", "door");
   drive_straight(-0.4, 0.2);
   // The door opens when the switch sinks under the can: watch the wall for the opening.
   const double give_up = now_ + 25.0;
@@ -455,17 +484,28 @@ BehaviourReport Behaviours::drive_through() {
   }
   const Pose2 centre = to_odom(passage->centre.x, passage->centre.y);
   const Pose2 across = to_odom(passage->normal.x, passage->normal.y);
-  double nx = across.x - pose_.x, ny = across.y - pose_.y;
+  const double nx = across.x - pose_.x, ny = across.y - pose_.y;
   scene_.door = SeenDoor{centre.x, centre.y, nx, ny, passage->width};
   say(stage_, fmt("the door is open: the laser sees a %.2f m gap in the wall at %.2f,%.2f",
-                     passage->width, centre.x, centre.y));
+                  passage->width, centre.x, centre.y));
   emit("door_open");
-  // In front of the opening, square to the wall; then a closer look to centre on it.
+  // In front of the opening, square to the wall.
   drive_to(centre.x - 0.9 * nx, centre.y - 0.9 * ny, 0.04);
   turn_to(std::atan2(ny, nx));
   scene_.at = "door";
+  return finish(r);
+}
+
+BehaviourReport Behaviours::drive_through() {
+  BehaviourReport r = report("drive_through", "door");
+  if (scene_.at != "door" || !scene_.door) {
+    const BehaviourReport there = go_to_door();
+    if (!there.done()) return finish(r, there.setback, there.reason);
+  }
+  // A closer look to centre on the gap.
+  double nx = scene_.door->nx, ny = scene_.door->ny;
   const auto closer = find_passage(slice(take_cloud(), geometry_, 0.505, 0.615, 0.3, 4.0), 0.6);
-  Pose2 c = centre;
+  Pose2 c{scene_.door->x, scene_.door->y, 0};
   if (closer) {
     c = to_odom(closer->centre.x, closer->centre.y);
     const Pose2 n = to_odom(closer->normal.x, closer->normal.y);

@@ -35,8 +35,6 @@ std::vector<std::string> plan_from(const Scene& scene) {
   p.objects = {{"start", "place"}, {"switch", "switch"}, {"door", "door"}};
   for (const auto& t : scene.things) p.objects.push_back({t.name, "thing"});
   p.init = scene_atoms(scene);
-  for (const auto& t : scene.things)
-    if (t.colour == "red") p.init.push_back({"liftable", {t.name}});
   p.goal_true = {{"beyond", {"door"}}};
   const PlanResult r = plan(room, p);
   std::vector<std::string> steps;

@@ -15,6 +15,7 @@
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
+#include "support/demonstrator_run.h"
 #include "support/world_view.h"
 
 namespace macsim::test {
@@ -23,56 +24,9 @@ namespace {
 using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 
-struct DemoRun {
-  int exit_code = -1;
-  std::string output;
-  std::map<std::string, mm::Object_> objects;
-  std::optional<mm::DoorState_> door;
-  std::optional<nav_msgs::msg::dds_::Odometry_> truth;
-};
-
-/// macsim --lockstep on `world` (with `seed` if not negative) and kurt_demo stepping it, with
-/// `demo_args` besides.
+/// macsim --lockstep on `world` (with `seed` if not negative) and kurt_demo stepping it.
 DemoRun play(const std::string& world, int seed, const std::vector<std::string>& demo_args = {}) {
-  const std::string domain = std::to_string(unique_test_domain());
-  std::vector<std::string> args{bin("macsim"), "--world", world, "--domain", domain, "--lockstep"};
-  if (seed >= 0) {
-    args.push_back("--seed");
-    args.push_back(std::to_string(seed));
-  }
-  ChildProcess macsim(args);
-  EXPECT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
-  dds::Participant p({std::stoi(domain), "", "kurt_demo_test"});
-  WorldView view(p);
-  std::vector<std::string> demo_argv{bin("kurt_demo"), "--domain", domain, "--lockstep"};
-  demo_argv.insert(demo_argv.end(), demo_args.begin(), demo_args.end());
-  ChildProcess demo(demo_argv);
-  DemoRun run;
-  run.exit_code = demo.wait_for_exit(170s).value_or(-1);
-  run.output = demo.output();
-  // In lock-step nothing moves once the controller stopped stepping: the last state stands.
-  std::this_thread::sleep_for(500ms);
-  run.objects = view.snapshot();
-  run.door = view.doors.latest();
-  run.truth = view.truth.latest();
-  macsim.signal(SIGTERM);
-  EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
-  return run;
-}
-
-/// The can (user data "can") standing on the switch's platform, if any.
-const mm::Object_* can_on_platform(const DemoRun& run) {
-  const auto platform = run.objects.find("doors/door_00/switch_component/platform");
-  if (platform == run.objects.end()) return nullptr;
-  const auto& at = platform->second.pose().position();
-  for (const auto& [name, object] : run.objects) {
-    const auto& p = object.pose().position();
-    if (object.user_data() == "can" && std::hypot(p.x() - at.x(), p.y() - at.y()) < 0.12 &&
-        p.z() > at.z() - 0.01) {
-      return &object;
-    }
-  }
-  return nullptr;
+  return play_demonstrator("kurt_demo", world, seed, demo_args);
 }
 
 /// Everything the scenario must leave behind, asserted from the simulator's state.

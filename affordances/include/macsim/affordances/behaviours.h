@@ -53,8 +53,10 @@ struct Scene {
 };
 
 /// The scene as atoms of the room's vocabulary (affordances/README.md, "The scene's atoms"):
-/// robot-at, hand-free or holding, on, loaded, open and beyond; objects named as in the scene
-/// ("switch", "door", "start").
+/// robot-at, hand-free or holding, tried (a lift was tried on it), like-failed (untried, of the
+/// colour of one that did not come up), on, loaded, pressed (the door
+/// was seen open with something on the switch), open, beyond and opens; objects named as in the
+/// scene ("switch", "door", "start").
 std::vector<pddl::Atom> scene_atoms(const Scene& scene);
 
 /// Why a behaviour did not do what it set out to do.
@@ -117,8 +119,14 @@ class Behaviours : public RobotLoop {
   BehaviourReport go_to_switch();
   /// Lowers what the magnet holds onto the switch's platform and lets go.
   BehaviourReport put_down();
-  /// Backs off, watches the wall for the door's gap, stands in front of it and drives through.
+  /// Backs off, watches the wall for the door's gap (up to 25 s) and stands in front of it.
+  BehaviourReport go_to_door();
+  /// Drives through the door's gap (going to the door first unless it stands there).
   BehaviourReport drive_through();
+  /// Takes a laser cloud where the robot stands and looks for the door's gap in the wall: the
+  /// scene's door is the gap, or none when the wall is seen whole; unchanged when no wall is in
+  /// sight. True when a wall was seen.
+  bool perceive_door();
 
   const Scene& scene() const { return scene_; }
   /// A thing of the scene by name (nullptr if there is none).

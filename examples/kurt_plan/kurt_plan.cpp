@@ -1,0 +1,105 @@
+// kurt_plan: reaches a goal nobody scripted. It perceives the room with the KURT3D's own sensors,
+// plans over a domain of what its behaviours do (learned from trials, --affordances DIR, or written
+// by hand, --pddl-domain FILE), executes the plan with the behaviours, watches each step's effect
+// and plans again when it differs from the prediction. Against macsim or the real robot.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "macsim/dds/command_line.h"
+#include "macsim/dds/log.h"
+#include "plan_controller.h"
+
+int main(int argc, char** argv) {
+  // No default domain: a program that moves a robot acts only where it is told to.
+  macsim::dds::ParticipantOptions participant{-1, "", "kurt_plan"};
+  kurt_plan::PlanOptions options;
+  std::string goal = "through-door", affordances, pddl_domain;
+  macsim::dds::CommandLine cli(
+      "kurt_plan",
+      "Reaches a goal by planning over what the KURT3D's behaviours do, from its own sensors: "
+      "perceives the room, plans, acts, watches each step and plans again when a step's effect "
+      "differs from the prediction.\nExit 0: the goal reached; 1: an internal error; 2: usage; "
+      "3: no robot; 4: no plan reaches the goal from what the robot perceives; 5: the steps or "
+      "replans ran out; 7: timeout.\n--domain N is required (it moves a robot: never on a domain "
+      "it was not given).");
+  cli.participant_options(&participant, /*domain_required=*/true);
+  cli.option("goal", "GOAL",
+             "through-door (the robot beyond the door; the default), switch-pressed, or "
+             "on-switch:COLOUR (a thing of that colour on the switch's platform)",
+             &goal);
+  cli.option("affordances", "DIR",
+             "plan over the domain learned from trials: DIR/effects.ppddl (learn_effects --out DIR)",
+             &affordances);
+  cli.option("pddl-domain", "FILE",
+             "plan over this PDDL domain instead (e.g. the hand-written "
+             "affordances/domains/kurt3d_room_by_hand.pddl)",
+             &pddl_domain);
+  cli.option("problems", "DIR", "write each planning round's problem (the perceived scene) here",
+             &options.problems);
+  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.loop.robot);
+  cli.flag("lockstep",
+           "step the simulation from here (macsim --lockstep): reproducible, as fast as the "
+           "machine allows",
+           &options.loop.lockstep);
+  cli.option("timeout", "SECONDS", "give up after this much robot time (default 400)",
+             &options.loop.timeout);
+  cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
+             &options.loop.discovery_timeout);
+  if (auto code = cli.parse(argc, argv)) return *code;
+  const auto parsed = kurt_plan::Goal::parse(goal);
+  if (!parsed) {
+    macsim::log::error("kurt_plan: --goal is through-door, switch-pressed or on-switch:COLOUR, not '{}'",
+                       goal);
+    return kurt_plan::kUsage;
+  }
+  options.goal = *parsed;
+  if (affordances.empty() == pddl_domain.empty()) {
+    macsim::log::error("kurt_plan: give one of --affordances DIR and --pddl-domain FILE");
+    return kurt_plan::kUsage;
+  }
+  if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
+      options.loop.robot.empty()) {
+    macsim::log::error("kurt_plan: --timeout and --discovery-timeout must be positive, --robot not empty");
+    return kurt_plan::kUsage;
+  }
+  if (!options.problems.empty() && !std::filesystem::is_directory(options.problems)) {
+    macsim::log::error("kurt_plan: --problems {} is no folder", options.problems);
+    return kurt_plan::kUsage;
+  }
+  try {
+    options.domain = macsim::affordances::pddl::load_domain(
+        pddl_domain.empty() ? affordances + "/effects.ppddl" : pddl_domain);
+  } catch (const macsim::affordances::pddl::PddlError& e) {
+    macsim::log::error("kurt_plan: {}", e.what());
+    return kurt_plan::kUsage;
+  }
+  const auto wall_start = std::chrono::steady_clock::now();
+  try {
+    macsim::dds::Participant dds(participant);
+    kurt_plan::PlanController controller(dds, options);
+    kurt_plan::Summary summary;
+    try {
+      summary = controller.run();
+    } catch (const macsim::affordances::LoopError& e) {
+      constexpr kurt_plan::Exit kCodes[] = {kurt_plan::kNoRobot, kurt_plan::kTimeout,
+                                            kurt_plan::kNotReached};
+      summary = controller.summary();
+      summary.exit = kCodes[static_cast<int>(e.stop)];
+      summary.reason = e.what();
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (!summary.reached) std::printf("kurt_plan: the goal %s was not reached: %s\n", parsed->text().c_str(), summary.reason.c_str());
+    std::printf("kurt_plan: goal reached: %s, plan steps: %d, replans: %d, robot time: %.1f s, "
+                "planning time: %.1f ms, wall time: %.1f s\n",
+                summary.reached ? "yes" : "no", summary.plan_steps, summary.replans,
+                controller.elapsed(), 1e3 * summary.planning_seconds, wall);
+    return summary.exit;
+  } catch (const macsim::dds::DdsError& e) {
+    macsim::log::error("kurt_plan: DDS error: {}", e.what());
+    return kurt_plan::kNoRobot;
+  } catch (const std::exception& e) {
+    macsim::log::error("kurt_plan: {}", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,248 @@
+#include "plan_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+namespace kurt_plan {
+
+namespace af = macsim::affordances;
+namespace pddl = macsim::affordances::pddl;
+
+namespace {
+
+std::string atoms_text(const std::vector<pddl::Atom>& atoms) {
+  std::string s;
+  for (const auto& a : atoms) {
+    s += (s.empty() ? "" : " ") + std::string("(") + a.predicate;
+    for (const auto& arg : a.arguments) s += " " + arg;
+    s += ")";
+  }
+  return s.empty() ? "nothing" : s;
+}
+
+std::string effect_text(const pddl::Outcome& o) {
+  std::string s = o.add.empty() ? "" : atoms_text(o.add);
+  if (!o.remove.empty()) s += (s.empty() ? "" : ", ") + std::string("not ") + atoms_text(o.remove);
+  return s.empty() ? "no change" : s;
+}
+
+/// The behaviour an operator runs: the longest known behaviour its name begins with ("put-down-2"
+/// and "put-down-on-loaded" run put-down).
+std::string behaviour_of(const std::string& op) {
+  std::string best;
+  for (const char* b : {"go", "lift", "put-down", "push", "drive-through", "look-around"}) {
+    const std::string name = b;
+    if (op.rfind(name, 0) == 0 && (op.size() == name.size() || op[name.size()] == '-') &&
+        name.size() > best.size())
+      best = name;
+  }
+  return best;
+}
+
+}  // namespace
+
+std::optional<Goal> Goal::parse(const std::string& text) {
+  Goal g;
+  if (text == "through-door") return g;
+  if (text == "switch-pressed") {
+    g.kind = Kind::SwitchPressed;
+    return g;
+  }
+  const std::string prefix = "on-switch:";
+  if (text.rfind(prefix, 0) == 0 && text.size() > prefix.size()) {
+    g.kind = Kind::OnSwitch;
+    g.colour = text.substr(prefix.size());
+    if (std::all_of(g.colour.begin(), g.colour.end(), [](char c) { return std::islower(static_cast<unsigned char>(c)); }))
+      return g;
+  }
+  return std::nullopt;
+}
+
+std::string Goal::text() const {
+  switch (kind) {
+    case Kind::ThroughDoor: return "through-door";
+    case Kind::SwitchPressed: return "switch-pressed";
+    case Kind::OnSwitch: return "on-switch:" + colour;
+  }
+  return {};
+}
+
+PlanController::PlanController(macsim::dds::Participant& participant, const PlanOptions& options)
+    : Behaviours(participant,
+                 [&] {
+                   af::BehaviourOptions b;
+                   b.loop = options.loop;
+                   b.program = "kurt_plan";
+                   return b;
+                 }()),
+      options_(options) {}
+
+std::vector<pddl::Atom> PlanController::goal_atoms() const {
+  switch (options_.goal.kind) {
+    case Goal::Kind::ThroughDoor: return {{"beyond", {"door"}}};
+    case Goal::Kind::SwitchPressed: return {{"pressed", {"switch"}}};
+    case Goal::Kind::OnSwitch: {
+      std::vector<pddl::Atom> out;
+      for (const auto& t : scene().things)
+        if (t.colour == options_.goal.colour) out.push_back({"on", {t.name, "switch"}});
+      return out;
+    }
+  }
+  return {};
+}
+
+pddl::Problem PlanController::problem(const pddl::Atom& goal) const {
+  pddl::Problem p;
+  p.name = "scene-" + std::to_string(round_);
+  p.domain = options_.domain.name;
+  p.note = "kurt_plan's scene at robot time " + std::to_string(elapsed()) + " s, goal " +
+           options_.goal.text();
+  p.objects = {{"start", "place"}, {"switch", "switch"}, {"door", "door"}};
+  std::vector<const af::SeenThing*> things;
+  for (const auto& t : scene().things) things.push_back(&t);
+  const auto distance = [&](const af::SeenThing* t) {
+    return std::hypot(t->x - scene().robot.x, t->y - scene().robot.y);
+  };
+  std::stable_sort(things.begin(), things.end(),
+                   [&](const af::SeenThing* a, const af::SeenThing* b) { return distance(a) < distance(b); });
+  for (const auto* t : things) p.objects.push_back({t->name, "thing"});
+  p.init = af::scene_atoms(scene());
+  p.goal_true = {goal};
+  return p;
+}
+
+std::optional<af::Plan> PlanController::plan_round(std::string& reason, double& seconds) {
+  ++round_;
+  std::optional<af::Plan> best;
+  const auto goals = goal_atoms();
+  if (goals.empty()) {
+    reason = "no " + options_.goal.colour + " thing in sight";
+    return std::nullopt;
+  }
+  for (const auto& goal : goals) {
+    const pddl::Problem p = problem(goal);
+    if (!options_.problems.empty())
+      pddl::save_text(options_.problems + "/" + p.name + (goals.size() > 1 ? "-" + goal.arguments[0] : "") +
+                          ".pddl",
+                      pddl::write(p));
+    const af::PlanResult r = af::plan(options_.domain, p);
+    seconds += r.seconds;
+    if (!r.plan) {
+      reason = r.reason;
+      continue;
+    }
+    if (!best || r.plan->steps.size() < best->steps.size() ||
+        (r.plan->steps.size() == best->steps.size() && r.plan->probability > best->probability))
+      best = r.plan;
+  }
+  return best;
+}
+
+bool PlanController::execute(const af::PlanStep& step) {
+  const std::string behaviour = behaviour_of(step.operator_name);
+  af::BehaviourReport report;
+  if (behaviour == "go") {
+    const std::string& to = step.arguments.at(1);
+    if (to == "switch") report = go_to_switch();
+    else if (to == "door") report = go_to_door();
+    else if (to == "start") report.setback = af::Setback::NotSeen, report.reason = "start is no place to go back to";
+    else report = go_to(to);
+  } else if (behaviour == "lift") {
+    report = lift(step.arguments.at(0));
+  } else if (behaviour == "put-down") {
+    report = put_down();
+    perceive_door();  // watch what the load did
+  } else if (behaviour == "drive-through") {
+    report = drive_through();
+  } else if (behaviour == "look-around") {
+    report = look_around();
+  } else {
+    report.setback = af::Setback::NotSeen;
+    report.reason = "no behaviour runs '" + step.operator_name + "'";
+  }
+  const auto perceived = af::scene_atoms(scene());
+  const std::set<pddl::Atom> now(perceived.begin(), perceived.end());
+  std::vector<pddl::Atom> missing, still;
+  for (const auto& a : step.expected.add)
+    if (!now.count(a)) missing.push_back(a);
+  for (const auto& a : step.expected.remove)
+    if (now.count(a)) still.push_back(a);
+  const bool as_predicted = missing.empty() && still.empty();
+  std::string outcome = as_predicted ? "as predicted" : "not as predicted:";
+  if (!missing.empty()) outcome += " perceived no " + atoms_text(missing);
+  if (!still.empty()) outcome += std::string(missing.empty() ? "" : ";") + " still " + atoms_text(still);
+  if (!report.done()) outcome += " (" + report.reason + ")";
+  say("act", step.text() + ": " + outcome);
+  return as_predicted;
+}
+
+Summary PlanController::run() {
+  Summary& summary = summary_;
+  start();
+  set_stage("look");
+  look_around();
+  perceive_door();
+  bool looked_again = false;
+  while (true) {
+    const auto atoms = af::scene_atoms(scene());
+    const std::set<pddl::Atom> now(atoms.begin(), atoms.end());
+    const auto goals = goal_atoms();
+    if (std::any_of(goals.begin(), goals.end(), [&](const pddl::Atom& g) { return now.count(g) > 0; })) {
+      summary.reached = true;
+      break;
+    }
+    set_stage("plan");
+    std::string reason;
+    const auto plan = plan_round(reason, summary.planning_seconds);
+    if (!plan) {
+      if (!looked_again) {
+        // Perhaps something was out of sight: one more look around before giving up.
+        looked_again = true;
+        say("plan", "no plan (" + reason + "); looking around once more");
+        set_stage("look");
+        look_around();
+        continue;
+      }
+      summary.exit = kUnreachable;
+      summary.reason = reason;
+      break;
+    }
+    say("plan", "plan of " + std::to_string(plan->steps.size()) + " step(s), probability " +
+                    std::to_string(plan->probability).substr(0, 5) + ":");
+    for (std::size_t i = 0; i < plan->steps.size(); ++i) {
+      const auto& s = plan->steps[i];
+      say("plan", "  " + std::to_string(i + 1) + ". " + s.text() + " -> " + effect_text(s.expected) +
+                      " (p = " + std::to_string(s.probability).substr(0, 4) + ")");
+    }
+    set_stage("act");
+    bool replan = false;
+    for (const auto& step : plan->steps) {
+      ++summary.plan_steps;
+      if (!execute(step)) {
+        replan = true;
+        break;
+      }
+      if (summary.plan_steps >= options_.max_steps) break;
+    }
+    if (summary.plan_steps >= options_.max_steps) {
+      summary.exit = kNotReached;
+      summary.reason = "took " + std::to_string(summary.plan_steps) + " steps, the most it may";
+      break;
+    }
+    if (replan) {
+      if (++summary.replans > options_.max_replans) {
+        summary.exit = kNotReached;
+        summary.reason = "planned again " + std::to_string(options_.max_replans) + " times, the most it may";
+        break;
+      }
+      say("plan", "what it perceived differs from what was predicted: planning again");
+    }
+  }
+  halt();
+  if (summary.reached) summary.exit = kReached;
+  return summary;
+}
+
+}  // namespace kurt_plan

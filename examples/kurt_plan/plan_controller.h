@@ -1,0 +1,82 @@
+// kurt_plan's controller: perceives the room with the behaviours' sensing, makes the scene a PDDL
+// problem, plans over a domain (learned, or written by hand), executes the plan with the
+// behaviours, compares each step's perceived effect with the predicted one, and plans again from
+// what it sees when they differ. It reads the robot's own topics only.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "macsim/affordances/behaviours.h"
+#include "macsim/affordances/pddl.h"
+#include "macsim/affordances/planner.h"
+
+namespace kurt_plan {
+
+/// Exit codes.
+enum Exit : int {
+  kReached = 0,
+  kUsage = 2,
+  kNoRobot = 3,
+  kUnreachable = 4,  ///< no plan reaches the goal from what the robot perceives
+  kNotReached = 5,   ///< the plans' steps ran out (replans or steps over their budget)
+  kTimeout = 7,
+};
+
+/// A goal as the robot can perceive it: `through-door`, `switch-pressed`, `on-switch:COLOUR`.
+struct Goal {
+  enum class Kind { ThroughDoor, SwitchPressed, OnSwitch } kind = Kind::ThroughDoor;
+  std::string colour;  ///< of OnSwitch
+  /// Parses the command line's form; nullopt for anything else.
+  static std::optional<Goal> parse(const std::string& text);
+  std::string text() const;
+};
+
+struct PlanOptions {
+  macsim::affordances::LoopOptions loop;
+  Goal goal;
+  macsim::affordances::pddl::Domain domain;  ///< what the planner plans over
+  std::string problems;  ///< a folder to write each planning round's problem file to, or empty
+  int max_replans = 8;
+  int max_steps = 40;
+};
+
+/// How the run ended.
+struct Summary {
+  bool reached = false;
+  int plan_steps = 0;  ///< steps executed
+  int replans = 0;
+  double planning_seconds = 0;  ///< wall time of every planning round together
+  Exit exit = kReached;
+  std::string reason;
+};
+
+class PlanController : public macsim::affordances::Behaviours {
+ public:
+  PlanController(macsim::dds::Participant& participant, const PlanOptions& options);
+  /// Perceives, plans, acts, watches and plans again until the goal holds or cannot be reached;
+  /// throws macsim::affordances::LoopError (no robot, timeout, no cloud).
+  Summary run();
+  /// The run so far (after a LoopError too).
+  const Summary& summary() const { return summary_; }
+
+  /// The perceived scene as a problem of the domain with this goal atom (objects: start, the
+  /// things seen, nearest first, the switch, the door).
+  macsim::affordances::pddl::Problem problem(const macsim::affordances::pddl::Atom& goal) const;
+
+ private:
+  /// The goal atoms the goal may be met by (one per thing of the colour for on-switch).
+  std::vector<macsim::affordances::pddl::Atom> goal_atoms() const;
+  /// Plans for each goal atom and keeps the shortest, likeliest; nullopt and the reason if none.
+  std::optional<macsim::affordances::Plan> plan_round(std::string& reason, double& seconds);
+  /// Runs one step through its behaviour; true when what it perceived afterwards shows the
+  /// step's predicted effect.
+  bool execute(const macsim::affordances::PlanStep& step);
+
+  PlanOptions options_;
+  Summary summary_;
+  int round_ = 0;
+};
+
+}  // namespace kurt_plan

@@ -1,0 +1,108 @@
+// kurt_plan end to end against macsim in lock-step, judged from the simulator's world state: it
+// reaches the door of the demonstrator's room by a plan over the hand-written domain, watching
+// each step and planning again when a can does not come up; the problem files it writes are the
+// scene as PDDL, and plan as it did; a switch no can presses makes the goal unreachable, said
+// with its own exit code; bad arguments move nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <regex>
+
+#include "macsim/affordances/planner.h"
+#include "support/demonstrator_run.h"
+
+namespace macsim::test {
+namespace {
+
+using namespace std::chrono_literals;
+namespace pddl = macsim::affordances::pddl;
+
+const std::string kByHand = "affordances/domains/kurt3d_room_by_hand.pddl";
+
+TEST(KurtPlan, ReachesTheDoorByAPlanItWatchesAndMakesAgain) {
+  TempDir problems("kurt_plan_problems_");
+  // Seed 1: the nearest cans do not come up; the plan is made again after each.
+  const DemoRun run = play_demonstrator("kurt_plan", source("worlds/DemoWorld_v1.xml"), 1,
+                                        {"--pddl-domain", source(kByHand), "--problems",
+                                         problems.path()});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("goal reached: yes"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("plan of 6 step(s)"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(": not as predicted: perceived no (holding"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("(drive-through door): as predicted"), std::string::npos) << run.output;
+  std::smatch replans;
+  ASSERT_TRUE(std::regex_search(run.output, replans, std::regex("replans: ([0-9]+)"))) << run.output;
+  EXPECT_GE(std::stoi(replans[1]), 1);
+  // The world says the same: a can on the platform, the door opened by weight, the robot beyond.
+  ASSERT_NE(can_on_platform(run), nullptr) << run.output;
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_TRUE(run.door->door().triggered());
+  EXPECT_FALSE(run.door->door().virtually_triggered());
+  ASSERT_TRUE(run.truth.has_value());
+  EXPECT_GT(run.truth->pose().pose().position().x(), 1.5 + 0.3);
+  // Each planning round's scene is a problem file of the domain, and the first plans as the
+  // run's first plan began.
+  const pddl::Domain domain = pddl::load_domain(source(kByHand));
+  int files = 0;
+  for (const auto& f : std::filesystem::directory_iterator(problems.path())) {
+    ++files;
+    EXPECT_NO_THROW(pddl::load_problem(f.path().string(), domain)) << f.path();
+  }
+  EXPECT_GE(files, 2);
+  const pddl::Problem first = pddl::load_problem(problems.path() + "/scene-1.pddl", domain);
+  const auto plan = macsim::affordances::plan(domain, first);
+  ASSERT_TRUE(plan.plan) << plan.reason;
+  EXPECT_NE(run.output.find("1. " + plan.plan->steps[0].text() + " -> "), std::string::npos)
+      << plan.plan->steps[0].text() << "\n" << run.output;
+}
+
+TEST(KurtPlan, AGoalNoPlanReachesExitsFourSayingWhy) {
+  // The switch needs 40 N; no can weighs that, nor two of the liftable ones together.
+  const DemoRun run = play_demonstrator("kurt_plan", source("tests/worlds/DemoWorld_stiff_switch.xml"),
+                                        -1, {"--pddl-domain", source(kByHand), "--timeout", "600"});
+  EXPECT_EQ(run.exit_code, 4) << run.output;
+  EXPECT_NE(run.output.find("the goal cannot be reached"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("goal reached: no"), std::string::npos) << run.output;
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_FALSE(run.door->door().triggered());
+}
+
+TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
+  ChildProcess help({bin("kurt_plan"), "--help"});
+  EXPECT_EQ(help.wait_for_exit(10s), 0);
+  EXPECT_NE(help.output().find("--goal"), std::string::npos) << help.output();
+  TempDir dir("kurt_plan_args_");
+  const std::string bad_domain = dir.path() + "/bad.pddl";
+  pddl::save_text(bad_domain, "(define (domain d)\n  (:predicates (p))\n  (:action a :effect (q)))\n");
+  const std::string domain = std::to_string(unique_test_domain());
+  const std::string by_hand = source(kByHand);
+  struct Case {
+    std::vector<std::string> args;
+    std::string says;
+  };
+  for (const Case& c : std::vector<Case>{
+           {{"--pddl-domain", by_hand}, "--domain"},
+           {{"--domain", domain}, "one of --affordances DIR and --pddl-domain FILE"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--affordances", dir.path()},
+            "one of --affordances"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--goal", "fly"}, "not 'fly'"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--goal", "on-switch:"}, "on-switch:COLOUR"},
+           {{"--domain", domain, "--affordances", dir.path()}, dir.path() + "/effects.ppddl: cannot be read"},
+           {{"--domain", domain, "--pddl-domain", bad_domain}, bad_domain + ":3: unknown predicate 'q'"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--problems", dir.path() + "/none"}, "no folder"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--timeout", "nan"}, "--timeout"}}) {
+    std::vector<std::string> argv{bin("kurt_plan")};
+    argv.insert(argv.end(), c.args.begin(), c.args.end());
+    ChildProcess p(argv);
+    EXPECT_EQ(p.wait_for_exit(10s), 2) << c.args.back() << "\n" << p.output();
+    EXPECT_NE(p.output().find(c.says), std::string::npos) << c.says << "\n" << p.output();
+  }
+  // No robot: its own exit code after the discovery timeout.
+  ChildProcess alone({bin("kurt_plan"), "--domain", domain, "--pddl-domain", by_hand,
+                      "--discovery-timeout", "1"});
+  EXPECT_EQ(alone.wait_for_exit(30s), 3) << alone.output();
+}
+
+}  // namespace
+}  // namespace macsim::test

@@ -1,0 +1,79 @@
+// The demonstrator's world played by a controller against macsim in lock-step, as a test sees
+// it: the controller's exit code and output, and the world's state once it stopped (objects,
+// the door, the robot's ground truth), judged from the simulator's own topics.
+#pragma once
+
+#include <signal.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
+#include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "support/child_process.h"
+#include "support/test_domain.h"
+#include "support/world_view.h"
+
+namespace macsim::test {
+
+struct DemoRun {
+  int exit_code = -1;
+  std::string output;
+  std::map<std::string, macsim_msgs::msg::dds_::Object_> objects;
+  std::optional<macsim_msgs::msg::dds_::DoorState_> door;
+  std::optional<nav_msgs::msg::dds_::Odometry_> truth;
+};
+
+/// macsim --lockstep on `world` (with `seed` if not negative) and `controller` (a program of the
+/// build) stepping it, with `controller_args` besides; the world's state once it stopped.
+inline DemoRun play_demonstrator(const std::string& controller, const std::string& world, int seed,
+                                 const std::vector<std::string>& controller_args = {},
+                                 std::chrono::seconds limit = std::chrono::seconds(170)) {
+  using namespace std::chrono_literals;
+  const std::string domain = std::to_string(unique_test_domain());
+  std::vector<std::string> args{bin("macsim"), "--world", world, "--domain", domain, "--lockstep"};
+  if (seed >= 0) {
+    args.push_back("--seed");
+    args.push_back(std::to_string(seed));
+  }
+  ChildProcess macsim(args);
+  EXPECT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  dds::Participant p({std::stoi(domain), "", controller + "_test"});
+  WorldView view(p);
+  std::vector<std::string> argv{bin(controller), "--domain", domain, "--lockstep"};
+  argv.insert(argv.end(), controller_args.begin(), controller_args.end());
+  ChildProcess demo(argv);
+  DemoRun run;
+  run.exit_code = demo.wait_for_exit(limit).value_or(-1);
+  run.output = demo.output();
+  // In lock-step nothing moves once the controller stopped stepping: the last state stands.
+  std::this_thread::sleep_for(500ms);
+  run.objects = view.snapshot();
+  run.door = view.doors.latest();
+  run.truth = view.truth.latest();
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
+  return run;
+}
+
+/// The can (user data "can") standing on the switch's platform, if any.
+inline const macsim_msgs::msg::dds_::Object_* can_on_platform(const DemoRun& run) {
+  const auto platform = run.objects.find("doors/door_00/switch_component/platform");
+  if (platform == run.objects.end()) return nullptr;
+  const auto& at = platform->second.pose().position();
+  for (const auto& [name, object] : run.objects) {
+    const auto& p = object.pose().position();
+    if (object.user_data() == "can" && std::hypot(p.x() - at.x(), p.y() - at.y()) < 0.12 &&
+        p.z() > at.z() - 0.01) {
+      return &object;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace macsim::test
