@@ -34,11 +34,17 @@ std::string fmt(const char* format, ...) {
 
 }  // namespace
 
+const std::vector<std::string>& thing_features() {
+  static const std::vector<std::string> names{"hue", "width_m"};
+  return names;
+}
+
 std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
   std::vector<pddl::Atom> atoms{{"robot-at", {scene.at}}};
   if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
   else atoms.push_back({"holding", {scene.holding}});
   for (const auto& t : scene.things) {
+    if (t.lost) continue;
     if (t.tried) atoms.push_back({"tried", {t.name}});
     // Untried, but of the colour of one that did not come up.
     const bool like_failed = std::any_of(scene.things.begin(), scene.things.end(), [&](const SeenThing& o) {
@@ -62,6 +68,7 @@ Behaviours::Behaviours(macsim::dds::Participant& participant, const BehaviourOpt
 Behaviours::~Behaviours() = default;
 
 void Behaviours::say(const std::string& stage, const std::string& text) {
+  if (!options_.verbose) return;
   std::printf("%s: [t=%6.1f s] %s: %s\n", options_.program.c_str(), elapsed(), stage.c_str(),
               text.c_str());
   std::fflush(stdout);
@@ -163,16 +170,19 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
       after = frame->stamp;
       ++taken;
       auto sightings = find_objects(*frame, geometry_);
-      if (options_.lift_model) {
-        // What the lift model says of each can: the trials' perception of the can's blob.
-        for (auto& s : sightings) {
-          if (s.kind != Kind::Can) continue;
-          const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
-          Percept p;
-          perceive_image(*frame, p, around);
-          if (!p.seen) continue;
+      // Each can as the trials perceive an object's blob: its features, and what the lift
+      // model says of it.
+      for (auto& s : sightings) {
+        if (s.kind != Kind::Can) continue;
+        const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
+        Percept p;
+        perceive_image(*frame, p, around);
+        if (!p.seen) continue;
+        const auto all = named_features(p, Affordance::Lift);
+        for (const auto& name : thing_features()) s.features[name] = all.at(name);
+        if (options_.lift_model) {
           try {
-            const auto said = options_.lift_model->predict(named_features(p, Affordance::Lift));
+            const auto said = options_.lift_model->predict(all);
             s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
           } catch (const ModelError& e) {
             say("look", std::string("the lift model could not judge a can: ") + e.what());
@@ -196,7 +206,7 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
     if (s.range > 3.5) continue;  // too far to place well
     if (s.kind == Kind::Switch) {
       if (!scene_.switch_platform)
-        scene_.switch_platform = SeenThing{"switch", "yellow", at.x, at.y, 0, false, "", 0, 0};
+        scene_.switch_platform = SeenThing{"switch", "yellow", at.x, at.y, 0, false, false, "", 0, 0, {}};
       auto& w = *scene_.switch_platform;
       w.x = (w.x * w.seen + at.x) / (w.seen + 1);
       w.y = (w.y * w.seen + at.y) / (w.seen + 1);
@@ -210,7 +220,7 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
       const auto of_colour = std::count_if(scene_.things.begin(), scene_.things.end(),
                                            [&](const SeenThing& c) { return c.colour == s.colour; });
       scene_.things.push_back({s.colour + "_" + std::to_string(of_colour + 1), s.colour, at.x, at.y,
-                               0, false, "", 0, 0});
+                               0, false, false, "", 0, 0, {}});
       same = scene_.things.end() - 1;
     } else if (same->tried) {
       continue;
@@ -218,6 +228,8 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
     same->x = (same->x * same->seen + at.x) / (same->seen + 1);
     same->y = (same->y * same->seen + at.y) / (same->seen + 1);
     ++same->seen;
+    same->lost = false;
+    if (!s.features.empty()) same->features = s.features;
     if (s.liftable >= 0) {
       same->liftable = (same->liftable * same->judged + s.liftable) / (same->judged + 1);
       ++same->judged;
@@ -342,6 +354,7 @@ BehaviourReport Behaviours::go_to(const std::string& name) {
   // Stand off where the way in is free, look again from close by, drive in to the crane's reach.
   if (!close_in(*can, Kind::Can)) {
     can->outcome = "not seen again";
+    can->lost = true;
     say(stage_, "the " + can->colour + " can is not where it was seen; next candidate");
     return finish(r, Setback::NotSeen, "the " + can->colour + " can is not where it was seen");
   }
@@ -396,6 +409,10 @@ BehaviourReport Behaviours::lift(const std::string& name) {
   say(stage_, "lifted the " + can->colour + " can (" + s->held_object() + ") off the floor");
   can->outcome = "lifted";
   scene_.holding = name;
+  // Where the crane holds it: the magnet's face above the floor, less the can.
+  scene_.held_height = geometry_.base_height + geometry_.pivot_z +
+                       geometry_.boom_length * std::sin(s->lift()) - geometry_.magnet_below_tip -
+                       s->hoist() - kCanTop;
   obstacles_.clear({can->x, can->y}, 0.12);
   crane_to(kParkSlew, kParkLift, 0.0);
   emit("lifted");
@@ -445,6 +462,7 @@ BehaviourReport Behaviours::put_down() {
   park_crane();
   if (!scene_.holding.empty()) scene_.on_switch.push_back(scene_.holding);
   scene_.holding.clear();
+  scene_.held_height = 0;
   return finish(r);
 }
 

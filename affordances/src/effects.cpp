@@ -3,6 +3,7 @@
 #include "macsim/affordances/effects.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -320,6 +321,25 @@ std::string threshold_predicate(const std::string& feature, double value) {
   return name + "-le-" + name_number(value);
 }
 
+void keep_typed_atoms(const pddl::Domain& vocabulary, BehaviourTrials& trials) {
+  std::map<std::string, std::string> type_of;
+  for (const auto& p : trials.parameters) type_of[p.name] = p.type;
+  const auto typed = [&](const Atom& a) {
+    const auto d = std::find_if(vocabulary.predicates.begin(), vocabulary.predicates.end(),
+                                [&](const pddl::PredicateDeclaration& p) { return p.name == a.predicate; });
+    if (d == vocabulary.predicates.end() || d->parameters.size() != a.arguments.size()) return false;
+    for (std::size_t i = 0; i < a.arguments.size(); ++i) {
+      const auto t = type_of.find(a.arguments[i]);
+      if (t == type_of.end() || !pddl::is_a(vocabulary, t->second, d->parameters[i].type)) return false;
+    }
+    return true;
+  };
+  for (auto& t : trials.trials) {
+    std::erase_if(t.atoms_before, [&](const Atom& a) { return !typed(a); });
+    std::erase_if(t.atoms_after, [&](const Atom& a) { return !typed(a); });
+  }
+}
+
 EffectCategories categorise(const BehaviourTrials& trials, int max_k) {
   check(trials);
   EffectCategories out;
@@ -404,6 +424,10 @@ LearnedBehaviour learn_behaviour(const BehaviourTrials& trials, int max_k) {
     if (count == n) out.always_before.push_back(a);
     else out.input_atoms.push_back(a);
   }
+  std::set<Atom> made;
+  for (const auto& t : trials.trials) made.insert(t.atoms_after.begin(), t.atoms_after.end());
+  for (const auto& a : made)
+    if (!held.count(a)) out.never_before.push_back(a);
   for (const auto& f : trials.features) out.inputs.push_back(f.name);
   for (const auto& a : out.input_atoms) {
     std::string text = "(" + a.predicate;
@@ -488,6 +512,7 @@ LearnedDomain learned_domain(const pddl::Domain& vocabulary,
       op.name = t.behaviour + "-" + std::to_string(++number);
       op.parameters = t.parameters;
       op.requires_true = l.always_before;
+      op.requires_false = l.never_before;
       std::string why;
       for (const Condition& c : rule.conditions) {
         const std::size_t f = static_cast<std::size_t>(c.feature);
@@ -533,6 +558,187 @@ LearnedDomain learned_domain(const pddl::Domain& vocabulary,
                 " trials, per effect category:" + seen;
       out.domain.operators.push_back(std::move(op));
     }
+  }
+  return out;
+}
+
+namespace {
+
+std::string exact(double v) {
+  char buffer[32];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return error == std::errc() ? std::string(buffer, end) : "nan";
+}
+
+std::string atom_list(const std::vector<Atom>& atoms) {
+  std::string s;
+  for (const auto& a : atoms) {
+    s += (s.empty() ? "(" : " (") + a.predicate;
+    for (const auto& arg : a.arguments) s += " " + arg;
+    s += ")";
+  }
+  return s;
+}
+
+std::vector<std::string> split(const std::string& s, char by) {
+  std::vector<std::string> out;
+  std::string part;
+  std::istringstream in(s);
+  while (std::getline(in, part, by)) out.push_back(part);
+  if (!s.empty() && s.back() == by) out.emplace_back();
+  return out;
+}
+
+}  // namespace
+
+std::string write_effect_trials(const std::vector<BehaviourTrials>& all) {
+  std::ostringstream out;
+  out << "behaviour,parameters,seed,label,features,changes,atoms_before,atoms_after\n";
+  for (const auto& b : all) {
+    std::string parameters;
+    for (const auto& p : b.parameters) parameters += (parameters.empty() ? "" : ";") + p.name + " - " + p.type;
+    for (const auto& t : b.trials) {
+      std::string features, changes;
+      for (std::size_t i = 0; i < b.features.size(); ++i)
+        features += (i ? ";" : "") + b.features[i].name + ":" + b.features[i].parameter + "=" + exact(t.before[i]);
+      for (std::size_t i = 0; i < b.changes.size(); ++i)
+        changes += (i ? ";" : "") + b.changes[i].name + "@" + exact(b.changes[i].resolution) + "=" + exact(t.change[i]);
+      out << b.behaviour << "," << parameters << "," << t.seed << "," << t.label << "," << features << ","
+          << changes << "," << atom_list(t.atoms_before) << "," << atom_list(t.atoms_after) << "\n";
+    }
+  }
+  return out.str();
+}
+
+std::vector<BehaviourTrials> read_effect_trials(const std::string& text, const std::string& file) {
+  std::vector<BehaviourTrials> out;
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  const auto fail = [&](const std::string& what) -> void {
+    throw pddl::PddlError(file + ":" + std::to_string(number) + ": " + what);
+  };
+  const auto number_of = [&](const std::string& s, const std::string& field) {
+    double v = 0;
+    const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (error != std::errc() || end != s.data() + s.size() || !std::isfinite(v))
+      fail(field + ": '" + s + "' is no finite number");
+    return v;
+  };
+  const auto atoms_of = [&](const std::string& s, const std::string& field) {
+    std::vector<Atom> atoms;
+    if (s.empty()) return atoms;
+    // "(p a b) (q)": one atom per parenthesised group.
+    std::size_t at = 0;
+    while (at < s.size()) {
+      if (s[at] == ' ') {
+        ++at;
+        continue;
+      }
+      const auto close = s.find(')', at);
+      if (s[at] != '(' || close == std::string::npos) fail(field + ": '" + s + "' is no list of atoms");
+      std::istringstream words(s.substr(at + 1, close - at - 1));
+      Atom a;
+      if (!(words >> a.predicate)) fail(field + ": an empty atom");
+      for (std::string w; words >> w;) a.arguments.push_back(w);
+      atoms.push_back(std::move(a));
+      at = close + 1;
+    }
+    return atoms;
+  };
+  if (!std::getline(in, line) || line != "behaviour,parameters,seed,label,features,changes,atoms_before,atoms_after") {
+    number = 1;
+    fail("not a file of effect trials (its header differs)");
+  }
+  number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const auto fields = split(line, ',');
+    if (fields.size() != 8) fail("8 fields expected, found " + std::to_string(fields.size()));
+    auto it = std::find_if(out.begin(), out.end(), [&](const BehaviourTrials& b) { return b.behaviour == fields[0]; });
+    const bool first = it == out.end();
+    if (first) {
+      out.push_back({});
+      it = out.end() - 1;
+      it->behaviour = fields[0];
+      for (const auto& p : split(fields[1], ';')) {
+        const auto dash = p.find(" - ");
+        if (dash == std::string::npos) fail("parameters: '" + p + "' is no '?name - type'");
+        it->parameters.push_back({p.substr(0, dash), p.substr(dash + 3)});
+      }
+    }
+    EffectTrial t;
+    t.seed = static_cast<std::uint64_t>(number_of(fields[2], "seed"));
+    t.label = fields[3];
+    std::vector<Feature> features;
+    for (const auto& f : fields[4].empty() ? std::vector<std::string>{} : split(fields[4], ';')) {
+      const auto colon = f.find(':'), equals = f.find('=');
+      if (colon == std::string::npos || equals == std::string::npos || equals < colon)
+        fail("features: '" + f + "' is no 'name:?parameter=value'");
+      features.push_back({f.substr(0, colon), f.substr(colon + 1, equals - colon - 1)});
+      t.before.push_back(number_of(f.substr(equals + 1), "features"));
+    }
+    std::vector<Change> changes;
+    for (const auto& c : fields[5].empty() ? std::vector<std::string>{} : split(fields[5], ';')) {
+      const auto at = c.find('@'), equals = c.find('=');
+      if (at == std::string::npos || equals == std::string::npos || equals < at)
+        fail("changes: '" + c + "' is no 'name@resolution=value'");
+      changes.push_back({c.substr(0, at), number_of(c.substr(at + 1, equals - at - 1), "changes")});
+      t.change.push_back(number_of(c.substr(equals + 1), "changes"));
+    }
+    if (first) {
+      it->features = features;
+      it->changes = changes;
+    } else {
+      const auto same_features = features.size() == it->features.size() &&
+          std::equal(features.begin(), features.end(), it->features.begin(),
+                     [](const Feature& a, const Feature& b) { return a.name == b.name && a.parameter == b.parameter; });
+      const auto same_changes = changes.size() == it->changes.size() &&
+          std::equal(changes.begin(), changes.end(), it->changes.begin(),
+                     [](const Change& a, const Change& b) { return a.name == b.name && a.resolution == b.resolution; });
+      if (!same_features || !same_changes) fail("its features or changes differ from the first row of " + it->behaviour);
+    }
+    t.atoms_before = atoms_of(fields[6], "atoms_before");
+    t.atoms_after = atoms_of(fields[7], "atoms_after");
+    it->trials.push_back(std::move(t));
+  }
+  return out;
+}
+
+void save_thresholds(const std::vector<Threshold>& thresholds, const std::string& path) {
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::WRITE);
+    if (!fs.isOpened()) throw pddl::PddlError(path + ": cannot be written");
+    fs << "thresholds" << "[";
+    for (const auto& t : thresholds)
+      fs << "{" << "predicate" << t.predicate << "feature" << t.feature << "type" << t.type << "value" << t.value << "}";
+    fs << "]";
+  } catch (const cv::Exception& e) {
+    throw pddl::PddlError(path + ": cannot be written: " + e.what());
+  }
+}
+
+std::vector<Threshold> load_thresholds(const std::string& path) {
+  std::vector<Threshold> out;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) throw pddl::PddlError(path + ": cannot be read");
+    const cv::FileNode list = fs["thresholds"];
+    if (!list.isSeq()) throw pddl::PddlError(path + ": no list 'thresholds'");
+    for (const auto& n : list) {
+      Threshold t;
+      t.predicate = static_cast<std::string>(n["predicate"]);
+      t.feature = static_cast<std::string>(n["feature"]);
+      t.type = static_cast<std::string>(n["type"]);
+      t.value = static_cast<double>(n["value"]);
+      if (t.predicate.empty() || t.feature.empty() || t.type.empty() || !std::isfinite(t.value))
+        throw pddl::PddlError(path + ": threshold " + std::to_string(out.size() + 1) +
+                              " lacks its predicate, feature, type or a finite value");
+      out.push_back(std::move(t));
+    }
+  } catch (const cv::Exception& e) {
+    throw pddl::PddlError(path + ": cannot be read: " + e.what());
   }
   return out;
 }

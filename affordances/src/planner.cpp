@@ -1,6 +1,7 @@
 // Grounding and search: operators instantiated on objects of their parameters' types (pruned by
-// the static predicates as parameters are bound), reduced to those that can matter to the goal,
-// then A* over states as bit sets, h_max as the heuristic (admissible: the plan is shortest).
+// the static predicates as parameters are bound), one per outcome worth counting on, reduced to
+// those that can matter to the goal, then A* over states as bit sets, h_max as the heuristic
+// (admissible: the plan is shortest).
 #include "macsim/affordances/planner.h"
 
 #include <algorithm>
@@ -58,7 +59,8 @@ struct BitsHash {
 /// The operators grounded on the problem's objects, the atoms they touch numbered.
 class Grounding {
  public:
-  Grounding(const Domain& domain, const Problem& problem) : domain_(domain) {
+  Grounding(const Domain& domain, const Problem& problem, double min_probability)
+      : domain_(domain), min_probability_(min_probability) {
     for (const auto& o : problem.objects) objects_.push_back(&o);
     for (const auto& op : domain.operators)
       for (const auto& out : op.outcomes) {
@@ -89,23 +91,19 @@ class Grounding {
   std::vector<Atom> names_;
 
  private:
-  /// The most likely outcome: the first listed, unless "nothing changes" (what the listed
-  /// probabilities leave) is likelier.
-  static std::optional<std::pair<const Outcome*, double>> most_likely(const Operator& op) {
-    if (op.outcomes.empty()) return std::nullopt;
-    const Outcome* best = &op.outcomes.front();
-    double rest = 1;
-    for (const auto& o : op.outcomes) {
-      rest -= o.probability;
-      if (o.probability > best->probability) best = &o;
-    }
-    if (rest > best->probability + 1e-12) return std::nullopt;
-    return std::make_pair(best, best->probability);
+  /// The outcomes planned on: each that changes something and is at least `min_probability`
+  /// likely (all-outcomes determinization: a step counts on one of them, its probability beside).
+  std::vector<const Outcome*> plannable(const Operator& op) const {
+    std::vector<const Outcome*> out;
+    for (const auto& o : op.outcomes)
+      if ((!o.add.empty() || !o.remove.empty()) && o.probability >= min_probability_ - 1e-12)
+        out.push_back(&o);
+    return out;
   }
 
   void ground(const Operator& op) {
-    const auto outcome = most_likely(op);
-    if (!outcome || (outcome->first->add.empty() && outcome->first->remove.empty())) return;
+    const auto outcomes = plannable(op);
+    if (outcomes.empty()) return;
     // Candidates per parameter, and the static preconditions checkable once parameter k is bound.
     const std::size_t n = op.parameters.size();
     std::vector<std::vector<const pddl::Typed*>> candidates(n);
@@ -142,7 +140,7 @@ class Grounding {
     if (!checks_hold(0)) return;
     std::function<void(std::size_t)> descend = [&](std::size_t k) {
       if (k == n) {
-        emit(op, binding, *outcome->first, outcome->second, bind);
+        for (const Outcome* o : outcomes) emit(op, binding, *o, o->probability, bind);
         return;
       }
       for (const auto* o : candidates[k]) {
@@ -177,6 +175,7 @@ class Grounding {
   }
 
   const Domain& domain_;
+  double min_probability_;
   std::vector<const pddl::Typed*> objects_;
   std::set<std::string> dynamic_;
   std::set<Atom> static_facts_;
@@ -268,7 +267,7 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   };
   PlanResult result;
-  Grounding grounding(domain, problem);
+  Grounding grounding(domain, problem, limits.min_probability);
   // The goal over numbered atoms; atoms no operator touches and the start lacks are false.
   std::vector<int> goal_true, goal_false;
   std::vector<std::string> never;

@@ -22,6 +22,38 @@ constexpr const char* kLog = "robot loop";  // what its messages begin with
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
+void add_loop_options(macsim::dds::CommandLine& cli, LoopOptions& options) {
+  const auto seconds = [](double s) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", s);
+    return std::string(text);
+  };
+  cli.option("robot", "NAME", "robot namespace (default " + options.robot + ")", &options.robot);
+  cli.flag("lockstep",
+           "step the simulation from here (macsim --lockstep): reproducible, as fast as the "
+           "machine allows",
+           &options.lockstep);
+  cli.option("timeout", "SECONDS",
+             "give up after this much robot time (default " + seconds(options.timeout) + ")",
+             &options.timeout);
+  cli.option("discovery-timeout", "SECONDS",
+             "wait this long for the robot (default " + seconds(options.discovery_timeout) + ")",
+             &options.discovery_timeout);
+  cli.option("restart-patience", "SECONDS",
+             "wait this long for a simulator that went away (killed and resumed: macsim --resume) "
+             "or a robot gone silent (default " + seconds(options.restart_patience) +
+                 "; 0: give up at once)",
+             &options.restart_patience);
+}
+
+std::string loop_options_problem(const LoopOptions& options) {
+  if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || !(options.restart_patience >= 0) ||
+      options.robot.empty())
+    return "--timeout and --discovery-timeout must be positive, --restart-patience not negative, "
+           "--robot not empty";
+  return {};
+}
+
 RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& options)
     : loop_options_(options),
       drive_(participant, options.robot, macsim::dds::sensor_family(options.lockstep)),

@@ -23,19 +23,7 @@ int main(int argc, char** argv) {
       "be lifted; 6: the door stayed closed; 7: timeout; 8: no switch found; 9: could not get "
       "through.\n--domain N is required (it moves a robot: never on a domain it was not given).");
   cli.participant_options(&participant, /*domain_required=*/true);
-  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.loop.robot);
-  cli.flag("lockstep",
-           "step the simulation from here (macsim --lockstep): reproducible, as fast "
-           "as the machine allows",
-           &options.loop.lockstep);
-  cli.option("timeout", "SECONDS", "give up after this much robot time (default 400)",
-             &options.loop.timeout);
-  cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
-             &options.loop.discovery_timeout);
-  cli.option("restart-patience", "SECONDS",
-             "wait this long for a simulator that went away (killed and resumed: macsim --resume) "
-             "or a robot gone silent (default 120; 0: give up at once)",
-             &options.loop.restart_patience);
+  macsim::affordances::add_loop_options(cli, options.loop);
   cli.flag("pictures",
            "ask the simulator (macsim --pictures DIR) for an overview picture per scene",
            &options.pictures);
@@ -47,10 +35,8 @@ int main(int argc, char** argv) {
              "features the cameras give from where the robot stands) before trying any",
              &affordances);
   if (auto code = cli.parse(argc, argv)) return *code;
-  if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
-      !(options.loop.restart_patience >= 0) || options.loop.robot.empty()) {
-    macsim::log::error(
-        "kurt_demo: --timeout and --discovery-timeout must be positive, --robot not empty");
+  if (const auto problem = macsim::affordances::loop_options_problem(options.loop); !problem.empty()) {
+    macsim::log::error("kurt_demo: {}", problem);
     return kurt_demo::kUsage;
   }
   if (!affordances.empty()) {

@@ -26,11 +26,7 @@ int main(int argc, char** argv) {
       "passable; 7: timeout; 9: no laser cloud.\n--domain N is required (it moves a robot: "
       "never on a domain it was not given).");
   cli.participant_options(&participant, /*domain_required=*/true);
-  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.loop.robot);
-  cli.flag("lockstep",
-           "step the simulation from here (macsim --lockstep): reproducible, as fast as the "
-           "machine allows",
-           &options.loop.lockstep);
+  macsim::affordances::add_loop_options(cli, options.loop);
   std::string goal = "6,0", policy = "model", affordances;
   cli.option("goal", "X,Y", "the goal in the odometry frame, m (default 6,0: 6 m ahead)", &goal);
   cli.option("policy", "model|avoid",
@@ -48,14 +44,6 @@ int main(int argc, char** argv) {
            &options.verbose);
   cli.option("tolerance", "METRES", "how near the goal counts as there (default 0.3)",
              &options.tolerance);
-  cli.option("timeout", "SECONDS", "give up after this much robot time (default 300)",
-             &options.loop.timeout);
-  cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
-             &options.loop.discovery_timeout);
-  cli.option("restart-patience", "SECONDS",
-             "wait this long for a simulator that went away (killed and resumed: macsim --resume) "
-             "or a robot gone silent (default 120; 0: give up at once)",
-             &options.loop.restart_patience);
   if (auto code = cli.parse(argc, argv)) return *code;
   char comma = 0, rest = 0;
   if (std::sscanf(goal.c_str(), "%lf%c%lf%c", &options.goal_x, &comma, &options.goal_y, &rest) !=
@@ -66,12 +54,12 @@ int main(int argc, char** argv) {
                        goal);
     return kUsage;
   }
-  if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
-      !(options.loop.restart_patience >= 0) || !(options.tolerance > 0) ||
-      options.loop.robot.empty()) {
-    macsim::log::error(
-        "kurt_navigate: --timeout, --discovery-timeout and --tolerance must be positive, "
-        "--robot not empty");
+  if (const auto problem = macsim::affordances::loop_options_problem(options.loop); !problem.empty()) {
+    macsim::log::error("kurt_navigate: {}", problem);
+    return kUsage;
+  }
+  if (!(options.tolerance > 0)) {
+    macsim::log::error("kurt_navigate: --tolerance must be positive");
     return kUsage;
   }
   if (policy == "avoid") {

@@ -37,15 +37,7 @@ int main(int argc, char** argv) {
              &pddl_domain);
   cli.option("problems", "DIR", "write each planning round's problem (the perceived scene) here",
              &options.problems);
-  cli.option("robot", "NAME", "robot namespace (default kurt)", &options.loop.robot);
-  cli.flag("lockstep",
-           "step the simulation from here (macsim --lockstep): reproducible, as fast as the "
-           "machine allows",
-           &options.loop.lockstep);
-  cli.option("timeout", "SECONDS", "give up after this much robot time (default 400)",
-             &options.loop.timeout);
-  cli.option("discovery-timeout", "SECONDS", "wait this long for the robot (default 20)",
-             &options.loop.discovery_timeout);
+  macsim::affordances::add_loop_options(cli, options.loop);
   if (auto code = cli.parse(argc, argv)) return *code;
   const auto parsed = kurt_plan::Goal::parse(goal);
   if (!parsed) {
@@ -58,9 +50,8 @@ int main(int argc, char** argv) {
     macsim::log::error("kurt_plan: give one of --affordances DIR and --pddl-domain FILE");
     return kurt_plan::kUsage;
   }
-  if (!(options.loop.timeout > 0) || !(options.loop.discovery_timeout > 0) ||
-      options.loop.robot.empty()) {
-    macsim::log::error("kurt_plan: --timeout and --discovery-timeout must be positive, --robot not empty");
+  if (const auto problem = macsim::affordances::loop_options_problem(options.loop); !problem.empty()) {
+    macsim::log::error("kurt_plan: {}", problem);
     return kurt_plan::kUsage;
   }
   if (!options.problems.empty() && !std::filesystem::is_directory(options.problems)) {
@@ -70,6 +61,8 @@ int main(int argc, char** argv) {
   try {
     options.domain = macsim::affordances::pddl::load_domain(
         pddl_domain.empty() ? affordances + "/effects.ppddl" : pddl_domain);
+    if (!affordances.empty() && std::filesystem::exists(affordances + "/thresholds.yml"))
+      options.thresholds = macsim::affordances::load_thresholds(affordances + "/thresholds.yml");
   } catch (const macsim::affordances::pddl::PddlError& e) {
     macsim::log::error("kurt_plan: {}", e.what());
     return kurt_plan::kUsage;

@@ -86,7 +86,7 @@ std::vector<pddl::Atom> PlanController::goal_atoms() const {
     case Goal::Kind::OnSwitch: {
       std::vector<pddl::Atom> out;
       for (const auto& t : scene().things)
-        if (t.colour == options_.goal.colour) out.push_back({"on", {t.name, "switch"}});
+        if (t.colour == options_.goal.colour && !t.lost) out.push_back({"on", {t.name, "switch"}});
       return out;
     }
   }
@@ -101,14 +101,20 @@ pddl::Problem PlanController::problem(const pddl::Atom& goal) const {
            options_.goal.text();
   p.objects = {{"start", "place"}, {"switch", "switch"}, {"door", "door"}};
   std::vector<const af::SeenThing*> things;
-  for (const auto& t : scene().things) things.push_back(&t);
+  for (const auto& t : scene().things)
+    if (!t.lost) things.push_back(&t);
   const auto distance = [&](const af::SeenThing* t) {
     return std::hypot(t->x - scene().robot.x, t->y - scene().robot.y);
   };
   std::stable_sort(things.begin(), things.end(),
                    [&](const af::SeenThing* a, const af::SeenThing* b) { return distance(a) < distance(b); });
-  for (const auto* t : things) p.objects.push_back({t->name, "thing"});
+  std::vector<af::PerceivedObject> perceived;
+  for (const auto* t : things) {
+    p.objects.push_back({t->name, "thing"});
+    perceived.push_back({t->name, "thing", t->features});
+  }
   p.init = af::scene_atoms(scene());
+  for (auto& a : af::threshold_atoms(options_.domain, options_.thresholds, perceived)) p.init.push_back(std::move(a));
   p.goal_true = {goal};
   return p;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "macsim/affordances/behaviours.h"
+#include "macsim/affordances/effects.h"
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/planner.h"
 
@@ -37,6 +38,8 @@ struct PlanOptions {
   macsim::affordances::LoopOptions loop;
   Goal goal;
   macsim::affordances::pddl::Domain domain;  ///< what the planner plans over
+  /// A learned domain's thresholds: the atoms each thing's perceived features make true.
+  std::vector<macsim::affordances::Threshold> thresholds;
   std::string problems;  ///< a folder to write each planning round's problem file to, or empty
   int max_replans = 8;
   int max_steps = 40;

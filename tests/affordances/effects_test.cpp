@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <set>
 
 #include "macsim/affordances/planner.h"
@@ -242,6 +244,109 @@ TEST(Effects, TheLearnedDomainPlansTheSameFromItsFilesAsInMemory) {
   }
   for (std::size_t i = 0; i < read.operators.size(); ++i) {
     EXPECT_EQ(read.operators[i].outcomes, d.domain.operators[i].outcomes);
+    EXPECT_EQ(read.operators[i].requires_true, d.domain.operators[i].requires_true);
+    EXPECT_EQ(read.operators[i].requires_false, d.domain.operators[i].requires_false);
+  }
+}
+
+TEST(Effects, TrialsReadBackFromTheirTextAsWritten) {
+  const std::vector<BehaviourTrials> all{go_trials(5, 1), lift_trials(20, 2), put_down_trials(10, 3)};
+  const auto back = read_effect_trials(write_effect_trials(all), "trials.csv");
+  ASSERT_EQ(back.size(), 3U);
+  for (std::size_t b = 0; b < all.size(); ++b) {
+    EXPECT_EQ(back[b].behaviour, all[b].behaviour);
+    EXPECT_EQ(back[b].parameters, all[b].parameters);
+    ASSERT_EQ(back[b].trials.size(), all[b].trials.size());
+    for (std::size_t i = 0; i < all[b].trials.size(); ++i) {
+      EXPECT_EQ(back[b].trials[i].before, all[b].trials[i].before);  // exactly
+      EXPECT_EQ(back[b].trials[i].change, all[b].trials[i].change);
+      EXPECT_EQ(back[b].trials[i].atoms_before, all[b].trials[i].atoms_before);
+      EXPECT_EQ(back[b].trials[i].atoms_after, all[b].trials[i].atoms_after);
+      EXPECT_EQ(back[b].trials[i].label, all[b].trials[i].label);
+    }
+  }
+  const auto bad = [](const std::string& text, const std::string& what) {
+    try {
+      read_effect_trials(text, "t.csv");
+      ADD_FAILURE() << text;
+    } catch (const pddl::PddlError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const std::string header = "behaviour,parameters,seed,label,features,changes,atoms_before,atoms_after\n";
+  bad("a,b\n", "t.csv:1: not a file of effect trials");
+  bad(header + "lift,?t - thing,1,x,hue:?t=nan,h@0.1=0,,\n", "t.csv:2: features: 'nan' is no finite number");
+  bad(header + "lift,?t - thing,1,x,hue:?t=1,h@0.1=0,(holding ?t,\n", "t.csv:2: atoms_before");
+  bad(header + "lift,?t - thing,1,x,hue:?t=1\n", "t.csv:2: 8 fields expected, found 5");
+  bad(header + "lift,?t - thing,1,x,hue:?t=1,h@0.1=0,,\nlift,?t - thing,2,x,fill:?t=1,h@0.1=0,,\n",
+      "t.csv:3: its features or changes differ");
+}
+
+TEST(Effects, ThresholdsReadBackFromTheirFile) {
+  const macsim::test::TempDir dir("effects_thresholds_");
+  const std::vector<Threshold> t{{"hue-le-214p5", "hue", "thing", 214.51234567890123},
+                                 {"width_m-le-0p08", "width_m", "thing", 0.08}};
+  save_thresholds(t, dir.path() + "/thresholds.yml");
+  const auto back = load_thresholds(dir.path() + "/thresholds.yml");
+  ASSERT_EQ(back.size(), 2U);
+  EXPECT_EQ(back[0].predicate, t[0].predicate);
+  EXPECT_EQ(back[0].value, t[0].value);
+  EXPECT_EQ(back[1].type, "thing");
+  EXPECT_THROW(load_thresholds(dir.path() + "/none.yml"), pddl::PddlError);
+}
+
+/// The committed rows of learn_effects (exploration episodes against macsim): the domain learned
+/// from them, its rules checked against the rows they were read off.
+TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
+  const std::string file = macsim::test::source("tests/affordances/effect_trials.csv");
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  auto trials = read_effect_trials(text.str(), file);
+  ASSERT_GE(trials.size(), 3U);
+  for (auto& t : trials) keep_typed_atoms(vocabulary(), t);
+  std::vector<LearnedBehaviour> learned;
+  for (const auto& t : trials) learned.push_back(learn_behaviour(t));
+  const LearnedDomain d = learned_domain(vocabulary(), trials, learned);
+  std::size_t op = 0;
+  for (std::size_t b = 0; b < trials.size(); ++b) {
+    const auto& t = trials[b];
+    const auto& l = learned[b];
+    // Each trial meets exactly one rule; that rule's operator applies where the trial started
+    // (its atoms before, and the thresholds its features meet), and the rule's counts add up.
+    int counted = 0;
+    for (const auto& r : l.rules)
+      for (const auto& [category, count] : r.trials_per_category) counted += count;
+    EXPECT_EQ(counted, static_cast<int>(t.trials.size())) << t.behaviour;
+    for (const auto& trial : t.trials) {
+      std::map<std::string, double> features;
+      for (std::size_t f = 0; f < t.features.size(); ++f) features[t.features[f].name] = trial.before[f];
+      std::set<Atom> state(trial.atoms_before.begin(), trial.atoms_before.end());
+      for (const auto& p : t.parameters)
+        for (auto& a : threshold_atoms(d.domain, d.thresholds, {{p.name, p.type, features}}))
+          state.insert(a);
+      int applicable = 0;
+      for (std::size_t r = 0; r < l.rules.size(); ++r) {
+        const pddl::Operator& o = d.domain.operators[op + r];
+        const bool holds =
+            std::all_of(o.requires_true.begin(), o.requires_true.end(), [&](const Atom& a) { return state.count(a) > 0; }) &&
+            std::none_of(o.requires_false.begin(), o.requires_false.end(), [&](const Atom& a) { return state.count(a) > 0; });
+        applicable += holds;
+        if (holds) {
+          EXPECT_EQ(&l.rules[r], &rule_for(l, trial.before, trial.atoms_before)) << o.name;
+        }
+      }
+      EXPECT_EQ(applicable, 1) << t.behaviour << " trial " << trial.seed;
+    }
+    op += l.rules.size();
+  }
+  EXPECT_EQ(op, d.domain.operators.size());
+  // Written as files and read back: the same operators.
+  const pddl::Domain read =
+      pddl::read_domain(pddl::write(d.domain, pddl::Dialect::Probabilistic), "effects.ppddl");
+  ASSERT_EQ(read.operators.size(), d.domain.operators.size());
+  for (std::size_t i = 0; i < read.operators.size(); ++i) {
+    EXPECT_EQ(read.operators[i].outcomes, d.domain.operators[i].outcomes) << read.operators[i].name;
     EXPECT_EQ(read.operators[i].requires_true, d.domain.operators[i].requires_true);
     EXPECT_EQ(read.operators[i].requires_false, d.domain.operators[i].requires_false);
   }

@@ -127,6 +127,20 @@ TEST(Planner, AnUnreachableGoalIsReportedWithWhatCannotBeMadeTrue) {
   EXPECT_NE(t.reason.find("(flush switch-1) (nothing makes it true)"), std::string::npos) << t.reason;
 }
 
+TEST(Planner, AnOutcomeLessLikelyThanNothingIsPlannedOnAndSaidSo) {
+  // A lift that comes up 40 % of the time is the only way: the plan counts on it, p = 0.4.
+  pddl::Domain d = room();
+  for (auto& op : d.operators)
+    if (op.name == "lift") op.outcomes = {{0.4, op.outcomes[0].add, op.outcomes[0].remove}, {0.6, op.outcomes[1].add, {}}};
+  const PlanResult r = plan(d, room_problem(1));
+  ASSERT_TRUE(r.plan) << r.reason;
+  EXPECT_EQ(r.plan->steps[1].text(), "(lift thing-1)");
+  EXPECT_DOUBLE_EQ(r.plan->steps[1].probability, 0.4);
+  EXPECT_DOUBLE_EQ(r.plan->probability, 0.4 * 0.8);
+  // Below the floor it is not counted on.
+  EXPECT_FALSE(plan(d, room_problem(1), PlanLimits{2'000'000, 10, 0.5}).plan);
+}
+
 TEST(Planner, AGoalMetAtTheStartNeedsNoStep) {
   pddl::Problem p = room_problem(1);
   p.goal_true = {{"hand-free", {}}};
@@ -150,7 +164,7 @@ TEST(Planner, OfEquallyShortPlansTheLikeliestIsTaken) {
   bet.outcomes = {{0.9, {{"won", {}}}, {}}};
   pddl::Operator gamble = toss;
   gamble.name = "gamble";
-  gamble.outcomes = {{0.3, {{"won", {}}}, {}}};  // nothing changes is likelier: never planned
+  gamble.outcomes = {{0.2, {{"won", {}}}, {}}};  // below PlanLimits::min_probability: never planned
   d.operators = {toss, bet, gamble};
   pddl::Problem p;
   p.name = "p";

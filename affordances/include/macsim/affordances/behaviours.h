@@ -7,6 +7,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,10 +29,18 @@ struct SeenThing {
   double x = 0, y = 0;  ///< m, the mean of its sightings
   int seen = 0;         ///< sightings
   bool tried = false;   ///< a lift was tried on it
+  bool lost = false;    ///< not found again where it was seen (until it is seen again)
   std::string outcome;  ///< what came of the last behaviour on it
   double liftable = 0;  ///< a lift model's mean probability of `liftable` over the sightings
   int judged = 0;       ///< sightings the model judged
+  /// What the cameras see of it from anywhere (thing_features()), the latest sighting's.
+  std::map<std::string, double> features;
 };
+
+/// The features of a thing the cameras give the same from wherever the robot stands: its hue and
+/// its width in metres (perception.h's names; the blob's fill of its box changes with what hides
+/// part of it).
+const std::vector<std::string>& thing_features();
 
 /// The door's gap as the laser saw it, in the odometry frame.
 struct SeenDoor {
@@ -47,6 +56,7 @@ struct Scene {
   std::optional<SeenThing> switch_platform;
   std::optional<SeenDoor> door;  ///< a gap of a door's width was seen in the wall
   std::string holding;           ///< the thing on the magnet, or empty
+  double held_height = 0;        ///< m, its bottom above the floor, from the crane's state
   std::string at = "start";      ///< the thing or place it last went to
   std::vector<std::string> on_switch;  ///< things it put down on the switch's platform
   bool beyond_door = false;            ///< it drove through the door's gap
@@ -56,7 +66,7 @@ struct Scene {
 /// robot-at, hand-free or holding, tried (a lift was tried on it), like-failed (untried, of the
 /// colour of one that did not come up), on, loaded, pressed (the door
 /// was seen open with something on the switch), open, beyond and opens; objects named as in the
-/// scene ("switch", "door", "start").
+/// scene ("switch", "door", "start"); lost things say nothing.
 std::vector<pddl::Atom> scene_atoms(const Scene& scene);
 
 /// Why a behaviour did not do what it set out to do.
@@ -85,6 +95,7 @@ struct BehaviourOptions {
   LoopOptions loop;           ///< robot, lock-step, timeouts
   std::string program = "kurt";  ///< what progress lines begin with ("kurt_demo")
   std::string debug_images;   ///< folder for the camera images with what was seen, or empty
+  bool verbose = true;        ///< print progress lines
   /// A lift model to judge each can by while looking (SeenThing::liftable).
   std::optional<AffordanceModel> lift_model;
 };

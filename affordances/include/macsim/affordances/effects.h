@@ -95,7 +95,16 @@ struct LearnedBehaviour {
   double held_out_accuracy = 0;  ///< of the tree fitted on the other trials
   int held_out_trials = 0;
   std::vector<pddl::Atom> always_before;  ///< atoms that held before every trial
+  /// Atoms the trials made true but that held before none of them (a lift never began holding
+  /// the thing or with it tried): what was never seen is not counted on, so they must not hold.
+  std::vector<pddl::Atom> never_before;
 };
+
+/// Drops from each trial's atoms those the vocabulary's predicates cannot say of the behaviour's
+/// parameters: an unknown predicate, another arity, or a parameter of a type the predicate does
+/// not take (`(open ?from)` where ?from is any location and open takes a door). What is left is
+/// what a learned operator may require and change.
+void keep_typed_atoms(const pddl::Domain& vocabulary, BehaviourTrials& trials);
 
 /// Groups the trials' perceived changes into categories: each column in units of its resolution,
 /// k-means (k-means++ seeded, 5 attempts) for k = 2..max_k, of those whose centres lie a
@@ -138,6 +147,20 @@ struct PerceivedObject {
 std::vector<pddl::Atom> threshold_atoms(const pddl::Domain& domain,
                                         const std::vector<Threshold>& thresholds,
                                         const std::vector<PerceivedObject>& objects);
+
+/// Trials as CSV text, a row per trial: behaviour, its parameters, seed, label, the features
+/// before, the changes (each with its resolution), the atoms before and after. Numbers are written
+/// to round-trip exactly, so that what is learned from the text equals what was learned from the
+/// trials.
+std::string write_effect_trials(const std::vector<BehaviourTrials>& trials);
+/// Reads what write_effect_trials wrote (behaviours in order of first appearance); throws
+/// pddl::PddlError naming `file`, the line and the field.
+std::vector<BehaviourTrials> read_effect_trials(const std::string& text, const std::string& file);
+
+/// The thresholds a learned domain introduced, as a file (OpenCV's FileStorage, YAML) and back;
+/// both throw pddl::PddlError naming the file.
+void save_thresholds(const std::vector<Threshold>& thresholds, const std::string& path);
+std::vector<Threshold> load_thresholds(const std::string& path);
 
 /// The predicate name of "feature <= value": `hue-le-214p5`, `slope-le-m0p25`.
 std::string threshold_predicate(const std::string& feature, double value);

@@ -1,6 +1,7 @@
-// Plans over a PDDL domain (pddl.h): the operators grounded on the problem's objects, each taken
-// with its most likely outcome, and an A* search (h_max) for the fewest steps and, of those, the
-// likeliest plan. A goal no plan reaches is reported with the reason.
+// Plans over a PDDL domain (pddl.h): the operators grounded on the problem's objects, a step for
+// each outcome worth counting on (all-outcomes determinization: a lift that comes up half the
+// time may be planned on, its probability beside), and an A* search (h_max) for the fewest steps
+// and, of those, the likeliest plan. A goal no plan reaches is reported with the reason.
 #pragma once
 
 #include <cstddef>
@@ -32,6 +33,8 @@ struct Plan {
 struct PlanLimits {
   std::size_t max_states = 2'000'000;  ///< states generated
   double max_seconds = 10;             ///< wall time
+  /// Outcomes less likely than this are not counted on (nor any that changes nothing).
+  double min_probability = 0.25;
 };
 
 /// What a search found: a plan, or why there is none.

@@ -13,6 +13,7 @@
 #include "macsim/client/robot_client.h"
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
+#include "macsim/dds/command_line.h"
 #include "macsim/robot/kurt3d_description.h"
 
 namespace macsim::affordances {
@@ -35,6 +36,12 @@ struct LoopOptions {
   /// --resume) or a robot gone silent, before giving up; 0: give up at once.
   double restart_patience = 120.0;
 };
+
+/// The loop's options on a controller's command line: --robot, --lockstep, --timeout,
+/// --discovery-timeout, --restart-patience (their defaults from `options`).
+void add_loop_options(macsim::dds::CommandLine& cli, LoopOptions& options);
+/// What is wrong with the options (a timeout not positive, an empty robot name), or empty.
+std::string loop_options_problem(const LoopOptions& options);
 
 /// A planar pose in the odometry frame.
 struct Pose2 {

@@ -2,6 +2,7 @@
 // and the yellow platform of a floor switch, located in base_link by stereo triangulation.
 #pragma once
 
+#include <map>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@ struct Sighting {
   double width = 0, height = 0;  ///< m, the blob's extent at its range
   cv::Rect box;            ///< in the left image
   double liftable = -1;    ///< a lift model's probability of `liftable` (-1: not judged)
+  /// The trials' perception of a can's blob (perception.h): the features of thing_features().
+  std::map<std::string, double> features;
 };
 
 /// The cans and switch platforms in one stereo pair (pixels of saturated colour, grouped per
