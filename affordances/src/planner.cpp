@@ -245,6 +245,27 @@ std::vector<Ground> relevant(std::vector<Ground> ops, const std::vector<int>& go
   return kept;
 }
 
+/// Keeps the steps that can help: one that adds an atom some step or the goal needs true, or
+/// removes one some step or the goal needs false. A step that only disables others (a lift that
+/// leaves the thing tried and nothing else) is never needed: a plan without it is a plan still.
+std::vector<Ground> useful(std::vector<Ground> ops, const Problem& problem, Grounding& grounding,
+                           int atoms) {
+  std::vector<char> needed_true(atoms, 0), needed_false(atoms, 0);
+  for (const auto& g : ops) {
+    for (const int a : g.requires_true) needed_true[a] = 1;
+    for (const int a : g.requires_false) needed_false[a] = 1;
+  }
+  for (const auto& a : problem.goal_true)
+    if (const auto i = grounding.find(a)) needed_true[*i] = 1;
+  for (const auto& a : problem.goal_false)
+    if (const auto i = grounding.find(a)) needed_false[*i] = 1;
+  std::erase_if(ops, [&](const Ground& g) {
+    return std::none_of(g.add.begin(), g.add.end(), [&](int a) { return needed_true[a] != 0; }) &&
+           std::none_of(g.remove.begin(), g.remove.end(), [&](int a) { return needed_false[a] != 0; });
+  });
+  return ops;
+}
+
 struct Node {
   Bits state;
   int parent = -1;
@@ -291,7 +312,8 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
   for (const int a : grounding.init_) set(start, a);
   std::vector<int> goal_atoms = goal_true;
   goal_atoms.insert(goal_atoms.end(), goal_false.begin(), goal_false.end());
-  std::vector<Ground> ops = relevant(std::move(grounding.operators), goal_atoms, atoms);
+  std::vector<Ground> ops =
+      useful(relevant(std::move(grounding.operators), goal_atoms, atoms), problem, grounding, atoms);
   result.ground_operators = ops.size();
   if (!never.empty()) {
     result.reason = "the goal cannot be reached: ";
@@ -319,7 +341,8 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
     result.seconds = elapsed();
     return result;
   }
-  // A*: fewest steps first, then the likeliest, then the deepest (ties end sooner).
+  // A*: fewest steps first (f), then the deepest (a layer of equal f is searched depth first, so
+  // that it ends soon), then the likeliest.
   struct Open {
     int f;
     double surprise;
@@ -327,8 +350,8 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
     int node;
     bool operator>(const Open& o) const {
       if (f != o.f) return f > o.f;
-      if (surprise != o.surprise) return surprise > o.surprise;
       if (steps != o.steps) return steps < o.steps;
+      if (surprise != o.surprise) return surprise > o.surprise;
       return node > o.node;
     }
   };

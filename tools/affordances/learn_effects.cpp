@@ -257,7 +257,7 @@ int learn_and_write(std::vector<af::BehaviourTrials> trials, const std::string& 
 int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{-1, "", "learn_effects"};
   std::string out_dir, world;
-  int seed = 1;
+  int seed = 3;
   int episodes = 40, instances = 2, steps = 12;
   macsim::dds::CommandLine cli(
       "learn_effects",
@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
       "--domain N is the first simulator's DDS domain (the others follow); required.");
   cli.participant_options(&participant, /*domain_required=*/true);
   cli.option("out", "DIR", "where the trials, the domain and the report go (required)", &out_dir);
-  cli.option("seed", "S", "episode e plays the world's layout S*1000+e (default 1)", &seed);
+  cli.option("seed", "S", "episode e plays the world's layout S*1000+e (default 3: layouts 3001-; 1001-1050 are kept for measuring)", &seed);
   cli.option("episodes", "N", "exploration episodes (default 40)", &episodes);
   cli.option("instances", "K", "simulators side by side (default 2)", &instances);
   cli.option("steps", "N", "behaviours per episode at most (default 12)", &steps);
