@@ -73,6 +73,31 @@ TEST(KurtPlan, AGoalNoPlanReachesExitsFourSayingWhy) {
   EXPECT_EQ(can_on_platform(run), nullptr);
 }
 
+/// The robot time a controller's summary line gives ("robot time 12.3 s" or "robot time: 12.3 s").
+double robot_time(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex("robot time:? ([0-9.]+) s"))) return -1;
+  return std::stod(m[1]);
+}
+
+TEST(KurtPlan, AnOpenDoorIsDrivenThroughAtOnceWhereTheScriptFetchesACanFirst) {
+  const std::string world = source("worlds/goals/door_open.xml");
+  const DemoRun plan = play_demonstrator("kurt_plan", world, 5, {"--pddl-domain", source(kByHand)});
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("plan of 2 step(s)"), std::string::npos) << plan.output;
+  EXPECT_EQ(plan.output.find("(lift "), std::string::npos) << plan.output;
+  ASSERT_TRUE(plan.truth.has_value());
+  EXPECT_GT(plan.truth->pose().pose().position().x(), 1.5 + 0.3);
+  EXPECT_EQ(can_on_platform(plan), nullptr);
+  // The script gets through too, after lifting a can and dropping it on the switch.
+  const DemoRun script = play_demonstrator("kurt_demo", world, 5);
+  ASSERT_EQ(script.exit_code, 0) << script.output;
+  EXPECT_NE(can_on_platform(script), nullptr);
+  const double planned = robot_time(plan.output), scripted = robot_time(script.output);
+  ASSERT_GT(planned, 0) << plan.output;
+  EXPECT_LT(planned, scripted) << plan.output << "\n" << script.output;
+}
+
 TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
   ChildProcess help({bin("kurt_plan"), "--help"});
   EXPECT_EQ(help.wait_for_exit(10s), 0);

@@ -111,3 +111,42 @@ def test_python_computes_a_trials_row_from_what_the_trial_saw(domain, tmp_path):
         affordances.load_inputs(str(tmp_path), "absent")
     with pytest.raises(ValueError, match="no affordance 'fly'"):
         affordances.features("fly")
+
+
+ROOM = source("affordances/domains/kurt3d_room_by_hand.pddl")
+
+
+def write_problem(path, init, goal):
+    path.write_text("(define (problem p)\n  (:domain kurt3d-room)\n"
+                    "  (:objects start - place switch - switch door - door red_1 blue_1 - thing)\n"
+                    f"  (:init {init})\n  (:goal {goal}))\n")
+    return path
+
+
+def test_python_plans_a_scene_with_kurt_plans_planner(tmp_path):
+    scene = write_problem(tmp_path / "scene.pddl",
+                          "(robot-at start) (hand-free) (opens switch door) (tried blue_1)",
+                          "(beyond door)")
+    found = affordances.plan(ROOM, scene)
+    assert found["reached"], found["reason"]
+    assert [s[0] for s in found["steps"]] == [
+        "(go start red_1)", "(lift red_1)", "(go red_1 switch)", "(put-down red_1 switch door)",
+        "(go switch door)", "(drive-through door)"]
+    text, probability, added, removed = found["steps"][1]
+    assert probability == 0.5 and "(holding red_1)" in added and "(hand-free)" in removed
+    assert math.isclose(found["probability"], 0.5 * 0.8)
+    # Every thing tried and none held: no plan, and why.
+    stuck = write_problem(tmp_path / "stuck.pddl",
+                          "(robot-at start) (hand-free) (opens switch door) (tried red_1) "
+                          "(tried blue_1)", "(beyond door)")
+    none = affordances.plan(ROOM, stuck)
+    assert not none["reached"] and none["steps"] == []
+    assert "cannot be reached" in none["reason"]
+
+
+def test_a_bad_problem_is_refused_naming_its_line(tmp_path):
+    bad = write_problem(tmp_path / "bad.pddl", "(robot-at nowhere)", "(beyond door)")
+    with pytest.raises(affordances.PddlError, match=r"bad.pddl:4: unknown object 'nowhere'"):
+        affordances.plan(ROOM, bad)
+    with pytest.raises(ValueError, match="cannot be read"):
+        affordances.plan(tmp_path / "none.pddl", bad)

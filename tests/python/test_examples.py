@@ -1,6 +1,6 @@
 """The Python examples as a user runs them: hello_kurt.py against macsim and against the real
 robot's side (kurt_adapter with the KURT emulator), liftability.py against macsim --lockstep,
-rank_by_lift_model.py with a model learned from Figure 11 trials."""
+rank_by_lift_model.py with a model learned from Figure 11 trials, plan_scene.py on problem files."""
 
 import os
 import subprocess
@@ -83,3 +83,24 @@ def test_rank_by_lift_model_ranks_what_the_cameras_see_heavy_blue_last(domain, s
     # The blue (lead) cans in view are judged heavy, the others light.
     blue = [p for p, hue in zip(chances, hues) if 200 <= hue <= 260]
     assert blue and max(blue) < 0.5, done.stdout
+
+
+PLAN_SCENE = source("examples/python/plan_scene.py")
+
+
+def test_plan_scene_plans_a_problem_file_and_names_a_bad_one(tmp_path):
+    room = source("affordances/domains/kurt3d_room_by_hand.pddl")
+    scene = tmp_path / "scene-1.pddl"
+    scene.write_text("(define (problem scene-1)\n  (:domain kurt3d-room)\n"
+                     "  (:objects start - place switch - switch door - door)\n"
+                     "  (:init (robot-at start) (hand-free) (open door))\n"
+                     "  (:goal (beyond door)))\n")
+    result = run([PLAN_SCENE, room, str(scene)])
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "2 step(s)" in result.stdout
+    assert "1. (go start door) -> (robot-at door); not (robot-at start) (p = 1.00)" in result.stdout
+    assert "2. (drive-through door) -> (beyond door)" in result.stdout
+    scene.write_text(scene.read_text().replace("(open door)", "(open wall)"))
+    bad = run([PLAN_SCENE, room, str(scene)])
+    assert bad.returncode == 2
+    assert "scene-1.pddl:4: unknown object 'wall'" in bad.stderr

@@ -23,6 +23,7 @@ from ._macsim import (
     Object,
     Odometry,
     Participant,
+    PddlError,
     Robot,
     Scan,
     SimulationStatus,
@@ -37,6 +38,7 @@ from ._macsim import (
     kurt3d_description,
     load_sensor_inputs,
     objects_in_view,
+    plan_files,
 )
 from ._macsim import (
     DESTROY_EVERY_OBJECT,

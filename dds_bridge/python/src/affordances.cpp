@@ -3,6 +3,7 @@
 // gives it its features from what the robot sees (macsim.affordances.features).
 #include "macsim/affordances/model.h"
 #include "macsim/affordances/perception.h"
+#include "macsim/affordances/planner.h"
 
 #include <tuple>
 #include <variant>
@@ -101,6 +102,48 @@ void bind_affordances(py::module_& m) {
       py::arg("dir"), py::arg("name"),
       "(frame, scan, points) of a look saved by affordance_trials --keep-inputs DIR (NAME: "
       "<affordance>_<seed>); each None when the look lacks it. ValueError naming the file.");
+
+  auto& pddl_error =
+      py::register_exception<af::pddl::PddlError>(m, "PddlError", PyExc_ValueError);
+  pddl_error.doc() = "A PDDL domain or problem that cannot be read; the message starts FILE:LINE.";
+  m.def(
+      "plan_files",
+      [](const std::string& domain, const std::string& problem) {
+        const af::pddl::Domain d = af::pddl::load_domain(domain);
+        const af::pddl::Problem p = af::pddl::load_problem(problem, d);
+        af::PlanResult r;
+        {
+          py::gil_scoped_release release;
+          r = af::plan(d, p);
+        }
+        py::list steps;
+        if (r.plan)
+          for (const auto& s : r.plan->steps) {
+            const auto texts = [](const std::vector<af::pddl::Atom>& atoms) {
+              std::vector<std::string> out;
+              for (const auto& a : atoms) {
+                std::string t = "(" + a.predicate;
+                for (const auto& arg : a.arguments) t += " " + arg;
+                out.push_back(t + ")");
+              }
+              return out;
+            };
+            steps.append(py::make_tuple(s.text(), s.probability, texts(s.expected.add),
+                                        texts(s.expected.remove)));
+          }
+        py::dict out;
+        out["reached"] = r.plan.has_value();
+        out["steps"] = steps;
+        out["probability"] = r.plan ? r.plan->probability : 0.0;
+        out["reason"] = r.reason;
+        out["seconds"] = r.seconds;
+        return out;
+      },
+      py::arg("domain"), py::arg("problem"),
+      "Plans for the PDDL problem file over the domain file (STRIPS or PPDDL; the planner of "
+      "kurt_plan): a dict with 'reached', 'steps' (each (text, probability, atoms added, atoms "
+      "removed)), 'probability', 'reason' (why no plan) and 'seconds'. PddlError (a ValueError) "
+      "names the file and line of a fault.");
 
   auto& error = py::register_exception<af::ModelError>(m, "AffordanceModelError", PyExc_ValueError);
   error.doc() =
