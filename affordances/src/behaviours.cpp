@@ -509,7 +509,7 @@ BehaviourReport Behaviours::go_to_door() {
   scene_.door = SeenDoor{centre.x, centre.y, nx, ny, passage->width};
   say(stage_, fmt("the door is open: the laser sees a %.2f m gap in the wall at %.2f,%.2f",
                   passage->width, centre.x, centre.y));
-  emit("door_open");
+  emit("gap_seen");
   // In front of the opening, square to the wall.
   drive_to(centre.x - 0.9 * nx, centre.y - 0.9 * ny, 0.04);
   turn_to(std::atan2(ny, nx));

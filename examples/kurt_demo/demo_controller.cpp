@@ -91,7 +91,7 @@ DemoController::DemoController(macsim::dds::Participant& participant, const Demo
   if (options_.pictures) pictures_ = std::make_unique<Pictures>(participant);
   on_event = [this](const std::string& event) {
     if (event == "lifted") picture("scene2_can_on_magnet");
-    if (event == "door_open") picture("scene3_can_on_switch_door_open");
+    if (event == "gap_seen") picture("scene3_can_on_switch_door_open");
     if (event == "through") picture("scene4_robot_through");
   };
 }

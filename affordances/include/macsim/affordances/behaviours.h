@@ -114,7 +114,7 @@ class Behaviours : public RobotLoop {
   /// Progress lines: "PROGRAM: [t=  12.3 s] STAGE: text". Behaviours speak in the stage set last.
   void set_stage(const std::string& stage) { stage_ = stage; }
   void say(const std::string& stage, const std::string& text);
-  /// Called as things happen ("lifted", "door_open", "through"), e.g. to take a picture.
+  /// Called as things happen ("lifted", "gap_seen": the door's gap in sight, "through"), e.g. to take a picture.
   std::function<void(const std::string& event)> on_event;
 
   /// Turns once on the spot, looking (nine stereo pairs); stops early once the switch is seen
