@@ -22,6 +22,13 @@ std::string atoms_text(const std::vector<pddl::Atom>& atoms) {
   return s.empty() ? "nothing" : s;
 }
 
+/// `v` with `places` decimals.
+std::string decimals(double v, int places) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", places, v);
+  return text;
+}
+
 std::string effect_text(const pddl::Outcome& o) {
   std::string s = o.add.empty() ? "" : atoms_text(o.add);
   if (!o.remove.empty()) s += (s.empty() ? "" : ", ") + std::string("not ") + atoms_text(o.remove);
@@ -151,10 +158,16 @@ bool PlanController::execute(const af::PlanStep& step) {
   af::BehaviourReport report;
   if (behaviour == "go") {
     const std::string& to = step.arguments.at(1);
-    if (to == "switch") report = go_to_switch();
-    else if (to == "door") report = go_to_door();
-    else if (to == "start") report.setback = af::Setback::NotSeen, report.reason = "start is no place to go back to";
-    else report = go_to(to);
+    if (to == "switch") {
+      report = go_to_switch();
+    } else if (to == "door") {
+      report = go_to_door();
+    } else if (to == "start") {
+      report.setback = af::Setback::NotSeen;
+      report.reason = "start is no place to go back to";
+    } else {
+      report = go_to(to);
+    }
   } else if (behaviour == "lift") {
     report = lift(step.arguments.at(0));
   } else if (behaviour == "put-down") {
@@ -216,11 +229,11 @@ Summary PlanController::run() {
       break;
     }
     say("plan", "plan of " + std::to_string(plan->steps.size()) + " step(s), probability " +
-                    std::to_string(plan->probability).substr(0, 5) + ":");
+                    decimals(plan->probability, 3) + ":");
     for (std::size_t i = 0; i < plan->steps.size(); ++i) {
       const auto& s = plan->steps[i];
       say("plan", "  " + std::to_string(i + 1) + ". " + s.text() + " -> " + effect_text(s.expected) +
-                      " (p = " + std::to_string(s.probability).substr(0, 4) + ")");
+                      " (p = " + decimals(s.probability, 2) + ")");
     }
     set_stage("act");
     bool replan = false;
