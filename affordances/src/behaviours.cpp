@@ -32,6 +32,16 @@ std::string fmt(const char* format, ...) {
   return text;
 }
 
+/// A thing first seen at `at` (odometry frame), not yet counted as a sighting.
+SeenThing seen_thing(const std::string& name, const std::string& colour, const Pose2& at) {
+  SeenThing t;
+  t.name = name;
+  t.colour = colour;
+  t.x = at.x;
+  t.y = at.y;
+  return t;
+}
+
 }  // namespace
 
 const std::vector<std::string>& thing_features() {
@@ -205,8 +215,7 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
   for (const auto& [s, at] : sightings) {
     if (s.range > 3.5) continue;  // too far to place well
     if (s.kind == Kind::Switch) {
-      if (!scene_.switch_platform)
-        scene_.switch_platform = SeenThing{"switch", "yellow", at.x, at.y, 0, false, false, "", 0, 0, {}};
+      if (!scene_.switch_platform) scene_.switch_platform = seen_thing("switch", "yellow", at);
       auto& w = *scene_.switch_platform;
       w.x = (w.x * w.seen + at.x) / (w.seen + 1);
       w.y = (w.y * w.seen + at.y) / (w.seen + 1);
@@ -219,8 +228,7 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
     if (same == scene_.things.end()) {
       const auto of_colour = std::count_if(scene_.things.begin(), scene_.things.end(),
                                            [&](const SeenThing& c) { return c.colour == s.colour; });
-      scene_.things.push_back({s.colour + "_" + std::to_string(of_colour + 1), s.colour, at.x, at.y,
-                               0, false, false, "", 0, 0, {}});
+      scene_.things.push_back(seen_thing(s.colour + "_" + std::to_string(of_colour + 1), s.colour, at));
       same = scene_.things.end() - 1;
     } else if (same->tried) {
       continue;

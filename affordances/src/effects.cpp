@@ -429,11 +429,7 @@ LearnedBehaviour learn_behaviour(const BehaviourTrials& trials, int max_k) {
   for (const auto& a : made)
     if (!held.count(a)) out.never_before.push_back(a);
   for (const auto& f : trials.features) out.inputs.push_back(f.name);
-  for (const auto& a : out.input_atoms) {
-    std::string text = "(" + a.predicate;
-    for (const auto& arg : a.arguments) text += " " + arg;
-    out.inputs.push_back(text + ")");
-  }
+  for (const auto& a : out.input_atoms) out.inputs.push_back(pddl::text(a));
   const int columns = static_cast<int>(out.inputs.size());
   const auto matrix = [&](const std::vector<std::size_t>& rows) {
     cv::Mat x(static_cast<int>(rows.size()), std::max(columns, 1), CV_32F, cv::Scalar(0));
@@ -570,16 +566,6 @@ std::string exact(double v) {
   return error == std::errc() ? std::string(buffer, end) : "nan";
 }
 
-std::string atom_list(const std::vector<Atom>& atoms) {
-  std::string s;
-  for (const auto& a : atoms) {
-    s += (s.empty() ? "(" : " (") + a.predicate;
-    for (const auto& arg : a.arguments) s += " " + arg;
-    s += ")";
-  }
-  return s;
-}
-
 std::vector<std::string> split(const std::string& s, char by) {
   std::vector<std::string> out;
   std::string part;
@@ -604,7 +590,7 @@ std::string write_effect_trials(const std::vector<BehaviourTrials>& all) {
       for (std::size_t i = 0; i < b.changes.size(); ++i)
         changes += (i ? ";" : "") + b.changes[i].name + "@" + exact(b.changes[i].resolution) + "=" + exact(t.change[i]);
       out << b.behaviour << "," << parameters << "," << t.seed << "," << t.label << "," << features << ","
-          << changes << "," << atom_list(t.atoms_before) << "," << atom_list(t.atoms_after) << "\n";
+          << changes << "," << pddl::text(t.atoms_before) << "," << pddl::text(t.atoms_after) << "\n";
     }
   }
   return out.str();

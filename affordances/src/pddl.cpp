@@ -199,11 +199,6 @@ std::string rounded(double v) {
   return buffer;
 }
 
-std::string atom_text(const Atom& a) {
-  std::string s = "(" + a.predicate;
-  for (const auto& arg : a.arguments) s += " " + arg;
-  return s + ")";
-}
 
 void write_typed(std::ostringstream& out, const std::vector<Typed>& list) {
   bool first = true;
@@ -216,8 +211,8 @@ void write_typed(std::ostringstream& out, const std::vector<Typed>& list) {
 std::string conjunction(const std::vector<Atom>& positive, const std::vector<Atom>& negative) {
   if (positive.size() + negative.size() == 0) return "(and)";
   std::string s = "(and";
-  for (const auto& a : positive) s += " " + atom_text(a);
-  for (const auto& a : negative) s += " (not " + atom_text(a) + ")";
+  for (const auto& a : positive) s += " " + text(a);
+  for (const auto& a : negative) s += " (not " + text(a) + ")";
   return s + ")";
 }
 
@@ -390,6 +385,18 @@ Operator read_action(const Reader& r, const Node& n, const DomainIndex& index) {
 
 }  // namespace
 
+std::string text(const Atom& atom) {
+  std::string s = "(" + atom.predicate;
+  for (const auto& arg : atom.arguments) s += " " + arg;
+  return s + ")";
+}
+
+std::string text(const std::vector<Atom>& atoms) {
+  std::string s;
+  for (const auto& a : atoms) s += (s.empty() ? "" : " ") + text(a);
+  return s;
+}
+
 bool is_a(const Domain& domain, const std::string& type, const std::string& ancestor) {
   std::string t = type;
   for (std::size_t hops = 0; hops <= domain.types.size() + 1; ++hops) {
@@ -460,7 +467,7 @@ std::string write(const Problem& problem) {
   out << "  (:objects";
   for (const auto& o : problem.objects) out << "\n    " << o.name << " - " << o.type;
   out << ")\n  (:init";
-  for (const auto& a : problem.init) out << "\n    " << atom_text(a);
+  for (const auto& a : problem.init) out << "\n    " << text(a);
   out << ")\n  (:goal " << conjunction(problem.goal_true, problem.goal_false) << "))\n";
   return out.str();
 }

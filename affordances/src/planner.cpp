@@ -24,12 +24,6 @@ using pddl::Operator;
 using pddl::Outcome;
 using pddl::Problem;
 
-std::string atom_text(const Atom& a) {
-  std::string s = "(" + a.predicate;
-  for (const auto& arg : a.arguments) s += " " + arg;
-  return s + ")";
-}
-
 /// A ground operator over atom indices.
 struct Ground {
   const Operator* op = nullptr;
@@ -276,11 +270,7 @@ struct Node {
 
 }  // namespace
 
-std::string PlanStep::text() const {
-  std::string s = "(" + operator_name;
-  for (const auto& a : arguments) s += " " + a;
-  return s + ")";
-}
+std::string PlanStep::text() const { return pddl::text(Atom{operator_name, arguments}); }
 
 PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& limits) {
   const auto started = std::chrono::steady_clock::now();
@@ -294,14 +284,14 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
   std::vector<std::string> never;
   for (const auto& a : problem.goal_true) {
     if (grounding.is_static(a.predicate)) {
-      if (!grounding.static_holds(a)) never.push_back(atom_text(a) + " (nothing makes it true)");
+      if (!grounding.static_holds(a)) never.push_back(pddl::text(a) + " (nothing makes it true)");
       continue;
     }
     goal_true.push_back(grounding.index(a));
   }
   for (const auto& a : problem.goal_false) {
     if (grounding.is_static(a.predicate)) {
-      if (grounding.static_holds(a)) never.push_back("(not " + atom_text(a) + ") (nothing makes it false)");
+      if (grounding.static_holds(a)) never.push_back("(not " + pddl::text(a) + ") (nothing makes it false)");
       continue;
     }
     goal_false.push_back(grounding.index(a));
@@ -334,7 +324,7 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
     bool first = true;
     for (const int a : goal_true)
       if (hmax.cost()[a] == kUnreached) {
-        result.reason += (first ? "" : ", ") + atom_text(grounding.names_[a]);
+        result.reason += (first ? "" : ", ") + pddl::text(grounding.names_[a]);
         first = false;
       }
     result.reason += " true";

@@ -13,13 +13,7 @@ namespace pddl = macsim::affordances::pddl;
 namespace {
 
 std::string atoms_text(const std::vector<pddl::Atom>& atoms) {
-  std::string s;
-  for (const auto& a : atoms) {
-    s += (s.empty() ? "" : " ") + std::string("(") + a.predicate;
-    for (const auto& arg : a.arguments) s += " " + arg;
-    s += ")";
-  }
-  return s.empty() ? "nothing" : s;
+  return atoms.empty() ? "nothing" : pddl::text(atoms);
 }
 
 /// `v` with `places` decimals.

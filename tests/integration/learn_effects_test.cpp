@@ -62,6 +62,11 @@ TEST(LearnEffects, BadArgumentsAndBadRowsAreRefused) {
   EXPECT_EQ(none.wait_for_exit(10s), 2) << none.output();
   ChildProcess episodes({bin("learn_effects"), "--domain", "5", "--out", dir.path(), "--episodes", "0"});
   EXPECT_EQ(episodes.wait_for_exit(10s), 2) << episodes.output();
+  ChildProcess world({bin("learn_effects"), "--domain", "5", "--out", dir.path(), "--world",
+                      dir.path() + "/none.xml"});
+  EXPECT_EQ(world.wait_for_exit(10s), 2) << world.output();
+  EXPECT_NE(world.output().find(dir.path() + "/none.xml: no such world file"), std::string::npos)
+      << world.output();
   af::pddl::save_text(dir.path() + "/bad.csv", "behaviour,parameters\n");
   ChildProcess bad({bin("learn_effects"), "--domain", "5", "--out", dir.path(), "--from-trials",
                     dir.path() + "/bad.csv"});

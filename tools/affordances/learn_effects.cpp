@@ -282,6 +282,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (world.empty()) world = macsim::dds::data_file("worlds/DemoWorld_v1.xml");
+  if (from_trials.empty() && !std::filesystem::is_regular_file(world)) {
+    macsim::log::error("learn_effects: --world {}: no such world file", world);
+    return 2;
+  }
   std::filesystem::create_directories(out_dir);
   if (!from_trials.empty()) {
     try {

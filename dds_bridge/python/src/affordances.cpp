@@ -121,11 +121,7 @@ void bind_affordances(py::module_& m) {
           for (const auto& s : r.plan->steps) {
             const auto texts = [](const std::vector<af::pddl::Atom>& atoms) {
               std::vector<std::string> out;
-              for (const auto& a : atoms) {
-                std::string t = "(" + a.predicate;
-                for (const auto& arg : a.arguments) t += " " + arg;
-                out.push_back(t + ")");
-              }
+              for (const auto& a : atoms) out.push_back(af::pddl::text(a));
               return out;
             };
             steps.append(py::make_tuple(s.text(), s.probability, texts(s.expected.add),

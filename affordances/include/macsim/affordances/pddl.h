@@ -102,6 +102,11 @@ Problem load_problem(const std::string& path, const Domain& domain);
 /// Writes text to path (through a temporary file renamed over it); throws PddlError.
 void save_text(const std::string& path, const std::string& text);
 
+/// An atom as PDDL writes it: "(predicate arg ...)".
+std::string text(const Atom& atom);
+/// Atoms as PDDL writes them, separated by spaces ("" for none).
+std::string text(const std::vector<Atom>& atoms);
+
 /// True when `type` is `ancestor` or derives from it in `domain`.
 bool is_a(const Domain& domain, const std::string& type, const std::string& ancestor);
 
