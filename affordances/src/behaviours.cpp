@@ -21,6 +21,7 @@ constexpr double kRobotRadius = 0.33;  // m: the chassis and wheels, from base_l
 constexpr double kHalfWidth = 0.25;    // m: half the corridor the robot drives in
 constexpr double kCanTop = 0.135;      // m: where the magnet meets a can
 constexpr double kPlatformTop = 0.07;  // m: the switch's platform above the floor
+constexpr double kBesideOnPlatform = 0.08;  // m: a second thing from the platform's middle
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char* format, ...) {
@@ -454,11 +455,17 @@ BehaviourReport Behaviours::put_down() {
   BehaviourReport r = report("put_down", scene_.holding);
   if (!scene_.switch_platform) return finish(r, Setback::NoSwitch, "no switch was seen");
   const Pose2 b = to_base(scene_.switch_platform->x, scene_.switch_platform->y);
-  const double dx = b.x - geometry_.pivot_x, dy = b.y;
+  // The first thing in the platform's middle, the next beside it (left, then right).
+  const std::size_t there = scene_.on_switch.size();
+  const double side = there == 0 ? 0.0 : (there % 2 ? kBesideOnPlatform : -kBesideOnPlatform);
+  const double dx = b.x - geometry_.pivot_x, dy = b.y + side;
   const double slew = std::atan2(dy, dx);
   const double lift = std::clamp(
       -std::acos(std::clamp(std::hypot(dx, dy) / geometry_.boom_length, 0.0, 1.0)), -0.1, 0.36);
-  say(stage_, fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it", b.x, b.y));
+  say(stage_, there == 0 ? fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it", b.x, b.y)
+                         : fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it, %.2f m "
+                               "beside what stands there",
+                               b.x, b.y, side));
   crane_to(slew, kParkLift, 0.0);
   crane_to(slew, lift, 0.0);
   // The can meets the platform under the magnet.
@@ -468,7 +475,15 @@ BehaviourReport Behaviours::put_down() {
   say(stage_, "magnet off: the can stands on the switch");
   crane_to(slew, lift, 0.0, 2.5);
   park_crane();
-  if (!scene_.holding.empty()) scene_.on_switch.push_back(scene_.holding);
+  if (!scene_.holding.empty()) {
+    scene_.on_switch.push_back(scene_.holding);
+    // Seen there from now on: a sighting on the platform is the thing put down.
+    if (SeenThing* put = thing(scene_.holding)) {
+      const Pose2 at = to_odom(b.x, b.y + side);
+      put->x = at.x;
+      put->y = at.y;
+    }
+  }
   scene_.holding.clear();
   scene_.held_height = 0;
   return finish(r);

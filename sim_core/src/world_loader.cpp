@@ -367,6 +367,34 @@ class Loader {
     return {v[0], v[1], v[2], v[3]};
   }
 
+  /// <VARY_JOINT><JOINT>id</JOINT><MAX_FORCE>lo,hi</MAX_FORCE></VARY_JOINT>
+  JointForceRange joint_force_range(const Reader& r, const XMLElement* element) {
+    JointForceRange range;
+    range.source = r.where(element);
+    bool has_force = false;
+    for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "JOINT") {
+        range.joint = r.text(e);
+      } else if (tag == "MAX_FORCE") {
+        const auto v = r.numbers(e, 2, 2);
+        if (!(v[0] >= 0 && v[0] <= v[1] && v[1] <= bounds::kMaxForce)) {
+          r.fail(e, "<MAX_FORCE> expects lo,hi with 0 <= lo <= hi <= " + std::to_string(int(bounds::kMaxForce)) +
+                        ", got " + r.text(e));
+        }
+        range.lo = v[0];
+        range.hi = v[1];
+        has_force = true;
+      } else {
+        r.unknown(e, "VARY_JOINT");
+      }
+    }
+    if (range.joint.empty() || !has_force) {
+      r.fail(element, "<VARY_JOINT> needs <JOINT> (the joints' id) and <MAX_FORCE> (lo,hi)");
+    }
+    return range;
+  }
+
   void read_variation(const Reader& r, const XMLElement* element) {
     VariationSpec v;
     v.source = r.where(element);
@@ -390,6 +418,8 @@ class Loader {
       } else if (tag == "KEEP_COLOR") {
         v.keep_colors.push_back(r.text(e));
         if (v.keep_colors.back().empty()) r.fail(e, "<KEEP_COLOR> names a material");
+      } else if (tag == "VARY_JOINT") {
+        v.joint_forces.push_back(joint_force_range(r, e));
       } else {
         r.unknown(e, "VARIATION");
       }

@@ -18,6 +18,12 @@ bool obstacle(const ObjectSpec& object) {
   return object.kind == ObjectKind::Object || object.kind == ObjectKind::SwitchBase;
 }
 
+/// Whether `name` is `id` or ends with "/" + `id` (the path of import ids down to it).
+bool name_ends_with(const std::string& name, const std::string& id) {
+  return name == id || (name.size() > id.size() && name.compare(name.size() - id.size(), id.size(), id) == 0 &&
+                        name[name.size() - id.size() - 1] == '/');
+}
+
 constexpr double kRobotRadius = 0.35;     // m: a KURT3D with its crane folded
 constexpr std::size_t kMaxPlaced = 1000;  // each placement checks all placed before it
 
@@ -118,6 +124,23 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
       o.components.front().color = palette[entry->second % palette.size()];
     }
     log(o.name, at, yaw);
+  }
+  // Drawn last: the places of a world that gains a range stay what they were.
+  for (const JointForceRange& range : v.joint_forces) {
+    const double force = range.lo < range.hi ? uniform(range.lo, range.hi) : range.lo;
+    int matched = 0;
+    for (JointSpec& joint : spec.joints) {
+      if (!name_ends_with(joint.name, range.joint)) continue;
+      joint.max_force = force;
+      ++matched;
+      char line[256];
+      std::snprintf(line, sizeof line, "%s max force %.3f", joint.name.c_str(), force);
+      moved.emplace_back(line);
+    }
+    if (matched == 0) {
+      throw WorldFileError(range.source.file, range.source.line,
+                           "<VARY_JOINT>: no joint's name ends with '" + range.joint + "'");
+    }
   }
   return moved;
 }

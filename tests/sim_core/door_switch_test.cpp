@@ -1,6 +1,8 @@
 // The automatic door and its weight-triggered switch (seed section 2.5).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -124,6 +126,34 @@ TEST_F(DoorSwitch, DoorPartsCannotBeMovedOneByOne) {
   const Status s = world.edit().set_position(parts.leaf, {0, 0, 1});
   EXPECT_EQ(s.code, ErrorCode::NotApplicable);
   EXPECT_NE(s.message.find("set_door_position"), std::string::npos);
+}
+
+/// The stiff-switch family with its switch's motor force at `force` and `cans` of its tin cans
+/// stood side by side on the platform; whether the door opened after `seconds`.
+bool stiff_switch_opens(double force, int cans, double seconds = 3.0) {
+  WorldSpec spec = shipped_world("goals/stiff_switch.xml");
+  for (auto& joint : spec.joints)
+    if (joint.name.size() >= 13 && joint.name.substr(joint.name.size() - 13) == "BUTTON_SLIDER") joint.max_force = force;
+  const Eigen::Vector3d platform = spec.object("doors/door_00/switch_component/platform")->pose.position;
+  const char* tins[] = {"environment_00/can_00", "environment_00/can_01"};
+  for (int k = 0; k < cans; ++k) {
+    auto it = std::find_if(spec.objects.begin(), spec.objects.end(), [&](const ObjectSpec& o) { return o.name == tins[k]; });
+    it->pose.position = platform + Eigen::Vector3d(0, k == 0 ? -0.045 : 0.045, 0.071);
+  }
+  World world(std::move(spec));
+  run_for(world, seconds);
+  return world.doors().door_state(0).value.triggered;
+}
+
+TEST(StiffSwitchFamily, OneTinCanLeavesItUpAndTwoPressItAcrossTheFamilysRange) {
+  const WorldSpec spec = shipped_world("goals/stiff_switch.xml");
+  ASSERT_EQ(spec.variation->joint_forces.size(), 1u);
+  for (double force : {spec.variation->joint_forces[0].lo, spec.variation->joint_forces[0].hi}) {
+    EXPECT_FALSE(stiff_switch_opens(force, 1)) << force << " N";
+    EXPECT_TRUE(stiff_switch_opens(force, 2)) << force << " N";
+  }
+  // The demonstrator's switch (0.5 N) sinks under one.
+  EXPECT_TRUE(stiff_switch_opens(0.5, 1));
 }
 
 TEST(DoorOrientation, ARotatedDoorSwitchStructureWorksAlongItsOwnAxes) {

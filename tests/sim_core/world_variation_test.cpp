@@ -279,6 +279,55 @@ TEST(WorldVariation, TheClutterFieldLeavesNoWayAroundInAThirdOfItsLayouts) {
   EXPECT_GE(open_by_traversing, 45) << layouts;
 }
 
+TEST(WorldVariation, AJointsMotorForceIsDrawnPerSeedWithinItsRangeAndLeavesThePlacesAsTheyWere) {
+  std::set<double> drawn;
+  for (uint32_t seed = 1; seed <= 20; ++seed) {
+    WorldSpec stiff = shipped_world("goals/stiff_switch.xml");
+    WorldSpec plain = shipped_world("goals/demonstrator.xml");
+    const auto moved = vary_world(stiff, seed);
+    const auto placed = vary_world(plain, seed);
+    // The force is drawn after every place: the layouts are the demonstrator's.
+    ASSERT_EQ(moved.size(), placed.size() + 1);
+    EXPECT_TRUE(std::equal(placed.begin(), placed.end(), moved.begin()));
+    const auto joint = std::find_if(stiff.joints.begin(), stiff.joints.end(), [](const JointSpec& j) {
+      return j.name == "doors/door_00/switch_component/BUTTON_SLIDER";
+    });
+    ASSERT_NE(joint, stiff.joints.end());
+    EXPECT_GE(joint->max_force, 1.0);
+    EXPECT_LE(joint->max_force, 1.4);
+    drawn.insert(joint->max_force);
+    WorldSpec again = shipped_world("goals/stiff_switch.xml");
+    vary_world(again, seed);
+    for (const auto& j : again.joints)
+      if (j.name == joint->name) EXPECT_EQ(j.max_force, joint->max_force);
+  }
+  EXPECT_EQ(drawn.size(), 20u);
+
+  const std::string no_joint =
+      "<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n"
+      "<VARY_JOINT><JOINT>SLIDER</JOINT><MAX_FORCE>1,2</MAX_FORCE></VARY_JOINT></VARIATION>\n"
+      "</WORLD>";
+  WorldSpec spec = load_world_string(no_joint, "no_joint.xml");
+  try {
+    vary_world(spec, 1);
+    ADD_FAILURE() << "a range for a joint the world does not have";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("no joint's name ends with 'SLIDER'"), std::string::npos) << e.what();
+  }
+  for (const char* bad : {"<MAX_FORCE>2,1</MAX_FORCE>", "<MAX_FORCE>-1,1</MAX_FORCE>", "<MAX_FORCE>1</MAX_FORCE>",
+                          "<MAX_FORCE>nan,1</MAX_FORCE>", "<MAX_FORCE>1,1e308</MAX_FORCE>", ""}) {
+    const std::string text = std::string("<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n") +
+                             "<VARY_JOINT><JOINT>S</JOINT>" + bad + "</VARY_JOINT></VARIATION></WORLD>";
+    try {
+      load_world_string(text, "bad.xml");
+      ADD_FAILURE() << bad;
+    } catch (const WorldFileError& e) {
+      EXPECT_EQ(e.line(), 3) << bad << ": " << e.what();
+    }
+  }
+}
+
 TEST(WorldVariation, AWorldThatCannotVarySaysWhyAndWhere) {
   WorldSpec plain = load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
                                       "plain.xml");

@@ -128,7 +128,7 @@ class Behaviours : public RobotLoop {
   BehaviourReport lift(const std::string& thing);
   /// Goes to the switch (looking around for it first if it was not seen yet).
   BehaviourReport go_to_switch();
-  /// Lowers what the magnet holds onto the switch's platform and lets go.
+  /// Lowers what the magnet holds onto the switch's platform (beside what stands there) and lets go.
   BehaviourReport put_down();
   /// Backs off, watches the wall for the door's gap (up to 25 s) and stands in front of it.
   BehaviourReport go_to_door();

@@ -182,8 +182,16 @@ struct RobotSpec {
   SourceLocation source;
 };
 
+/// A joint's motor force drawn per seed (a switch's stiffness), within [lo, hi].
+struct JointForceRange {
+  std::string joint;      ///< the joints whose names end with this id (e.g. "BUTTON_SLIDER")
+  double lo = 0, hi = 0;  ///< N (slider) or N m (hinge)
+  SourceLocation source;
+};
+
 /// How a world varies with a seed (the <VARIATION> element; `macsim --seed N`): objects placed
-/// at random in an area, one colour per material drawn from a palette, the robots' start.
+/// at random in an area, one colour per material drawn from a palette, the robots' start, joint
+/// motor forces drawn from ranges.
 struct VariationSpec {
   std::string user_data;                      ///< the objects placed are those with this user data
   Eigen::Vector4d area{0, 0, 0, 0};           ///< x_min, y_min, x_max, y_max on the floor, m
@@ -192,6 +200,7 @@ struct VariationSpec {
   double clearance = 0.45;                    ///< m between footprints of placed objects and others
   std::vector<Color> colors;                  ///< palette for the first component of placed objects
   std::vector<std::string> keep_colors;       ///< materials whose objects keep their own colour
+  std::vector<JointForceRange> joint_forces;  ///< motor forces drawn per seed
   SourceLocation source;
 };
 
