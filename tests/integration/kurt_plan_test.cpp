@@ -3,7 +3,8 @@
 // each step and planning again when a can does not come up; the problem files it writes are the
 // scene as PDDL, and plan as it did; a goal no can of the room serves (a blue can on the switch
 // when the blue cans are lead) is unreachable, said with its own exit code; bad arguments move
-// nothing.
+// nothing. On the stiff-switch family one can leaves the switch up: it plans again and puts a
+// second beside it, where the script drops one and waits at a closed door.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -96,6 +97,26 @@ TEST(KurtPlan, AnOpenDoorIsDrivenThroughAtOnceWhereTheScriptFetchesACanFirst) {
   const double planned = robot_time(plan.output), scripted = robot_time(script.output);
   ASSERT_GT(planned, 0) << plan.output;
   EXPECT_LT(planned, scripted) << plan.output << "\n" << script.output;
+}
+
+TEST(KurtPlan, AStiffSwitchGetsASecondCanWhereTheScriptDropsOneAndWaits) {
+  const std::string world = source("worlds/goals/stiff_switch.xml");
+  const DemoRun plan = play_demonstrator("kurt_plan", world, 2, {"--pddl-domain", source(kByHand)});
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  // The first can leaves the switch up: not as predicted, planned again, a second can beside it.
+  EXPECT_NE(plan.output.find(": not as predicted: perceived no (pressed switch)"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("switch door): as predicted"), std::string::npos) << plan.output;
+  EXPECT_EQ(cans_on_platform(plan).size(), 2u) << plan.output;
+  ASSERT_TRUE(plan.door.has_value());
+  EXPECT_TRUE(plan.door->door().triggered());
+  EXPECT_FALSE(plan.door->door().virtually_triggered());
+  ASSERT_TRUE(plan.truth.has_value());
+  EXPECT_GT(plan.truth->pose().pose().position().x(), 1.5 + 0.3);
+  // The script drops one and waits at a closed door.
+  const DemoRun script = play_demonstrator("kurt_demo", world, 2);
+  EXPECT_EQ(script.exit_code, 6) << script.output;
+  EXPECT_NE(script.output.find("the door stayed closed"), std::string::npos) << script.output;
+  EXPECT_EQ(cans_on_platform(script).size(), 1u) << script.output;
 }
 
 TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {

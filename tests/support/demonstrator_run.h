@@ -61,19 +61,26 @@ inline DemoRun play_demonstrator(const std::string& controller, const std::strin
   return run;
 }
 
-/// The can (user data "can") standing on the switch's platform, if any.
-inline const macsim_msgs::msg::dds_::Object_* can_on_platform(const DemoRun& run) {
+/// The cans (user data "can") standing on the switch's platform.
+inline std::vector<const macsim_msgs::msg::dds_::Object_*> cans_on_platform(const DemoRun& run) {
+  std::vector<const macsim_msgs::msg::dds_::Object_*> out;
   const auto platform = run.objects.find("doors/door_00/switch_component/platform");
-  if (platform == run.objects.end()) return nullptr;
+  if (platform == run.objects.end()) return out;
   const auto& at = platform->second.pose().position();
   for (const auto& [name, object] : run.objects) {
     const auto& p = object.pose().position();
-    if (object.user_data() == "can" && std::hypot(p.x() - at.x(), p.y() - at.y()) < 0.12 &&
+    if (object.user_data() == "can" && std::hypot(p.x() - at.x(), p.y() - at.y()) < 0.13 &&
         p.z() > at.z() - 0.01) {
-      return &object;
+      out.push_back(&object);
     }
   }
-  return nullptr;
+  return out;
+}
+
+/// The first can standing on the switch's platform, or nullptr.
+inline const macsim_msgs::msg::dds_::Object_* can_on_platform(const DemoRun& run) {
+  const auto cans = cans_on_platform(run);
+  return cans.empty() ? nullptr : cans.front();
 }
 
 }  // namespace macsim::test
