@@ -1,0 +1,103 @@
+// The goal families (worlds/goals/, worlds/README.md "Goal families") judged from each layout's
+// specification over seeds 1-50, without playing it: the goal is reachable, and the script is
+// wrong where the family says it is. The robot's start reaches the switch and a can it can lift
+// (a magnetizable can the crane's hoist carries); a closed door opens by weight (a liftable can
+// heavier than the switch's threshold); a stiff switch stays up under any one liftable can and
+// sinks under all of them together; an open door leaves a way through from the start.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "macsim/sim_core/kurt_robot.h"
+#include "macsim/sim_core/world_variation.h"
+#include "support/floor_map.h"
+#include "support/world_helpers.h"
+
+namespace macsim::test {
+namespace {
+
+constexpr double kHalfWidth = 0.22;  // m: the KURT3D over its tracks
+constexpr double kReach = 0.9;       // m: a behaviour stands this far off to look, then drives in
+const Eigen::Vector2d kBeyondDoor(2.4, 0.0);  // the room's east end, through the partition's door
+
+/// What a layout offers the goal, read off its specification.
+struct Layout {
+  std::vector<double> liftable;  ///< masses (kg) of the cans the crane lifts that the robot reaches
+  double threshold = 0;          ///< kg on the platform that presses the switch fully
+  bool reaches_switch = false;
+  bool through_closed = false;  ///< a way through the doorway with the leaf where it stands
+  bool through_opened = false;  ///< a way through with the leaf slid aside
+};
+
+Layout judge(const std::string& family, uint32_t seed) {
+  WorldSpec spec = shipped_world("goals/" + family + ".xml");
+  vary_world(spec, seed);
+  Layout out;
+  EXPECT_EQ(spec.doors.size(), 1u) << family;
+  EXPECT_EQ(spec.robots.size(), 1u) << family;
+  if (spec.doors.size() != 1 || spec.robots.empty()) return out;
+  const DoorSpec& door = spec.doors.front();
+  const Eigen::Vector2d start = spec.robots.front().pose.position.head<2>();
+  // Overhead parts (the frame's beam) stand in no one's way; the platform is driven around.
+  FloorMap closed(-3.1, -2.1, 3.1, 2.1), opened(-3.1, -2.1, 3.1, 2.1);
+  for (const auto& o : spec.objects) {
+    if (o.kind == ObjectKind::DoorFrame) continue;
+    closed.add(o, false);
+    if (o.kind != ObjectKind::DoorLeaf) opened.add(o, false);
+  }
+  out.through_closed = closed.connected(start, kBeyondDoor, kHalfWidth);
+  out.through_opened = opened.connected(start, kBeyondDoor, kHalfWidth);
+  const ObjectSpec* platform = spec.object(door.switch_platform);
+  EXPECT_NE(platform, nullptr) << family;
+  if (!platform) return out;
+  out.reaches_switch = closed.connected(start, platform->pose.position.head<2>(), kHalfWidth, kReach);
+  const auto joint = std::find_if(spec.joints.begin(), spec.joints.end(),
+                                  [&](const JointSpec& j) { return j.name == door.switch_joint; });
+  EXPECT_NE(joint, spec.joints.end()) << family;
+  if (joint == spec.joints.end()) return out;
+  const double g = -spec.physics.gravity.z();
+  out.threshold = joint->max_force / g - platform->mass();
+  const CraneParams crane;
+  const double carries = crane.hoist_force / g - crane.magnet_mass;
+  for (const auto& o : spec.objects) {
+    if (o.user_data != "can" || !o.portable || !o.magnetizable || o.mass() > carries) continue;
+    if (closed.connected(start, o.pose.position.head<2>(), kHalfWidth, kReach)) out.liftable.push_back(o.mass());
+  }
+  return out;
+}
+
+TEST(GoalFamilies, EveryLayoutOfTheDemonstratorHasACanThatOpensTheDoor) {
+  for (uint32_t seed = 1; seed <= 50; ++seed) {
+    const Layout l = judge("demonstrator", seed);
+    EXPECT_TRUE(l.reaches_switch) << seed;
+    EXPECT_FALSE(l.through_closed) << seed;
+    EXPECT_TRUE(l.through_opened) << seed;
+    ASSERT_FALSE(l.liftable.empty()) << seed;
+    EXPECT_GT(*std::max_element(l.liftable.begin(), l.liftable.end()), l.threshold) << seed;
+  }
+}
+
+TEST(GoalFamilies, EveryLayoutWithTheDoorOpenHasAWayThroughFromTheStart) {
+  for (uint32_t seed = 1; seed <= 50; ++seed) {
+    const Layout l = judge("door_open", seed);
+    EXPECT_TRUE(l.through_closed) << seed;
+  }
+}
+
+TEST(GoalFamilies, EveryStiffSwitchStaysUpUnderOneLiftableCanAndSinksUnderThemAll) {
+  for (uint32_t seed = 1; seed <= 50; ++seed) {
+    const Layout l = judge("stiff_switch", seed);
+    EXPECT_TRUE(l.reaches_switch) << seed;
+    EXPECT_FALSE(l.through_closed) << seed;
+    EXPECT_TRUE(l.through_opened) << seed;
+    ASSERT_GE(l.liftable.size(), 2u) << seed;
+    EXPECT_LT(*std::max_element(l.liftable.begin(), l.liftable.end()), l.threshold) << seed;
+    EXPECT_GT(std::accumulate(l.liftable.begin(), l.liftable.end(), 0.0), l.threshold) << seed;
+  }
+}
+
+}  // namespace
+}  // namespace macsim::test
