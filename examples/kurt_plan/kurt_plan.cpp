@@ -83,10 +83,14 @@ int main(int argc, char** argv) {
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     if (!summary.reached) std::printf("kurt_plan: the goal %s was not reached: %s\n", parsed->text().c_str(), summary.reason.c_str());
-    std::printf("kurt_plan: goal reached: %s, plan steps: %d, replans: %d, robot time: %.1f s, "
-                "planning time: %.1f ms, wall time: %.1f s\n",
-                summary.reached ? "yes" : "no", summary.plan_steps, summary.replans,
-                controller.elapsed(), 1e3 * summary.planning_seconds, wall);
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "goal reached: %s, plan steps: %d, replans: %d, robot time: %.1f s, planning time: %.1f ms, "
+                  "wall time: %.1f s",
+                  summary.reached ? "yes" : "no", summary.plan_steps, summary.replans, controller.elapsed(),
+                  1e3 * summary.planning_seconds, wall);
+    std::printf("kurt_plan: %s\n", line);
+    controller.publish_outcome(line);
     return summary.exit;
   } catch (const macsim::dds::DdsError& e) {
     macsim::log::error("kurt_plan: DDS error: {}", e.what());

@@ -5,10 +5,14 @@
 #include <cstdio>
 #include <set>
 
+#include "macsim/dds/convert.h"
+#include "macsim/dds/topics.h"
+
 namespace kurt_plan {
 
 namespace af = macsim::affordances;
 namespace pddl = macsim::affordances::pddl;
+namespace plan_msg = plan_msgs::msg::dds_;
 
 namespace {
 
@@ -78,7 +82,57 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
                    b.program = "kurt_plan";
                    return b;
                  }()),
-      options_(options) {}
+      options_(options),
+      plan_writer_(participant, macsim::dds::topics::plan(options.loop.robot), macsim::dds::QosFamily::Latched) {
+  shown_.header().frame_id("odom");
+  shown_.goal(options.goal.text());
+  shown_.current(-1);
+}
+
+std::vector<plan_msg::JudgedThing_> PlanController::judged_things() const {
+  std::vector<plan_msg::JudgedThing_> out;
+  for (const auto& t : scene().things) {
+    if (t.lost) continue;
+    plan_msg::JudgedThing_ j;
+    j.name(t.name);
+    j.x(t.x);
+    j.y(t.y);
+    j.confidence(1.0);
+    const bool on_switch = std::count(scene().on_switch.begin(), scene().on_switch.end(), t.name) > 0;
+    if (on_switch) {
+      j.label("on the switch");
+    } else if (scene().holding == t.name) {
+      j.label("held");
+    } else if (t.tried) {
+      j.label("not liftable (tried)");
+    } else {
+      // How likely a plan to hold it succeeds from here, with the hand free.
+      pddl::Problem p = problem({"holding", {t.name}});
+      p.init.erase(std::remove_if(p.init.begin(), p.init.end(),
+                                  [](const pddl::Atom& a) { return a.predicate == "holding"; }),
+                   p.init.end());
+      p.init.push_back({"hand-free", {}});
+      const af::PlanResult r = af::plan(options_.domain, p);
+      const double chance = r.plan ? r.plan->probability : 0.0;
+      j.label(chance >= 0.5 ? "liftable" : "not liftable");
+      j.confidence(chance >= 0.5 ? chance : 1.0 - chance);
+    }
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+void PlanController::publish_plan() {
+  shown_.header(macsim::dds::header(now_, "odom"));
+  shown_.things(judged_things());
+  plan_writer_.write(shown_);
+}
+
+void PlanController::publish_outcome(const std::string& line) {
+  shown_.current(-1);
+  shown_.outcome(line);
+  publish_plan();
+}
 
 std::vector<pddl::Atom> PlanController::goal_atoms() const {
   switch (options_.goal.kind) {
@@ -147,7 +201,7 @@ std::optional<af::Plan> PlanController::plan_round(std::string& reason, double& 
   return best;
 }
 
-bool PlanController::execute(const af::PlanStep& step) {
+bool PlanController::execute(const af::PlanStep& step, std::string& outcome) {
   const std::string behaviour = behaviour_of(step.operator_name);
   af::BehaviourReport report;
   if (behaviour == "go") {
@@ -183,7 +237,7 @@ bool PlanController::execute(const af::PlanStep& step) {
   for (const auto& a : step.expected.remove)
     if (now.count(a)) still.push_back(a);
   const bool as_predicted = missing.empty() && still.empty();
-  std::string outcome = as_predicted ? "as predicted" : "not as predicted:";
+  outcome = as_predicted ? "as predicted" : "not as predicted:";
   if (!missing.empty()) outcome += " perceived no " + atoms_text(missing);
   if (!still.empty()) outcome += std::string(missing.empty() ? "" : ";") + " still " + atoms_text(still);
   if (!report.done()) outcome += " (" + report.reason + ")";
@@ -229,11 +283,30 @@ Summary PlanController::run() {
       say("plan", "  " + std::to_string(i + 1) + ". " + s.text() + " -> " + effect_text(s.expected) +
                       " (p = " + decimals(s.probability, 2) + ")");
     }
+    shown_.round(static_cast<std::uint32_t>(round_));
+    shown_.steps().clear();
+    for (const auto& s : plan->steps) {
+      plan_msg::PlanStep_ shown;
+      shown.action(s.text());
+      shown.predicted(effect_text(s.expected));
+      shown.probability(s.probability);
+      shown.status(plan_msg::STEP_TO_DO);
+      shown_.steps().push_back(std::move(shown));
+    }
     set_stage("act");
     bool replan = false;
-    for (const auto& step : plan->steps) {
+    for (std::size_t i = 0; i < plan->steps.size(); ++i) {
       ++summary.plan_steps;
-      if (!execute(step)) {
+      shown_.current(static_cast<std::int32_t>(i));
+      shown_.steps()[i].status(plan_msg::STEP_UNDER_WAY);
+      publish_plan();
+      std::string outcome;
+      const bool as_predicted = execute(plan->steps[i], outcome);
+      shown_.steps()[i].status(as_predicted ? plan_msg::STEP_AS_PREDICTED : plan_msg::STEP_NOT_AS_PREDICTED);
+      shown_.steps()[i].perceived(outcome);
+      shown_.current(-1);
+      publish_plan();
+      if (!as_predicted) {
         replan = true;
         break;
       }

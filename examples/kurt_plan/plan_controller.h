@@ -4,6 +4,7 @@
 // what it sees when they differ. It reads the robot's own topics only.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +13,8 @@
 #include "macsim/affordances/effects.h"
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/planner.h"
+#include "macsim/dds/participant.h"
+#include "macsim/msg/plan_msgsPubSubTypes.h"
 
 namespace kurt_plan {
 
@@ -63,6 +66,8 @@ class PlanController : public macsim::affordances::Behaviours {
   Summary run();
   /// The run so far (after a LoopError too).
   const Summary& summary() const { return summary_; }
+  /// Publishes the run's summary line as the plan's outcome (rt/<robot>/plan).
+  void publish_outcome(const std::string& line);
 
   /// The perceived scene as a problem of the domain with this goal atom (objects: start, the
   /// things seen, nearest first, the switch, the door).
@@ -74,10 +79,17 @@ class PlanController : public macsim::affordances::Behaviours {
   /// Plans for each goal atom and keeps the shortest, likeliest; nullopt and the reason if none.
   std::optional<macsim::affordances::Plan> plan_round(std::string& reason, double& seconds);
   /// Runs one step through its behaviour; true when what it perceived afterwards shows the
-  /// step's predicted effect.
-  bool execute(const macsim::affordances::PlanStep& step);
+  /// step's predicted effect; `outcome` says so, or what it perceived instead.
+  bool execute(const macsim::affordances::PlanStep& step, std::string& outcome);
+  /// The plan on rt/<robot>/plan: the steps as they stand, the things as judged now.
+  void publish_plan();
+  /// Each thing not lost with what the controller judges of it: on the switch, lifted, did not
+  /// come up, or liftable / not liftable with the probability that a plan to hold it succeeds.
+  std::vector<plan_msgs::msg::dds_::JudgedThing_> judged_things() const;
 
   PlanOptions options_;
+  macsim::dds::Writer<plan_msgs::msg::dds_::Plan_PubSubType> plan_writer_;
+  plan_msgs::msg::dds_::Plan_ shown_;  ///< what was published last
   Summary summary_;
   int round_ = 0;
 };

@@ -352,6 +352,42 @@ TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
   }
 }
 
+TEST(Effects, TheCommittedRowsTeachThatASecondThingPressesASwitchOneMayLeaveUp) {
+  // The trial room's switch is softer than one can in some layouts, stiffer in the others: the
+  // learned put-down splits on whether something already lies on the platform.
+  const std::string file = macsim::test::source("tests/affordances/effect_trials.csv");
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  auto trials = read_effect_trials(text.str(), file);
+  for (auto& t : trials) keep_typed_atoms(vocabulary(), t);
+  std::vector<LearnedBehaviour> learned;
+  for (const auto& t : trials) learned.push_back(learn_behaviour(t));
+  const LearnedDomain d = learned_domain(vocabulary(), trials, learned);
+  const Atom loaded{"loaded", {"?s"}}, pressed{"pressed", {"?s"}};
+  auto chance_pressed = [&](const pddl::Operator& o) {
+    double p = 0;
+    for (const auto& outcome : o.outcomes)
+      if (std::count(outcome.add.begin(), outcome.add.end(), pressed)) p += outcome.probability;
+    return p;
+  };
+  int on_loaded = 0, on_empty = 0;
+  for (const auto& o : d.domain.operators) {
+    if (o.name.rfind("put-down", 0) != 0) continue;
+    if (std::count(o.requires_true.begin(), o.requires_true.end(), loaded)) {
+      ++on_loaded;
+      EXPECT_GT(chance_pressed(o), 0.8) << o.name;
+    } else {
+      ASSERT_TRUE(std::count(o.requires_false.begin(), o.requires_false.end(), loaded)) << o.name;
+      ++on_empty;
+      EXPECT_GT(chance_pressed(o), 0.1) << o.name;
+      EXPECT_LT(chance_pressed(o), 0.6) << o.name;
+    }
+  }
+  EXPECT_EQ(on_loaded, 1);
+  EXPECT_EQ(on_empty, 1);
+}
+
 TEST(Effects, ThresholdPredicatesAreNamesPddlReads) {
   EXPECT_EQ(threshold_predicate("hue", 214.5), "hue-le-214p5");
   EXPECT_EQ(threshold_predicate("laser_slope", -0.25), "laser_slope-le-m0p25");

@@ -3,7 +3,7 @@
 // each step and planning again when a can does not come up; the problem files it writes are the
 // scene as PDDL, and plan as it did; a goal no can of the room serves (a blue can on the switch
 // when the blue cans are lead) is unreachable, said with its own exit code; bad arguments move
-// nothing. On the stiff-switch family one can leaves the switch up: it plans again and puts a
+// nothing. The plan as it acts is on rt/kurt/plan. On the stiff-switch family one can leaves the switch up: it plans again and puts a
 // second beside it, where the script drops one and waits at a closed door.
 #include <gtest/gtest.h>
 
@@ -36,6 +36,41 @@ TEST(KurtPlan, ReachesTheDoorByAPlanItWatchesAndMakesAgain) {
   std::smatch replans;
   ASSERT_TRUE(std::regex_search(run.output, replans, std::regex("replans: ([0-9]+)"))) << run.output;
   EXPECT_GE(std::stoi(replans[1]), 1);
+  // The plan as it acted, on rt/kurt/plan: each step under way, then as or not as predicted; the
+  // things judged; the summary line at the end.
+  namespace plan_msg = plan_msgs::msg::dds_;
+  ASSERT_GE(run.plans.size(), 4u) << run.output;
+  bool under_way = false, not_as_predicted = false, judged = false;
+  for (const auto& shown : run.plans) {
+    EXPECT_EQ(shown.goal(), "through-door");
+    EXPECT_EQ(shown.header().frame_id(), "odom");
+    for (std::size_t i = 0; i < shown.steps().size(); ++i) {
+      const auto& step = shown.steps()[i];
+      EXPECT_NE(run.output.find(step.action()), std::string::npos) << step.action();
+      EXPECT_GT(step.probability(), 0.0);
+      EXPECT_LE(step.probability(), 1.0);
+      if (step.status() == plan_msg::STEP_UNDER_WAY) {
+        under_way = true;
+        EXPECT_EQ(shown.current(), static_cast<int>(i));
+      }
+      if (step.status() == plan_msg::STEP_NOT_AS_PREDICTED) {
+        not_as_predicted = true;
+        EXPECT_NE(step.perceived().find("perceived no (holding"), std::string::npos) << step.perceived();
+      }
+    }
+    for (const auto& thing : shown.things()) {
+      judged = true;
+      EXPECT_FALSE(thing.label().empty()) << thing.name();
+      EXPECT_GE(thing.confidence(), 0.5) << thing.name();
+      EXPECT_LE(thing.confidence(), 1.0) << thing.name();
+    }
+  }
+  EXPECT_TRUE(under_way);
+  EXPECT_TRUE(not_as_predicted);
+  EXPECT_TRUE(judged);
+  EXPECT_GE(run.plans.back().round(), 2u);
+  EXPECT_EQ(run.plans.back().outcome().rfind("goal reached: yes, plan steps: ", 0), 0u) << run.plans.back().outcome();
+  EXPECT_EQ(run.plans.back().steps().back().status(), plan_msg::STEP_AS_PREDICTED);
   // The world says the same: a can on the platform, the door opened by weight, the robot beyond.
   ASSERT_NE(can_on_platform(run), nullptr) << run.output;
   ASSERT_TRUE(run.door.has_value());

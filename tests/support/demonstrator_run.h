@@ -8,13 +8,16 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
+#include "macsim/dds/topics.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/plan_msgsPubSubTypes.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 #include "support/world_view.h"
@@ -27,6 +30,8 @@ struct DemoRun {
   std::map<std::string, macsim_msgs::msg::dds_::Object_> objects;
   std::optional<macsim_msgs::msg::dds_::DoorState_> door;
   std::optional<nav_msgs::msg::dds_::Odometry_> truth;
+  /// What the controller published on rt/kurt/plan, in order (kurt_plan's plan as it acted).
+  std::vector<plan_msgs::msg::dds_::Plan_> plans;
 };
 
 /// macsim --lockstep on `world` (with `seed` if not negative) and `controller` (a program of the
@@ -45,6 +50,13 @@ inline DemoRun play_demonstrator(const std::string& controller, const std::strin
   EXPECT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
   dds::Participant p({std::stoi(domain), "", controller + "_test"});
   WorldView view(p);
+  std::mutex plans_lock;
+  std::vector<plan_msgs::msg::dds_::Plan_> plans;
+  dds::Reader<plan_msgs::msg::dds_::Plan_PubSubType> plan_reader(
+      p, dds::topics::plan("kurt"), dds::QosFamily::Latched, [&](const plan_msgs::msg::dds_::Plan_& plan) {
+        std::lock_guard<std::mutex> guard(plans_lock);
+        plans.push_back(plan);
+      });
   std::vector<std::string> argv{bin(controller), "--domain", domain, "--lockstep"};
   argv.insert(argv.end(), controller_args.begin(), controller_args.end());
   ChildProcess demo(argv);
@@ -56,6 +68,10 @@ inline DemoRun play_demonstrator(const std::string& controller, const std::strin
   run.objects = view.snapshot();
   run.door = view.doors.latest();
   run.truth = view.truth.latest();
+  {
+    std::lock_guard<std::mutex> guard(plans_lock);
+    run.plans = plans;
+  }
   macsim.signal(SIGTERM);
   EXPECT_EQ(macsim.wait_for_exit(10s), 0) << macsim.output();
   return run;

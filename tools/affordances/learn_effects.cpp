@@ -154,11 +154,12 @@ std::vector<Played> explore(int domain, std::uint32_t seed, int steps) {
   robot.perceive_door();
   try {
     explore_from(robot, rng, steps, out);
+    robot.halt();
   } catch (const af::LoopError& e) {
-    // Out of robot time (a behaviour that kept trying): the trials so far stand.
+    // Out of robot time (a behaviour that kept trying): the trials so far stand; the episode's
+    // simulator is stopped with it, so nothing more is sent.
     if (e.stop != af::Stop::Timeout) throw;
   }
-  robot.halt();
   return out;
 }
 
@@ -258,7 +259,7 @@ int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{-1, "", "learn_effects"};
   std::string out_dir, world;
   int seed = 3;
-  int episodes = 40, instances = 2, steps = 12;
+  int episodes = 40, instances = 2, steps = 16;
   macsim::dds::CommandLine cli(
       "learn_effects",
       "Learns what the KURT3D's behaviours do from exploration episodes on K lock-step simulators "
@@ -270,8 +271,8 @@ int main(int argc, char** argv) {
   cli.option("seed", "S", "episode e plays the world's layout S*1000+e (default 3: layouts 3001-; 1001-1050 are kept for measuring)", &seed);
   cli.option("episodes", "N", "exploration episodes (default 40)", &episodes);
   cli.option("instances", "K", "simulators side by side (default 2)", &instances);
-  cli.option("steps", "N", "behaviours per episode at most (default 12)", &steps);
-  cli.option("world", "FILE", "the room (default the demonstrator's, worlds/DemoWorld_v1.xml)", &world);
+  cli.option("steps", "N", "behaviours per episode at most (default 16)", &steps);
+  cli.option("world", "FILE", "the room (default worlds/behaviour_trials.xml: the demonstrator's, its switch from softer than one can to stiffer)", &world);
   std::string from_trials;
   cli.option("from-trials", "FILE",
              "learn from the rows of an earlier run (its DIR/trials.csv) instead of playing episodes",
@@ -281,7 +282,7 @@ int main(int argc, char** argv) {
     macsim::log::error("learn_effects: --out DIR is required; --episodes, --steps positive, --instances 1-16");
     return 2;
   }
-  if (world.empty()) world = macsim::dds::data_file("worlds/DemoWorld_v1.xml");
+  if (world.empty()) world = macsim::dds::data_file("worlds/behaviour_trials.xml");
   if (from_trials.empty() && !std::filesystem::is_regular_file(world)) {
     macsim::log::error("learn_effects: --world {}: no such world file", world);
     return 2;

@@ -83,6 +83,8 @@ inline std::string robot_command(const std::string& r, const std::string& name) 
 }
 /// Crane joints, magnet and what it holds (kurt_msgs/CraneState).
 inline std::string crane_state(const std::string& r) { return robot(r, "crane/state"); }
+/// The plan a controller acts on (plan_msgs/Plan_, latched): its steps, the one under way, the things it judged.
+inline std::string plan(const std::string& r) { return robot(r, "plan"); }
 /// A stereo camera's images and calibration; side is "left" or "right".
 inline std::string image(const std::string& r, const std::string& side) {
   return robot(r, "camera/" + side + "/image_raw");
