@@ -22,6 +22,10 @@ constexpr double kHalfWidth = 0.25;    // m: half the corridor the robot drives 
 constexpr double kCanTop = 0.135;      // m: where the magnet meets a can
 constexpr double kPlatformTop = 0.07;  // m: the switch's platform above the floor
 constexpr double kBesideOnPlatform = 0.08;  // m: a second thing from the platform's middle
+constexpr double kBumper = 0.21;             // m: base_link to the front bumper
+constexpr double kBoxHalf = 0.1;             // m: half a pushable box's side
+constexpr double kPushStandoff = 1.0;        // m: from a box's middle to stand behind it
+constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char* format, ...) {
@@ -34,10 +38,11 @@ std::string fmt(const char* format, ...) {
 }
 
 /// A thing first seen at `at` (odometry frame), not yet counted as a sighting.
-SeenThing seen_thing(const std::string& name, const std::string& colour, const Pose2& at) {
+SeenThing seen_thing(const std::string& name, const std::string& colour, Kind kind, const Pose2& at) {
   SeenThing t;
   t.name = name;
   t.colour = colour;
+  t.kind = kind;
   t.x = at.x;
   t.y = at.y;
   return t;
@@ -62,6 +67,7 @@ std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
       return o.tried && o.colour == t.colour && o.outcome != "lifted";
     });
     if (!t.tried && like_failed) atoms.push_back({"like-failed", {t.name}});
+    if (t.kind == Kind::Box) atoms.push_back({"box", {t.name}});
   }
   for (const auto& t : scene.on_switch) atoms.push_back({"on", {t, "switch"}});
   if (!scene.on_switch.empty()) atoms.push_back({"loaded", {"switch"}});
@@ -69,6 +75,9 @@ std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
   if (scene.door) atoms.push_back({"open", {"door"}});
   if (scene.beyond_door) atoms.push_back({"beyond", {"door"}});
   if (scene.switch_platform) atoms.push_back({"opens", {"switch", "door"}});
+  if (scene.switch_platform && scene.switch_platform->features.count("width_m") &&
+      scene.switch_platform->features.at("width_m") > kFlushPlateWidth)
+    atoms.push_back({"flush", {"switch"}});
   std::sort(atoms.begin(), atoms.end());
   return atoms;
 }
@@ -184,14 +193,14 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
       // Each can as the trials perceive an object's blob: its features, and what the lift
       // model says of it.
       for (auto& s : sightings) {
-        if (s.kind != Kind::Can) continue;
+        if (s.kind == Kind::Switch) continue;
         const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
         Percept p;
         perceive_image(*frame, p, around);
         if (!p.seen) continue;
         const auto all = named_features(p, Affordance::Lift);
         for (const auto& name : thing_features()) s.features[name] = all.at(name);
-        if (options_.lift_model) {
+        if (options_.lift_model && s.kind == Kind::Can) {
           try {
             const auto said = options_.lift_model->predict(all);
             s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
@@ -216,20 +225,22 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
   for (const auto& [s, at] : sightings) {
     if (s.range > 3.5) continue;  // too far to place well
     if (s.kind == Kind::Switch) {
-      if (!scene_.switch_platform) scene_.switch_platform = seen_thing("switch", "yellow", at);
+      if (!scene_.switch_platform) scene_.switch_platform = seen_thing("switch", "yellow", Kind::Switch, at);
       auto& w = *scene_.switch_platform;
       w.x = (w.x * w.seen + at.x) / (w.seen + 1);
       w.y = (w.y * w.seen + at.y) / (w.seen + 1);
+      w.above_floor = (w.above_floor * w.seen + s.above_floor) / (w.seen + 1);
+      w.features["width_m"] = (w.features["width_m"] * w.seen + s.width) / (w.seen + 1);
       ++w.seen;
       continue;
     }
     auto same = std::find_if(scene_.things.begin(), scene_.things.end(), [&](const SeenThing& c) {
-      return c.colour == s.colour && std::hypot(c.x - at.x, c.y - at.y) < 0.2;
+      return c.colour == s.colour && c.kind == s.kind && std::hypot(c.x - at.x, c.y - at.y) < 0.2;
     });
     if (same == scene_.things.end()) {
       const auto of_colour = std::count_if(scene_.things.begin(), scene_.things.end(),
                                            [&](const SeenThing& c) { return c.colour == s.colour; });
-      scene_.things.push_back(seen_thing(s.colour + "_" + std::to_string(of_colour + 1), s.colour, at));
+      scene_.things.push_back(seen_thing(s.colour + "_" + std::to_string(of_colour + 1), s.colour, s.kind, at));
       same = scene_.things.end() - 1;
     } else if (same->tried) {
       continue;
@@ -344,12 +355,19 @@ BehaviourReport Behaviours::look_around(bool until_switch) {
     if (until_switch && scene_.switch_platform) break;
   }
   std::ostringstream what;
-  what << scene_.things.size() << " can candidate(s)";
-  for (const auto& c : scene_.things) {
-    what << fmt(" [%s at %.2f,%.2f%s]", c.colour.c_str(), c.x, c.y, c.tried ? ", tried" : "");
+  for (const Kind kind : {Kind::Can, Kind::Box}) {
+    const auto count = std::count_if(scene_.things.begin(), scene_.things.end(),
+                                     [&](const SeenThing& c) { return c.kind == kind; });
+    if (kind == Kind::Box && count == 0) continue;
+    what << (kind == Kind::Can ? "" : "; ") << count << (kind == Kind::Can ? " can candidate(s)" : " box(es)");
+    for (const auto& c : scene_.things) {
+      if (c.kind == kind)
+        what << fmt(" [%s at %.2f,%.2f%s]", c.colour.c_str(), c.x, c.y, c.tried ? ", tried" : "");
+    }
   }
   if (scene_.switch_platform)
-    what << fmt("; the switch at %.2f,%.2f", scene_.switch_platform->x, scene_.switch_platform->y);
+    what << fmt("; the switch at %.2f,%.2f (%.2f m wide)", scene_.switch_platform->x, scene_.switch_platform->y,
+                scene_.switch_platform->features["width_m"]);
   say(stage_, "looked around: " + what.str());
   return finish(r);
 }
@@ -361,7 +379,7 @@ BehaviourReport Behaviours::go_to(const std::string& name) {
   say(stage_, fmt("going for the %s can at %.2f,%.2f (odometry frame)", can->colour.c_str(),
                   can->x, can->y));
   // Stand off where the way in is free, look again from close by, drive in to the crane's reach.
-  if (!close_in(*can, Kind::Can)) {
+  if (!close_in(*can, can->kind)) {
     can->outcome = "not seen again";
     can->lost = true;
     say(stage_, "the " + can->colour + " can is not where it was seen; next candidate");
@@ -486,6 +504,78 @@ BehaviourReport Behaviours::put_down() {
   }
   scene_.holding.clear();
   scene_.held_height = 0;
+  return finish(r);
+}
+
+BehaviourReport Behaviours::push(const std::string& name) {
+  BehaviourReport r = report("push", name);
+  SeenThing* box = thing(name);
+  if (!box) return finish(r, Setback::NotSeen, name + " was never seen");
+  if (!scene_.switch_platform) {
+    say(stage_, "the switch has not been seen yet; looking around");
+    look_around(true);
+  }
+  if (!scene_.switch_platform)
+    return finish(r, Setback::NoSwitch, "no door switch (a yellow floor plate) in sight");
+  const Point onto{scene_.switch_platform->x, scene_.switch_platform->y};
+  say(stage_, fmt("pushing the %s box at %.2f,%.2f onto the switch at %.2f,%.2f", box->colour.c_str(), box->x,
+                  box->y, onto.x, onto.y));
+  // In legs: behind it on the line from the switch, a closer look to aim at its middle, a push
+  // to 25 cm short of the switch (or onto it when that close), back off and look where it went.
+  map_here();
+  Point from{box->x, box->y};
+  double left = std::hypot(onto.x - from.x, onto.y - from.y);
+  for (int leg = 0; leg < 3; ++leg) {
+    // Behind it (where the switch is no way to aim from, whence it looks).
+    if (left > 0.05) {
+      const double ux = (onto.x - from.x) / left, uy = (onto.y - from.y) / left;
+      travel_to({from.x - kPushStandoff * ux, from.y - kPushStandoff * uy}, 0.05);
+      turn_to(std::atan2(uy, ux));
+    } else {
+      turn_to(std::atan2(from.y - pose_.y, from.x - pose_.x));
+    }
+    const auto at = find_again(*box, Kind::Box);
+    if (!at) {
+      box->lost = true;
+      box->outcome = "not seen again";
+      return finish(r, Setback::NotSeen, "the " + box->colour + " box is not where it was seen");
+    }
+    from = *at;
+    left = std::hypot(onto.x - from.x, onto.y - from.y);
+    if (left <= kOnSwitch) break;
+    turn_to(std::atan2(onto.y - from.y, onto.x - from.x));
+    const double along = left > 0.45 ? left - 0.25 : left;
+    const Pose2 b = to_base(from.x, from.y);
+    say(stage_, fmt("behind it: the box %.2f m ahead, %.2f m from the switch; pushing it %.2f m", b.x, left, along));
+    drive_straight(b.x - kBumper - kBoxHalf + along + 0.05, 0.15);  // a little further: it slides back
+    drive_straight(-0.8, 0.2);  // far enough for the cameras to see it whole
+    // Looked for where it should be now.
+    SeenThing pushed = *box;
+    pushed.x = from.x + along * (onto.x - from.x) / left;
+    pushed.y = from.y + along * (onto.y - from.y) / left;
+    const auto there = find_again(pushed, Kind::Box);
+    if (!there) {
+      box->x = pushed.x;
+      box->y = pushed.y;
+      box->outcome = "not seen after the push";
+      return finish(r, Setback::NotPushed, "the " + box->colour + " box was not seen after the push");
+    }
+    from = *there;
+    box->x = from.x;
+    box->y = from.y;
+    left = std::hypot(onto.x - from.x, onto.y - from.y);
+  }
+  box->x = from.x;
+  box->y = from.y;
+  if (left > kOnSwitch) {
+    box->outcome = "did not reach the switch";
+    say(stage_, fmt("the box ended at %.2f,%.2f, %.2f m from the switch", from.x, from.y, left));
+    return finish(r, Setback::NotPushed, fmt("the box ended %.2f m from the switch", left));
+  }
+  say(stage_, "the box stands on the switch");
+  box->outcome = "on the switch";
+  scene_.on_switch.push_back(name);
+  scene_.at = "switch";
   return finish(r);
 }
 

@@ -24,6 +24,7 @@ constexpr std::array<ColourClass, 6> kColours{{{"red", 0, 7, 165, 179},
                                                {"magenta", 140, 164}}};
 constexpr int kMinSaturation = 110, kMinValue = 50, kMinArea = 12;
 constexpr double kCanRadius = 0.033;
+constexpr double kBoxHalf = 0.1;  // m: half a pushable box's side (the demonstrator's are 0.2 m)
 
 struct Blob {
   int colour = 0;
@@ -138,15 +139,28 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
     s.height = l.box.height * z / f;
     s.box = l.box;
     const double fill = static_cast<double>(l.area) / l.box.area();
+    s.above_floor = height;
+    // The centroid lies on the near side of an upright thing: its middle is further on.
+    const double dx = bx - g.camera_x, dy = by - g.camera_y, d = std::hypot(dx, dy);
     if (s.colour == std::string("yellow")) {
-      // A switch platform: a flat, wide, solid yellow slab on a dark base just above the floor.
-      if (s.width < 0.12 || s.width > 0.5 || s.height > 0.25 || l.box.width < 1.5 * l.box.height ||
-          fill < 0.45 || height < -0.02 || height > 0.15 || !l.dark_below) {
+      // A switch platform: a flat, wide, solid yellow slab on a dark base just above the floor,
+      // or a plate flush with it (its thin rim hardly shows; seen from close by, its square is
+      // less flat than a raised platform's).
+      const bool flush = s.width > kFlushPlateWidth;
+      if (s.width < 0.12 || s.width > (flush ? 0.7 : 0.5) || s.height > 0.25 ||
+          l.box.width < (flush ? 1.0 : 1.5) * l.box.height ||
+          fill < 0.45 || height < -0.02 || height > 0.15 || !(l.dark_below || flush)) {
         continue;
       }
       s.kind = Kind::Switch;
       s.x = bx;
       s.y = by;
+    } else if (s.width >= 0.13 && s.width <= 0.4 && s.height >= 0.1 && s.height <= 0.4 && fill >= 0.6 &&
+               height >= 0.04 && height <= 0.2) {
+      // A box: a solid face (its top seen with it from close by), standing on the floor.
+      s.kind = Kind::Box;
+      s.x = bx + kBoxHalf * dx / d;
+      s.y = by + kBoxHalf * dy / d;
     } else {
       // A can: an upright cylinder's side, taller than wide, standing on the floor.
       if (s.width < 0.035 || s.width > 0.11 || s.height < 0.06 || s.height > 0.22 ||
@@ -154,8 +168,6 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
         continue;
       }
       s.kind = Kind::Can;
-      // The centroid lies on the near side: the axis is about a radius further on.
-      const double dx = bx - g.camera_x, dy = by - g.camera_y, d = std::hypot(dx, dy);
       s.x = bx + kCanRadius * dx / d;
       s.y = by + kCanRadius * dy / d;
     }
@@ -167,10 +179,10 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
 cv::Mat draw_sightings(const cv::Mat& left, const std::vector<Sighting>& sightings) {
   cv::Mat out = left.clone();
   for (const Sighting& s : sightings) {
-    cv::rectangle(out, s.box, s.kind == Kind::Can ? cv::Scalar(255, 255, 255) : cv::Scalar(0, 0, 0));
+    cv::rectangle(out, s.box, s.kind == Kind::Switch ? cv::Scalar(0, 0, 0) : cv::Scalar(255, 255, 255));
     char text[64];
-    std::snprintf(text, sizeof text, "%s %.2f,%.2f", s.kind == Kind::Can ? s.colour.c_str() : "switch",
-                  s.x, s.y);
+    std::snprintf(text, sizeof text, "%s%s %.2f,%.2f", s.kind == Kind::Switch ? "switch" : s.colour.c_str(),
+                  s.kind == Kind::Box ? " box" : "", s.x, s.y);
     cv::putText(out, text, {s.box.x, std::max(8, s.box.y - 2)}, cv::FONT_HERSHEY_PLAIN, 0.7,
                 cv::Scalar(255, 255, 255));
   }

@@ -118,6 +118,7 @@ void DemoController::lift_a_can() {
     const auto& info = options_.lift_model->info();
     std::string said;
     for (const auto& c : scene().things) {
+      if (c.kind != af::Kind::Can) continue;
       said += " [" + c.colour + " at " + fixed(c.x, 2) + "," + fixed(c.y, 2) + ": " +
               (!c.judged           ? std::string("not judged")
                : c.liftable >= 0.5 ? "liftable " + fixed(c.liftable, 2)
@@ -133,7 +134,7 @@ void DemoController::lift_a_can() {
     const af::SeenThing* next = nullptr;
     double best = 1e9;
     for (const auto& c : scene().things) {
-      if (c.tried) continue;
+      if (c.tried || c.kind != af::Kind::Can) continue;
       const double failures =
           std::count(failed_colours_.begin(), failed_colours_.end(), c.colour);
       // A can the model never judged counts as even odds: after those it finds likely.
@@ -154,9 +155,13 @@ void DemoController::lift_a_can() {
     }
     if (!next) {
       std::string tried;
-      for (const auto& c : scene().things) tried += " " + c.colour + ": " + c.outcome + ";";
-      throw Failure{kNoLiftableCan, "no can could be lifted (" +
-                                        std::to_string(scene().things.size()) + " tried:" + tried + ")"};
+      int cans = 0;
+      for (const auto& c : scene().things) {
+        if (c.kind != af::Kind::Can) continue;
+        tried += " " + c.colour + ": " + c.outcome + ";";
+        ++cans;
+      }
+      throw Failure{kNoLiftableCan, "no can could be lifted (" + std::to_string(cans) + " tried:" + tried + ")"};
     }
     const std::string name = next->name;
     thing(name)->tried = true;
@@ -171,7 +176,9 @@ void DemoController::run() {
   start();
   set_stage("scene 1");
   look_around();
-  if (scene().things.empty()) throw Failure{kNoCan, "no can in sight after a full turn"};
+  if (std::none_of(scene().things.begin(), scene().things.end(),
+                   [](const af::SeenThing& c) { return c.kind == af::Kind::Can; }))
+    throw Failure{kNoCan, "no can in sight after a full turn"};
   picture("scene1_cans_found");
   lift_a_can();
   set_stage("scene 3");

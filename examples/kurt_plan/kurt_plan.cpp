@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
              &pddl_domain);
   cli.option("problems", "DIR", "write each planning round's problem (the perceived scene) here",
              &options.problems);
+  cli.option("debug-images", "DIR", "write each camera image looked at, with what was seen",
+             &options.debug_images);
   macsim::affordances::add_loop_options(cli, options.loop);
   if (auto code = cli.parse(argc, argv)) return *code;
   const auto parsed = kurt_plan::Goal::parse(goal);

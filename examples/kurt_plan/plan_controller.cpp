@@ -80,6 +80,7 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
                    af::BehaviourOptions b;
                    b.loop = options.loop;
                    b.program = "kurt_plan";
+                   b.debug_images = options.debug_images;
                    return b;
                  }()),
       options_(options),
@@ -220,6 +221,9 @@ bool PlanController::execute(const af::PlanStep& step, std::string& outcome) {
     report = lift(step.arguments.at(0));
   } else if (behaviour == "put-down") {
     report = put_down();
+    perceive_door();  // watch what the load did
+  } else if (behaviour == "push") {
+    report = push(step.arguments.at(0));
     perceive_door();  // watch what the load did
   } else if (behaviour == "drive-through") {
     report = drive_through();

@@ -44,6 +44,7 @@ struct PlanOptions {
   /// A learned domain's thresholds: the atoms each thing's perceived features make true.
   std::vector<macsim::affordances::Threshold> thresholds;
   std::string problems;  ///< a folder to write each planning round's problem file to, or empty
+  std::string debug_images;  ///< a folder for the camera images looked at, with what was seen
   int max_replans = 8;
   int max_steps = 40;
 };

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <random>
+#include <sstream>
 
 #include "macsim/sim_core/world_loader.h"
 
@@ -46,9 +47,15 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   };
   std::vector<Placed> taken;
   std::vector<std::size_t> chosen;
+  std::vector<std::string> kinds;  // <OBJECTS> names one user data or several, spaced
+  {
+    std::istringstream words(v.user_data);
+    for (std::string word; words >> word;) kinds.push_back(word);
+  }
   for (std::size_t i = 0; i < spec.objects.size(); ++i) {
     const ObjectSpec& o = spec.objects[i];
-    if (o.kind == ObjectKind::Object && o.user_data == v.user_data) {  // portable or fixed
+    const bool placed = std::find(kinds.begin(), kinds.end(), o.user_data) != kinds.end();
+    if (o.kind == ObjectKind::Object && placed) {  // portable or fixed
       chosen.push_back(i);
     } else if (obstacle(o)) {
       taken.push_back({o.pose.position.head<2>(), footprint_radius(o)});

@@ -204,7 +204,7 @@ TEST(WorldBounds, TheLimitsAreOverridableAndFilesMayComeFromMemory) {
 
 TEST(WorldBounds, TheShippedWorldsKeepTheBounds) {
   for (const char* file : {"DemoWorld_v1.xml", "small_room.xml", "ramps.xml", "liftability.xml",
-                           "goals/demonstrator.xml", "goals/door_open.xml", "goals/stiff_switch.xml", "behaviour_trials.xml"}) {
+                           "goals/demonstrator.xml", "goals/door_open.xml", "goals/stiff_switch.xml", "goals/push_to_switch.xml", "behaviour_trials.xml"}) {
     EXPECT_NO_THROW(bounds::check_world(shipped_world(file))) << file;
   }
 }

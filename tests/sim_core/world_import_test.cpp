@@ -198,7 +198,7 @@ TEST_F(WorldImport, TheShippedWorldsLoadWithoutWarnings) {
   for (const char* file : {"DemoWorld_v1.xml", "small_room.xml", "liftability.xml", "ramps.xml",
                            "figure12_fixed_obstacles.xml", "figure13_steps_joist.xml",
                            "figure14_cylinder_orientations.xml", "stackability.xml",
-                           "goals/demonstrator.xml", "goals/door_open.xml", "goals/stiff_switch.xml", "behaviour_trials.xml"}) {
+                           "goals/demonstrator.xml", "goals/door_open.xml", "goals/stiff_switch.xml", "goals/push_to_switch.xml", "behaviour_trials.xml"}) {
     std::vector<std::string> w;
     const ScopedLogSink capture([&](LogLevel, const std::string& m) { w.push_back(m); });
     const WorldSpec spec = load_world_file(source(std::string("worlds/") + file));

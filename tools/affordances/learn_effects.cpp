@@ -96,6 +96,7 @@ std::string label_of(const af::BehaviourReport& r) {
     case af::Setback::DoorClosed: return "door_closed";
     case af::Setback::NoDoor: return "no_door";
     case af::Setback::NotThrough: return "not_through";
+    case af::Setback::NotPushed: return "not_pushed";
   }
   return "?";
 }

@@ -1,7 +1,7 @@
 // The KURT3D's behaviours, closed-loop on the robot's own topics (odometry, IMU, stereo images,
 // laser clouds, crane state; never the supervisor or the world state), shared by every
 // controller: look around, go to a thing or to the switch, lift a thing with the crane's magnet,
-// put what it holds down on the switch, drive through the door. Each reports the scene as the
+// put what it holds down on the switch, push a box onto the switch, drive through the door. Each reports the scene as the
 // robot perceived it before and after, so the same program drives the simulated and the real
 // robot, and a planner can compare what a step did with what it predicted.
 #pragma once
@@ -22,10 +22,12 @@
 
 namespace macsim::affordances {
 
-/// Something the cameras found, in the odometry frame: a can, or the switch's platform.
+/// Something the cameras found, in the odometry frame: a can, a box, or the switch's platform.
 struct SeenThing {
   std::string name;    ///< the colour and a number, "red_1"; "switch" for the switch
   std::string colour;  ///< "red", ..., "yellow" (the switch's platform)
+  Kind kind = Kind::Can;
+  double above_floor = 0;  ///< m, where the cameras saw its middle (a flush switch's is ~0)
   double x = 0, y = 0;  ///< m, the mean of its sightings
   int seen = 0;         ///< sightings
   bool tried = false;   ///< a lift was tried on it
@@ -64,9 +66,10 @@ struct Scene {
 
 /// The scene as atoms of the room's vocabulary (affordances/README.md, "The scene's atoms"):
 /// robot-at, hand-free or holding, tried (a lift was tried on it), like-failed (untried, of the
-/// colour of one that did not come up), on, loaded, pressed (the door
-/// was seen open with something on the switch), open, beyond and opens; objects named as in the
-/// scene ("switch", "door", "start"); lost things say nothing.
+/// colour of one that did not come up), box (a box the cameras saw), on, loaded, pressed (the door
+/// was seen open with something on the switch), flush (a switch plate level with the floor),
+/// open, beyond and opens; objects named as in the scene ("switch", "door", "start"); lost
+/// things say nothing.
 std::vector<pddl::Atom> scene_atoms(const Scene& scene);
 
 /// Why a behaviour did not do what it set out to do.
@@ -79,6 +82,7 @@ enum class Setback {
   DoorClosed,    ///< the laser sees the wall without a gap
   NoDoor,        ///< no wall with a door around the robot
   NotThrough,    ///< the robot did not get through the gap
+  NotPushed,     ///< the box did not end on the switch
 };
 
 /// What a behaviour did: the scene before and after, and whether it did what it set out to do.
@@ -130,6 +134,10 @@ class Behaviours : public RobotLoop {
   BehaviourReport go_to_switch();
   /// Lowers what the magnet holds onto the switch's platform (beside what stands there) and lets go.
   BehaviourReport put_down();
+  /// Pushes a box onto the switch: stands behind it on the line from the switch, looks again to
+  /// aim at its middle, drives it over the switch with the bumper, backs off and looks whether it
+  /// is there.
+  BehaviourReport push(const std::string& box);
   /// Backs off, watches the wall for the door's gap (up to 25 s) and stands in front of it.
   BehaviourReport go_to_door();
   /// Drives through the door's gap (going to the door first unless it stands there).

@@ -1,5 +1,6 @@
-// What the KURT's stereo cameras show of the demonstrator: coloured cans standing on the floor
-// and the yellow platform of a floor switch, located in base_link by stereo triangulation.
+// What the KURT's stereo cameras show of the demonstrator: coloured cans and boxes standing on
+// the floor and the yellow platform of a floor switch (raised, or flush with the floor), located
+// in base_link by stereo triangulation.
 #pragma once
 
 #include <map>
@@ -13,22 +14,28 @@
 namespace macsim::affordances {
 
 /// What a sighting looks like.
-enum class Kind { Can, Switch };
+enum class Kind { Can, Box, Switch };
+
+/// m: a switch plate the cameras see wider than this lies flush with the floor (measured here: a
+/// raised platform's yellow top 0.23-0.35 m, a flush plate's 0.49-0.58 m; the height of its
+/// middle tells them apart only from close by).
+inline constexpr double kFlushPlateWidth = 0.42;
 
 /// One object seen in a stereo pair.
 struct Sighting {
   Kind kind = Kind::Can;
   std::string colour;      ///< "red", "green", "blue", "cyan", "magenta", "yellow"
-  double x = 0, y = 0;     ///< m in base_link: the can's axis, the platform's centre
+  double x = 0, y = 0;     ///< m in base_link: the can's axis, the box's or the platform's centre
   double range = 0;        ///< m from the left camera
   double width = 0, height = 0;  ///< m, the blob's extent at its range
+  double above_floor = 0;  ///< m, the blob's centroid above the floor (a flush switch's is ~0)
   cv::Rect box;            ///< in the left image
   double liftable = -1;    ///< a lift model's probability of `liftable` (-1: not judged)
   /// The trials' perception of a can's blob (perception.h): the features of thing_features().
   std::map<std::string, double> features;
 };
 
-/// The cans and switch platforms in one stereo pair (pixels of saturated colour, grouped per
+/// The cans, boxes and switch platforms in one stereo pair (pixels of saturated colour, grouped per
 /// colour, matched between the eyes along the rows, sized in metres and kept by shape).
 std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
                                    const KurtGeometry& geometry);
