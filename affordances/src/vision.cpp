@@ -155,9 +155,10 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
       s.kind = Kind::Switch;
       s.x = bx;
       s.y = by;
-    } else if (s.width >= 0.13 && s.width <= 0.4 && s.height >= 0.1 && s.height <= 0.4 && fill >= 0.6 &&
+    } else if (s.width >= 0.18 && s.width <= 0.4 && s.height >= 0.15 && s.height <= 0.4 && fill >= 0.6 &&
                height >= 0.04 && height <= 0.2) {
-      // A box: a solid face (its top seen with it from close by), standing on the floor.
+      // A box to push (measured here: a 0.2 m box 0.22-0.29 m wide, 0.26-0.31 m high with its top;
+      // a 0.1 m cube 0.15 m wide): a solid face, its top seen with it from close by, on the floor.
       s.kind = Kind::Box;
       s.x = bx + kBoxHalf * dx / d;
       s.y = by + kBoxHalf * dy / d;

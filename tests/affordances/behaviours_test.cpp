@@ -78,5 +78,23 @@ TEST(Behaviours, ACanOnTheSwitchAndTheDoorsGapAreInTheScene) {
   EXPECT_TRUE(plan_from(scene).empty());
 }
 
+TEST(Behaviours, ABoxAndAFlushPlateMakeAPushPlanWhereNoCanCanBeLifted) {
+  Scene scene;
+  scene.things = {seen("blue_1", "blue"), seen("green_1", "green")};
+  scene.things[0].tried = true;  // did not come up
+  scene.things[1].kind = Kind::Box;
+  scene.switch_platform = seen("switch", "yellow");
+  scene.switch_platform->features["width_m"] = 0.3;  // raised: a box is no use
+  auto atoms = scene_atoms(scene);
+  EXPECT_TRUE(has(atoms, {"box", {"green_1"}}));
+  EXPECT_FALSE(has(atoms, {"box", {"blue_1"}}));
+  EXPECT_FALSE(has(atoms, {"flush", {"switch"}}));
+  EXPECT_TRUE(plan_from(scene).empty());
+  scene.switch_platform->features["width_m"] = 0.52;  // as wide as the flush plates
+  EXPECT_TRUE(has(scene_atoms(scene), {"flush", {"switch"}}));
+  EXPECT_EQ(plan_from(scene), (std::vector<std::string>{"(go start green_1)", "(push green_1 switch door)",
+                                                        "(go switch door)", "(drive-through door)"}));
+}
+
 }  // namespace
 }  // namespace macsim::affordances

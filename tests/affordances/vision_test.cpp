@@ -81,10 +81,13 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
   };
 
   const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
-  int cans = 0, switches = 0;
-  for (const auto& s : seen) (s.kind == macsim::affordances::Kind::Can ? cans : switches)++;
+  int cans = 0, switches = 0, boxes = 0;
+  for (const auto& s : seen) {
+    (s.kind == macsim::affordances::Kind::Can ? cans : s.kind == macsim::affordances::Kind::Box ? boxes : switches)++;
+  }
   EXPECT_EQ(cans, 3);      // not the cube
   EXPECT_EQ(switches, 1);  // not the yellow box, which stands on the light floor
+  EXPECT_EQ(boxes, 0);     // the cube is too small for a box to push
   const struct {
     const char* colour;
     double x, y;
@@ -104,6 +107,46 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
   ASSERT_NE(sw, nullptr);
   EXPECT_NEAR(sw->x, platform.x(), 0.08);
   EXPECT_NEAR(sw->y, platform.y(), 0.05);
+  EXPECT_LT(sw->width, macsim::affordances::kFlushPlateWidth);  // raised: not flush
+}
+
+TEST(KurtDemoVision, FindsABoxToPushAndASwitchPlateFlushWithTheFloor) {
+  World world(load_world_string(
+      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>"
+      "<OBJECT><ID>box</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>1.6,0.4,0.1</POS><ROT>0,0,20</ROT>"
+      "<COLOR>0.1,0.75,0.2</COLOR></OBJECT>"
+      // the push-to-switch family's plate: a dark rim round a yellow top, 5 mm over the floor
+      "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>2.2,-0.4,0</POS>"
+      "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.004</DIMS><POS>0,0,0.0025</POS><COLOR>0.2,0.2,0.2</COLOR></COMPONENT>"
+      "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS><POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR>"
+      "</COMPONENT></OBJECT></WORLD>",
+      "flush.xml"));
+  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
+  kurt.command_crane({M_PI / 2, 0.6, 0.0});
+  run_for(world, 2.5);
+  const Pose base = kurt.base_link_pose();
+  auto in_base = [&](double x, double y) -> Eigen::Vector3d {
+    return base.orientation.inverse() * (Eigen::Vector3d(x, y, 0) - base.position);
+  };
+  const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
+  int cans = 0, boxes = 0, switches = 0;
+  for (const auto& s : seen)
+    (s.kind == macsim::affordances::Kind::Can ? cans : s.kind == macsim::affordances::Kind::Box ? boxes : switches)++;
+  EXPECT_EQ(cans, 0);
+  EXPECT_EQ(boxes, 1);
+  EXPECT_EQ(switches, 1);
+  const Eigen::Vector3d box = in_base(1.6, 0.4);
+  const auto* b = nearest(seen, macsim::affordances::Kind::Box, box.x(), box.y());
+  ASSERT_NE(b, nullptr);
+  EXPECT_EQ(b->colour, "green");
+  EXPECT_NEAR(b->x, box.x(), 0.1);  // its middle, not the face the cameras see
+  EXPECT_NEAR(b->y, box.y(), 0.05);
+  const Eigen::Vector3d plate = in_base(2.2, -0.4);
+  const auto* sw = nearest(seen, macsim::affordances::Kind::Switch, plate.x(), plate.y());
+  ASSERT_NE(sw, nullptr);
+  EXPECT_NEAR(sw->x, plate.x(), 0.12);
+  EXPECT_NEAR(sw->y, plate.y(), 0.06);
+  EXPECT_GT(sw->width, macsim::affordances::kFlushPlateWidth);
 }
 
 TEST(KurtDemoVision, SeesNothingInAnEmptyRoomAndNothingWithoutAStereoMatch) {
