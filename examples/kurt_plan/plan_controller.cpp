@@ -1,6 +1,7 @@
 #include "plan_controller.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -133,6 +134,8 @@ void PlanController::publish_outcome(const std::string& line) {
   shown_.current(-1);
   shown_.outcome(line);
   publish_plan();
+  // The last word of a program about to exit: its readers get it before it goes.
+  plan_writer_.wait_acknowledged(std::chrono::seconds(2));
 }
 
 std::vector<pddl::Atom> PlanController::goal_atoms() const {

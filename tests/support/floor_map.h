@@ -25,6 +25,7 @@ class FloorMap {
   /// `without_traversable`, not those a robot drives over or pushes away (a whole portable
   /// object, or a part no higher than 6 cm).
   void add(const ObjectSpec& object, bool without_traversable) {
+    distance_.clear();
     for (const auto& c : object.components) {
       const Pose pose = object.pose * c.pose;
       const Eigen::Vector3d axis = pose.orientation * Eigen::Vector3d::UnitZ();
@@ -73,8 +74,32 @@ class FloorMap {
   /// touching what was added.
   bool connected(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double radius,
                  double within = 0) const {
-    // Distance to the nearest blocked cell (8-neighbour chamfer, 3 per side, 4 per diagonal),
-    // then a flood fill through the cells far enough from everything.
+    // Distance to the nearest blocked cell (8-neighbour chamfer, 3 per side, 4 per diagonal,
+    // kept until something is added), then a flood fill through the cells far enough from
+    // everything.
+    const std::vector<int>& d = distances();
+    const int clear = static_cast<int>(std::ceil(3 * radius / kCell));
+    std::vector<char> seen(blocked_.size(), 0);
+    std::vector<std::pair<int, int>> todo{{column(from.x()), row(from.y())}};
+    const std::pair<int, int> goal{column(to.x()), row(to.y())};
+    while (!todo.empty()) {
+      const auto [i, j] = todo.back();
+      todo.pop_back();
+      if (i < 0 || i >= columns_ || j < 0 || j >= rows_) continue;
+      const std::size_t k = index(i, j);
+      if (seen[k] || d[k] < clear) continue;
+      seen[k] = 1;
+      if (std::pair{i, j} == goal) return true;
+      const Eigen::Vector2d centre(x0_ + (i + 0.5) * kCell, y0_ + (j + 0.5) * kCell);
+      if (within > 0 && (centre - to).norm() <= within) return true;
+      todo.insert(todo.end(), {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}});
+    }
+    return false;
+  }
+
+  /// The chamfer distance of every cell to the nearest blocked one (computed once per map).
+  const std::vector<int>& distances() const {
+    if (!distance_.empty()) return distance_;
     const int far = 1 << 20;
     std::vector<int> d(blocked_.size());
     for (std::size_t k = 0; k < d.size(); ++k) d[k] = blocked_[k] ? 0 : far;
@@ -95,23 +120,8 @@ class FloorMap {
                       at(i - 1, j + 1) + 4});
       }
     }
-    const int clear = static_cast<int>(std::ceil(3 * radius / kCell));
-    std::vector<char> seen(blocked_.size(), 0);
-    std::vector<std::pair<int, int>> todo{{column(from.x()), row(from.y())}};
-    const std::pair<int, int> goal{column(to.x()), row(to.y())};
-    while (!todo.empty()) {
-      const auto [i, j] = todo.back();
-      todo.pop_back();
-      if (i < 0 || i >= columns_ || j < 0 || j >= rows_) continue;
-      const std::size_t k = index(i, j);
-      if (seen[k] || d[k] < clear) continue;
-      seen[k] = 1;
-      if (std::pair{i, j} == goal) return true;
-      const Eigen::Vector2d centre(x0_ + (i + 0.5) * kCell, y0_ + (j + 0.5) * kCell);
-      if (within > 0 && (centre - to).norm() <= within) return true;
-      todo.insert(todo.end(), {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}});
-    }
-    return false;
+    distance_ = std::move(d);
+    return distance_;
   }
 
  private:
@@ -156,6 +166,7 @@ class FloorMap {
   double x0_, y0_;
   int columns_, rows_;
   std::vector<char> blocked_;
+  mutable std::vector<int> distance_;
 };
 
 }  // namespace macsim::test
