@@ -299,13 +299,13 @@ void Behaviours::travel_to(Point goal, double tolerance) {
   drive_to(goal.x, goal.y, tolerance);
 }
 
-std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind) {
+std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind, double radius) {
   auto matches = [&](const std::vector<std::pair<Sighting, Pose2>>& seen) {
     int found = 0;
     double sx = 0, sy = 0;
     for (const auto& [s, at] : seen) {
       if (s.kind == kind && (kind == Kind::Switch || s.colour == target.colour) &&
-          std::hypot(at.x - target.x, at.y - target.y) < 0.45) {
+          std::hypot(at.x - target.x, at.y - target.y) < radius) {
         sx += at.x;
         sy += at.y;
         ++found;
@@ -517,7 +517,7 @@ BehaviourReport Behaviours::push(const std::string& name) {
   }
   if (!scene_.switch_platform)
     return finish(r, Setback::NoSwitch, "no door switch (a yellow floor plate) in sight");
-  const Point onto{scene_.switch_platform->x, scene_.switch_platform->y};
+  Point onto{scene_.switch_platform->x, scene_.switch_platform->y};
   say(stage_, fmt("pushing the %s box at %.2f,%.2f onto the switch at %.2f,%.2f", box->colour.c_str(), box->x,
                   box->y, onto.x, onto.y));
   // In legs: behind it on the line from the switch, a closer look to aim at its middle, a push
@@ -563,6 +563,13 @@ BehaviourReport Behaviours::push(const std::string& name) {
     from = *there;
     box->x = from.x;
     box->y = from.y;
+    // The plate again too: pushing, the tracks slip and the odometry runs ahead of the robot,
+    // so what was seen before the push lies off now; box and plate seen now agree.
+    if (const auto plate = find_again(*scene_.switch_platform, Kind::Switch, 1.0)) {
+      onto = *plate;
+      scene_.switch_platform->x = plate->x;
+      scene_.switch_platform->y = plate->y;
+    }
     left = std::hypot(onto.x - from.x, onto.y - from.y);
   }
   box->x = from.x;

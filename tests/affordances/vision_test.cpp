@@ -117,7 +117,7 @@ TEST(KurtDemoVision, FindsABoxToPushAndASwitchPlateFlushWithTheFloor) {
       "<COLOR>0.1,0.75,0.2</COLOR></OBJECT>"
       // the push-to-switch family's plate: a dark rim round a yellow top, 5 mm over the floor
       "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>2.2,-0.4,0</POS>"
-      "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.004</DIMS><POS>0,0,0.0025</POS><COLOR>0.2,0.2,0.2</COLOR></COMPONENT>"
+      "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS><COLOR>0.2,0.2,0.2</COLOR></COMPONENT>"
       "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS><POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR>"
       "</COMPONENT></OBJECT></WORLD>",
       "flush.xml"));

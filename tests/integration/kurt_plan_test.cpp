@@ -4,7 +4,8 @@
 // leaves the switch up, where the script drops one can and waits at a closed door; the plan as
 // it acts is on rt/kurt/plan; the problem files it writes are the scene as PDDL, and plan as it
 // did; a goal no can of the room serves (a blue can on the switch when the blue cans are lead)
-// is unreachable, said with its own exit code; bad arguments move nothing.
+// is unreachable, said with its own exit code; where no can can be lifted it pushes a box onto a
+// switch plate flush with the floor; bad arguments move nothing.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -139,6 +140,32 @@ TEST(KurtPlan, AStiffSwitchGetsASecondCanWhereTheScriptDropsOneAndWaits) {
   EXPECT_EQ(script.exit_code, 6) << script.output;
   EXPECT_NE(script.output.find("the door stayed closed"), std::string::npos) << script.output;
   EXPECT_EQ(cans_on_platform(script).size(), 1u) << script.output;
+}
+
+TEST(KurtPlan, WhereNoCanCanBeLiftedItPushesABoxOntoTheFlushSwitch) {
+  // The push-to-switch family, layout 2: two lead cans, a plastic one, two boxes and a plate flush
+  // with the floor (the script exits 5 there: KurtDemo.WhereNoCanCanBeLifted...).
+  const DemoRun run = play_demonstrator("kurt_plan", source("worlds/goals/push_to_switch.xml"), 2,
+                                        {"--pddl-domain", source(kByHand)});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("plan of 4 step(s)"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("switch door): as predicted"), std::string::npos) << run.output;  // the push
+  EXPECT_EQ(run.output.find("(lift "), std::string::npos) << run.output;
+  // The world: a box on the plate, the door opened by its weight, the robot beyond.
+  const auto plate = run.objects.find("doors/door_00/switch_component/platform");
+  ASSERT_NE(plate, run.objects.end());
+  int boxes_on = 0;
+  for (const auto& [name, object] : run.objects) {
+    const auto& p = object.pose().position();
+    const auto& at = plate->second.pose().position();
+    if (object.user_data() == "box" && std::hypot(p.x() - at.x(), p.y() - at.y()) < 0.25) ++boxes_on;
+  }
+  EXPECT_EQ(boxes_on, 1) << run.output;
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_TRUE(run.door->door().triggered());
+  EXPECT_FALSE(run.door->door().virtually_triggered());
+  ASSERT_TRUE(run.truth.has_value());
+  EXPECT_GT(run.truth->pose().pose().position().x(), 1.5 + 0.3);
 }
 
 TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {

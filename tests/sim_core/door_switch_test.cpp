@@ -156,6 +156,46 @@ TEST(StiffSwitchFamily, OneTinCanLeavesItUpAndTwoPressItAcrossTheFamilysRange) {
   EXPECT_TRUE(stiff_switch_opens(0.5, 1));
 }
 
+/// The push-to-switch family with its two boxes set down at `offsets` from the flush plate's
+/// middle; after `seconds`, how far each moved and whether the door opened.
+std::pair<std::vector<double>, bool> boxes_on_flush_plate(const std::vector<Eigen::Vector2d>& offsets,
+                                                          double seconds = 4.0) {
+  WorldSpec spec = shipped_world("goals/push_to_switch.xml");
+  const Eigen::Vector3d plate = spec.object("doors/door_00/switch_component/platform")->pose.position;
+  const char* boxes[] = {"environment_00/box_00", "environment_00/box_01"};
+  std::vector<Eigen::Vector3d> placed;
+  for (std::size_t k = 0; k < offsets.size(); ++k) {
+    auto it = std::find_if(spec.objects.begin(), spec.objects.end(),
+                           [&](const ObjectSpec& o) { return o.name == boxes[k]; });
+    it->pose.position = Eigen::Vector3d(plate.x() + offsets[k].x(), plate.y() + offsets[k].y(), 0.0065);
+    placed.push_back(it->pose.position);
+  }
+  World world(std::move(spec));
+  run_for(world, seconds);
+  std::vector<double> moved;
+  for (std::size_t k = 0; k < offsets.size(); ++k)
+    moved.push_back((world.objects().object_state(id_of(world, boxes[k])).value.pose.position - placed[k])
+                        .head<2>()
+                        .norm());
+  return {moved, world.doors().door_state(0).value.triggered};
+}
+
+TEST(FlushSwitch, ABoxOnThePlatePressesItAndOneAcrossItsEdgeStaysWhereItWasPut) {
+  // Whole on the plate: pressed, and it stays.
+  auto [moved, triggered] = boxes_on_flush_plate({{0.0, 0.0}});
+  EXPECT_TRUE(triggered);
+  EXPECT_LT(moved[0], 0.01);
+  // Across an edge (half on a ramp), and near a corner: nothing throws it off.
+  for (const Eigen::Vector2d& at : {Eigen::Vector2d(-0.24, 0.1), Eigen::Vector2d(0.1, 0.26),
+                                     Eigen::Vector2d(0.2, -0.2)}) {
+    std::tie(moved, triggered) = boxes_on_flush_plate({at});
+    EXPECT_LT(moved[0], 0.02) << at.transpose();
+  }
+  // Beside it on the floor: not pressed.
+  std::tie(moved, triggered) = boxes_on_flush_plate({{0.5, 0.0}});
+  EXPECT_FALSE(triggered);
+}
+
 TEST(DoorOrientation, ARotatedDoorSwitchStructureWorksAlongItsOwnAxes) {
   World world(shipped_world("DemoWorld_v1.xml"));
   // A second door-switch structure turned by -90 degrees: its leaf slides along world +x.
