@@ -2,7 +2,8 @@
 and Debian's headless Chromium driven with Selenium through chromedriver
 (tools/python/headless_chromium.py). The page must draw every object of the world state, show a
 picture that is not blank, and follow the robot when it drives; bad requests get errors and the
-server keeps serving."""
+server keeps serving; a controller's plan is listed beside the view as it acts, with a label over
+each thing it judged."""
 
 import os
 import re
@@ -16,7 +17,7 @@ import pytest
 
 import headless_chromium
 import macsim
-from conftest import binary, start_macsim
+from conftest import binary, source, start_macsim
 
 
 def wait_until(check, timeout, what):
@@ -129,3 +130,41 @@ def test_bad_requests_get_errors_and_the_server_keeps_serving(served):
                "the page after reloads")
     with urllib.request.urlopen(url, timeout=10) as page:
         assert b"macsim_web" in page.read()
+
+
+def test_the_page_lists_a_controllers_plan_as_it_acts_and_labels_what_it_judged(domain, spawn):
+    # kurt_plan on the open-door family's layout 5 against a lock-step simulator: a plan of two
+    # steps (go to the door, drive through), the cans it saw judged.
+    start_macsim(spawn, domain, "worlds/goals/door_open.xml", "--seed", "5", "--lockstep")
+    web = spawn([binary("macsim_web"), "--domain", domain, "--port", "0"])
+    assert web.wait_for_output("serving http://", 20), web.output()
+    url = re.search(r"serving (http://\S+)", web.output()).group(1)
+    browser = headless_chromium.start()
+    try:
+        browser.get(url)
+        # In lock-step nothing is published before a controller steps the simulation.
+        wait_until(lambda: (v := page_view(browser)) and v["connected"], 30, "no connection")
+        assert page_view(browser)["plan"] is None  # no controller yet
+        plan = spawn([binary("kurt_plan"), "--domain", domain, "--lockstep", "--pddl-domain",
+                      source("affordances/domains/kurt3d_room_by_hand.pddl")])
+        under_way = wait_until(lambda: (v := page_view(browser)) and v["plan"] and v["plan"]["current"] >= 0
+                               and v["plan"], 120, "no step under way on the page")
+        assert under_way["steps"][under_way["current"]][1] == "under way"
+        assert page_view(browser)["drawn"] > 0
+        assert plan.wait(120) == 0, plan.output()
+        shown = wait_until(lambda: (v := page_view(browser)) and v["plan"] and v["plan"]["outcome"]
+                           and v["plan"], 20, "the plan's outcome did not reach the page")
+        assert shown["outcome"].startswith("goal reached: yes, plan steps: 2"), shown
+        assert shown["goal"] == "through-door" and shown["round"] == 1
+        assert shown["steps"] == [["(go start door)", "as predicted"], ["(drive-through door)", "as predicted"]]
+        for action, _ in shown["steps"]:
+            assert action + ": as predicted" in plan.output()
+        # Beside the view, the steps as listed items; over the view, a label per judged thing.
+        items = browser.execute_script(
+            "return [...document.querySelectorAll('#plan li')].map(e => e.textContent);")
+        assert len(items) == 2 and items[1].startswith("(drive-through door) -> (beyond door)"), items
+        assert len(shown["labels"]) >= 1, shown
+        for name in shown["labels"]:
+            assert re.fullmatch(r"[a-z]+_[0-9]+", name), name
+    finally:
+        browser.quit()

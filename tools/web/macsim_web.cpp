@@ -22,6 +22,7 @@
 #include "macsim/dds/topics.h"
 #include "macsim/msg/kurt_msgsPubSubTypes.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
+#include "macsim/msg/plan_msgsPubSubTypes.h"
 #include "web_messages.h"
 #include "web_server.h"
 
@@ -65,6 +66,8 @@ struct Readers {
       : world(dds),
         truth(dds, macsim::dds::topics::ground_truth(robot), macsim::dds::QosFamily::Sensor),
         crane(dds, macsim::dds::topics::crane_state(robot), macsim::dds::QosFamily::Sensor),
+        odom(dds, macsim::dds::topics::odom(robot), macsim::dds::QosFamily::Sensor),
+        plan(dds, macsim::dds::topics::plan(robot), macsim::dds::QosFamily::Latched),
         scan360(dds, macsim::dds::topics::scan(robot, true)),
         scan(dds, macsim::dds::topics::scan(robot, false)),
         points(dds, macsim::dds::topics::points(robot)),
@@ -72,6 +75,8 @@ struct Readers {
   macsim::client::WorldStateClient world;
   macsim::client::Latest<nav_msgs::msg::dds_::Odometry_PubSubType> truth;
   macsim::client::Latest<kurt_msgs::msg::dds_::CraneState_PubSubType> crane;
+  macsim::client::Latest<nav_msgs::msg::dds_::Odometry_PubSubType> odom;
+  macsim::client::Latest<plan_msgs::msg::dds_::Plan_PubSubType> plan;  ///< a controller's, if one publishes
   macsim::client::Latest<sm::LaserScan_PubSubType> scan360, scan;
   macsim::client::Latest<sm::PointCloud2_PubSubType> points;
   macsim::client::StereoCamera cameras;
@@ -127,7 +132,7 @@ int main(int argc, char** argv) {
     std::optional<Readers> readers;
 
     std::mutex scene_mutex;
-    std::string scene, update;  // the last ones sent: what a new browser gets first
+    std::string scene, update, plan;  // the last ones sent: what a new browser gets first
     macsim::web::WebServer web(
         server,
         [&] {
@@ -135,6 +140,7 @@ int main(int argc, char** argv) {
           std::vector<std::string> first;
           if (!scene.empty()) first.push_back(scene);
           if (!update.empty()) first.push_back(update);
+          if (!plan.empty()) first.push_back(plan);
           return first;
         },
         [&](const std::string& text) {
@@ -160,12 +166,13 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> lock(scene_mutex);
           scene.clear();
           update.clear();
+          plan.clear();
           shown.clear();
         }
         continue;
       }
       if (!readers) readers.emplace(dds, robot);
-      auto& [world, truth, crane, scan360, scan, points, cameras] = *readers;
+      auto& [world, truth, crane, odom, plan_reader, scan360, scan, points, cameras] = *readers;
       const auto objects = world.objects();
       std::set<uint32_t> ids;
       for (const auto& [id, state] : objects) ids.insert(id);
@@ -197,6 +204,20 @@ int main(int argc, char** argv) {
         update = macsim::web::update_message(objects, sim_time, rtf.update(sim_time), view);
       }
       web.broadcast_text(update);
+      // The plan, when a controller publishes one; its things in the world by where the
+      // odometry frame lies (ground truth and odometry of about the same instant).
+      if (auto shown = plan_reader.get_shared()) {
+        std::array<double, 3> frame{0, 0, 0};
+        const auto pose = truth.get_shared();
+        const auto odometry = odom.get_shared();
+        if (pose && odometry) frame = macsim::web::odom_in_world(pose->pose().pose(), odometry->pose().pose());
+        std::string text = macsim::web::plan_message(*shown, frame);
+        std::lock_guard<std::mutex> lock(scene_mutex);
+        if (text != plan) {
+          plan = std::move(text);
+          web.broadcast_text(plan);
+        }
+      }
       for (const auto* source : {&scan360, &scan}) {
         if (auto s = source->get_shared();
             s && macsim::client::stamp_seconds(s->header()) != scan_stamp) {

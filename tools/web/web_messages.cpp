@@ -1,5 +1,7 @@
 #include "web_messages.h"
 
+#include "macsim/dds/convert.h"
+
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -112,6 +114,41 @@ std::string image_frame(char eye, const cv::Mat& bgr, int quality) {
   std::string frame(1, eye);
   frame.append(jpeg.begin(), jpeg.end());
   return frame;
+}
+
+std::array<double, 3> odom_in_world(const geometry_msgs::msg::dds_::Pose_& truth,
+                                    const geometry_msgs::msg::dds_::Pose_& odom) {
+  const double yaw = dds::yaw_of(truth.orientation()) - dds::yaw_of(odom.orientation());
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double ox = odom.position().x(), oy = odom.position().y();
+  return {truth.position().x() - (c * ox - s * oy), truth.position().y() - (s * ox + c * oy), yaw};
+}
+
+std::string plan_message(const plan_msgs::msg::dds_::Plan_& plan, const std::array<double, 3>& odom) {
+  static const char* const kStatus[] = {"to do", "under way", "as predicted", "not as predicted"};
+  json steps = json::array();
+  for (const auto& step : plan.steps()) {
+    steps.push_back({{"action", step.action()},
+                     {"predicted", step.predicted()},
+                     {"probability", std::round(step.probability() * 1000.0) / 1000.0},
+                     {"perceived", step.perceived()},
+                     {"status", step.status() < 4 ? kStatus[step.status()] : "?"}});
+  }
+  const double c = std::cos(odom[2]), s = std::sin(odom[2]);
+  json things = json::array();
+  for (const auto& t : plan.things()) {
+    things.push_back({{"name", t.name()},
+                      {"label", t.label()},
+                      {"confidence", std::round(t.confidence() * 100.0) / 100.0},
+                      {"position", {mm3(odom[0] + c * t.x() - s * t.y()), mm3(odom[1] + s * t.x() + c * t.y())}}});
+  }
+  return text_of({{"type", "plan"},
+                  {"goal", plan.goal()},
+                  {"round", plan.round()},
+                  {"current", plan.current()},
+                  {"outcome", plan.outcome()},
+                  {"steps", steps},
+                  {"things", things}});
 }
 
 std::string answer(const std::string& text, int domain, const std::string& robot) {

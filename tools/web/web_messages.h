@@ -10,6 +10,7 @@
 
 #include "macsim/client/robot_devices.h"
 #include "macsim/msg/macsim_msgs.h"
+#include "macsim/msg/plan_msgs.h"
 
 namespace macsim::web {
 
@@ -41,6 +42,17 @@ std::string scan_message(const sensor_msgs::msg::dds_::LaserScan_& scan);
 /// {"type":"cloud", stamp, points: [x y z ...] in base_link, m, 3 decimals}, every k-th point
 /// so that at most `max_points` are sent.
 std::string cloud_message(const client::Cloud& cloud, std::size_t max_points);
+
+/// Where the robot's odometry frame lies in the world: x, y (m) and yaw (rad), from a ground-truth
+/// pose and an odometry pose of the same instant.
+std::array<double, 3> odom_in_world(const geometry_msgs::msg::dds_::Pose_& truth,
+                                    const geometry_msgs::msg::dds_::Pose_& odom);
+
+/// {"type":"plan", goal, round, current, outcome, steps: [{action, predicted, probability,
+/// perceived, status ("to do", "under way", "as predicted", "not as predicted")}], things: [{name,
+/// label, confidence, position: [x y] in the world}]}: a controller's plan as it acts, its things
+/// moved from the odometry frame into the world by `odom` (x, y, yaw).
+std::string plan_message(const plan_msgs::msg::dds_::Plan_& plan, const std::array<double, 3>& odom);
 
 /// A binary frame: one byte naming the eye ('L' or 'R'), then the image as JPEG.
 std::string image_frame(char eye, const cv::Mat& bgr, int quality);

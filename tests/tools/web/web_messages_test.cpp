@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "macsim/dds/convert.h"
+
 namespace macsim::web {
 namespace {
 
@@ -102,6 +104,64 @@ TEST(WebMessages, AnImageIsItsEyeThenAJpegOfTheSameSize) {
   EXPECT_EQ(back.size(), bgr.size());
   EXPECT_NEAR(back.at<cv::Vec3b>(20, 20)[1], 200, 4);
   EXPECT_TRUE(image_frame('L', cv::Mat(), 80).empty());
+}
+
+TEST(WebMessages, APlanCarriesItsStepsAndItsThingsInTheWorld) {
+  // The odometry frame: the robot started at (1, 2) facing +y; it stands 0.5 m ahead of it now.
+  geometry_msgs::msg::dds_::Pose_ truth, odom;
+  truth.position().x(1.0);
+  truth.position().y(2.5);
+  truth.orientation(dds::yaw_quaternion(M_PI / 2));
+  odom.position().x(0.5);
+  odom.orientation(dds::yaw_quaternion(0));
+  const auto frame = odom_in_world(truth, odom);
+  EXPECT_NEAR(frame[0], 1.0, 1e-9);
+  EXPECT_NEAR(frame[1], 2.0, 1e-9);
+  EXPECT_NEAR(frame[2], M_PI / 2, 1e-9);
+
+  plan_msgs::msg::dds_::Plan_ plan;
+  plan.goal("through-door");
+  plan.round(2);
+  plan.current(1);
+  plan_msgs::msg::dds_::PlanStep_ step;
+  step.action("(go start red_1)");
+  step.predicted("(robot-at red_1), not (robot-at start)");
+  step.probability(1.0);
+  step.perceived("as predicted");
+  step.status(plan_msgs::msg::dds_::STEP_AS_PREDICTED);
+  plan.steps().push_back(step);
+  step.action("(lift red_1)");
+  step.probability(0.4567);
+  step.perceived("");
+  step.status(plan_msgs::msg::dds_::STEP_UNDER_WAY);
+  plan.steps().push_back(step);
+  plan_msgs::msg::dds_::JudgedThing_ thing;
+  thing.name("red_1");
+  thing.x(1.0);  // 1 m ahead of where the robot started: 1 m along +y in the world
+  thing.y(0.0);
+  thing.label("liftable");
+  thing.confidence(0.456);
+  plan.things().push_back(thing);
+
+  const json m = json::parse(plan_message(plan, frame));
+  EXPECT_EQ(m["type"], "plan");
+  EXPECT_EQ(m["goal"], "through-door");
+  EXPECT_EQ(m["round"], 2);
+  EXPECT_EQ(m["current"], 1);
+  EXPECT_EQ(m["outcome"], "");
+  ASSERT_EQ(m["steps"].size(), 2u);
+  EXPECT_EQ(m["steps"][0]["status"], "as predicted");
+  EXPECT_EQ(m["steps"][1]["status"], "under way");
+  EXPECT_DOUBLE_EQ(m["steps"][1]["probability"].get<double>(), 0.457);
+  EXPECT_EQ(m["steps"][1]["action"], "(lift red_1)");
+  ASSERT_EQ(m["things"].size(), 1u);
+  EXPECT_EQ(m["things"][0]["label"], "liftable");
+  EXPECT_DOUBLE_EQ(m["things"][0]["confidence"].get<double>(), 0.46);
+  EXPECT_NEAR(m["things"][0]["position"][0].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(m["things"][0]["position"][1].get<double>(), 3.0, 1e-9);
+  // A status the page does not know is said as such, not read past the names.
+  plan.steps()[0].status(9);
+  EXPECT_EQ(json::parse(plan_message(plan, frame))["steps"][0]["status"], "?");
 }
 
 TEST(WebMessages, ThePageGetsAnAnswerToAnythingItSends) {

@@ -1,6 +1,7 @@
 // The page of macsim_web: the world as three.js meshes (z up, REP-103), updated over a
 // WebSocket; the robot with its crane, the laser's scan and cloud in the robot's frame, the
-// stereo images, sim time and real-time factor; the simulator's camera modes.
+// stereo images, sim time and real-time factor; the simulator's camera modes; a controller's
+// plan beside the view, and its labels over the things it judged.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -11,6 +12,9 @@ const state = window.macsimView = {
   connected: false, domain: null, robot: null, drawn: 0, objectIds: [], robotKnown: false,
   robotPose: null, simTime: 0, rtf: 0, updates: 0, scans: 0, clouds: 0, images: 0,
   mode: 'Follow', errors: [],
+  // A controller's plan (rt/<robot>/plan), when one publishes it: its round, steps, the step
+  // under way, its outcome, and the labels drawn over the things it judged.
+  plan: null,
   // Latency figures: for the object ids put in `watched`, every pose change the page applied,
   // as [wall time ms (Date.now()), x, y, z].
   watched: new Set(), changes: {},
@@ -274,6 +278,62 @@ function applyUpdate(message) {
   dirty = true;
 }
 
+// ---- a controller's plan ------------------------------------------------------------------
+const planPanel = document.getElementById('plan');
+const planLabels = new THREE.Group();
+scene.add(planLabels);
+
+/// A text sprite standing over a thing: its name, label and confidence.
+function labelSprite(text) {
+  const canvas = document.createElement('canvas');
+  canvas.width = 256;
+  canvas.height = 40;
+  const g = canvas.getContext('2d');
+  g.fillStyle = 'rgba(20, 24, 30, 0.8)';
+  g.fillRect(0, 0, canvas.width, canvas.height);
+  g.fillStyle = '#fff';
+  g.font = '20px sans-serif';
+  g.fillText(text, 6, 27);
+  const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(canvas), depthTest: false }));
+  sprite.scale.set(0.64, 0.1, 1);
+  return sprite;
+}
+
+function showPlan(message) {
+  planPanel.replaceChildren();
+  const head = document.createElement('div');
+  head.className = 'plan-head';
+  head.textContent = `plan ${message.round} for ${message.goal}`;
+  planPanel.appendChild(head);
+  const list = document.createElement('ol');
+  message.steps.forEach((step, i) => {
+    const item = document.createElement('li');
+    item.className = `step ${step.status.replaceAll(' ', '-')}${i === message.current ? ' current' : ''}`;
+    item.textContent = `${step.action} -> ${step.predicted} (p ${step.probability.toFixed(2)})` +
+      (step.perceived ? `: ${step.perceived}` : '');
+    list.appendChild(item);
+  });
+  planPanel.appendChild(list);
+  if (message.outcome) {
+    const outcome = document.createElement('div');
+    outcome.className = 'plan-outcome';
+    outcome.textContent = message.outcome;
+    planPanel.appendChild(outcome);
+  }
+  for (const old of planLabels.children) old.material.map.dispose();
+  planLabels.clear();
+  for (const thing of message.things) {
+    const sprite = labelSprite(`${thing.name}: ${thing.label} ${thing.confidence.toFixed(2)}`);
+    sprite.position.set(thing.position[0], thing.position[1], 0.35);
+    planLabels.add(sprite);
+  }
+  state.plan = {
+    round: message.round, goal: message.goal, current: message.current, outcome: message.outcome,
+    steps: message.steps.map((s) => [s.action, s.status]), labels: message.things.map((t) => t.name),
+  };
+  dirty = true;
+}
+
 function showImage(data) {
   const bytes = new Uint8Array(data);
   const eye = bytes[0] === 76 ? 'left' : 'right';  // 'L'
@@ -302,6 +362,7 @@ function connect() {
     else if (message.type === 'update') applyUpdate(message);
     else if (message.type === 'scan') showScan(message);
     else if (message.type === 'cloud') showCloud(message);
+    else if (message.type === 'plan') showPlan(message);
     else if (message.type === 'hello') state.domain = message.domain;
     else if (message.type === 'error') state.errors.push(message.message);
   };
