@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
              &options.problems);
   cli.option("debug-images", "DIR", "write each camera image looked at, with what was seen",
              &options.debug_images);
+  cli.flag("pictures",
+           "after each step, ask the simulator (macsim --pictures DIR) for an overview picture and "
+           "write it with the plan drawn beside it as NAME_plan.png",
+           &options.pictures);
   macsim::affordances::add_loop_options(cli, options.loop);
   if (auto code = cli.parse(argc, argv)) return *code;
   const auto parsed = kurt_plan::Goal::parse(goal);

@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <set>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
 
@@ -89,6 +92,43 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
   shown_.header().frame_id("odom");
   shown_.goal(options.goal.text());
   shown_.current(-1);
+  if (options.pictures) pictures_ = std::make_unique<macsim::client::PictureClient>(participant);
+}
+
+void PlanController::picture(const std::string& name) {
+  if (!pictures_) return;
+  const auto reply = pictures_->take(name, "Chase", std::chrono::seconds(3));
+  if (!reply || reply->code() != macsim_msgs::msg::dds_::ERR_OK) {
+    say("picture", reply ? "no picture: " + reply->message()
+                         : "no picture: nothing serves pictures here (a real robot has no overview camera)");
+    pictures_.reset();
+    return;
+  }
+  const cv::Mat taken = cv::imread(reply->file());
+  if (taken.empty()) {
+    say("picture", reply->file() + " cannot be read here (the simulator runs elsewhere?); no plan drawn on it");
+    return;
+  }
+  // The plan in a panel on the right: goal and round, each step coloured as it went.
+  constexpr int kPanel = 460, kLine = 16;
+  cv::Mat out(taken.rows, taken.cols + kPanel, CV_8UC3, cv::Scalar(30, 26, 22));
+  taken.copyTo(out(cv::Rect(0, 0, taken.cols, taken.rows)));
+  int y = kLine + 4;
+  const auto line = [&](const std::string& text, const cv::Scalar& colour) {
+    cv::putText(out, text.substr(0, 62), {taken.cols + 8, y}, cv::FONT_HERSHEY_SIMPLEX, 0.42, colour, 1, cv::LINE_AA);
+    y += kLine;
+  };
+  line("plan " + std::to_string(shown_.round()) + " for " + shown_.goal(), cv::Scalar(255, 255, 255));
+  for (std::size_t i = 0; i < shown_.steps().size(); ++i) {
+    const auto& step = shown_.steps()[i];
+    static const cv::Scalar kColour[] = {{200, 200, 200}, {80, 220, 255}, {120, 220, 120}, {110, 110, 240}};
+    line(std::to_string(i + 1) + ". " + step.action() + "  p " + decimals(step.probability(), 2),
+         kColour[std::min<int>(step.status(), 3)]);
+  }
+  for (const auto& t : shown_.things()) line(t.name() + ": " + t.label() + " " + decimals(t.confidence(), 2), cv::Scalar(230, 200, 160));
+  std::string file = reply->file();
+  file = file.substr(0, file.size() - (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? 4 : 0)) + "_plan.png";
+  if (cv::imwrite(file, out)) say("picture", file);
 }
 
 std::vector<plan_msg::JudgedThing_> PlanController::judged_things() const {
@@ -313,6 +353,7 @@ Summary PlanController::run() {
       shown_.steps()[i].perceived(outcome);
       shown_.current(-1);
       publish_plan();
+      picture("plan_" + std::to_string(round_) + "_step_" + std::to_string(i + 1));
       if (!as_predicted) {
         replan = true;
         break;

@@ -13,6 +13,7 @@
 #include "macsim/affordances/effects.h"
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/planner.h"
+#include "macsim/client/picture_client.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/plan_msgsPubSubTypes.h"
 
@@ -45,6 +46,7 @@ struct PlanOptions {
   std::vector<macsim::affordances::Threshold> thresholds;
   std::string problems;  ///< a folder to write each planning round's problem file to, or empty
   std::string debug_images;  ///< a folder for the camera images looked at, with what was seen
+  bool pictures = false;     ///< ask the simulator for an overview picture after each step, and draw the plan on it
   int max_replans = 8;
   int max_steps = 40;
 };
@@ -88,7 +90,12 @@ class PlanController : public macsim::affordances::Behaviours {
   /// come up, or liftable / not liftable with the probability that a plan to hold it succeeds.
   std::vector<plan_msgs::msg::dds_::JudgedThing_> judged_things() const;
 
+  /// An overview picture from the simulator (macsim --pictures DIR) with the plan drawn beside
+  /// it as `<name>_plan.png`; said once and no more tried when nothing serves pictures.
+  void picture(const std::string& name);
+
   PlanOptions options_;
+  std::unique_ptr<macsim::client::PictureClient> pictures_;
   macsim::dds::Writer<plan_msgs::msg::dds_::Plan_PubSubType> plan_writer_;
   plan_msgs::msg::dds_::Plan_ shown_;  ///< what was published last
   Summary summary_;

@@ -5,10 +5,14 @@
 // it acts is on rt/kurt/plan; the problem files it writes are the scene as PDDL, and plan as it
 // did; a goal no can of the room serves (a blue can on the switch when the blue cans are lead)
 // is unreachable, said with its own exit code; where no can can be lifted it pushes a box onto a
-// switch plate flush with the floor; bad arguments move nothing.
+// switch plate flush with the floor; its overview pictures carry the plan; bad arguments move
+// nothing.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <regex>
 
 #include "macsim/affordances/planner.h"
@@ -46,9 +50,25 @@ double robot_time(const std::string& output) {
 
 TEST(KurtPlan, AnOpenDoorIsDrivenThroughAtOnceWhereTheScriptFetchesACanFirst) {
   const std::string world = source("worlds/goals/door_open.xml");
-  const DemoRun plan = play_demonstrator("kurt_plan", world, 5, {"--pddl-domain", source(kByHand)});
+  TempDir pictures("kurt_plan_pictures_");
+  const DemoRun plan = play_demonstrator("kurt_plan", world, 5, {"--pddl-domain", source(kByHand), "--pictures"},
+                                         std::chrono::seconds(170), {"--pictures", pictures.path()});
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
   EXPECT_NE(plan.output.find("plan of 2 step(s)"), std::string::npos) << plan.output;
+  // After each step an overview picture, and beside it the same with the plan drawn on its right.
+  for (const char* step : {"plan_1_step_1", "plan_1_step_2"}) {
+    const cv::Mat taken = cv::imread(pictures.path() + "/" + step + ".png");
+    const cv::Mat drawn = cv::imread(pictures.path() + "/" + step + "_plan.png");
+    ASSERT_FALSE(taken.empty()) << step << "\n" << plan.output;
+    ASSERT_FALSE(drawn.empty()) << step << "\n" << plan.output;
+    ASSERT_EQ(drawn.rows, taken.rows);
+    ASSERT_GT(drawn.cols, taken.cols);
+    EXPECT_EQ(cv::norm(drawn(cv::Rect(0, 0, taken.cols, taken.rows)), taken, cv::NORM_INF), 0.0);
+    // The panel holds text: bright pixels on its dark ground.
+    cv::Mat panel;
+    cv::cvtColor(drawn(cv::Rect(taken.cols, 0, drawn.cols - taken.cols, drawn.rows)), panel, cv::COLOR_BGR2GRAY);
+    EXPECT_GT(cv::countNonZero(panel > 150), 200) << step;
+  }
   EXPECT_EQ(plan.output.find("(lift "), std::string::npos) << plan.output;
   ASSERT_TRUE(plan.truth.has_value());
   EXPECT_GT(plan.truth->pose().pose().position().x(), 1.5 + 0.3);

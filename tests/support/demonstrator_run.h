@@ -34,11 +34,13 @@ struct DemoRun {
   std::vector<plan_msgs::msg::dds_::Plan_> plans;
 };
 
-/// macsim --lockstep on `world` (with `seed` if not negative) and `controller` (a program of the
-/// build) stepping it, with `controller_args` besides; the world's state once it stopped.
+/// macsim --lockstep on `world` (with `seed` if not negative, and `macsim_args`) and `controller`
+/// (a program of the build) stepping it, with `controller_args` besides; the world's state once
+/// it stopped.
 inline DemoRun play_demonstrator(const std::string& controller, const std::string& world, int seed,
                                  const std::vector<std::string>& controller_args = {},
-                                 std::chrono::seconds limit = std::chrono::seconds(170)) {
+                                 std::chrono::seconds limit = std::chrono::seconds(170),
+                                 const std::vector<std::string>& macsim_args = {}) {
   using namespace std::chrono_literals;
   const std::string domain = std::to_string(unique_test_domain());
   std::vector<std::string> args{bin("macsim"), "--world", world, "--domain", domain, "--lockstep"};
@@ -46,6 +48,7 @@ inline DemoRun play_demonstrator(const std::string& controller, const std::strin
     args.push_back("--seed");
     args.push_back(std::to_string(seed));
   }
+  args.insert(args.end(), macsim_args.begin(), macsim_args.end());
   ChildProcess macsim(args);
   EXPECT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
   dds::Participant p({std::stoi(domain), "", controller + "_test"});
