@@ -299,7 +299,7 @@ void Behaviours::travel_to(Point goal, double tolerance) {
   drive_to(goal.x, goal.y, tolerance);
 }
 
-std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind, double radius) {
+std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind, double radius, Sighting* last) {
   auto matches = [&](const std::vector<std::pair<Sighting, Pose2>>& seen) {
     int found = 0;
     double sx = 0, sy = 0;
@@ -309,6 +309,7 @@ std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind, 
         sx += at.x;
         sy += at.y;
         ++found;
+        if (last) *last = s;
       }
     }
     return found ? std::optional<Point>(Point{sx / found, sy / found}) : std::nullopt;
@@ -525,16 +526,21 @@ BehaviourReport Behaviours::push(const std::string& name) {
   map_here();
   Point from{box->x, box->y};
   double left = std::hypot(onto.x - from.x, onto.y - from.y);
-  for (int leg = 0; leg < 3; ++leg) {
-    // Behind it (where the switch is no way to aim from, whence it looks).
-    if (left > 0.05) {
-      const double ux = (onto.x - from.x) / left, uy = (onto.y - from.y) / left;
-      travel_to({from.x - kPushStandoff * ux, from.y - kPushStandoff * uy}, 0.05);
-      turn_to(std::atan2(uy, ux));
-    } else {
-      turn_to(std::atan2(from.y - pose_.y, from.x - pose_.x));
-    }
-    const auto at = find_again(*box, Kind::Box);
+  bool on_plate = false;
+  // Which way to push: to the plate, or (when the estimates put the box on it but the picture
+  // does not) on along the way the robot looks at it.
+  const auto way = [&] {
+    const double d = std::hypot(onto.x - from.x, onto.y - from.y);
+    if (d > 0.1) return Point{(onto.x - from.x) / d, (onto.y - from.y) / d};
+    const double a = std::hypot(from.x - pose_.x, from.y - pose_.y);
+    return Point{(from.x - pose_.x) / a, (from.y - pose_.y) / a};
+  };
+  for (int leg = 0; leg < 4 && !on_plate; ++leg) {
+    Point u = way();
+    travel_to({from.x - kPushStandoff * u.x, from.y - kPushStandoff * u.y}, 0.05);
+    turn_to(std::atan2(u.y, u.x));
+    Sighting behind;
+    const auto at = find_again(*box, Kind::Box, 0.45, &behind);
     if (!at) {
       box->lost = true;
       box->outcome = "not seen again";
@@ -542,18 +548,27 @@ BehaviourReport Behaviours::push(const std::string& name) {
     }
     from = *at;
     left = std::hypot(onto.x - from.x, onto.y - from.y);
-    if (left <= kOnSwitch) break;
-    turn_to(std::atan2(onto.y - from.y, onto.x - from.x));
-    const double along = left > 0.45 ? left - 0.25 : left;
+    // Seen from behind, the plate shows in front of a box that stands on it: one picture judges
+    // the last centimetres better than two estimated positions do.
+    if (behind.on_plate) {
+      on_plate = true;
+      break;
+    }
+    const Point ahead = way();
+    if (ahead.x * u.x + ahead.y * u.y < 0) break;  // past where the plate was seen: no turning back
+    u = ahead;
+    turn_to(std::atan2(u.y, u.x));
+    const double along = left > 0.45 ? left - 0.25 : std::max(left, 0.1) + 0.05;
     const Pose2 b = to_base(from.x, from.y);
     say(stage_, fmt("behind it: the box %.2f m ahead, %.2f m from the switch; pushing it %.2f m", b.x, left, along));
-    drive_straight(b.x - kBumper - kBoxHalf + along + 0.05, 0.15);  // a little further: it slides back
+    drive_straight(b.x - kBumper - kBoxHalf + along, 0.15);
     drive_straight(-0.8, 0.2);  // far enough for the cameras to see it whole
     // Looked for where it should be now.
     SeenThing pushed = *box;
-    pushed.x = from.x + along * (onto.x - from.x) / left;
-    pushed.y = from.y + along * (onto.y - from.y) / left;
-    const auto there = find_again(pushed, Kind::Box);
+    pushed.x = from.x + along * u.x;
+    pushed.y = from.y + along * u.y;
+    Sighting sighted;
+    const auto there = find_again(pushed, Kind::Box, 0.7, &sighted);  // the tracks slipped
     if (!there) {
       box->x = pushed.x;
       box->y = pushed.y;
@@ -564,14 +579,16 @@ BehaviourReport Behaviours::push(const std::string& name) {
     box->x = from.x;
     box->y = from.y;
     // The plate again too: pushing, the tracks slip and the odometry runs ahead of the robot,
-    // so what was seen before the push lies off now; box and plate seen now agree.
+    // so what was seen before the push lies off now.
     if (const auto plate = find_again(*scene_.switch_platform, Kind::Switch, 1.0)) {
       onto = *plate;
       scene_.switch_platform->x = plate->x;
       scene_.switch_platform->y = plate->y;
     }
     left = std::hypot(onto.x - from.x, onto.y - from.y);
+    on_plate = sighted.on_plate;
   }
+  if (on_plate) left = 0;
   box->x = from.x;
   box->y = from.y;
   if (left > kOnSwitch) {

@@ -112,6 +112,24 @@ bool touches_border(const cv::Rect& box, const cv::Size& size) {
          box.y + box.height >= size.height;
 }
 
+/// Whether most of the pixels in the few rows below `box`'s middle half are the switch's yellow:
+/// a thing whose foot the plate shows in front of stands on it.
+bool yellow_below(const cv::Mat& bgr, const cv::Rect& box) {
+  const int top = box.y + box.height + 1, rows = 5;
+  const int from = box.x + box.width / 4, to = box.x + box.width - box.width / 4;
+  if (top + rows > bgr.rows || to <= from) return false;
+  cv::Mat hsv;
+  cv::cvtColor(bgr(cv::Rect(from, top, to - from, rows)), hsv, cv::COLOR_BGR2HSV);
+  const ColourClass& yellow = kColours[1];
+  int count = 0;
+  for (int y = 0; y < hsv.rows; ++y)
+    for (int x = 0; x < hsv.cols; ++x) {
+      const auto& p = hsv.at<cv::Vec3b>(y, x);
+      count += p[0] >= yellow.lo && p[0] <= yellow.hi && p[1] >= kMinSaturation && p[2] >= kMinValue;
+    }
+  return 2 * count >= hsv.rows * hsv.cols;
+}
+
 }  // namespace
 
 std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
@@ -162,6 +180,7 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
       s.kind = Kind::Box;
       s.x = bx + kBoxHalf * dx / d;
       s.y = by + kBoxHalf * dy / d;
+      s.on_plate = yellow_below(frame.left, l.box);
     } else {
       // A can: an upright cylinder's side, taller than wide, standing on the floor.
       if (s.width < 0.035 || s.width > 0.11 || s.height < 0.06 || s.height > 0.22 ||

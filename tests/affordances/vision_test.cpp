@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -147,6 +149,31 @@ TEST(KurtDemoVision, FindsABoxToPushAndASwitchPlateFlushWithTheFloor) {
   EXPECT_NEAR(sw->x, plate.x(), 0.12);
   EXPECT_NEAR(sw->y, plate.y(), 0.06);
   EXPECT_GT(sw->width, macsim::affordances::kFlushPlateWidth);
+  EXPECT_FALSE(b->on_plate);  // it stands on the floor
+}
+
+TEST(KurtDemoVision, ABoxStandingOnAFlushPlateShowsThePlateInFrontOfItsFoot) {
+  // The same plate; the box on it, then 0.3 m short of it (its foot on the floor in front).
+  for (const double short_of : {0.0, 0.3}) {
+    const std::string at = std::to_string(2.0 - short_of) + ",0,0.105";
+    World world(load_world_string(
+        "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>"
+        "<OBJECT><ID>box</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>" + at + "</POS>"
+        "<COLOR>0.85,0.1,0.1</COLOR></OBJECT>"
+        "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>2.0,0,0</POS>"
+        "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS><COLOR>0.2,0.2,0.2</COLOR></COMPONENT>"
+        "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS><POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR>"
+        "</COMPONENT></OBJECT></WORLD>",
+        "on_plate.xml"));
+    KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
+    kurt.command_crane({M_PI / 2, 0.6, 0.0});
+    run_for(world, 2.5);
+    const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
+    const auto box = std::find_if(seen.begin(), seen.end(),
+                                  [](const auto& s) { return s.kind == macsim::affordances::Kind::Box; });
+    ASSERT_NE(box, seen.end()) << short_of;
+    EXPECT_EQ(box->on_plate, short_of == 0.0) << short_of;
+  }
 }
 
 TEST(KurtDemoVision, SeesNothingInAnEmptyRoomAndNothingWithoutAStereoMatch) {

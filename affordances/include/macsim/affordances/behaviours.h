@@ -165,8 +165,9 @@ class Behaviours : public RobotLoop {
   Point approach_point(Point target, double standoff, double reach) const;
   void travel_to(Point goal, double tolerance);
   /// Where the cameras see the target again (within `radius` of where it was), looking about
-  /// and from further back when they do not at first.
-  std::optional<Point> find_again(const SeenThing& target, Kind kind, double radius = 0.45);
+  /// and from further back when they do not at first; `last`, if given, gets the last sighting.
+  std::optional<Point> find_again(const SeenThing& target, Kind kind, double radius = 0.45,
+                                  Sighting* last = nullptr);
   bool close_in(SeenThing& target, Kind kind);
   BehaviourReport report(const std::string& behaviour, const std::string& argument) const;
   BehaviourReport& finish(BehaviourReport& r, Setback setback = Setback::None,

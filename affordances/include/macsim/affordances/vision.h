@@ -29,6 +29,7 @@ struct Sighting {
   double range = 0;        ///< m from the left camera
   double width = 0, height = 0;  ///< m, the blob's extent at its range
   double above_floor = 0;  ///< m, the blob's centroid above the floor (a flush switch's is ~0)
+  bool on_plate = false;   ///< a box: the switch's yellow shows right below its foot (it stands on the plate)
   cv::Rect box;            ///< in the left image
   double liftable = -1;    ///< a lift model's probability of `liftable` (-1: not judged)
   /// The trials' perception of a can's blob (perception.h): the features of thing_features().
