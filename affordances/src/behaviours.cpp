@@ -1,9 +1,11 @@
 #include "macsim/affordances/behaviours.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -55,6 +57,11 @@ const std::vector<std::string>& thing_features() {
   return names;
 }
 
+std::string debug_images_problem(const std::string& dir) {
+  if (dir.empty() || std::filesystem::is_directory(dir)) return {};
+  return "--debug-images " + dir + " is no folder";
+}
+
 std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
   std::vector<pddl::Atom> atoms{{"robot-at", {scene.at}}};
   if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
@@ -83,7 +90,22 @@ std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
 }
 
 Behaviours::Behaviours(macsim::dds::Participant& participant, const BehaviourOptions& options)
-    : RobotLoop(participant, options.loop), options_(options) {}
+    : RobotLoop(participant, options.loop), options_(options) {
+  if (options.pictures) pictures_ = std::make_unique<macsim::client::PictureClient>(participant);
+}
+
+std::optional<std::string> Behaviours::overview_picture(const std::string& name) {
+  if (!pictures_) return std::nullopt;
+  const auto reply = pictures_->take(name, "Chase", std::chrono::seconds(3));
+  if (!reply || reply->code() != macsim_msgs::msg::dds_::ERR_OK) {
+    say(name, reply ? "no picture: " + reply->message()
+                    : "no picture: nothing serves pictures here (a real robot has no overview camera)");
+    pictures_.reset();
+    return std::nullopt;
+  }
+  say(name, "picture " + reply->file());
+  return reply->file();
+}
 
 Behaviours::~Behaviours() = default;
 

@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "macsim/affordances/perception.h"
-#include "macsim/client/picture_client.h"
 
 namespace kurt_demo {
 
@@ -56,12 +55,6 @@ macsim::affordances::AffordanceModel load_lift_model(const std::string& dir) {
   }
 }
 
-struct DemoController::Pictures {
-  explicit Pictures(macsim::dds::Participant& p) : client(p) {}
-  macsim::client::PictureClient client;
-  bool available = true;
-};
-
 namespace {
 
 af::BehaviourOptions behaviour_options(const DemoOptions& o) {
@@ -70,6 +63,7 @@ af::BehaviourOptions behaviour_options(const DemoOptions& o) {
   b.program = "kurt_demo";
   b.debug_images = o.debug_images;
   b.lift_model = o.lift_model;
+  b.pictures = o.pictures;
   return b;
 }
 
@@ -88,29 +82,14 @@ Failure failure(const af::BehaviourReport& r, Exit otherwise) {
 
 DemoController::DemoController(macsim::dds::Participant& participant, const DemoOptions& options)
     : Behaviours(participant, behaviour_options(options)), options_(options) {
-  if (options_.pictures) pictures_ = std::make_unique<Pictures>(participant);
   on_event = [this](const std::string& event) {
-    if (event == "lifted") picture("scene2_can_on_magnet");
-    if (event == "gap_seen") picture("scene3_can_on_switch_door_open");
-    if (event == "through") picture("scene4_robot_through");
+    if (event == "lifted") overview_picture("scene2_can_on_magnet");
+    if (event == "gap_seen") overview_picture("scene3_can_on_switch_door_open");
+    if (event == "through") overview_picture("scene4_robot_through");
   };
 }
 
 DemoController::~DemoController() = default;
-
-void DemoController::picture(const std::string& name) {
-  if (!pictures_ || !pictures_->available) return;
-  auto reply = pictures_->client.take(name, "Chase", 3s);
-  if (!reply) {
-    pictures_->available = false;
-    say(name, "no picture: nothing serves pictures here (a real robot has no overview camera)");
-  } else if (reply->code() != mm::ERR_OK) {
-    pictures_->available = false;
-    say(name, "no picture: " + reply->message());
-  } else {
-    say(name, "picture " + reply->file());
-  }
-}
 
 void DemoController::lift_a_can() {
   set_stage("scene 2");
@@ -179,7 +158,7 @@ void DemoController::run() {
   if (std::none_of(scene().things.begin(), scene().things.end(),
                    [](const af::SeenThing& c) { return c.kind == af::Kind::Can; }))
     throw Failure{kNoCan, "no can in sight after a full turn"};
-  picture("scene1_cans_found");
+  overview_picture("scene1_cans_found");
   lift_a_can();
   set_stage("scene 3");
   if (const auto there = go_to_switch(); !there.done()) throw failure(there, kNoSwitch);

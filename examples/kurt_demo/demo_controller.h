@@ -57,14 +57,11 @@ class DemoController : public macsim::affordances::Behaviours {
   void run();
 
  private:
-  void picture(const std::string& name);
   /// Scene 2: the cans in turn (with a lift model, the likeliest to come up first; then the
   /// nearest, colours that failed last) until one comes up.
   void lift_a_can();
 
   DemoOptions options_;
-  struct Pictures;
-  std::unique_ptr<Pictures> pictures_;
   std::vector<std::string> failed_colours_;
 };
 

@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
     macsim::log::error("kurt_demo: {}", problem);
     return kurt_demo::kUsage;
   }
+  if (const auto problem = macsim::affordances::debug_images_problem(options.debug_images); !problem.empty()) {
+    macsim::log::error("kurt_demo: {}", problem);
+    return kurt_demo::kUsage;
+  }
   if (!affordances.empty()) {
     try {
       options.lift_model = kurt_demo::load_lift_model(affordances);

@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
     macsim::log::error("kurt_plan: {}", problem);
     return kurt_plan::kUsage;
   }
+  if (const auto problem = macsim::affordances::debug_images_problem(options.debug_images); !problem.empty()) {
+    macsim::log::error("kurt_plan: {}", problem);
+    return kurt_plan::kUsage;
+  }
   if (!options.problems.empty() && !std::filesystem::is_directory(options.problems)) {
     macsim::log::error("kurt_plan: --problems {} is no folder", options.problems);
     return kurt_plan::kUsage;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 
 #include <opencv2/imgcodecs.hpp>
@@ -85,6 +86,7 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
                    b.loop = options.loop;
                    b.program = "kurt_plan";
                    b.debug_images = options.debug_images;
+                   b.pictures = options.pictures;
                    return b;
                  }()),
       options_(options),
@@ -92,21 +94,14 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
   shown_.header().frame_id("odom");
   shown_.goal(options.goal.text());
   shown_.current(-1);
-  if (options.pictures) pictures_ = std::make_unique<macsim::client::PictureClient>(participant);
 }
 
 void PlanController::picture(const std::string& name) {
-  if (!pictures_) return;
-  const auto reply = pictures_->take(name, "Chase", std::chrono::seconds(3));
-  if (!reply || reply->code() != macsim_msgs::msg::dds_::ERR_OK) {
-    say("picture", reply ? "no picture: " + reply->message()
-                         : "no picture: nothing serves pictures here (a real robot has no overview camera)");
-    pictures_.reset();
-    return;
-  }
-  const cv::Mat taken = cv::imread(reply->file());
+  const auto file = overview_picture(name);
+  if (!file) return;
+  const cv::Mat taken = cv::imread(*file);
   if (taken.empty()) {
-    say("picture", reply->file() + " cannot be read here (the simulator runs elsewhere?); no plan drawn on it");
+    say(name, *file + " cannot be read here (the simulator runs elsewhere?); no plan drawn on it");
     return;
   }
   // The plan in a panel on the right: goal and round, each step coloured as it went.
@@ -126,9 +121,8 @@ void PlanController::picture(const std::string& name) {
          kColour[std::min<int>(step.status(), 3)]);
   }
   for (const auto& t : shown_.things()) line(t.name() + ": " + t.label() + " " + decimals(t.confidence(), 2), cv::Scalar(230, 200, 160));
-  std::string file = reply->file();
-  file = file.substr(0, file.size() - (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? 4 : 0)) + "_plan.png";
-  if (cv::imwrite(file, out)) say("picture", file);
+  const std::string drawn = std::filesystem::path(*file).replace_extension().string() + "_plan.png";
+  if (cv::imwrite(drawn, out)) say(name, "with the plan: " + drawn);
 }
 
 std::vector<plan_msg::JudgedThing_> PlanController::judged_things() const {

@@ -13,7 +13,6 @@
 #include "macsim/affordances/effects.h"
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/planner.h"
-#include "macsim/client/picture_client.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/plan_msgsPubSubTypes.h"
 
@@ -90,12 +89,11 @@ class PlanController : public macsim::affordances::Behaviours {
   /// come up, or liftable / not liftable with the probability that a plan to hold it succeeds.
   std::vector<plan_msgs::msg::dds_::JudgedThing_> judged_things() const;
 
-  /// An overview picture from the simulator (macsim --pictures DIR) with the plan drawn beside
-  /// it as `<name>_plan.png`; said once and no more tried when nothing serves pictures.
+  /// An overview picture (Behaviours::overview_picture()) and beside it `<name>_plan.png` with the
+  /// plan drawn on its right.
   void picture(const std::string& name);
 
   PlanOptions options_;
-  std::unique_ptr<macsim::client::PictureClient> pictures_;
   macsim::dds::Writer<plan_msgs::msg::dds_::Plan_PubSubType> plan_writer_;
   plan_msgs::msg::dds_::Plan_ shown_;  ///< what was published last
   Summary summary_;

@@ -295,19 +295,32 @@ TEST(Effects, ThresholdsReadBackFromTheirFile) {
   EXPECT_THROW(load_thresholds(dir.path() + "/none.yml"), pddl::PddlError);
 }
 
-/// The committed rows of learn_effects (exploration episodes against macsim): the domain learned
-/// from them, its rules checked against the rows they were read off.
-TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
+/// The committed rows (tests/affordances/effect_trials.csv), the behaviours learned from them and
+/// their domain, as learn_effects --from-trials makes them.
+struct Committed {
+  std::vector<BehaviourTrials> trials;
+  std::vector<LearnedBehaviour> learned;
+  LearnedDomain domain;
+};
+Committed learned_from_committed_rows() {
   const std::string file = macsim::test::source("tests/affordances/effect_trials.csv");
   std::ifstream in(file);
   std::stringstream text;
   text << in.rdbuf();
-  auto trials = read_effect_trials(text.str(), file);
+  Committed c;
+  c.trials = read_effect_trials(text.str(), file);
+  for (auto& t : c.trials) keep_typed_atoms(vocabulary(), t);
+  for (const auto& t : c.trials) c.learned.push_back(learn_behaviour(t));
+  c.domain = learned_domain(vocabulary(), c.trials, c.learned);
+  return c;
+}
+
+/// The committed rows of learn_effects (exploration episodes against macsim): the domain learned
+/// from them, its rules checked against the rows they were read off.
+TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
+  const Committed c = learned_from_committed_rows();
+  const auto& [trials, learned, d] = c;
   ASSERT_GE(trials.size(), 3U);
-  for (auto& t : trials) keep_typed_atoms(vocabulary(), t);
-  std::vector<LearnedBehaviour> learned;
-  for (const auto& t : trials) learned.push_back(learn_behaviour(t));
-  const LearnedDomain d = learned_domain(vocabulary(), trials, learned);
   std::size_t op = 0;
   for (std::size_t b = 0; b < trials.size(); ++b) {
     const auto& t = trials[b];
@@ -355,15 +368,7 @@ TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
 TEST(Effects, TheCommittedRowsTeachThatASecondThingPressesASwitchOneMayLeaveUp) {
   // The trial room's switch is softer than one can in some layouts, stiffer in the others: the
   // learned put-down splits on whether something already lies on the platform.
-  const std::string file = macsim::test::source("tests/affordances/effect_trials.csv");
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  auto trials = read_effect_trials(text.str(), file);
-  for (auto& t : trials) keep_typed_atoms(vocabulary(), t);
-  std::vector<LearnedBehaviour> learned;
-  for (const auto& t : trials) learned.push_back(learn_behaviour(t));
-  const LearnedDomain d = learned_domain(vocabulary(), trials, learned);
+  const LearnedDomain d = learned_from_committed_rows().domain;
   const Atom loaded{"loaded", {"?s"}}, pressed{"pressed", {"?s"}};
   auto chance_pressed = [&](const pddl::Operator& o) {
     double p = 0;

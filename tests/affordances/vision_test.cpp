@@ -1,12 +1,12 @@
 // kurt_demo's eyes on real renderings: a KURT3D's stereo pair rendered offscreen from a world
-// with cans, a switch and look-alikes; the cans and the switch are found where they stand (in
-// base_link, within a few centimetres), the rest is not taken for them.
+// with cans, boxes, switches (raised, and flush with the floor) and look-alikes; each is found where
+// it stands (in base_link, within a few centimetres), a box on a flush plate is told from one in
+// front of it, the rest is not taken for them.
 #include "macsim/affordances/vision.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -56,46 +56,64 @@ const macsim::affordances::Sighting* nearest(const std::vector<macsim::affordanc
   return best;
 }
 
-TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
-  // The robot at the origin facing +x (base_link = the world shifted up); the crane folded
-  // aside as kurt_demo carries it.
-  World world(load_world_string(
-      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>" +
-          can("red", 1.3, 0.35, "0.85,0.1,0.1") + can("blue", 2.1, -0.5, "0.1,0.2,0.85") +
-          can("green", 1.0, -0.2, "0.1,0.75,0.2") +
-          // a switch: a dark base and a flat yellow platform
-          "<OBJECT><ID>base</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.3,0.3,0.04</DIMS>"
-          "<POS>1.8,0.5,0.02</POS><COLOR>0.25,0.25,0.25</COLOR></OBJECT>"
-          "<OBJECT><ID>platform</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.24,0.24,0.008</DIMS>"
-          "<POS>1.8,0.5,0.066</POS><COLOR>0.95,0.8,0.1</COLOR></OBJECT>"
-          // look-alikes: a red cube (a can's colour, not its shape), a yellow box on the floor
-          "<OBJECT><ID>cube</ID><SHAPE>BOX</SHAPE><DIMS>0.1,0.1,0.1</DIMS><POS>1.5,-0.6,0.05</POS>"
-          "<COLOR>0.9,0.15,0.1</COLOR></OBJECT>"
-          "<OBJECT><ID>yellow_box</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.12</DIMS>"
-          "<POS>2.4,0.9,0.06</POS><COLOR>0.95,0.85,0.1</COLOR></OBJECT></WORLD>",
-      "vision.xml"));
-  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
-  kurt.command_crane({M_PI / 2, 0.6, 0.0});
-  run_for(world, 2.5);
-  const Pose base = kurt.base_link_pose();
-  auto in_base = [&](double x, double y) -> Eigen::Vector3d {
-    return base.orientation.inverse() * (Eigen::Vector3d(x, y, 0) - base.position);
-  };
+namespace af = macsim::affordances;
 
-  const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
-  int cans = 0, switches = 0, boxes = 0;
-  for (const auto& s : seen) {
-    (s.kind == macsim::affordances::Kind::Can ? cans : s.kind == macsim::affordances::Kind::Box ? boxes : switches)++;
+/// The push-to-switch family's plate at (x, y): a dark rim round a yellow top, 5 mm over the floor.
+std::string flush_plate(double x, double y) {
+  return "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>" + std::to_string(x) + "," + std::to_string(y) +
+         ",0</POS><COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS>"
+         "<COLOR>0.2,0.2,0.2</COLOR></COMPONENT><COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS>"
+         "<POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR></COMPONENT></OBJECT>";
+}
+
+/// What a KURT3D at the origin facing +x, its crane folded aside as kurt_demo carries it, sees
+/// of `objects` (world XML).
+struct Looked {
+  explicit Looked(const std::string& objects)
+      : world(load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>" + objects + "</WORLD>",
+                                "vision.xml")) {
+    KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
+    kurt.command_crane({M_PI / 2, 0.6, 0.0});
+    run_for(world, 2.5);
+    base = kurt.base_link_pose();
+    seen = af::find_objects(stereo(world), af::KurtGeometry{});
   }
-  EXPECT_EQ(cans, 3);      // not the cube
-  EXPECT_EQ(switches, 1);  // not the yellow box, which stands on the light floor
-  EXPECT_EQ(boxes, 0);     // the cube is too small for a box to push
+  /// A point of the floor in base_link.
+  Eigen::Vector3d in_base(double x, double y) const {
+    return base.orientation.inverse() * (Eigen::Vector3d(x, y, 0) - base.position);
+  }
+  int count(af::Kind kind) const {
+    return static_cast<int>(std::count_if(seen.begin(), seen.end(), [&](const af::Sighting& s) { return s.kind == kind; }));
+  }
+  World world;
+  Pose base;
+  std::vector<af::Sighting> seen;
+};
+
+TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
+  // base_link is the world shifted up.
+  const Looked looked(can("red", 1.3, 0.35, "0.85,0.1,0.1") + can("blue", 2.1, -0.5, "0.1,0.2,0.85") +
+                      can("green", 1.0, -0.2, "0.1,0.75,0.2") +
+                      // a switch: a dark base and a flat yellow platform
+                      "<OBJECT><ID>base</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.3,0.3,0.04</DIMS>"
+                      "<POS>1.8,0.5,0.02</POS><COLOR>0.25,0.25,0.25</COLOR></OBJECT>"
+                      "<OBJECT><ID>platform</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.24,0.24,0.008</DIMS>"
+                      "<POS>1.8,0.5,0.066</POS><COLOR>0.95,0.8,0.1</COLOR></OBJECT>"
+                      // look-alikes: a red cube (a can's colour, not its shape), a yellow box on the floor
+                      "<OBJECT><ID>cube</ID><SHAPE>BOX</SHAPE><DIMS>0.1,0.1,0.1</DIMS><POS>1.5,-0.6,0.05</POS>"
+                      "<COLOR>0.9,0.15,0.1</COLOR></OBJECT>"
+                      "<OBJECT><ID>yellow_box</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.12</DIMS>"
+                      "<POS>2.4,0.9,0.06</POS><COLOR>0.95,0.85,0.1</COLOR></OBJECT>");
+  const auto& seen = looked.seen;
+  EXPECT_EQ(looked.count(af::Kind::Can), 3);     // not the cube
+  EXPECT_EQ(looked.count(af::Kind::Switch), 1);  // not the yellow box, which stands on the light floor
+  EXPECT_EQ(looked.count(af::Kind::Box), 0);     // the cube is too small for a box to push
   const struct {
     const char* colour;
     double x, y;
   } expected[] = {{"red", 1.3, 0.35}, {"blue", 2.1, -0.5}, {"green", 1.0, -0.2}};
   for (const auto& e : expected) {
-    const Eigen::Vector3d truth = in_base(e.x, e.y);
+    const Eigen::Vector3d truth = looked.in_base(e.x, e.y);
     const auto* s = nearest(seen, macsim::affordances::Kind::Can, truth.x(), truth.y());
     ASSERT_NE(s, nullptr) << e.colour;
     EXPECT_EQ(s->colour, e.colour);
@@ -104,7 +122,7 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
     EXPECT_NEAR(s->y, truth.y(), 0.03) << e.colour;
     EXPECT_NEAR(s->width, 0.066, 0.03) << e.colour;
   }
-  const Eigen::Vector3d platform = in_base(1.8, 0.5);
+  const Eigen::Vector3d platform = looked.in_base(1.8, 0.5);
   const auto* sw = nearest(seen, macsim::affordances::Kind::Switch, platform.x(), platform.y());
   ASSERT_NE(sw, nullptr);
   EXPECT_NEAR(sw->x, platform.x(), 0.08);
@@ -113,37 +131,21 @@ TEST(KurtDemoVision, FindsCansAndTheSwitchWhereTheyStand) {
 }
 
 TEST(KurtDemoVision, FindsABoxToPushAndASwitchPlateFlushWithTheFloor) {
-  World world(load_world_string(
-      "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>"
+  const Looked looked(
       "<OBJECT><ID>box</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>1.6,0.4,0.1</POS><ROT>0,0,20</ROT>"
-      "<COLOR>0.1,0.75,0.2</COLOR></OBJECT>"
-      // the push-to-switch family's plate: a dark rim round a yellow top, 5 mm over the floor
-      "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>2.2,-0.4,0</POS>"
-      "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS><COLOR>0.2,0.2,0.2</COLOR></COMPONENT>"
-      "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS><POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR>"
-      "</COMPONENT></OBJECT></WORLD>",
-      "flush.xml"));
-  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
-  kurt.command_crane({M_PI / 2, 0.6, 0.0});
-  run_for(world, 2.5);
-  const Pose base = kurt.base_link_pose();
-  auto in_base = [&](double x, double y) -> Eigen::Vector3d {
-    return base.orientation.inverse() * (Eigen::Vector3d(x, y, 0) - base.position);
-  };
-  const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
-  int cans = 0, boxes = 0, switches = 0;
-  for (const auto& s : seen)
-    (s.kind == macsim::affordances::Kind::Can ? cans : s.kind == macsim::affordances::Kind::Box ? boxes : switches)++;
-  EXPECT_EQ(cans, 0);
-  EXPECT_EQ(boxes, 1);
-  EXPECT_EQ(switches, 1);
-  const Eigen::Vector3d box = in_base(1.6, 0.4);
-  const auto* b = nearest(seen, macsim::affordances::Kind::Box, box.x(), box.y());
+      "<COLOR>0.1,0.75,0.2</COLOR></OBJECT>" +
+      flush_plate(2.2, -0.4));
+  const auto& seen = looked.seen;
+  EXPECT_EQ(looked.count(af::Kind::Can), 0);
+  EXPECT_EQ(looked.count(af::Kind::Box), 1);
+  EXPECT_EQ(looked.count(af::Kind::Switch), 1);
+  const Eigen::Vector3d box = looked.in_base(1.6, 0.4);
+  const auto* b = nearest(seen, af::Kind::Box, box.x(), box.y());
   ASSERT_NE(b, nullptr);
   EXPECT_EQ(b->colour, "green");
   EXPECT_NEAR(b->x, box.x(), 0.1);  // its middle, not the face the cameras see
   EXPECT_NEAR(b->y, box.y(), 0.05);
-  const Eigen::Vector3d plate = in_base(2.2, -0.4);
+  const Eigen::Vector3d plate = looked.in_base(2.2, -0.4);
   const auto* sw = nearest(seen, macsim::affordances::Kind::Switch, plate.x(), plate.y());
   ASSERT_NE(sw, nullptr);
   EXPECT_NEAR(sw->x, plate.x(), 0.12);
@@ -155,22 +157,11 @@ TEST(KurtDemoVision, FindsABoxToPushAndASwitchPlateFlushWithTheFloor) {
 TEST(KurtDemoVision, ABoxStandingOnAFlushPlateShowsThePlateInFrontOfItsFoot) {
   // The same plate; the box on it, then 0.3 m short of it (its foot on the floor in front).
   for (const double short_of : {0.0, 0.3}) {
-    const std::string at = std::to_string(2.0 - short_of) + ",0,0.105";
-    World world(load_world_string(
-        "<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT>"
-        "<OBJECT><ID>box</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>" + at + "</POS>"
-        "<COLOR>0.85,0.1,0.1</COLOR></OBJECT>"
-        "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>2.0,0,0</POS>"
-        "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS><COLOR>0.2,0.2,0.2</COLOR></COMPONENT>"
-        "<COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS><POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR>"
-        "</COMPONENT></OBJECT></WORLD>",
-        "on_plate.xml"));
-    KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
-    kurt.command_crane({M_PI / 2, 0.6, 0.0});
-    run_for(world, 2.5);
-    const auto seen = macsim::affordances::find_objects(stereo(world), macsim::affordances::KurtGeometry{});
-    const auto box = std::find_if(seen.begin(), seen.end(),
-                                  [](const auto& s) { return s.kind == macsim::affordances::Kind::Box; });
+    const Looked looked("<OBJECT><ID>box</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>" +
+                        std::to_string(2.0 - short_of) + ",0,0.105</POS><COLOR>0.85,0.1,0.1</COLOR></OBJECT>" +
+                        flush_plate(2.0, 0.0));
+    const auto& seen = looked.seen;
+    const auto box = std::find_if(seen.begin(), seen.end(), [](const auto& s) { return s.kind == af::Kind::Box; });
     ASSERT_NE(box, seen.end()) << short_of;
     EXPECT_EQ(box->on_plate, short_of == 0.0) << short_of;
   }

@@ -143,9 +143,11 @@ TEST(KurtDemo, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
   EXPECT_EQ(help.wait_for_exit(10s), 0);
   EXPECT_NE(help.output().find("--lockstep"), std::string::npos) << help.output();
   EXPECT_NE(help.output().find("--domain"), std::string::npos) << help.output();
+  TempDir dir("kurt_demo_args_");
   for (const std::vector<std::string>& bad :
        {std::vector<std::string>{"--bogus"}, {"--lockstep"}, {"--domain", "5", "--timeout", "-3"},
-        {"--domain", "5", "--timeout", "nan"}, {"--domain", "999"}, {"--domain", "5", "--robot", ""}}) {
+        {"--domain", "5", "--timeout", "nan"}, {"--domain", "999"}, {"--domain", "5", "--robot", ""},
+        {"--domain", "5", "--debug-images", dir.path() + "/none"}}) {
     std::vector<std::string> argv{bin("kurt_demo")};
     argv.insert(argv.end(), bad.begin(), bad.end());
     ChildProcess p(argv);

@@ -211,6 +211,7 @@ TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
            {{"--domain", domain, "--affordances", dir.path()}, dir.path() + "/effects.ppddl: cannot be read"},
            {{"--domain", domain, "--pddl-domain", bad_domain}, bad_domain + ":3: unknown predicate 'q'"},
            {{"--domain", domain, "--pddl-domain", by_hand, "--problems", dir.path() + "/none"}, "no folder"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--debug-images", dir.path() + "/none"}, "--debug-images " + dir.path() + "/none is no folder"},
            {{"--domain", domain, "--pddl-domain", by_hand, "--timeout", "nan"}, "--timeout"}}) {
     std::vector<std::string> argv{bin("kurt_plan")};
     argv.insert(argv.end(), c.args.begin(), c.args.end());

@@ -19,6 +19,7 @@
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/robot_loop.h"
 #include "macsim/affordances/vision.h"
+#include "macsim/client/picture_client.h"
 
 namespace macsim::affordances {
 
@@ -100,9 +101,13 @@ struct BehaviourOptions {
   std::string program = "kurt";  ///< what progress lines begin with ("kurt_demo")
   std::string debug_images;   ///< folder for the camera images with what was seen, or empty
   bool verbose = true;        ///< print progress lines
+  bool pictures = false;      ///< ask the simulator for overview pictures (overview_picture())
   /// A lift model to judge each can by while looking (SeenThing::liftable).
   std::optional<AffordanceModel> lift_model;
 };
+
+/// Empty, or why `--debug-images DIR` cannot take the camera images (DIR is no folder).
+std::string debug_images_problem(const std::string& dir);
 
 /// A controller's behaviours on the robot loop; a program derives from it or holds one.
 class Behaviours : public RobotLoop {
@@ -147,6 +152,11 @@ class Behaviours : public RobotLoop {
   /// sight. True when a wall was seen.
   bool perceive_door();
 
+  /// An overview picture from the simulator (macsim --pictures DIR) named `name`, seen from the
+  /// Chase camera: its file, said under the stage `name`. Nothing when pictures were not asked for,
+  /// or (said once, then no more asked) nothing serves them: a real robot has no overview camera.
+  std::optional<std::string> overview_picture(const std::string& name);
+
   const Scene& scene() const { return scene_; }
   /// A thing of the scene by name (nullptr if there is none).
   SeenThing* thing(const std::string& name);
@@ -180,6 +190,7 @@ class Behaviours : public RobotLoop {
   int lift_attempts_ = 0;
   ObstacleMap obstacles_;
   int debug_count_ = 0;
+  std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
 };
 
 }  // namespace macsim::affordances
