@@ -395,6 +395,33 @@ class Loader {
     return range;
   }
 
+  /// <PLACE><OBJECTS>user data</OBJECTS><AREA>..</AREA>[<INSIDE>][<CLEARANCE>]</PLACE>
+  PlaceGroup place_group(const Reader& r, const XMLElement* element) {
+    PlaceGroup g;
+    g.source = r.where(element);
+    bool has_area = false;
+    for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (tag == "OBJECTS") {
+        g.user_data = r.text(e);
+      } else if (tag == "AREA") {
+        g.area = area(r, e);
+        has_area = true;
+      } else if (tag == "INSIDE") {
+        g.inside = r.boolean(e);
+      } else if (tag == "CLEARANCE") {
+        g.clearance = r.non_negative(e);
+        if (g.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");
+      } else {
+        r.unknown(e, "PLACE");
+      }
+    }
+    if (g.user_data.empty() || !has_area) {
+      r.fail(element, "<PLACE> needs <OBJECTS> (the user data of the objects to place) and <AREA>");
+    }
+    return g;
+  }
+
   void read_variation(const Reader& r, const XMLElement* element) {
     VariationSpec v;
     v.source = r.where(element);
@@ -420,6 +447,8 @@ class Loader {
         if (v.keep_colors.back().empty()) r.fail(e, "<KEEP_COLOR> names a material");
       } else if (tag == "VARY_JOINT") {
         v.joint_forces.push_back(joint_force_range(r, e));
+      } else if (tag == "PLACE") {
+        v.groups.push_back(place_group(r, e));
       } else {
         r.unknown(e, "VARIATION");
       }

@@ -46,34 +46,49 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
     double radius;
   };
   std::vector<Placed> taken;
-  std::vector<std::size_t> chosen;
-  std::vector<std::string> kinds;  // <OBJECTS> names one user data or several, spaced
-  {
-    std::istringstream words(v.user_data);
-    for (std::string word; words >> word;) kinds.push_back(word);
-  }
+  auto words_of = [](const std::string& text) {  // <OBJECTS> names one user data or several, spaced
+    std::vector<std::string> words;
+    std::istringstream in(text);
+    for (std::string word; in >> word;) words.push_back(word);
+    return words;
+  };
+  // The objects each group places: the main area's first, then each <PLACE>'s.
+  std::vector<std::vector<std::string>> kinds{words_of(v.user_data)};
+  for (const PlaceGroup& g : v.groups) kinds.push_back(words_of(g.user_data));
+  std::vector<std::vector<std::size_t>> chosen(kinds.size());
+  std::size_t placing = 0;
   for (std::size_t i = 0; i < spec.objects.size(); ++i) {
     const ObjectSpec& o = spec.objects[i];
-    const bool placed = std::find(kinds.begin(), kinds.end(), o.user_data) != kinds.end();
-    if (o.kind == ObjectKind::Object && placed) {  // portable or fixed
-      chosen.push_back(i);
+    std::size_t group = kinds.size();
+    for (std::size_t k = 0; k < kinds.size() && group == kinds.size(); ++k)
+      if (std::find(kinds[k].begin(), kinds[k].end(), o.user_data) != kinds[k].end()) group = k;
+    if (o.kind == ObjectKind::Object && group < kinds.size()) {  // portable or fixed
+      chosen[group].push_back(i);
+      ++placing;
     } else if (obstacle(o)) {
       taken.push_back({o.pose.position.head<2>(), footprint_radius(o)});
     }
   }
-  if (chosen.size() > kMaxPlaced) {
+  if (placing > kMaxPlaced) {
     throw WorldFileError(v.source.file, v.source.line,
                          "<VARIATION> places at most " + std::to_string(kMaxPlaced) +
-                             " objects; '" + v.user_data + "' names " +
-                             std::to_string(chosen.size()));
+                             " objects; its <OBJECTS> name " + std::to_string(placing));
   }
   std::vector<std::string> moved;
   // A place in `area` clear of everything taken; with `whole`, the footprint inside it too.
-  auto place = [&](Eigen::Vector4d area, double radius, const std::string& what, bool whole) {
-    if (whole) {
+  struct Where {
+    Eigen::Vector4d area;
+    bool whole;
+    double clearance;
+    SourceLocation source;
+  };
+  const Where main_area{v.area, v.inside, v.clearance, v.source};
+  auto place = [&](const Where& where, double radius, const std::string& what) {
+    Eigen::Vector4d area = where.area;
+    if (where.whole) {
       area += Eigen::Vector4d(radius, radius, -radius, -radius);
       if (area[0] > area[2] || area[1] > area[3]) {
-        throw WorldFileError(v.source.file, v.source.line,
+        throw WorldFileError(where.source.file, where.source.line,
                              "<VARIATION>: " + what + " (" + std::to_string(radius) +
                                  " m from its middle) does not fit inside <AREA>");
       }
@@ -81,16 +96,16 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
     for (int attempt = 0; attempt < 2000; ++attempt) {
       const Eigen::Vector2d at(uniform(area[0], area[2]), uniform(area[1], area[3]));
       const bool free = std::all_of(taken.begin(), taken.end(), [&](const Placed& p) {
-        return (p.at - at).norm() >= p.radius + radius + v.clearance;
+        return (p.at - at).norm() >= p.radius + radius + where.clearance;
       });
       if (free) {
         taken.push_back({at, radius});
         return at;
       }
     }
-    throw WorldFileError(v.source.file, v.source.line,
+    throw WorldFileError(where.source.file, where.source.line,
                          "<VARIATION>: no room for " + what + " with a clearance of " +
-                             std::to_string(v.clearance) + " m (seed " + std::to_string(seed) +
+                             std::to_string(where.clearance) + " m (seed " + std::to_string(seed) +
                              ")");
   };
   auto log = [&moved](const std::string& name, const Eigen::Vector2d& at, double yaw) {
@@ -106,7 +121,7 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   } else {
     for (auto& robot : spec.robots) {
       const Eigen::Vector2d at =
-          place(*v.robot_area, kRobotRadius, "robot '" + robot.name + "'", false);
+          place({*v.robot_area, false, v.clearance, v.source}, kRobotRadius, "robot '" + robot.name + "'");
       const double yaw = uniform(-M_PI, M_PI);
       robot.pose.position.head<2>() = at;
       robot.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
@@ -117,20 +132,24 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
   std::vector<Color> palette = v.colors;
   std::shuffle(palette.begin(), palette.end(), rng);
   std::map<std::string, std::size_t> colour_of;
-  for (std::size_t i : chosen) {
+  // Places object `i` somewhere in `where`, at any heading.
+  auto move = [&](std::size_t i, const Where& where) {
     ObjectSpec& o = spec.objects[i];
-    const Eigen::Vector2d at =
-        place(v.area, footprint_radius(o), "object '" + o.name + "'", v.inside);
+    const Eigen::Vector2d at = place(where, footprint_radius(o), "object '" + o.name + "'");
     const double yaw = uniform(-M_PI, M_PI);
     o.pose.position.head<2>() = at;
     o.pose.orientation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * o.pose.orientation;
+    log(o.name, at, yaw);
+  };
+  for (std::size_t i : chosen.front()) {
+    move(i, main_area);
+    ObjectSpec& o = spec.objects[i];
     const bool keep =
         std::find(v.keep_colors.begin(), v.keep_colors.end(), o.material) != v.keep_colors.end();
     if (!palette.empty() && !o.components.empty() && !keep) {
       const auto [entry, fresh] = colour_of.try_emplace(o.material, colour_of.size());
       o.components.front().color = palette[entry->second % palette.size()];
     }
-    log(o.name, at, yaw);
   }
   // Drawn last: the places of a world that gains a range stay what they were.
   for (const JointForceRange& range : v.joint_forces) {
@@ -148,6 +167,15 @@ std::vector<std::string> vary_world(WorldSpec& spec, uint32_t seed) {
       throw WorldFileError(range.source.file, range.source.line,
                            "<VARY_JOINT>: no joint's name ends with '" + range.joint + "'");
     }
+  }
+  // Then each <PLACE>: a world that gains one keeps what it placed before.
+  for (std::size_t k = 0; k < v.groups.size(); ++k) {
+    const PlaceGroup& g = v.groups[k];
+    if (chosen[k + 1].empty()) {
+      throw WorldFileError(g.source.file, g.source.line,
+                           "<PLACE>: no object has the user data '" + g.user_data + "'");
+    }
+    for (std::size_t i : chosen[k + 1]) move(i, {g.area, g.inside, g.clearance, g.source});
   }
   return moved;
 }

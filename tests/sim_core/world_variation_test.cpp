@@ -186,6 +186,58 @@ TEST(WorldVariation, AJointsMotorForceIsDrawnPerSeedWithinItsRangeAndLeavesThePl
   }
 }
 
+TEST(WorldVariation, APlaceGroupPutsItsObjectsWhollyInItsOwnAreaAfterEverythingElse) {
+  for (uint32_t seed = 1; seed <= 10; ++seed) {
+    WorldSpec cluttered = shipped_world("goals/cluttered_way.xml");
+    const auto moved = vary_world(cluttered, seed);
+    ASSERT_EQ(cluttered.variation->groups.size(), 1u);
+    const Eigen::Vector4d area = cluttered.variation->groups.front().area;
+    int placed = 0;
+    for (const auto& o : cluttered.objects) {
+      if (o.user_data != "clutter") continue;
+      ++placed;
+      const double r = footprint_radius(o);
+      const Eigen::Vector2d at = o.pose.position.head<2>();
+      EXPECT_GE(at.x() - r, area[0] - 1e-9) << o.name;
+      EXPECT_GE(at.y() - r, area[1] - 1e-9) << o.name;
+      EXPECT_LE(at.x() + r, area[2] + 1e-9) << o.name;
+      EXPECT_LE(at.y() + r, area[3] + 1e-9) << o.name;
+      for (const auto& other : cluttered.objects) {
+        if (&other == &o || (other.kind != ObjectKind::Object && other.kind != ObjectKind::SwitchBase)) continue;
+        EXPECT_GE((other.pose.position.head<2>() - at).norm(), r + footprint_radius(other) + 0.05 - 1e-9)
+            << o.name << " and " << other.name << ", seed " << seed;
+      }
+    }
+    EXPECT_EQ(placed, 10);
+    // The clutter is placed last: the lines before it are those of the cans and the robot.
+    EXPECT_EQ(moved.size(), 1u + 5u + 10u);
+    EXPECT_NE(moved.back().find("environment_01/"), std::string::npos) << moved.back();
+  }
+  for (const char* bad : {"<PLACE><AREA>0,0,1,1</AREA></PLACE>", "<PLACE><OBJECTS>x</OBJECTS></PLACE>",
+                          "<PLACE><OBJECTS>x</OBJECTS><AREA>0,0,1,inf</AREA></PLACE>",
+                          "<PLACE><OBJECTS>x</OBJECTS><AREA>0,0,1,1</AREA><CLEARANCE>-1</CLEARANCE></PLACE>"}) {
+    const std::string text = std::string("<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n") + bad +
+                             "</VARIATION></WORLD>";
+    try {
+      load_world_string(text, "bad.xml");
+      ADD_FAILURE() << bad;
+    } catch (const WorldFileError& e) {
+      EXPECT_EQ(e.line(), 3) << bad << ": " << e.what();
+    }
+  }
+  WorldSpec none = load_world_string(
+      "<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n<PLACE><OBJECTS>logs</OBJECTS>"
+      "<AREA>0,0,1,1</AREA></PLACE></VARIATION></WORLD>",
+      "none.xml");
+  try {
+    vary_world(none, 1);
+    ADD_FAILURE() << "a group naming no object";
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("'logs'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(WorldVariation, AWorldThatCannotVarySaysWhyAndWhere) {
   WorldSpec plain = load_world_string("<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE></ROBOT></WORLD>",
                                       "plain.xml");

@@ -3,7 +3,8 @@
 // wrong where the family says it is. The robot's start reaches the switch and a can it can lift
 // (a magnetizable can the crane's hoist carries); a closed door opens by weight (a liftable can
 // heavier than the switch's threshold); a stiff switch stays up under any one liftable can and
-// sinks under all of them together; an open door leaves a way through from the start.
+// sinks under all of them together; an open door leaves a way through from the start; a
+// cluttered way is crossed over what is traversable, and keeping clear of it all often fails.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,7 +45,9 @@ WorldSpec layout(const std::string& family, uint32_t seed) {
   return spec;
 }
 
-Layout judge(const std::string& family, uint32_t seed) {
+/// With `over_clutter`, the robot drives over or through the clutter it can (FloorMap::add's
+/// traversable: what rolls away, what is no higher than 6 cm) and around the rest.
+Layout judge(const std::string& family, uint32_t seed, bool over_clutter = false) {
   const WorldSpec spec = layout(family, seed);
   Layout out;
   EXPECT_EQ(spec.doors.size(), 1u) << family;
@@ -56,8 +59,9 @@ Layout judge(const std::string& family, uint32_t seed) {
   FloorMap closed(-3.1, -2.1, 3.1, 2.1), opened(-3.1, -2.1, 3.1, 2.1);
   for (const auto& o : spec.objects) {
     if (o.kind == ObjectKind::DoorFrame) continue;
-    closed.add(o, false);
-    if (o.kind != ObjectKind::DoorLeaf) opened.add(o, false);
+    const bool traversable = over_clutter && o.user_data == "clutter";
+    closed.add(o, traversable);
+    if (o.kind != ObjectKind::DoorLeaf) opened.add(o, traversable);
   }
   out.through_closed = closed.connected(start, kBeyondDoor, kHalfWidth);
   out.through_opened = opened.connected(start, kBeyondDoor, kHalfWidth);
@@ -146,6 +150,22 @@ TEST(GoalFamilies, EveryPushToSwitchLayoutHasABoxThatPressesTheFlushSwitchAndAWa
   // not what the push behaviour does).
   std::printf("push_to_switch seeds 1-50: %d with a box to push straight onto the switch\n", layouts);
   EXPECT_GE(layouts, 45);
+}
+
+TEST(GoalFamilies, EveryClutteredWayLayoutHasAWayOverWhatIsTraversable) {
+  int blocked = 0;  // layouts where keeping clear of all the clutter leaves no way
+  for (uint32_t seed = 1; seed <= 50; ++seed) {
+    const Layout over = judge("cluttered_way", seed, true);
+    expect_a_door_the_switch_opens(over, seed);
+    ASSERT_FALSE(over.liftable.empty()) << seed;
+    EXPECT_GT(*std::max_element(over.liftable.begin(), over.liftable.end()), over.threshold) << seed;
+    const Layout around = judge("cluttered_way", seed);
+    const bool way = around.reaches_switch && around.through_opened && !around.liftable.empty();
+    if (!way) std::printf("cluttered_way seed %u: no way around the clutter\n", seed);
+    blocked += !way;
+  }
+  std::printf("cluttered_way seeds 1-50: %d where keeping clear of all the clutter leaves no way\n", blocked);
+  EXPECT_GE(blocked, 15) << "the clutter should cross the way in a good share of the layouts";
 }
 
 }  // namespace

@@ -189,6 +189,16 @@ struct JointForceRange {
   SourceLocation source;
 };
 
+/// More objects placed per seed in an area of their own (<VARIATION>'s <PLACE>), after
+/// everything else: clutter across a way, beside the cans of the main area.
+struct PlaceGroup {
+  std::string user_data;             ///< the objects placed are those with this user data
+  Eigen::Vector4d area{0, 0, 0, 0};  ///< x_min, y_min, x_max, y_max on the floor, m
+  bool inside = false;               ///< whole footprints in `area`, not only centres
+  double clearance = 0.1;            ///< m between their footprints and everything placed or standing
+  SourceLocation source;
+};
+
 /// How a world varies with a seed (the <VARIATION> element; `macsim --seed N`): objects placed
 /// at random in an area, one colour per material drawn from a palette, the robots' start, joint
 /// motor forces drawn from ranges.
@@ -201,6 +211,7 @@ struct VariationSpec {
   std::vector<Color> colors;                  ///< palette for the first component of placed objects
   std::vector<std::string> keep_colors;       ///< materials whose objects keep their own colour
   std::vector<JointForceRange> joint_forces;  ///< motor forces drawn per seed
+  std::vector<PlaceGroup> groups;             ///< placed after the joint forces, in order
   SourceLocation source;
 };
 
