@@ -5,8 +5,8 @@
 // it acts is on rt/kurt/plan; the problem files it writes are the scene as PDDL, and plan as it
 // did; a goal no can of the room serves (a blue can on the switch when the blue cans are lead)
 // is unreachable, said with its own exit code; where no can can be lifted it pushes a box onto a
-// switch plate flush with the floor; its overview pictures carry the plan; bad arguments move
-// nothing.
+// switch plate flush with the floor; it crosses a way cluttered with joists, logs and posts;
+// its overview pictures carry the plan; bad arguments move nothing.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -16,6 +16,8 @@
 #include <regex>
 
 #include "macsim/affordances/planner.h"
+#include "macsim/sim_core/world_loader.h"
+#include "macsim/sim_core/world_variation.h"
 #include "support/demonstrator_run.h"
 
 namespace macsim::test {
@@ -186,6 +188,30 @@ TEST(KurtPlan, WhereNoCanCanBeLiftedItPushesABoxOntoTheFlushSwitch) {
   EXPECT_FALSE(run.door->door().virtually_triggered());
   ASSERT_TRUE(run.truth.has_value());
   EXPECT_GT(run.truth->pose().pose().position().x(), 1.5 + 0.3);
+}
+
+TEST(KurtPlan, CrossesAClutteredWayToTheSwitchAndTheDoor) {
+  // The cluttered-way family, layout 1: joists, logs, balls and posts across the room between
+  // the cans and the switch; the robot starts west of them and ends east of the partition.
+  const std::string world = source("worlds/goals/cluttered_way.xml");
+  const DemoRun run = play_demonstrator("kurt_plan", world, 1, {"--pddl-domain", source(kByHand)});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("goal reached: yes"), std::string::npos) << run.output;
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_TRUE(run.door->door().triggered());
+  ASSERT_TRUE(run.truth.has_value());
+  EXPECT_GT(run.truth->pose().pose().position().x(), 1.5 + 0.3);
+  // What it drove into rolled away: some of the clutter is not where the layout put it.
+  WorldSpec spec = load_world_file(world);
+  vary_world(spec, 1);
+  int moved = 0;
+  for (const auto& o : spec.objects) {
+    const auto it = run.objects.find(o.name);
+    if (o.user_data != "clutter" || !o.portable || it == run.objects.end()) continue;
+    const auto& p = it->second.pose().position();
+    moved += std::hypot(p.x() - o.pose.position.x(), p.y() - o.pose.position.y()) > 0.05;
+  }
+  std::printf("cluttered way, layout 1: %d of the logs and balls moved\n", moved);
 }
 
 TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
