@@ -422,6 +422,34 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
   return result;
 }
 
+std::vector<PlanStep> applicable(const Domain& domain, const Problem& problem) {
+  Grounding grounding(domain, problem, 0);
+  Bits state((grounding.names_.size() + 63) / 64, 0);
+  for (const int a : grounding.init_) set(state, a);
+  const auto holds = [&](int a) { return a < static_cast<int>(grounding.names_.size()) && test(state, a); };
+  std::vector<PlanStep> steps;
+  std::map<std::pair<const Operator*, std::vector<std::string>>, std::size_t> seen;
+  for (const auto& g : grounding.operators) {
+    if (!std::all_of(g.requires_true.begin(), g.requires_true.end(), holds) ||
+        std::any_of(g.requires_false.begin(), g.requires_false.end(), holds))
+      continue;
+    // A step that would leave the state as it is (a go from a place to itself) is no choice.
+    const bool changes = std::any_of(g.add.begin(), g.add.end(), [&](int a) { return !holds(a); }) ||
+                         std::any_of(g.remove.begin(), g.remove.end(), [&](int a) {
+                           return holds(a) && std::find(g.add.begin(), g.add.end(), a) == g.add.end();
+                         });
+    if (!changes) continue;
+    const auto [it, fresh] = seen.try_emplace({g.op, g.arguments}, steps.size());
+    if (!fresh && steps[it->second].probability >= g.probability) continue;
+    PlanStep step{g.op->name, g.arguments, g.probability, g.outcome};
+    if (fresh)
+      steps.push_back(std::move(step));
+    else
+      steps[it->second] = std::move(step);
+  }
+  return steps;
+}
+
 std::vector<Atom> state_after(const std::vector<Atom>& state, const PlanStep& step) {
   std::set<Atom> s(state.begin(), state.end());
   for (const auto& a : step.expected.remove) s.erase(a);

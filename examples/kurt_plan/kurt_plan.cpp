@@ -43,6 +43,13 @@ int main(int argc, char** argv) {
            "after each step, ask the simulator (macsim --pictures DIR) for an overview picture and "
            "write it with the plan drawn beside it as NAME_plan.png",
            &options.pictures);
+  std::string policy = "plan";
+  cli.option("policy", "POLICY",
+             "plan (the default), or random: each step chosen at random among those the domain "
+             "allows in the perceived scene, with the same step budget (a baseline)",
+             &policy);
+  int policy_seed = 1;
+  cli.option("policy-seed", "N", "the random policy's seed (default 1)", &policy_seed);
   macsim::affordances::add_loop_options(cli, options.loop);
   if (auto code = cli.parse(argc, argv)) return *code;
   const auto parsed = kurt_plan::Goal::parse(goal);
@@ -52,6 +59,16 @@ int main(int argc, char** argv) {
     return kurt_plan::kUsage;
   }
   options.goal = *parsed;
+  if (policy != "plan" && policy != "random") {
+    macsim::log::error("kurt_plan: --policy is plan or random, not '{}'", policy);
+    return kurt_plan::kUsage;
+  }
+  options.policy = policy == "random" ? kurt_plan::Policy::Random : kurt_plan::Policy::Plan;
+  if (policy_seed < 0) {
+    macsim::log::error("kurt_plan: --policy-seed is a number from 0, not {}", policy_seed);
+    return kurt_plan::kUsage;
+  }
+  options.policy_seed = static_cast<std::uint32_t>(policy_seed);
   if (affordances.empty() == pddl_domain.empty()) {
     macsim::log::error("kurt_plan: give one of --affordances DIR and --pddl-domain FILE");
     return kurt_plan::kUsage;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <random>
 #include <set>
 
 #include <opencv2/imgcodecs.hpp>
@@ -293,11 +294,8 @@ Summary PlanController::run() {
   look_around();
   perceive_door();
   bool looked_again = false;
-  while (true) {
-    const auto atoms = af::scene_atoms(scene());
-    const std::set<pddl::Atom> now(atoms.begin(), atoms.end());
-    const auto goals = goal_atoms();
-    if (std::any_of(goals.begin(), goals.end(), [&](const pddl::Atom& g) { return now.count(g) > 0; })) {
+  while (options_.policy == Policy::Plan) {
+    if (goal_holds()) {
       summary.reached = true;
       break;
     }
@@ -368,9 +366,63 @@ Summary PlanController::run() {
       say("plan", "what it perceived differs from what was predicted: planning again");
     }
   }
+  if (options_.policy == Policy::Random) run_random();
   halt();
   if (summary.reached) summary.exit = kReached;
   return summary;
+}
+
+bool PlanController::goal_holds() const {
+  const auto atoms = af::scene_atoms(scene());
+  const std::set<pddl::Atom> now(atoms.begin(), atoms.end());
+  const auto goals = goal_atoms();
+  return std::any_of(goals.begin(), goals.end(), [&](const pddl::Atom& g) { return now.count(g) > 0; });
+}
+
+void PlanController::run_random() {
+  Summary& summary = summary_;
+  std::mt19937 rng(options_.policy_seed);
+  bool looked_again = false;
+  while (!(summary.reached = goal_holds())) {
+    if (summary.plan_steps >= options_.max_steps) {
+      summary.exit = kNotReached;
+      summary.reason = "took " + std::to_string(summary.plan_steps) + " steps, the most it may";
+      return;
+    }
+    const auto goals = goal_atoms();
+    const auto steps = af::applicable(options_.domain, problem(goals.empty() ? pddl::Atom{"beyond", {"door"}} : goals.front()));
+    if (steps.empty()) {
+      if (!looked_again) {
+        looked_again = true;
+        set_stage("look");
+        look_around();
+        continue;
+      }
+      summary.exit = kUnreachable;
+      summary.reason = "no step of the domain applies to what the robot perceives";
+      return;
+    }
+    const auto& step = steps[std::uniform_int_distribution<std::size_t>(0, steps.size() - 1)(rng)];
+    set_stage("act");
+    say("act", "chosen at random from " + std::to_string(steps.size()) + " step(s): " + step.text());
+    ++summary.plan_steps;
+    shown_.round(static_cast<std::uint32_t>(++round_));
+    shown_.steps().clear();
+    plan_msg::PlanStep_ shown;
+    shown.action(step.text());
+    shown.predicted(effect_text(step.expected));
+    shown.probability(step.probability);
+    shown.status(plan_msg::STEP_UNDER_WAY);
+    shown_.steps().push_back(shown);
+    shown_.current(0);
+    publish_plan();
+    std::string outcome;
+    const bool as_predicted = execute(step, outcome);
+    shown_.steps()[0].status(as_predicted ? plan_msg::STEP_AS_PREDICTED : plan_msg::STEP_NOT_AS_PREDICTED);
+    shown_.steps()[0].perceived(outcome);
+    shown_.current(-1);
+    publish_plan();
+  }
 }
 
 }  // namespace kurt_plan

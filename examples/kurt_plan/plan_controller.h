@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,10 @@ struct Goal {
   std::string text() const;
 };
 
+/// How the next step is chosen: by planning to the goal, or at random among the steps the
+/// domain allows in the perceived scene (the baseline, with the same step budget).
+enum class Policy { Plan, Random };
+
 struct PlanOptions {
   macsim::affordances::LoopOptions loop;
   Goal goal;
@@ -48,6 +53,8 @@ struct PlanOptions {
   bool pictures = false;     ///< ask the simulator for an overview picture after each step, and draw the plan on it
   int max_replans = 8;
   int max_steps = 40;
+  Policy policy = Policy::Plan;
+  std::uint32_t policy_seed = 1;  ///< of Policy::Random's choices
 };
 
 /// How the run ended.
@@ -78,6 +85,11 @@ class PlanController : public macsim::affordances::Behaviours {
  private:
   /// The goal atoms the goal may be met by (one per thing of the colour for on-switch).
   std::vector<macsim::affordances::pddl::Atom> goal_atoms() const;
+  /// True when the perceived scene shows the goal.
+  bool goal_holds() const;
+  /// Policy::Random's run after the first look: a step chosen at random among those the domain
+  /// allows, executed and watched, until the goal holds or the step budget is spent.
+  void run_random();
   /// Plans for each goal atom and keeps the shortest, likeliest; nullopt and the reason if none.
   std::optional<macsim::affordances::Plan> plan_round(std::string& reason, double& seconds);
   /// Runs one step through its behaviour; true when what it perceived afterwards shows the

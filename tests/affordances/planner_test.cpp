@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "support/child_process.h"
@@ -62,6 +63,24 @@ TEST(Planner, TheDemonstratorsRoomTakesSixSteps) {
                                       "(go switch-1 door-1)", "(drive-through door-1)"}));
   EXPECT_DOUBLE_EQ(r.plan->probability, 0.5 * 0.8);
   expect_plan_reaches_goal(p, *r.plan);
+}
+
+TEST(Planner, TheApplicableStepsAreThoseWhosePreconditionsHoldAndThatChangeSomething) {
+  pddl::Problem p = room_problem(2);
+  std::vector<std::string> steps;
+  for (const auto& s : applicable(room(), p)) steps.push_back(s.text());
+  // From the start with the hand free: go anywhere else (never to the start itself); nothing to
+  // lift, put down or drive through yet.
+  EXPECT_EQ(steps, (std::vector<std::string>{"(go start switch-1)", "(go start door-1)",
+                                             "(go start thing-1)", "(go start thing-2)"}));
+  p.init = state_after(p.init, applicable(room(), p)[2]);  // at thing-1
+  steps.clear();
+  for (const auto& s : applicable(room(), p)) steps.push_back(s.text());
+  EXPECT_NE(std::find(steps.begin(), steps.end(), "(lift thing-1)"), steps.end());
+  EXPECT_EQ(std::find(steps.begin(), steps.end(), "(lift thing-2)"), steps.end());
+  EXPECT_EQ(std::find(steps.begin(), steps.end(), "(go thing-1 thing-1)"), steps.end());
+  for (const auto& s : applicable(room(), p))
+    if (s.operator_name == "lift") EXPECT_DOUBLE_EQ(s.probability, 0.5);  // the likelier of its outcomes
 }
 
 TEST(Planner, AnOpenDoorIsDrivenThroughAtOnce) {

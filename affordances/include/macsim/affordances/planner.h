@@ -54,6 +54,11 @@ struct PlanResult {
 PlanResult plan(const pddl::Domain& domain, const pddl::Problem& problem,
                 const PlanLimits& limits = {});
 
+/// The steps whose preconditions hold in `problem`'s initial state and that change it, one per
+/// ground operator (its most likely outcome expected), in the domain's order: what a policy that
+/// does not plan may choose from.
+std::vector<PlanStep> applicable(const pddl::Domain& domain, const pddl::Problem& problem);
+
 /// The atoms that hold after `step` (its expected outcome) where `state` held.
 std::vector<pddl::Atom> state_after(const std::vector<pddl::Atom>& state, const PlanStep& step);
 /// True when every atom of goal_true holds in `state` and none of goal_false.
