@@ -238,7 +238,9 @@ TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
            {{"--domain", domain, "--pddl-domain", bad_domain}, bad_domain + ":3: unknown predicate 'q'"},
            {{"--domain", domain, "--pddl-domain", by_hand, "--problems", dir.path() + "/none"}, "no folder"},
            {{"--domain", domain, "--pddl-domain", by_hand, "--debug-images", dir.path() + "/none"}, "--debug-images " + dir.path() + "/none is no folder"},
-           {{"--domain", domain, "--pddl-domain", by_hand, "--timeout", "nan"}, "--timeout"}}) {
+           {{"--domain", domain, "--pddl-domain", by_hand, "--timeout", "nan"}, "--timeout"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--policy", "greedy"}, "plan or random, not 'greedy'"},
+           {{"--domain", domain, "--pddl-domain", by_hand, "--policy", "random", "--policy-seed", "-3"}, "--policy-seed"}}) {
     std::vector<std::string> argv{bin("kurt_plan")};
     argv.insert(argv.end(), c.args.begin(), c.args.end());
     ChildProcess p(argv);
