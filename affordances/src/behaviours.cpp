@@ -27,6 +27,8 @@ constexpr double kBesideOnPlatform = 0.08;  // m: a second thing from the platfo
 constexpr double kBumper = 0.21;             // m: base_link to the front bumper
 constexpr double kBoxHalf = 0.1;             // m: half a pushable box's side
 constexpr double kPushStandoff = 1.0;        // m: from a box's middle to stand behind it
+constexpr double kPushLeg = 0.9;             // m: the longest push before the box is looked at again
+constexpr int kPushLegs = 6;                 // pushes per push behaviour at most
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
@@ -63,7 +65,10 @@ std::string debug_images_problem(const std::string& dir) {
 }
 
 std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
-  std::vector<pddl::Atom> atoms{{"robot-at", {scene.at}}};
+  // At a thing it lost sight of, the robot is at a place of its own again: the start of a plan.
+  const bool at_lost = std::any_of(scene.things.begin(), scene.things.end(),
+                                   [&](const SeenThing& t) { return t.lost && t.name == scene.at; });
+  std::vector<pddl::Atom> atoms{{"robot-at", {at_lost ? std::string("start") : scene.at}}};
   if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
   else atoms.push_back({"holding", {scene.holding}});
   for (const auto& t : scene.things) {
@@ -557,7 +562,7 @@ BehaviourReport Behaviours::push(const std::string& name) {
     const double a = std::hypot(from.x - pose_.x, from.y - pose_.y);
     return Point{(from.x - pose_.x) / a, (from.y - pose_.y) / a};
   };
-  for (int leg = 0; leg < 4 && !on_plate; ++leg) {
+  for (int leg = 0; leg < kPushLegs && !on_plate; ++leg) {
     Point u = way();
     travel_to({from.x - kPushStandoff * u.x, from.y - kPushStandoff * u.y}, 0.05);
     turn_to(std::atan2(u.y, u.x));
@@ -580,7 +585,8 @@ BehaviourReport Behaviours::push(const std::string& name) {
     if (ahead.x * u.x + ahead.y * u.y < 0) break;  // past where the plate was seen: no turning back
     u = ahead;
     turn_to(std::atan2(u.y, u.x));
-    const double along = left > 0.45 ? left - 0.25 : std::max(left, 0.1) + 0.05;
+    // A long push lets the box turn and slide off the line: at most kPushLeg, then aimed again.
+    const double along = left > 0.45 ? std::min(left - 0.25, kPushLeg) : std::max(left, 0.1) + 0.05;
     const Pose2 b = to_base(from.x, from.y);
     say(stage_, fmt("behind it: the box %.2f m ahead, %.2f m from the switch; pushing it %.2f m", b.x, left, along));
     drive_straight(b.x - kBumper - kBoxHalf + along, 0.15);

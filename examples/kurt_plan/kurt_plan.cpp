@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
            "after each step, ask the simulator (macsim --pictures DIR) for an overview picture and "
            "write it with the plan drawn beside it as NAME_plan.png",
            &options.pictures);
+  // Pushing a box takes legs of slow driving: more robot time than a lift and carry.
+  options.loop.timeout = 900.0;
   std::string policy = "plan";
   cli.option("policy", "POLICY",
              "plan (the default), or random: each step chosen at random among those the domain "
