@@ -395,28 +395,41 @@ class Loader {
     return range;
   }
 
+  /// What to place and where, as <VARIATION> and <PLACE> both say it.
+  struct Placement {
+    std::string& user_data;
+    Eigen::Vector4d& area;
+    bool& inside;
+    double& clearance;
+    bool has_area = false;
+  };
+  /// Reads `e` into `p` if it is <OBJECTS>, <AREA>, <INSIDE> or <CLEARANCE>; false otherwise.
+  bool read_placement(const Reader& r, const XMLElement* e, const std::string& tag, Placement& p) {
+    if (tag == "OBJECTS") {
+      p.user_data = r.text(e);
+    } else if (tag == "AREA") {
+      p.area = area(r, e);
+      p.has_area = true;
+    } else if (tag == "INSIDE") {
+      p.inside = r.boolean(e);
+    } else if (tag == "CLEARANCE") {
+      p.clearance = r.non_negative(e);
+      if (p.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");
+    } else {
+      return false;
+    }
+    return true;
+  }
+
   /// <PLACE><OBJECTS>user data</OBJECTS><AREA>..</AREA>[<INSIDE>][<CLEARANCE>]</PLACE>
   PlaceGroup place_group(const Reader& r, const XMLElement* element) {
     PlaceGroup g;
     g.source = r.where(element);
-    bool has_area = false;
+    Placement placement{g.user_data, g.area, g.inside, g.clearance};
     for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
-      const std::string tag = upper(e->Name());
-      if (tag == "OBJECTS") {
-        g.user_data = r.text(e);
-      } else if (tag == "AREA") {
-        g.area = area(r, e);
-        has_area = true;
-      } else if (tag == "INSIDE") {
-        g.inside = r.boolean(e);
-      } else if (tag == "CLEARANCE") {
-        g.clearance = r.non_negative(e);
-        if (g.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");
-      } else {
-        r.unknown(e, "PLACE");
-      }
+      if (!read_placement(r, e, upper(e->Name()), placement)) r.unknown(e, "PLACE");
     }
-    if (g.user_data.empty() || !has_area) {
+    if (g.user_data.empty() || !placement.has_area) {
       r.fail(element, "<PLACE> needs <OBJECTS> (the user data of the objects to place) and <AREA>");
     }
     return g;
@@ -425,21 +438,13 @@ class Loader {
   void read_variation(const Reader& r, const XMLElement* element) {
     VariationSpec v;
     v.source = r.where(element);
-    bool has_area = false;
+    Placement placement{v.user_data, v.area, v.inside, v.clearance};
     for (auto* e = element->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string tag = upper(e->Name());
-      if (tag == "OBJECTS") {
-        v.user_data = r.text(e);
-      } else if (tag == "AREA") {
-        v.area = area(r, e);
-        has_area = true;
+      if (read_placement(r, e, tag, placement)) {
+        continue;
       } else if (tag == "ROBOT_AREA") {
         v.robot_area = area(r, e);
-      } else if (tag == "INSIDE") {
-        v.inside = r.boolean(e);
-      } else if (tag == "CLEARANCE") {
-        v.clearance = r.non_negative(e);
-        if (v.clearance > bounds::kMaxSize) r.fail(e, "<CLEARANCE> is out of bounds");
       } else if (tag == "COLOR") {
         v.colors.push_back(r.color(e));
       } else if (tag == "KEEP_COLOR") {
@@ -453,7 +458,7 @@ class Loader {
         r.unknown(e, "VARIATION");
       }
     }
-    if (v.user_data.empty() || !has_area) {
+    if (v.user_data.empty() || !placement.has_area) {
       r.fail(element,
              "<VARIATION> needs <OBJECTS> (the user data of the objects to place) and "
              "<AREA>");

@@ -26,6 +26,18 @@ std::vector<const ObjectSpec*> cans(const WorldSpec& spec) {
   return out;
 }
 
+/// A world whose <VARIATION> holds `inner` on its third line is refused, naming that line.
+void expect_refused_on_line_3(const std::string& inner) {
+  const std::string text = "<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n" + inner +
+                           "</VARIATION></WORLD>";
+  try {
+    load_world_string(text, "bad.xml");
+    ADD_FAILURE() << inner;
+  } catch (const WorldFileError& e) {
+    EXPECT_EQ(e.line(), 3) << inner << ": " << e.what();
+  }
+}
+
 TEST(WorldVariation, TheSameSeedGivesTheSameLayoutAndAnotherSeedAnother) {
   WorldSpec a = shipped_world("DemoWorld_v1.xml");
   WorldSpec b = shipped_world("DemoWorld_v1.xml");
@@ -174,16 +186,8 @@ TEST(WorldVariation, AJointsMotorForceIsDrawnPerSeedWithinItsRangeAndLeavesThePl
     EXPECT_NE(std::string(e.what()).find("no joint's name ends with 'SLIDER'"), std::string::npos) << e.what();
   }
   for (const char* bad : {"<MAX_FORCE>2,1</MAX_FORCE>", "<MAX_FORCE>-1,1</MAX_FORCE>", "<MAX_FORCE>1</MAX_FORCE>",
-                          "<MAX_FORCE>nan,1</MAX_FORCE>", "<MAX_FORCE>1,1e308</MAX_FORCE>", ""}) {
-    const std::string text = std::string("<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n") +
-                             "<VARY_JOINT><JOINT>S</JOINT>" + bad + "</VARY_JOINT></VARIATION></WORLD>";
-    try {
-      load_world_string(text, "bad.xml");
-      ADD_FAILURE() << bad;
-    } catch (const WorldFileError& e) {
-      EXPECT_EQ(e.line(), 3) << bad << ": " << e.what();
-    }
-  }
+                          "<MAX_FORCE>nan,1</MAX_FORCE>", "<MAX_FORCE>1,1e308</MAX_FORCE>", ""})
+    expect_refused_on_line_3(std::string("<VARY_JOINT><JOINT>S</JOINT>") + bad + "</VARY_JOINT>");
 }
 
 TEST(WorldVariation, APlaceGroupPutsItsObjectsWhollyInItsOwnAreaAfterEverythingElse) {
@@ -215,16 +219,8 @@ TEST(WorldVariation, APlaceGroupPutsItsObjectsWhollyInItsOwnAreaAfterEverythingE
   }
   for (const char* bad : {"<PLACE><AREA>0,0,1,1</AREA></PLACE>", "<PLACE><OBJECTS>x</OBJECTS></PLACE>",
                           "<PLACE><OBJECTS>x</OBJECTS><AREA>0,0,1,inf</AREA></PLACE>",
-                          "<PLACE><OBJECTS>x</OBJECTS><AREA>0,0,1,1</AREA><CLEARANCE>-1</CLEARANCE></PLACE>"}) {
-    const std::string text = std::string("<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n") + bad +
-                             "</VARIATION></WORLD>";
-    try {
-      load_world_string(text, "bad.xml");
-      ADD_FAILURE() << bad;
-    } catch (const WorldFileError& e) {
-      EXPECT_EQ(e.line(), 3) << bad << ": " << e.what();
-    }
-  }
+                          "<PLACE><OBJECTS>x</OBJECTS><AREA>0,0,1,1</AREA><CLEARANCE>-1</CLEARANCE></PLACE>"})
+    expect_refused_on_line_3(bad);
   WorldSpec none = load_world_string(
       "<WORLD>\n<VARIATION><OBJECTS>can</OBJECTS><AREA>0,0,3,3</AREA>\n<PLACE><OBJECTS>logs</OBJECTS>"
       "<AREA>0,0,1,1</AREA></PLACE></VARIATION></WORLD>",

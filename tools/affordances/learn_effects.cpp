@@ -58,6 +58,9 @@ af::BehaviourTrials columns(const std::string& behaviour) {
   } else if (behaviour == "put-down") {
     b.parameters = {{"?t", "thing"}, {"?s", "switch"}, {"?d", "door"}};
     b.changes = {{"held_height", 0.05}, {"door_gap", 0.2}};
+  } else if (behaviour == "push") {
+    b.parameters = {{"?t", "thing"}, {"?s", "switch"}, {"?d", "door"}};
+    b.changes = {{"closer_to_switch", 0.2}, {"door_gap", 0.2}};
   } else {
     b.parameters = {{"?d", "door"}};
     b.changes = {{"robot_moved", 0.3}, {"beyond", 0.5}};
@@ -127,6 +130,15 @@ Played played(const std::string& behaviour, const af::BehaviourReport& r,
     p.change = {r.after.held_height - r.before.held_height, moved};
   } else if (behaviour == "put-down") {
     p.change = {r.after.held_height - r.before.held_height, gap};
+  } else if (behaviour == "push") {
+    // How much nearer the switch the thing stands, as the robot saw it before and after.
+    const auto to_switch = [&](const af::Scene& scene) {
+      const auto t = std::find_if(scene.things.begin(), scene.things.end(),
+                                  [&](const af::SeenThing& s) { return s.name == r.argument; });
+      if (t == scene.things.end() || !scene.switch_platform) return 0.0;
+      return std::hypot(t->x - scene.switch_platform->x, t->y - scene.switch_platform->y);
+    };
+    p.change = {to_switch(r.before) - to_switch(r.after), gap};
   } else {
     p.change = {moved, r.after.beyond_door ? 1.0 : 0.0};
   }
@@ -166,6 +178,7 @@ std::vector<Played> explore(int domain, std::uint32_t seed, int steps) {
 
 /// The episode's behaviours after the first look, appended to `out` as they end.
 void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vector<Played>& out) {
+  std::set<std::string> pushed;
   for (int k = 0; k < steps && !robot.scene().beyond_door; ++k) {
     const af::Scene& s = robot.scene();
     std::vector<std::pair<double, std::function<void()>>> options;  // weight, action
@@ -186,7 +199,7 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
     } else {
       std::vector<std::string> untried;
       for (const auto& t : s.things)
-        if (!t.tried && t.name != s.at) untried.push_back(t.name);
+        if (!t.tried && !t.lost && t.name != s.at) untried.push_back(t.name);
       if (!untried.empty()) {
         const std::string to = untried[std::uniform_int_distribution<std::size_t>(0, untried.size() - 1)(rng)];
         const std::string from = s.at;
@@ -205,6 +218,23 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
       }
       if (s.at == "door")
         options.emplace_back(2.0, [&] { out.push_back(played("drive-through", robot.drive_through(), {{"door", "?d"}})); });
+      // The push trials: a thing it stands at pushed toward a switch plate flush with the floor,
+      // once per thing (boxes and cans alike: what moves is for the trials to tell).
+      const auto at_pushable = std::find_if(s.things.begin(), s.things.end(), [&](const af::SeenThing& t) {
+        return t.name == s.at && !pushed.count(t.name) && t.outcome != "on the switch";
+      });
+      const auto atoms = af::scene_atoms(s);
+      const bool flush = std::count(atoms.begin(), atoms.end(), pddl::Atom{"flush", {"switch"}}) > 0;
+      if (at_pushable != s.things.end() && flush) {
+        const std::string t = at_pushable->name;
+        options.emplace_back(2.0, [&, t] {
+          pushed.insert(t);
+          auto r = robot.push(t);
+          robot.perceive_door();
+          r.after = robot.scene();
+          out.push_back(played("push", r, {{t, "?t"}, {"switch", "?s"}, {"door", "?d"}}));
+        });
+      }
     }
     if (options.empty()) break;
     double total = 0;
@@ -258,7 +288,8 @@ int learn_and_write(std::vector<af::BehaviourTrials> trials, const std::string& 
 
 int main(int argc, char** argv) {
   macsim::dds::ParticipantOptions participant{-1, "", "learn_effects"};
-  std::string out_dir, world;
+  std::string out_dir;
+  std::vector<std::string> worlds;
   int seed = 3;
   int episodes = 40, instances = 2, steps = 16;
   macsim::dds::CommandLine cli(
@@ -273,7 +304,12 @@ int main(int argc, char** argv) {
   cli.option("episodes", "N", "exploration episodes (default 40)", &episodes);
   cli.option("instances", "K", "simulators side by side (default 2)", &instances);
   cli.option("steps", "N", "behaviours per episode at most (default 16)", &steps);
-  cli.option("world", "FILE", "the room (default worlds/behaviour_trials.xml: the demonstrator's, its switch from softer than one can to stiffer)", &world);
+  cli.repeated_option("world", "FILE",
+                      "a room to explore, repeatable: episode e plays the (e mod count)-th (default "
+                      "worlds/behaviour_trials.xml, the demonstrator's room, its switch from softer than one "
+                      "can to stiffer, and worlds/goals/push_to_switch.xml, a switch flush with the floor and "
+                      "boxes to push)",
+                      &worlds);
   std::string from_trials;
   cli.option("from-trials", "FILE",
              "learn from the rows of an earlier run (its DIR/trials.csv) instead of playing episodes",
@@ -283,10 +319,14 @@ int main(int argc, char** argv) {
     macsim::log::error("learn_effects: --out DIR is required; --episodes, --steps positive, --instances 1-16");
     return 2;
   }
-  if (world.empty()) world = macsim::dds::data_file("worlds/behaviour_trials.xml");
-  if (from_trials.empty() && !std::filesystem::is_regular_file(world)) {
-    macsim::log::error("learn_effects: --world {}: no such world file", world);
-    return 2;
+  if (worlds.empty())
+    worlds = {macsim::dds::data_file("worlds/behaviour_trials.xml"),
+              macsim::dds::data_file("worlds/goals/push_to_switch.xml")};
+  for (const auto& world : worlds) {
+    if (from_trials.empty() && !std::filesystem::is_regular_file(world)) {
+      macsim::log::error("learn_effects: --world {}: no such world file", world);
+      return 2;
+    }
   }
   std::filesystem::create_directories(out_dir);
   if (!from_trials.empty()) {
@@ -314,7 +354,8 @@ int main(int argc, char** argv) {
         macsim::process::Options output;
         output.output = macsim::process::Output::file(out_dir + "/macsim_domain_" + std::to_string(domain) + ".log");
         macsim::process::ChildProcess simulator(
-            {macsim::process::sibling_program("macsim"), "--world", world, "--seed", std::to_string(layout),
+            {macsim::process::sibling_program("macsim"), "--world", worlds[static_cast<std::size_t>(e) % worlds.size()],
+             "--seed", std::to_string(layout),
              "--domain", std::to_string(domain), "--lockstep", "--quiet"},
             output);
         auto played = explore(domain, layout, steps);
@@ -336,7 +377,7 @@ int main(int argc, char** argv) {
   std::sort(results.begin(), results.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   // The trials per behaviour, in a fixed order.
   std::vector<af::BehaviourTrials> trials;
-  for (const char* b : {"go", "lift", "put-down", "drive-through"}) trials.push_back(columns(b));
+  for (const char* b : {"go", "lift", "put-down", "push", "drive-through"}) trials.push_back(columns(b));
   for (const auto& [layout, played] : results) {
     int index = 0;
     for (const auto& p : played) {
