@@ -64,11 +64,15 @@ std::string debug_images_problem(const std::string& dir) {
   return "--debug-images " + dir + " is no folder";
 }
 
-std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
+std::string robot_place(const Scene& scene) {
   // At a thing it lost sight of, the robot is at a place of its own again: the start of a plan.
   const bool at_lost = std::any_of(scene.things.begin(), scene.things.end(),
                                    [&](const SeenThing& t) { return t.lost && t.name == scene.at; });
-  std::vector<pddl::Atom> atoms{{"robot-at", {at_lost ? std::string("start") : scene.at}}};
+  return at_lost ? "start" : scene.at;
+}
+
+std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
+  std::vector<pddl::Atom> atoms{{"robot-at", {robot_place(scene)}}};
   if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
   else atoms.push_back({"holding", {scene.holding}});
   for (const auto& t : scene.things) {

@@ -315,6 +315,12 @@ Committed learned_from_committed_rows() {
   return c;
 }
 
+/// The domain learned from the committed rows (learned once per test binary).
+const LearnedDomain& learned_domain_of_committed_rows() {
+  static const LearnedDomain d = learned_from_committed_rows().domain;
+  return d;
+}
+
 /// The committed rows of learn_effects (exploration episodes against macsim): the domain learned
 /// from them, its rules checked against the rows they were read off.
 TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
@@ -368,7 +374,7 @@ TEST(Effects, TheDomainLearnedFromTheCommittedRowsHoldsOnThoseRows) {
 TEST(Effects, TheCommittedRowsTeachThatASecondThingPressesASwitchOneMayLeaveUp) {
   // The trial room's switch is softer than one can in some layouts, stiffer in the others: the
   // learned put-down splits on whether something already lies on the platform.
-  const LearnedDomain d = learned_from_committed_rows().domain;
+  const LearnedDomain d = learned_domain_of_committed_rows();
   const Atom loaded{"loaded", {"?s"}}, pressed{"pressed", {"?s"}};
   auto chance_pressed = [&](const pddl::Operator& o) {
     double p = 0;
@@ -391,6 +397,32 @@ TEST(Effects, TheCommittedRowsTeachThatASecondThingPressesASwitchOneMayLeaveUp) 
   }
   EXPECT_EQ(on_loaded, 1);
   EXPECT_EQ(on_empty, 1);
+}
+
+TEST(Effects, TheCommittedRowsTeachThatAPushedBoxMayPressAFlushSwitchAndAPushedCanDoesNot) {
+  // The push trials (the push-to-switch room: a plate flush with the floor, boxes and cans) split
+  // on what the cameras call a box: a box pushed toward the plate presses it often enough to
+  // plan on, a can never does.
+  const LearnedDomain d = learned_domain_of_committed_rows();
+  const Atom box{"box", {"?t"}}, loaded{"loaded", {"?s"}}, pressed{"pressed", {"?s"}}, flush{"flush", {"?s"}};
+  int of_box = 0, of_other = 0;
+  for (const auto& o : d.domain.operators) {
+    if (o.name.rfind("push", 0) != 0) continue;
+    EXPECT_TRUE(std::count(o.requires_true.begin(), o.requires_true.end(), flush)) << o.name;
+    if (std::count(o.requires_true.begin(), o.requires_true.end(), loaded)) continue;  // pressed already
+    double p = 0;
+    for (const auto& outcome : o.outcomes)
+      if (std::count(outcome.add.begin(), outcome.add.end(), pressed)) p += outcome.probability;
+    if (std::count(o.requires_true.begin(), o.requires_true.end(), box)) {
+      ++of_box;
+      EXPECT_GE(p, PlanLimits{}.min_probability) << o.name;
+    } else {
+      ++of_other;
+      EXPECT_LT(p, 0.1) << o.name;
+    }
+  }
+  EXPECT_EQ(of_box, 1);
+  EXPECT_EQ(of_other, 1);
 }
 
 TEST(Effects, ThresholdPredicatesAreNamesPddlReads) {

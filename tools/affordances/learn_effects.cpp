@@ -184,7 +184,7 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
     std::vector<std::pair<double, std::function<void()>>> options;  // weight, action
     if (!s.holding.empty()) {
       if (s.at != "switch" && s.switch_platform) {
-        const std::string from = s.at;
+        const std::string from = af::robot_place(s);
         options.emplace_back(1.0, [&, from] { out.push_back(played("go", robot.go_to_switch(), {{from, "?from"}, {"switch", "?to"}})); });
       }
       if (s.at == "switch") {
@@ -202,17 +202,17 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
         if (!t.tried && !t.lost && t.name != s.at) untried.push_back(t.name);
       if (!untried.empty()) {
         const std::string to = untried[std::uniform_int_distribution<std::size_t>(0, untried.size() - 1)(rng)];
-        const std::string from = s.at;
+        const std::string from = af::robot_place(s);
         options.emplace_back(1.0, [&, to, from] { out.push_back(played("go", robot.go_to(to), {{from, "?from"}, {to, "?to"}})); });
       }
       const auto at_thing = std::find_if(s.things.begin(), s.things.end(),
-                                         [&](const af::SeenThing& t) { return t.name == s.at && !t.tried; });
+                                         [&](const af::SeenThing& t) { return t.name == s.at && !t.tried && !t.lost; });
       if (at_thing != s.things.end()) {
         const std::string t = at_thing->name;
         options.emplace_back(4.0, [&, t] { out.push_back(played("lift", robot.lift(t), {{t, "?t"}})); });
       }
       if (s.door && s.at != "door") {
-        const std::string from = s.at;
+        const std::string from = af::robot_place(s);
         options.emplace_back(s.on_switch.empty() ? 0.5 : 4.0,
                              [&, from] { out.push_back(played("go", robot.go_to_door(), {{from, "?from"}, {"door", "?to"}})); });
       }
@@ -221,7 +221,7 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
       // The push trials: a thing it stands at pushed toward a switch plate flush with the floor,
       // once per thing (boxes and cans alike: what moves is for the trials to tell).
       const auto at_pushable = std::find_if(s.things.begin(), s.things.end(), [&](const af::SeenThing& t) {
-        return t.name == s.at && !pushed.count(t.name) && t.outcome != "on the switch";
+        return t.name == s.at && !t.lost && !pushed.count(t.name) && t.outcome != "on the switch";
       });
       const auto atoms = af::scene_atoms(s);
       const bool flush = std::count(atoms.begin(), atoms.end(), pddl::Atom{"flush", {"switch"}}) > 0;

@@ -65,6 +65,10 @@ struct Scene {
   bool beyond_door = false;            ///< it drove through the door's gap
 };
 
+/// Where the robot is in the scene's atoms: `scene.at`, or "start" when that is a thing it lost
+/// sight of (a plan starts from a place of its own then).
+std::string robot_place(const Scene& scene);
+
 /// The scene as atoms of the room's vocabulary (affordances/README.md, "The scene's atoms"):
 /// robot-at, hand-free or holding, tried (a lift was tried on it), like-failed (untried, of the
 /// colour of one that did not come up), box (a box the cameras saw), on, loaded, pressed (the door
