@@ -22,6 +22,10 @@ namespace plan_msg = plan_msgs::msg::dds_;
 
 namespace {
 
+/// The least probability of an outcome a second planning round counts on, when no plan counts on
+/// likely ones only.
+constexpr double kUnlikely = 0.05;
+
 std::string atoms_text(const std::vector<pddl::Atom>& atoms) {
   return atoms.empty() ? "nothing" : pddl::text(atoms);
 }
@@ -227,8 +231,21 @@ std::optional<af::Plan> PlanController::plan_round(std::string& reason, double& 
       pddl::save_text(options_.problems + "/" + p.name + (goals.size() > 1 ? "-" + goal.arguments[0] : "") +
                           ".pddl",
                       pddl::write(p));
-    const af::PlanResult r = af::plan(options_.domain, p);
+    af::PlanResult r = af::plan(options_.domain, p);
     seconds += r.seconds;
+    if (!r.plan && !r.limit_reached) {
+      // No plan counts only on likely outcomes: one that counts on an unlikely one is still
+      // worth trying (a can whose colour lifted one time in five).
+      af::PlanLimits unlikely;
+      unlikely.min_probability = kUnlikely;
+      const af::PlanResult second = af::plan(options_.domain, p, unlikely);
+      seconds += second.seconds;
+      if (second.plan) {
+        say("plan", "no plan counts on outcomes of at least " + decimals(af::PlanLimits{}.min_probability, 2) +
+                        "; one that counts on less likely ones:");
+        r = second;
+      }
+    }
     if (!r.plan) {
       reason = r.reason;
       continue;
