@@ -27,6 +27,7 @@ constexpr double kBesideOnPlatform = 0.08;  // m: a second thing from the platfo
 constexpr double kBumper = 0.21;             // m: base_link to the front bumper
 constexpr double kBoxHalf = 0.1;             // m: half a pushable box's side
 constexpr double kPushStandoff = 1.0;        // m: from a box's middle to stand behind it
+constexpr double kDoorWatch = 1.5;           // m: in front of a door seen from afar, where the wall is watched
 constexpr double kPushLeg = 0.9;             // m: the longest push before the box is looked at again
 constexpr int kPushLegs = 6;                 // pushes per push behaviour at most
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
@@ -653,7 +654,15 @@ bool Behaviours::perceive_door() {
 
 BehaviourReport Behaviours::go_to_door() {
   BehaviourReport r = report("go_to", "door");
-  drive_straight(-0.4, 0.2);
+  if (scene_.door && std::hypot(scene_.door->x - pose_.x, scene_.door->y - pose_.y) > kDoorWatch + 0.5) {
+    // Seen from across the room, the wall holds too few points to watch: closer first.
+    const SeenDoor& d = *scene_.door;
+    say(stage_, fmt("going toward the door seen at %.2f,%.2f", d.x, d.y));
+    travel_to({d.x - kDoorWatch * d.nx, d.y - kDoorWatch * d.ny}, 0.1);
+    turn_to(std::atan2(d.ny, d.nx));
+  } else {
+    drive_straight(-0.4, 0.2);
+  }
   // The door opens when the switch sinks under the can: watch the wall for the opening.
   const double give_up = now_ + 25.0;
   std::optional<Passage> passage;

@@ -147,7 +147,8 @@ class Behaviours : public RobotLoop {
   /// aim at its middle, drives it over the switch with the bumper, backs off and looks whether it
   /// is there.
   BehaviourReport push(const std::string& box);
-  /// Backs off, watches the wall for the door's gap (up to 25 s) and stands in front of it.
+  /// Goes 1.5 m in front of a door seen from afar (else backs off), watches the wall for its gap
+  /// (up to 25 s) and stands in front of it.
   BehaviourReport go_to_door();
   /// Drives through the door's gap (going to the door first unless it stands there).
   BehaviourReport drive_through();
