@@ -57,6 +57,9 @@ TEST(KurtPlan, AnOpenDoorIsDrivenThroughAtOnceWhereTheScriptFetchesACanFirst) {
                                          std::chrono::seconds(170), {"--pictures", pictures.path()});
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
   EXPECT_NE(plan.output.find("plan of 2 step(s)"), std::string::npos) << plan.output;
+  // Seen from the start across the room, the door is approached before its wall is watched.
+  EXPECT_NE(plan.output.find("going toward the door seen at"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("(go start door): as predicted"), std::string::npos) << plan.output;
   // After each step an overview picture, and beside it the same with the plan drawn on its right.
   for (const char* step : {"plan_1_step_1", "plan_1_step_2"}) {
     const cv::Mat taken = cv::imread(pictures.path() + "/" + step + ".png");
