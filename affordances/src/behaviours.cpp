@@ -27,6 +27,7 @@ constexpr double kBesideOnPlatform = 0.08;  // m: a second thing from the platfo
 constexpr double kBumper = 0.21;             // m: base_link to the front bumper
 constexpr double kBoxHalf = 0.1;             // m: half a pushable box's side
 constexpr double kPushStandoff = 1.0;        // m: from a box's middle to stand behind it
+constexpr double kStaleSwitch = 0.6;         // m: a switch seen this far from its estimate replaces it
 constexpr double kDoorWatch = 1.5;           // m: in front of a door seen from afar, where the wall is watched
 constexpr double kPushLeg = 0.9;             // m: the longest push before the box is looked at again
 constexpr int kPushLegs = 6;                 // pushes per push behaviour at most
@@ -222,6 +223,7 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
       after = frame->stamp;
       ++taken;
       auto sightings = find_objects(*frame, geometry_);
+      if (frame->focal > 0) view_half_angle_ = std::atan2(frame->left.cols / 2.0, frame->focal);
       // Each can as the trials perceive an object's blob: its features, and what the lift
       // model says of it.
       for (auto& s : sightings) {
@@ -253,12 +255,33 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
   return seen;
 }
 
+void Behaviours::forget_unseen(const std::vector<std::pair<Sighting, Pose2>>& seen) {
+  constexpr double kNear = 1.0, kFar = 3.0, kSame = 0.45;  // m
+  for (auto& t : scene_.things) {
+    if (t.lost || t.name == scene_.holding ||
+        std::find(scene_.on_switch.begin(), scene_.on_switch.end(), t.name) != scene_.on_switch.end())
+      continue;
+    const double range = std::hypot(t.x - pose_.x, t.y - pose_.y);
+    const double bearing = std::remainder(std::atan2(t.y - pose_.y, t.x - pose_.x) - pose_.yaw, 2 * M_PI);
+    if (range < kNear || range > kFar || std::fabs(bearing) > 0.7 * view_half_angle_) continue;
+    const bool there = std::any_of(seen.begin(), seen.end(), [&](const auto& s) {
+      return s.first.kind == t.kind && s.first.colour == t.colour && std::hypot(s.second.x - t.x, s.second.y - t.y) < kSame;
+    });
+    if (!there) {
+      t.lost = true;
+      t.outcome = "not seen again where it was";
+    }
+  }
+}
+
 void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings) {
   for (const auto& [s, at] : sightings) {
     if (s.range > 3.5) continue;  // too far to place well
     if (s.kind == Kind::Switch) {
       if (!scene_.switch_platform) scene_.switch_platform = seen_thing("switch", "yellow", Kind::Switch, at);
       auto& w = *scene_.switch_platform;
+      // Far from where it was: the odometry moved on (the tracks slipped); this look is what counts.
+      if (w.seen > 0 && std::hypot(w.x - at.x, w.y - at.y) > kStaleSwitch) w.seen = 0;
       w.x = (w.x * w.seen + at.x) / (w.seen + 1);
       w.y = (w.y * w.seen + at.y) / (w.seen + 1);
       w.above_floor = (w.above_floor * w.seen + s.above_floor) / (w.seen + 1);
@@ -384,7 +407,9 @@ BehaviourReport Behaviours::look_around(bool until_switch) {
   const double start_yaw = pose_.yaw;
   for (int k = 0; k < 9; ++k) {
     if (k > 0) turn_to(start_yaw + k * 2 * M_PI / 9);
-    record(look(1));
+    const auto seen = look(1);
+    forget_unseen(seen);
+    record(seen);
     if (until_switch && scene_.switch_platform) break;
   }
   std::ostringstream what;

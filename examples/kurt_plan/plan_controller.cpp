@@ -365,6 +365,16 @@ Summary PlanController::run() {
       picture("plan_" + std::to_string(round_) + "_step_" + std::to_string(i + 1));
       if (!as_predicted) {
         replan = true;
+        // A thing not where it was seen: the odometry moved on (the tracks slipped), so what it
+        // remembers may lie off too. A look around marks what is not there and sees what is.
+        const auto& args = plan->steps[i].arguments;
+        const bool lost = std::any_of(scene().things.begin(), scene().things.end(), [&](const af::SeenThing& t) {
+          return t.lost && std::find(args.begin(), args.end(), t.name) != args.end();
+        });
+        if (lost) {
+          set_stage("look");
+          look_around();
+        }
         break;
       }
       if (summary.plan_steps >= options_.max_steps) break;

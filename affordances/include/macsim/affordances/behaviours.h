@@ -184,6 +184,10 @@ class Behaviours : public RobotLoop {
   std::optional<Point> find_again(const SeenThing& target, Kind kind, double radius = 0.45,
                                   Sighting* last = nullptr);
   bool close_in(SeenThing& target, Kind kind);
+  /// Marks lost each thing this look should have shown (well inside the view, 1-3 m away, not
+  /// held, not on the switch) but did not, near where it was: after the tracks slipped, what
+  /// the robot remembers lies where nothing is.
+  void forget_unseen(const std::vector<std::pair<Sighting, Pose2>>& seen);
   BehaviourReport report(const std::string& behaviour, const std::string& argument) const;
   BehaviourReport& finish(BehaviourReport& r, Setback setback = Setback::None,
                           const std::string& reason = {});
@@ -195,6 +199,7 @@ class Behaviours : public RobotLoop {
   int lift_attempts_ = 0;
   ObstacleMap obstacles_;
   int debug_count_ = 0;
+  double view_half_angle_ = 0;  ///< rad, half the cameras' horizontal view (from the last frame)
   std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
 };
 
