@@ -131,7 +131,7 @@ class Behaviours : public RobotLoop {
   std::function<void(const std::string& event)> on_event;
 
   /// Turns once on the spot, looking (nine stereo pairs); stops early once the switch is seen
-  /// if `until_switch`.
+  /// if `until_switch`. What a look should have shown near where it was and did not is lost.
   BehaviourReport look_around(bool until_switch = false);
   /// Walks up to the thing (standing off where the way in is free, looking again from close
   /// by) and drives in until it is at the crane's reach.
