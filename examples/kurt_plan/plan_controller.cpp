@@ -305,17 +305,70 @@ bool PlanController::execute(const af::PlanStep& step, std::string& outcome) {
 }
 
 Summary PlanController::run() {
-  Summary& summary = summary_;
   start();
   set_stage("look");
   look_around();
   perceive_door();
+  if (options_.policy == Policy::Random)
+    run_random();
+  else
+    run_plan();
+  halt();
+  if (summary_.reached) summary_.exit = kReached;
+  return summary_;
+}
+
+bool PlanController::goal_holds() const {
+  const auto atoms = af::scene_atoms(scene());
+  const std::set<pddl::Atom> now(atoms.begin(), atoms.end());
+  const auto goals = goal_atoms();
+  return std::any_of(goals.begin(), goals.end(), [&](const pddl::Atom& g) { return now.count(g) > 0; });
+}
+
+plan_msg::PlanStep_ PlanController::shown_step(const af::PlanStep& step) {
+  plan_msg::PlanStep_ shown;
+  shown.action(step.text());
+  shown.predicted(effect_text(step.expected));
+  shown.probability(step.probability);
+  shown.status(plan_msg::STEP_TO_DO);
+  return shown;
+}
+
+bool PlanController::act(std::size_t i, const af::PlanStep& step) {
+  ++summary_.plan_steps;
+  shown_.current(static_cast<std::int32_t>(i));
+  shown_.steps()[i].status(plan_msg::STEP_UNDER_WAY);
+  publish_plan();
+  std::string outcome;
+  const bool as_predicted = execute(step, outcome);
+  shown_.steps()[i].status(as_predicted ? plan_msg::STEP_AS_PREDICTED : plan_msg::STEP_NOT_AS_PREDICTED);
+  shown_.steps()[i].perceived(outcome);
+  shown_.current(-1);
+  publish_plan();
+  picture("plan_" + std::to_string(round_) + "_step_" + std::to_string(i + 1));
+  // A thing not where it was seen: the odometry moved on (the tracks slipped), so what it
+  // remembers may lie off too. A look around marks what is not there and sees what is.
+  const bool lost = std::any_of(scene().things.begin(), scene().things.end(), [&](const af::SeenThing& t) {
+    return t.lost && std::find(step.arguments.begin(), step.arguments.end(), t.name) != step.arguments.end();
+  });
+  if (!as_predicted && lost) {
+    set_stage("look");
+    look_around();
+  }
+  return as_predicted;
+}
+
+bool PlanController::out_of_steps() {
+  if (summary_.plan_steps < options_.max_steps) return false;
+  summary_.exit = kNotReached;
+  summary_.reason = "took " + std::to_string(summary_.plan_steps) + " steps, the most it may";
+  return true;
+}
+
+void PlanController::run_plan() {
+  Summary& summary = summary_;
   bool looked_again = false;
-  while (options_.policy == Policy::Plan) {
-    if (goal_holds()) {
-      summary.reached = true;
-      break;
-    }
+  while (!(summary.reached = goal_holds())) {
     set_stage("plan");
     std::string reason;
     const auto plan = plan_round(reason, summary.planning_seconds);
@@ -330,7 +383,7 @@ Summary PlanController::run() {
       }
       summary.exit = kUnreachable;
       summary.reason = reason;
-      break;
+      return;
     }
     say("plan", "plan of " + std::to_string(plan->steps.size()) + " step(s), probability " +
                     decimals(plan->probability, 3) + ":");
@@ -341,81 +394,28 @@ Summary PlanController::run() {
     }
     shown_.round(static_cast<std::uint32_t>(round_));
     shown_.steps().clear();
-    for (const auto& s : plan->steps) {
-      plan_msg::PlanStep_ shown;
-      shown.action(s.text());
-      shown.predicted(effect_text(s.expected));
-      shown.probability(s.probability);
-      shown.status(plan_msg::STEP_TO_DO);
-      shown_.steps().push_back(std::move(shown));
-    }
+    for (const auto& s : plan->steps) shown_.steps().push_back(shown_step(s));
     set_stage("act");
     bool replan = false;
-    for (std::size_t i = 0; i < plan->steps.size(); ++i) {
-      ++summary.plan_steps;
-      shown_.current(static_cast<std::int32_t>(i));
-      shown_.steps()[i].status(plan_msg::STEP_UNDER_WAY);
-      publish_plan();
-      std::string outcome;
-      const bool as_predicted = execute(plan->steps[i], outcome);
-      shown_.steps()[i].status(as_predicted ? plan_msg::STEP_AS_PREDICTED : plan_msg::STEP_NOT_AS_PREDICTED);
-      shown_.steps()[i].perceived(outcome);
-      shown_.current(-1);
-      publish_plan();
-      picture("plan_" + std::to_string(round_) + "_step_" + std::to_string(i + 1));
-      if (!as_predicted) {
-        replan = true;
-        // A thing not where it was seen: the odometry moved on (the tracks slipped), so what it
-        // remembers may lie off too. A look around marks what is not there and sees what is.
-        const auto& args = plan->steps[i].arguments;
-        const bool lost = std::any_of(scene().things.begin(), scene().things.end(), [&](const af::SeenThing& t) {
-          return t.lost && std::find(args.begin(), args.end(), t.name) != args.end();
-        });
-        if (lost) {
-          set_stage("look");
-          look_around();
-        }
-        break;
-      }
-      if (summary.plan_steps >= options_.max_steps) break;
-    }
-    if (summary.plan_steps >= options_.max_steps) {
-      summary.exit = kNotReached;
-      summary.reason = "took " + std::to_string(summary.plan_steps) + " steps, the most it may";
-      break;
-    }
+    for (std::size_t i = 0; i < plan->steps.size() && !replan && !out_of_steps(); ++i)
+      replan = !act(i, plan->steps[i]);
+    if (summary.exit == kNotReached) return;
     if (replan) {
       if (++summary.replans > options_.max_replans) {
         summary.exit = kNotReached;
         summary.reason = "planned again " + std::to_string(options_.max_replans) + " times, the most it may";
-        break;
+        return;
       }
       say("plan", "what it perceived differs from what was predicted: planning again");
     }
   }
-  if (options_.policy == Policy::Random) run_random();
-  halt();
-  if (summary.reached) summary.exit = kReached;
-  return summary;
-}
-
-bool PlanController::goal_holds() const {
-  const auto atoms = af::scene_atoms(scene());
-  const std::set<pddl::Atom> now(atoms.begin(), atoms.end());
-  const auto goals = goal_atoms();
-  return std::any_of(goals.begin(), goals.end(), [&](const pddl::Atom& g) { return now.count(g) > 0; });
 }
 
 void PlanController::run_random() {
-  Summary& summary = summary_;
   std::mt19937 rng(options_.policy_seed);
   bool looked_again = false;
-  while (!(summary.reached = goal_holds())) {
-    if (summary.plan_steps >= options_.max_steps) {
-      summary.exit = kNotReached;
-      summary.reason = "took " + std::to_string(summary.plan_steps) + " steps, the most it may";
-      return;
-    }
+  while (!(summary_.reached = goal_holds()) && !out_of_steps()) {
+    // The steps the domain allows now (the problem's goal plays no part in which).
     const auto goals = goal_atoms();
     const auto steps = af::applicable(options_.domain, problem(goals.empty() ? pddl::Atom{"beyond", {"door"}} : goals.front()));
     if (steps.empty()) {
@@ -425,30 +425,16 @@ void PlanController::run_random() {
         look_around();
         continue;
       }
-      summary.exit = kUnreachable;
-      summary.reason = "no step of the domain applies to what the robot perceives";
+      summary_.exit = kUnreachable;
+      summary_.reason = "no step of the domain applies to what the robot perceives";
       return;
     }
     const auto& step = steps[std::uniform_int_distribution<std::size_t>(0, steps.size() - 1)(rng)];
     set_stage("act");
     say("act", "chosen at random from " + std::to_string(steps.size()) + " step(s): " + step.text());
-    ++summary.plan_steps;
     shown_.round(static_cast<std::uint32_t>(++round_));
-    shown_.steps().clear();
-    plan_msg::PlanStep_ shown;
-    shown.action(step.text());
-    shown.predicted(effect_text(step.expected));
-    shown.probability(step.probability);
-    shown.status(plan_msg::STEP_UNDER_WAY);
-    shown_.steps().push_back(shown);
-    shown_.current(0);
-    publish_plan();
-    std::string outcome;
-    const bool as_predicted = execute(step, outcome);
-    shown_.steps()[0].status(as_predicted ? plan_msg::STEP_AS_PREDICTED : plan_msg::STEP_NOT_AS_PREDICTED);
-    shown_.steps()[0].perceived(outcome);
-    shown_.current(-1);
-    publish_plan();
+    shown_.steps() = {shown_step(step)};
+    act(0, step);
   }
 }
 

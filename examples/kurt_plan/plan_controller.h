@@ -87,9 +87,19 @@ class PlanController : public macsim::affordances::Behaviours {
   std::vector<macsim::affordances::pddl::Atom> goal_atoms() const;
   /// True when the perceived scene shows the goal.
   bool goal_holds() const;
+  /// Policy::Plan's run after the first look: plan, act, watch, plan again until the goal holds,
+  /// no plan reaches it, or the steps or replans run out.
+  void run_plan();
   /// Policy::Random's run after the first look: a step chosen at random among those the domain
   /// allows, executed and watched, until the goal holds or the step budget is spent.
   void run_random();
+  /// Step `i` of the plan shown: under way, executed through its behaviour, its outcome shown
+  /// and pictured; after a thing was not where it was seen, a look around. True as predicted.
+  bool act(std::size_t i, const macsim::affordances::PlanStep& step);
+  /// True (and the summary says so) once the step budget is spent.
+  bool out_of_steps();
+  /// A step as the plan topic shows it, still to do.
+  static plan_msgs::msg::dds_::PlanStep_ shown_step(const macsim::affordances::PlanStep& step);
   /// Plans for each goal atom and keeps the shortest, likeliest; nullopt and the reason if none.
   std::optional<macsim::affordances::Plan> plan_round(std::string& reason, double& seconds);
   /// Runs one step through its behaviour; true when what it perceived afterwards shows the
