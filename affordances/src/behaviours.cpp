@@ -432,16 +432,16 @@ BehaviourReport Behaviours::look_around(bool until_switch) {
 
 BehaviourReport Behaviours::go_to(const std::string& name) {
   BehaviourReport r = report("go_to", name);
-  SeenThing* can = thing(name);
-  if (!can) return finish(r, Setback::NotSeen, name + " was never seen");
-  say(stage_, fmt("going for the %s can at %.2f,%.2f (odometry frame)", can->colour.c_str(),
-                  can->x, can->y));
+  SeenThing* target = thing(name);
+  if (!target) return finish(r, Setback::NotSeen, name + " was never seen");
+  const std::string what = "the " + target->colour + (target->kind == Kind::Box ? " box" : " can");
+  say(stage_, fmt("going for %s at %.2f,%.2f (odometry frame)", what.c_str(), target->x, target->y));
   // Stand off where the way in is free, look again from close by, drive in to the crane's reach.
-  if (!close_in(*can, can->kind)) {
-    can->outcome = "not seen again";
-    can->lost = true;
-    say(stage_, "the " + can->colour + " can is not where it was seen; next candidate");
-    return finish(r, Setback::NotSeen, "the " + can->colour + " can is not where it was seen");
+  if (!close_in(*target, target->kind)) {
+    target->outcome = "not seen again";
+    target->lost = true;
+    say(stage_, what + " is not where it was seen; next candidate");
+    return finish(r, Setback::NotSeen, what + " is not where it was seen");
   }
   scene_.at = name;
   return finish(r);

@@ -179,6 +179,12 @@ std::vector<Played> explore(int domain, std::uint32_t seed, int steps) {
 /// The episode's behaviours after the first look, appended to `out` as they end.
 void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vector<Played>& out) {
   std::set<std::string> pushed;
+  // A load on the switch may open the door: the report's scene after it includes a look at the wall.
+  const auto door_watched = [&](af::BehaviourReport r) {
+    robot.perceive_door();
+    r.after = robot.scene();
+    return r;
+  };
   for (int k = 0; k < steps && !robot.scene().beyond_door; ++k) {
     const af::Scene& s = robot.scene();
     std::vector<std::pair<double, std::function<void()>>> options;  // weight, action
@@ -190,10 +196,7 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
       if (s.at == "switch") {
         const std::string held = s.holding;
         options.emplace_back(1.0, [&, held] {
-          auto r = robot.put_down();
-          robot.perceive_door();
-          r.after = robot.scene();
-          out.push_back(played("put-down", r, {{held, "?t"}, {"switch", "?s"}, {"door", "?d"}}));
+          out.push_back(played("put-down", door_watched(robot.put_down()), {{held, "?t"}, {"switch", "?s"}, {"door", "?d"}}));
         });
       }
     } else {
@@ -229,10 +232,7 @@ void explore_from(af::Behaviours& robot, std::mt19937& rng, int steps, std::vect
         const std::string t = at_pushable->name;
         options.emplace_back(2.0, [&, t] {
           pushed.insert(t);
-          auto r = robot.push(t);
-          robot.perceive_door();
-          r.after = robot.scene();
-          out.push_back(played("push", r, {{t, "?t"}, {"switch", "?s"}, {"door", "?d"}}));
+          out.push_back(played("push", door_watched(robot.push(t)), {{t, "?t"}, {"switch", "?s"}, {"door", "?d"}}));
         });
       }
     }
