@@ -31,6 +31,9 @@ constexpr double kStaleSwitch = 0.6;         // m: a switch seen this far from i
 constexpr double kDoorWatch = 1.5;           // m: in front of a door seen from afar, where the wall is watched
 constexpr double kPushLeg = 0.9;             // m: the longest push before the box is looked at again
 constexpr int kPushLegs = 6;                 // pushes per push behaviour at most
+constexpr double kLastPush = 0.25;           // m: the longest push once the box is close to the plate
+constexpr double kDoorSettle = 3.0;          // s: a door the robot's weight opened has closed again after this
+constexpr double kPlateHidden = 0.5;         // m: a box closer than this to the plate hides part of it
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
@@ -208,7 +211,7 @@ void Behaviours::park_crane() {
 
 // ---- sensing ------------------------------------------------------------------------------
 
-std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
+void Behaviours::for_frames(int frames, const std::function<void(const macsim::client::StereoFrame&)>& use) {
   linear_ = angular_ = 0;
   wait(0.3);  // let the chassis come to rest
   looking_ = true;
@@ -216,12 +219,36 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
     bool& looking;
     ~Done() { looking = false; }
   } done{looking_};
-  std::vector<std::pair<Sighting, Pose2>> seen;
   double after = now_ - 1e-6;
   for (int taken = 0, tries = 0; taken < frames && tries < 40; ++tries) {
     if (auto frame = cameras_.latest(after)) {
       after = frame->stamp;
       ++taken;
+      use(*frame);
+      continue;
+    }
+    tick();
+  }
+}
+
+std::optional<Point> Behaviours::look_at_flush_plate() {
+  int found = 0;
+  double sx = 0, sy = 0;
+  for_frames(3, [&](const macsim::client::StereoFrame& frame) {
+    if (const auto plate = find_flush_plate(frame, geometry_)) {
+      const Pose2 at = to_odom(plate->x, plate->y);
+      sx += at.x;
+      sy += at.y;
+      ++found;
+    }
+  });
+  return found ? std::optional<Point>(Point{sx / found, sy / found}) : std::nullopt;
+}
+
+std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
+  std::vector<std::pair<Sighting, Pose2>> seen;
+  for_frames(frames, [&](const macsim::client::StereoFrame& f) {
+      const macsim::client::StereoFrame* frame = &f;
       auto sightings = find_objects(*frame, geometry_);
       if (frame->focal > 0) view_half_angle_ = std::atan2(frame->left.cols / 2.0, frame->focal);
       // Each can as the trials perceive an object's blob: its features, and what the lift
@@ -248,10 +275,7 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
         cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
                     draw_sightings(frame->left, sightings));
       }
-      continue;
-    }
-    tick();
-  }
+  });
   return seen;
 }
 
@@ -404,6 +428,7 @@ bool Behaviours::close_in(SeenThing& target, Kind kind) {
 
 BehaviourReport Behaviours::look_around(bool until_switch) {
   BehaviourReport r = report("look_around", "");
+  looked_from_.push_back({pose_.x, pose_.y});
   const double start_yaw = pose_.yaw;
   for (int k = 0; k < 9; ++k) {
     if (k > 0) turn_to(start_yaw + k * 2 * M_PI / 9);
@@ -427,6 +452,35 @@ BehaviourReport Behaviours::look_around(bool until_switch) {
     what << fmt("; the switch at %.2f,%.2f (%.2f m wide)", scene_.switch_platform->x, scene_.switch_platform->y,
                 scene_.switch_platform->features["width_m"]);
   say(stage_, "looked around: " + what.str());
+  return finish(r);
+}
+
+BehaviourReport Behaviours::look_from_elsewhere() {
+  BehaviourReport r = report("look_around", "elsewhere");
+  map_here();
+  const Point here{pose_.x, pose_.y};
+  std::optional<Point> best;
+  double furthest = 0;  // m from every place looked from
+  for (int k = 0; k < 16; ++k) {
+    const double a = k * M_PI / 8;
+    for (const double d : {2.0, 1.5, 1.0}) {  // the longest free way in this direction
+      const Point to{here.x + d * std::cos(a), here.y + d * std::sin(a)};
+      if (obstacles_.clearance(to, kRobotRadius + 0.15) < kRobotRadius + 0.15 ||
+          !obstacles_.free(here, to, kHalfWidth))
+        continue;
+      double apart = 1e9;
+      for (const Point& q : looked_from_) apart = std::min(apart, std::hypot(to.x - q.x, to.y - q.y));
+      if (apart > furthest) {
+        furthest = apart;
+        best = to;
+      }
+      break;
+    }
+  }
+  if (!best) return finish(r, Setback::NotSeen, "the laser sees no free floor to look from");
+  say(stage_, fmt("looking around from elsewhere: %.2f,%.2f", best->x, best->y));
+  drive_to(best->x, best->y, 0.1);
+  look_around(false);
   return finish(r);
 }
 
@@ -584,6 +638,9 @@ BehaviourReport Behaviours::push(const std::string& name) {
   Point from{box->x, box->y};
   double left = std::hypot(onto.x - from.x, onto.y - from.y);
   bool on_plate = false;
+  // A shut door that opens says the box presses the switch, however the plate looks behind it.
+  const bool door_shut = perceive_door() && !scene_.door;
+  const bool flush = scene_.switch_platform->features["width_m"] > kFlushPlateWidth;
   // Which way to push: to the plate, or (when the estimates put the box on it but the picture
   // does not) on along the way the robot looks at it.
   const auto way = [&] {
@@ -604,6 +661,13 @@ BehaviourReport Behaviours::push(const std::string& name) {
       return finish(r, Setback::NotSeen, "the " + box->colour + " box is not where it was seen");
     }
     from = *at;
+    // The plate from here too: the box's way to it judged in one look, whatever the odometry.
+    if (flush) {
+      if (const auto plate = look_at_flush_plate()) {
+        say(stage_, fmt("the plate's outline puts its middle at %.2f,%.2f", plate->x, plate->y));
+        onto = *plate;
+      }
+    }
     left = std::hypot(onto.x - from.x, onto.y - from.y);
     // Seen from behind, the plate shows in front of a box that stands on it: one picture judges
     // the last centimetres better than two estimated positions do.
@@ -616,15 +680,23 @@ BehaviourReport Behaviours::push(const std::string& name) {
     u = ahead;
     turn_to(std::atan2(u.y, u.x));
     // A long push lets the box turn and slide off the line: at most kPushLeg, then aimed again.
-    const double along = left > 0.45 ? std::min(left - 0.25, kPushLeg) : std::max(left, 0.1) + 0.05;
+    // Close to the plate, short pushes: the plate's middle is judged behind the box.
+    const double along =
+        left > 0.45 ? std::min(left - 0.25, kPushLeg) : std::clamp(left, 0.08, kLastPush);
     const Pose2 b = to_base(from.x, from.y);
     say(stage_, fmt("behind it: the box %.2f m ahead, %.2f m from the switch; pushing it %.2f m", b.x, left, along));
     drive_straight(b.x - kBumper - kBoxHalf + along, 0.15);
     drive_straight(-0.8, 0.2);  // far enough for the cameras to see it whole
-    // Looked for where it should be now.
+    if (door_shut && door_stays_open()) {
+      say(stage_, "the door opened: the box presses the switch");
+      on_plate = true;
+      break;
+    }
+    // Looked for where it should be now (the box may have turned the robot aside).
     SeenThing pushed = *box;
     pushed.x = from.x + along * u.x;
     pushed.y = from.y + along * u.y;
+    turn_to(std::atan2(pushed.y - pose_.y, pushed.x - pose_.x));
     Sighting sighted;
     const auto there = find_again(pushed, Kind::Box, 0.7, &sighted);  // the tracks slipped
     if (!there) {
@@ -633,12 +705,18 @@ BehaviourReport Behaviours::push(const std::string& name) {
       box->outcome = "not seen after the push";
       return finish(r, Setback::NotPushed, "the " + box->colour + " box was not seen after the push");
     }
+    obstacles_.clear(from, 0.2);  // where the box stood is free now
     from = *there;
     box->x = from.x;
     box->y = from.y;
     // The plate again too: pushing, the tracks slip and the odometry runs ahead of the robot,
     // so what was seen before the push lies off now.
-    if (const auto plate = find_again(*scene_.switch_platform, Kind::Switch, 1.0)) {
+    // A flush plate's outline shows round a box in front of its middle; a raised platform's
+    // blob is judged off its middle when the box hides part of it.
+    auto plate = flush ? look_at_flush_plate() : std::nullopt;
+    if (!plate && std::hypot(onto.x - from.x, onto.y - from.y) > kPlateHidden)
+      plate = find_again(*scene_.switch_platform, Kind::Switch, 1.0);
+    if (plate) {
       onto = *plate;
       scene_.switch_platform->x = plate->x;
       scene_.switch_platform->y = plate->y;
@@ -675,6 +753,14 @@ bool Behaviours::perceive_door() {
   if (!find_passage(points, 0.0, kFewestWallPoints)) return false;
   scene_.door.reset();
   return true;
+}
+
+bool Behaviours::door_stays_open() {
+  // Twice, a while apart: the robot's own weight on a plate opens the door while it stands there
+  // (and a single cloud can show a gap that is not there).
+  if (!perceive_door() || !scene_.door) return false;
+  wait(kDoorSettle);
+  return perceive_door() && scene_.door;
 }
 
 BehaviourReport Behaviours::go_to_door() {

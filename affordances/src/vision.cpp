@@ -196,6 +196,57 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
   return out;
 }
 
+std::optional<FlushPlate> find_flush_plate(const macsim::client::StereoFrame& frame,
+                                           const KurtGeometry& g) {
+  constexpr double kPlateTop = 0.0055;            // m: the yellow top above the floor
+  constexpr double kLeast = 0.17, kMost = 0.31;   // m: half extents a 0.4 m square top shows (0.2-0.28)
+  const cv::Mat& bgr = frame.left;
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  const ColourClass& yellow = kColours[1];
+  cv::Mat mask;
+  cv::inRange(hsv, cv::Scalar(yellow.lo, kMinSaturation, kMinValue), cv::Scalar(yellow.hi, 255, 255), mask);
+  cv::morphologyEx(mask, mask, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {2, 2}));
+  std::vector<cv::Point> pixels;
+  cv::findNonZero(mask, pixels);
+  if (pixels.size() < static_cast<std::size_t>(kMinArea) || frame.focal <= 0) return std::nullopt;
+  const cv::Rect around = cv::boundingRect(pixels);
+  if (around.x <= 0 || around.y <= 0 || around.x + around.width >= bgr.cols ||
+      around.y + around.height >= bgr.rows)
+    return std::nullopt;  // part of it out of sight
+  const double f = frame.focal, cp = std::cos(g.camera_pitch), sp = std::sin(g.camera_pitch);
+  const double above = g.camera_z + g.base_height - kPlateTop;
+  struct Point2 {
+    double x, y;
+  };
+  std::vector<Point2> floor;
+  floor.reserve(pixels.size());
+  for (const cv::Point& p : pixels) {
+    // The pixel's ray (camera frame: x ahead, y left, z up, per metre ahead), pitched down, to
+    // where it meets the plate's plane.
+    const double left_of = -(p.x - frame.cx) / f, up = -(p.y - frame.cy) / f;
+    const double down = sp - cp * up;  // the ray's fall per metre ahead
+    if (down <= 1e-3) return std::nullopt;  // at or above the horizon: not on the floor
+    const double t = above / down;
+    floor.push_back({g.camera_x + t * (cp + sp * up), g.camera_y + t * left_of});
+  }
+  const auto [least, most] = std::minmax_element(floor.begin(), floor.end(),
+                                                 [](const Point2& a, const Point2& b) { return a.y < b.y; });
+  const double least_y = least->y, most_y = most->y, half = (most_y - least_y) / 2;
+  if (half < kLeast || half > kMost) return std::nullopt;
+  // The leftmost and rightmost of a square are two opposite corners (or, square to the view, its
+  // two sides): its middle lies half way between them, however much of its near or far part a
+  // box hides.
+  constexpr double kEdge = 0.02;  // m: the points within this of the extreme are the corner or side
+  double left_x = 0, right_x = 0;
+  int left_n = 0, right_n = 0;
+  for (const Point2& p : floor) {
+    if (p.y >= most_y - kEdge) left_x += p.x, ++left_n;
+    if (p.y <= least_y + kEdge) right_x += p.x, ++right_n;
+  }
+  return FlushPlate{(left_x / left_n + right_x / right_n) / 2, (least_y + most_y) / 2, half};
+}
+
 cv::Mat draw_sightings(const cv::Mat& left, const std::vector<Sighting>& sightings) {
   cv::Mat out = left.clone();
   for (const Sighting& s : sightings) {

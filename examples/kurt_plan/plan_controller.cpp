@@ -25,6 +25,7 @@ namespace {
 /// The least probability of an outcome a second planning round counts on, when no plan counts on
 /// likely ones only.
 constexpr double kUnlikely = 0.05;
+constexpr int kLooksElsewhere = 2;  // looks around from elsewhere when no plan reaches the goal
 
 std::string atoms_text(const std::vector<pddl::Atom>& atoms) {
   return atoms.empty() ? "nothing" : pddl::text(atoms);
@@ -367,18 +368,18 @@ bool PlanController::out_of_steps() {
 
 void PlanController::run_plan() {
   Summary& summary = summary_;
-  bool looked_again = false;
+  int looks_elsewhere = 0;
   while (!(summary.reached = goal_holds())) {
     set_stage("plan");
     std::string reason;
     const auto plan = plan_round(reason, summary.planning_seconds);
     if (!plan) {
-      if (!looked_again) {
-        // Perhaps something was out of sight: one more look around before giving up.
-        looked_again = true;
-        say("plan", "no plan (" + reason + "); looking around once more");
+      if (looks_elsewhere < kLooksElsewhere) {
+        // Perhaps something was out of sight: a look around from elsewhere before giving up.
+        ++looks_elsewhere;
+        say("plan", "no plan (" + reason + "); looking around from elsewhere");
         set_stage("look");
-        look_around();
+        look_from_elsewhere();
         continue;
       }
       summary.exit = kUnreachable;
@@ -413,16 +414,16 @@ void PlanController::run_plan() {
 
 void PlanController::run_random() {
   std::mt19937 rng(options_.policy_seed);
-  bool looked_again = false;
+  int looks_elsewhere = 0;
   while (!(summary_.reached = goal_holds()) && !out_of_steps()) {
     // The steps the domain allows now (the problem's goal plays no part in which).
     const auto goals = goal_atoms();
     const auto steps = af::applicable(options_.domain, problem(goals.empty() ? pddl::Atom{"beyond", {"door"}} : goals.front()));
     if (steps.empty()) {
-      if (!looked_again) {
-        looked_again = true;
+      if (looks_elsewhere < kLooksElsewhere) {
+        ++looks_elsewhere;
         set_stage("look");
-        look_around();
+        look_from_elsewhere();
         continue;
       }
       summary_.exit = kUnreachable;

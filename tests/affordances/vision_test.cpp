@@ -59,9 +59,9 @@ const macsim::affordances::Sighting* nearest(const std::vector<macsim::affordanc
 namespace af = macsim::affordances;
 
 /// The push-to-switch family's plate at (x, y): a dark rim round a yellow top, 5 mm over the floor.
-std::string flush_plate(double x, double y) {
+std::string flush_plate(double x, double y, double yaw_degrees = 0) {
   return "<OBJECT><ID>plate</ID><TYPE>FIXED</TYPE><POS>" + std::to_string(x) + "," + std::to_string(y) +
-         ",0</POS><COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS>"
+         ",0</POS><ROT>0,0," + std::to_string(yaw_degrees) + "</ROT><COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.5,0.5,0.002</DIMS><POS>0,0,0.003</POS>"
          "<COLOR>0.2,0.2,0.2</COLOR></COMPONENT><COMPONENT><SHAPE>BOX</SHAPE><DIMS>0.4,0.4,0.001</DIMS>"
          "<POS>0,0,0.0045</POS><COLOR>0.95,0.8,0.1</COLOR></COMPONENT></OBJECT>";
 }
@@ -76,7 +76,8 @@ struct Looked {
     kurt.command_crane({M_PI / 2, 0.6, 0.0});
     run_for(world, 2.5);
     base = kurt.base_link_pose();
-    seen = af::find_objects(stereo(world), af::KurtGeometry{});
+    frame = stereo(world);
+    seen = af::find_objects(frame, af::KurtGeometry{});
   }
   /// A point of the floor in base_link.
   Eigen::Vector3d in_base(double x, double y) const {
@@ -87,6 +88,7 @@ struct Looked {
   }
   World world;
   Pose base;
+  client::StereoFrame frame;
   std::vector<af::Sighting> seen;
 };
 
@@ -165,6 +167,37 @@ TEST(KurtDemoVision, ABoxStandingOnAFlushPlateShowsThePlateInFrontOfItsFoot) {
     ASSERT_NE(box, seen.end()) << short_of;
     EXPECT_EQ(box->on_plate, short_of == 0.0) << short_of;
   }
+}
+
+TEST(KurtDemoVision, AFlushPlateIsJudgedFromItsOutlineWithABoxHidingItsMiddle) {
+  // Square to the view and turned 25 degrees, alone and with a box on its near half (hiding the
+  // turned one's far corner too): its sides put its middle where it is, within a few centimetres.
+  for (const double yaw : {0.0, 25.0}) {
+    for (const bool box : {false, true}) {
+      const Looked looked((box ? std::string("<OBJECT><ID>box</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE>"
+                                             "<DIMS>0.2,0.2,0.2</DIMS><POS>1.75,0.05,0.105</POS>"
+                                             "<COLOR>0.85,0.1,0.1</COLOR></OBJECT>")
+                               : std::string()) +
+                          flush_plate(1.95, 0.05, yaw));
+      const Eigen::Vector3d plate = looked.in_base(1.95, 0.05);
+      const auto judged = af::find_flush_plate(looked.frame, af::KurtGeometry{});
+      ASSERT_TRUE(judged) << "yaw " << yaw << ", box " << box;
+      EXPECT_NEAR(judged->x, plate.x(), 0.05) << "yaw " << yaw << ", box " << box;
+      EXPECT_NEAR(judged->y, plate.y(), 0.03) << "yaw " << yaw << ", box " << box;
+      const double a = yaw * M_PI / 180;
+      EXPECT_NEAR(judged->half_extent, 0.2 * (std::cos(a) + std::sin(a)), 0.03) << "yaw " << yaw;
+    }
+  }
+}
+
+TEST(KurtDemoVision, AFlushPlatePartlyOutOfViewOrAbsentIsNotJudged) {
+  // Its near edge below the picture (0.9 m ahead), then one side out of it, then none at all.
+  for (const auto& [x, y] : {std::pair{0.9, 0.0}, std::pair{1.8, 0.9}}) {
+    const Looked looked(flush_plate(x, y));
+    EXPECT_FALSE(af::find_flush_plate(looked.frame, af::KurtGeometry{})) << x << "," << y;
+  }
+  const Looked empty("");
+  EXPECT_FALSE(af::find_flush_plate(empty.frame, af::KurtGeometry{}));
 }
 
 TEST(KurtDemoVision, SeesNothingInAnEmptyRoomAndNothingWithoutAStereoMatch) {

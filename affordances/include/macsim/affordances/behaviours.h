@@ -133,6 +133,9 @@ class Behaviours : public RobotLoop {
   /// Turns once on the spot, looking (nine stereo pairs); stops early once the switch is seen
   /// if `until_switch`. What a look should have shown near where it was and did not is lost.
   BehaviourReport look_around(bool until_switch = false);
+  /// Drives up to 2 m to where the laser sees free floor furthest from every place it looked
+  /// around before, and looks around there (what one place hid may show from another).
+  BehaviourReport look_from_elsewhere();
   /// Walks up to the thing (standing off where the way in is free, looking again from close
   /// by) and drives in until it is at the crane's reach.
   BehaviourReport go_to(const std::string& thing);
@@ -156,6 +159,8 @@ class Behaviours : public RobotLoop {
   /// scene's door is the gap, or none when the wall is seen whole; unchanged when no wall is in
   /// sight. True when a wall was seen.
   bool perceive_door();
+  /// Whether the door is seen open, and again a while later (not a passing press of the switch).
+  bool door_stays_open();
 
   /// An overview picture from the simulator (macsim --pictures DIR) named `name`, seen from the
   /// Chase camera: its file, said under the stage `name`. Nothing when pictures were not asked for,
@@ -175,7 +180,11 @@ class Behaviours : public RobotLoop {
   void emit(const std::string& event);
   void park_crane();
   std::string lower_onto(double lift, double height, bool until_held);
+  /// Brings the robot to rest and hands each of the next `frames` camera frames to `use`.
+  void for_frames(int frames, const std::function<void(const macsim::client::StereoFrame&)>& use);
   std::vector<std::pair<Sighting, Pose2>> look(int frames = 1);
+  /// Where a few frames put a flush plate's middle judged from its outline (odometry frame).
+  std::optional<Point> look_at_flush_plate();
   void map_here();
   Point approach_point(Point target, double standoff, double reach) const;
   void travel_to(Point goal, double tolerance);
@@ -199,6 +208,7 @@ class Behaviours : public RobotLoop {
   int lift_attempts_ = 0;
   ObstacleMap obstacles_;
   int debug_count_ = 0;
+  std::vector<Point> looked_from_;  ///< odometry frame: where it looked around
   double view_half_angle_ = 0;  ///< rad, half the cameras' horizontal view (from the last frame)
   std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
 };

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -40,6 +41,19 @@ struct Sighting {
 /// colour, matched between the eyes along the rows, sized in metres and kept by shape).
 std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
                                    const KurtGeometry& geometry);
+
+/// A plate flush with the floor, judged from its outline: its middle in base_link.
+struct FlushPlate {
+  double x = 0, y = 0;  ///< m in base_link
+  double half_extent = 0;  ///< m: half its extent across the view (its side's half, turned)
+};
+
+/// The flush plate in the left image, from the floor points of its yellow (the union of its
+/// pieces): half way between its leftmost and rightmost (two opposite corners, or its two sides),
+/// which a box standing on its near half leaves in sight. None when no yellow is seen, part of it
+/// leaves the image, or its extent is not a plate's.
+std::optional<FlushPlate> find_flush_plate(const macsim::client::StereoFrame& frame,
+                                           const KurtGeometry& geometry);
 
 /// The left image with the sightings drawn on it (for --debug-images).
 cv::Mat draw_sightings(const cv::Mat& left, const std::vector<Sighting>& sightings);
