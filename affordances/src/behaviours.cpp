@@ -463,9 +463,9 @@ BehaviourReport Behaviours::look_from_elsewhere() {
   double furthest = 0;  // m from every place looked from
   for (int k = 0; k < 16; ++k) {
     const double a = k * M_PI / 8;
-    for (const double d : {2.0, 1.5, 1.0}) {  // the longest free way in this direction
+    for (const double d : {2.0, 1.5, 1.0, 0.6}) {  // the longest free way in this direction
       const Point to{here.x + d * std::cos(a), here.y + d * std::sin(a)};
-      if (obstacles_.clearance(to, kRobotRadius + 0.15) < kRobotRadius + 0.15 ||
+      if (obstacles_.clearance(to, kRobotRadius + 0.05) < kRobotRadius + 0.05 ||
           !obstacles_.free(here, to, kHalfWidth))
         continue;
       double apart = 1e9;
@@ -477,9 +477,12 @@ BehaviourReport Behaviours::look_from_elsewhere() {
       break;
     }
   }
-  if (!best) return finish(r, Setback::NotSeen, "the laser sees no free floor to look from");
-  say(stage_, fmt("looking around from elsewhere: %.2f,%.2f", best->x, best->y));
-  drive_to(best->x, best->y, 0.1);
+  if (best) {
+    say(stage_, fmt("looking around from elsewhere: %.2f,%.2f", best->x, best->y));
+    drive_to(best->x, best->y, 0.1);
+  } else {
+    say(stage_, "the laser sees no free floor to look from: looking around from here");
+  }
   look_around(false);
   return finish(r);
 }

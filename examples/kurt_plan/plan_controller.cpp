@@ -57,6 +57,15 @@ std::string behaviour_of(const std::string& op) {
   return best;
 }
 
+/// Takes the colour hints out of a problem (whether there were any).
+bool drop_like_failed(pddl::Problem& p) {
+  const auto before = p.init.size();
+  p.init.erase(std::remove_if(p.init.begin(), p.init.end(),
+                              [](const pddl::Atom& a) { return a.predicate == "like-failed"; }),
+               p.init.end());
+  return p.init.size() < before;
+}
+
 }  // namespace
 
 std::optional<Goal> Goal::parse(const std::string& text) {
@@ -227,7 +236,7 @@ std::optional<af::Plan> PlanController::plan_round(std::string& reason, double& 
     return std::nullopt;
   }
   for (const auto& goal : goals) {
-    const pddl::Problem p = problem(goal);
+    pddl::Problem p = problem(goal);
     if (!options_.problems.empty())
       pddl::save_text(options_.problems + "/" + p.name + (goals.size() > 1 ? "-" + goal.arguments[0] : "") +
                           ".pddl",
@@ -245,6 +254,16 @@ std::optional<af::Plan> PlanController::plan_round(std::string& reason, double& 
         say("plan", "no plan counts on outcomes of at least " + decimals(af::PlanLimits{}.min_probability, 2) +
                         "; one that counts on less likely ones:");
         r = second;
+      }
+    }
+    if (!r.plan && !r.limit_reached && drop_like_failed(p)) {
+      // Nothing else left: a thing of the colour of one that did not come up may yet (colour
+      // is a hint of what a can is made of, not a rule).
+      const af::PlanResult third = af::plan(options_.domain, p);
+      seconds += third.seconds;
+      if (third.plan) {
+        say("plan", "no plan without trying a thing of the colour of one that did not come up; one that does:");
+        r = third;
       }
     }
     if (!r.plan) {

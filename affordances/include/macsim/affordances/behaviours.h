@@ -134,7 +134,8 @@ class Behaviours : public RobotLoop {
   /// if `until_switch`. What a look should have shown near where it was and did not is lost.
   BehaviourReport look_around(bool until_switch = false);
   /// Drives up to 2 m to where the laser sees free floor furthest from every place it looked
-  /// around before, and looks around there (what one place hid may show from another).
+  /// around before, and looks around there (what one place hid may show from another; from
+  /// where it stands when no floor near is free).
   BehaviourReport look_from_elsewhere();
   /// Walks up to the thing (standing off where the way in is free, looking again from close
   /// by) and drives in until it is at the crane's reach.
