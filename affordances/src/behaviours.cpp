@@ -29,6 +29,8 @@ constexpr double kBoxHalf = 0.1;             // m: half a pushable box's side
 constexpr double kPushStandoff = 1.0;        // m: from a box's middle to stand behind it
 constexpr double kStaleSwitch = 0.6;         // m: a switch seen this far from its estimate replaces it
 constexpr double kDoorWatch = 1.5;           // m: in front of a door seen from afar, where the wall is watched
+constexpr double kOnPlatformSeen = 0.45;     // m: a sighting this close to the switch of what was put there is that
+constexpr double kSameThing = 0.3;           // m: a sighting this close to a thing of its colour and kind is that thing
 constexpr double kPushLeg = 0.9;             // m: the longest push before the box is looked at again
 constexpr int kPushLegs = 6;                 // pushes per push behaviour at most
 constexpr double kLastPush = 0.25;           // m: the longest push once the box is close to the plate
@@ -313,8 +315,17 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
       ++w.seen;
       continue;
     }
+    // On the switch's platform (or seen off it by as much as a look from across the room may
+    // be): what was put there.
+    if (scene_.switch_platform &&
+        std::hypot(at.x - scene_.switch_platform->x, at.y - scene_.switch_platform->y) < kOnPlatformSeen &&
+        std::any_of(scene_.on_switch.begin(), scene_.on_switch.end(), [&](const std::string& name) {
+          const SeenThing* put = thing(name);
+          return put && put->colour == s.colour && put->kind == s.kind;
+        }))
+      continue;
     auto same = std::find_if(scene_.things.begin(), scene_.things.end(), [&](const SeenThing& c) {
-      return c.colour == s.colour && c.kind == s.kind && std::hypot(c.x - at.x, c.y - at.y) < 0.2;
+      return c.colour == s.colour && c.kind == s.kind && std::hypot(c.x - at.x, c.y - at.y) < kSameThing;
     });
     if (same == scene_.things.end()) {
       const auto of_colour = std::count_if(scene_.things.begin(), scene_.things.end(),
@@ -465,8 +476,9 @@ BehaviourReport Behaviours::look_from_elsewhere() {
     const double a = k * M_PI / 8;
     for (const double d : {2.0, 1.5, 1.0, 0.6}) {  // the longest free way in this direction
       const Point to{here.x + d * std::cos(a), here.y + d * std::sin(a)};
+      // (What lies within the robot's own footprint is not in its way: it stands there.)
       if (obstacles_.clearance(to, kRobotRadius + 0.05) < kRobotRadius + 0.05 ||
-          !obstacles_.free(here, to, kHalfWidth))
+          !obstacles_.free(here, to, kHalfWidth, here, kRobotRadius))
         continue;
       double apart = 1e9;
       for (const Point& q : looked_from_) apart = std::min(apart, std::hypot(to.x - q.x, to.y - q.y));
