@@ -669,7 +669,13 @@ BehaviourReport Behaviours::push(const std::string& name) {
     travel_to({from.x - kPushStandoff * u.x, from.y - kPushStandoff * u.y}, 0.05);
     turn_to(std::atan2(u.y, u.x));
     Sighting behind;
-    const auto at = find_again(*box, Kind::Box, 0.45, &behind);
+    auto at = find_again(*box, Kind::Box, 0.45, &behind);
+    if (!at) {
+      // Going round it, the robot may have nudged it on, or stand too close to see it whole:
+      // from further back, a wider look.
+      drive_straight(-0.5, 0.2);
+      at = find_again(*box, Kind::Box, 0.8, &behind);
+    }
     if (!at) {
       box->lost = true;
       box->outcome = "not seen again";
