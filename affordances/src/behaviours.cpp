@@ -59,6 +59,13 @@ SeenThing seen_thing(const std::string& name, const std::string& colour, Kind ki
   return t;
 }
 
+/// Whether the switch seen is a plate flush with the floor (its yellow seen wide).
+bool flush_switch(const Scene& scene) {
+  if (!scene.switch_platform) return false;
+  const auto width = scene.switch_platform->features.find("width_m");
+  return width != scene.switch_platform->features.end() && width->second > kFlushPlateWidth;
+}
+
 }  // namespace
 
 const std::vector<std::string>& thing_features() {
@@ -98,9 +105,7 @@ std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
   if (scene.door) atoms.push_back({"open", {"door"}});
   if (scene.beyond_door) atoms.push_back({"beyond", {"door"}});
   if (scene.switch_platform) atoms.push_back({"opens", {"switch", "door"}});
-  if (scene.switch_platform && scene.switch_platform->features.count("width_m") &&
-      scene.switch_platform->features.at("width_m") > kFlushPlateWidth)
-    atoms.push_back({"flush", {"switch"}});
+  if (flush_switch(scene)) atoms.push_back({"flush", {"switch"}});
   std::sort(atoms.begin(), atoms.end());
   return atoms;
 }
@@ -249,34 +254,33 @@ std::optional<Point> Behaviours::look_at_flush_plate() {
 
 std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
   std::vector<std::pair<Sighting, Pose2>> seen;
-  for_frames(frames, [&](const macsim::client::StereoFrame& f) {
-      const macsim::client::StereoFrame* frame = &f;
-      auto sightings = find_objects(*frame, geometry_);
-      if (frame->focal > 0) view_half_angle_ = std::atan2(frame->left.cols / 2.0, frame->focal);
-      // Each can as the trials perceive an object's blob: its features, and what the lift
-      // model says of it.
-      for (auto& s : sightings) {
-        if (s.kind == Kind::Switch) continue;
-        const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
-        Percept p;
-        perceive_image(*frame, p, around);
-        if (!p.seen) continue;
-        const auto all = named_features(p, Affordance::Lift);
-        for (const auto& name : thing_features()) s.features[name] = all.at(name);
-        if (options_.lift_model && s.kind == Kind::Can) {
-          try {
-            const auto said = options_.lift_model->predict(all);
-            s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
-          } catch (const ModelError& e) {
-            say("look", std::string("the lift model could not judge a can: ") + e.what());
-          }
+  for_frames(frames, [&](const macsim::client::StereoFrame& frame) {
+    auto sightings = find_objects(frame, geometry_);
+    if (frame.focal > 0) view_half_angle_ = std::atan2(frame.left.cols / 2.0, frame.focal);
+    // Each can as the trials perceive an object's blob: its features, and what the lift
+    // model says of it.
+    for (auto& s : sightings) {
+      if (s.kind == Kind::Switch) continue;
+      const cv::Rect around(s.box.x - 4, s.box.y - 4, s.box.width + 8, s.box.height + 8);
+      Percept p;
+      perceive_image(frame, p, around);
+      if (!p.seen) continue;
+      const auto all = named_features(p, Affordance::Lift);
+      for (const auto& name : thing_features()) s.features[name] = all.at(name);
+      if (options_.lift_model && s.kind == Kind::Can) {
+        try {
+          const auto said = options_.lift_model->predict(all);
+          s.liftable = said.label == "liftable" ? said.confidence : 1.0 - said.confidence;
+        } catch (const ModelError& e) {
+          say("look", std::string("the lift model could not judge a can: ") + e.what());
         }
       }
-      for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
-      if (!options_.debug_images.empty()) {
-        cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
-                    draw_sightings(frame->left, sightings));
-      }
+    }
+    for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
+    if (!options_.debug_images.empty()) {
+      cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
+                  draw_sightings(frame.left, sightings));
+    }
   });
   return seen;
 }
@@ -655,7 +659,7 @@ BehaviourReport Behaviours::push(const std::string& name) {
   bool on_plate = false;
   // A shut door that opens says the box presses the switch, however the plate looks behind it.
   const bool door_shut = perceive_door() && !scene_.door;
-  const bool flush = scene_.switch_platform->features["width_m"] > kFlushPlateWidth;
+  const bool flush = flush_switch(scene_);
   // Which way to push: to the plate, or (when the estimates put the box on it but the picture
   // does not) on along the way the robot looks at it.
   const auto way = [&] {

@@ -10,12 +10,14 @@ namespace macsim::affordances {
 
 namespace {
 
+constexpr int kMinSaturation = 110;  // of a colour the cameras tell
+
 /// A hue band of OpenCV's HSV (hue 0..179); red wraps around 0.
 struct ColourClass {
   const char* name;
   int lo, hi;
   int lo2 = -1, hi2 = -1;
-  int min_saturation = 110;
+  int min_saturation = kMinSaturation;
 };
 /// Red wants more saturation than the rest: the walls' bricks are red too, at 160-191 (measured
 /// on the cameras' pictures; a red can's or box's faces, lit or shaded, are above 224), and a
@@ -26,7 +28,7 @@ constexpr std::array<ColourClass, 6> kColours{{{"red", 0, 7, 165, 179, 200},
                                                {"cyan", 85, 100},
                                                {"blue", 101, 130},
                                                {"magenta", 140, 164}}};
-constexpr int kMinSaturation = 110, kMinValue = 50, kMinArea = 12;  // the yellow plate's
+constexpr int kMinValue = 50, kMinArea = 12;
 constexpr double kCanRadius = 0.033;
 constexpr double kBoxHalf = 0.1;  // m: half a pushable box's side (the demonstrator's are 0.2 m)
 
@@ -129,7 +131,7 @@ bool yellow_below(const cv::Mat& bgr, const cv::Rect& box) {
   for (int y = 0; y < hsv.rows; ++y)
     for (int x = 0; x < hsv.cols; ++x) {
       const auto& p = hsv.at<cv::Vec3b>(y, x);
-      count += p[0] >= yellow.lo && p[0] <= yellow.hi && p[1] >= kMinSaturation && p[2] >= kMinValue;
+      count += p[0] >= yellow.lo && p[0] <= yellow.hi && p[1] >= yellow.min_saturation && p[2] >= kMinValue;
     }
   return 2 * count >= hsv.rows * hsv.cols;
 }
@@ -209,7 +211,7 @@ std::optional<FlushPlate> find_flush_plate(const macsim::client::StereoFrame& fr
   cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   const ColourClass& yellow = kColours[1];
   cv::Mat mask;
-  cv::inRange(hsv, cv::Scalar(yellow.lo, kMinSaturation, kMinValue), cv::Scalar(yellow.hi, 255, 255), mask);
+  cv::inRange(hsv, cv::Scalar(yellow.lo, yellow.min_saturation, kMinValue), cv::Scalar(yellow.hi, 255, 255), mask);
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {2, 2}));
   std::vector<cv::Point> pixels;
   cv::findNonZero(mask, pixels);

@@ -241,31 +241,27 @@ std::optional<af::Plan> PlanController::plan_round(std::string& reason, double& 
       pddl::save_text(options_.problems + "/" + p.name + (goals.size() > 1 ? "-" + goal.arguments[0] : "") +
                           ".pddl",
                       pddl::write(p));
+    // Likely outcomes first; when none reaches the goal, one that counts on an unlikely one is
+    // still worth trying (a can whose colour lifted one time in five); when nothing else is left,
+    // a thing of the colour of one that did not come up may yet (colour is a hint of what a can
+    // is made of, not a rule).
+    af::PlanLimits unlikely;
+    unlikely.min_probability = kUnlikely;
     af::PlanResult r = af::plan(options_.domain, p);
     seconds += r.seconds;
-    if (!r.plan && !r.limit_reached) {
-      // No plan counts only on likely outcomes: one that counts on an unlikely one is still
-      // worth trying (a can whose colour lifted one time in five).
-      af::PlanLimits unlikely;
-      unlikely.min_probability = kUnlikely;
-      const af::PlanResult second = af::plan(options_.domain, p, unlikely);
-      seconds += second.seconds;
-      if (second.plan) {
-        say("plan", "no plan counts on outcomes of at least " + decimals(af::PlanLimits{}.min_probability, 2) +
-                        "; one that counts on less likely ones:");
-        r = second;
-      }
-    }
-    if (!r.plan && !r.limit_reached && drop_like_failed(p)) {
-      // Nothing else left: a thing of the colour of one that did not come up may yet (colour
-      // is a hint of what a can is made of, not a rule).
-      const af::PlanResult third = af::plan(options_.domain, p);
-      seconds += third.seconds;
-      if (third.plan) {
-        say("plan", "no plan without trying a thing of the colour of one that did not come up; one that does:");
-        r = third;
-      }
-    }
+    const auto instead = [&](const pddl::Problem& q, const af::PlanLimits& limits, const std::string& said) {
+      if (r.plan || r.limit_reached) return;
+      const af::PlanResult other = af::plan(options_.domain, q, limits);
+      seconds += other.seconds;
+      if (!other.plan) return;
+      say("plan", said);
+      r = other;
+    };
+    instead(p, unlikely,
+            "no plan counts on outcomes of at least " + decimals(af::PlanLimits{}.min_probability, 2) +
+                "; one that counts on less likely ones:");
+    if (drop_like_failed(p))
+      instead(p, unlikely, "no plan without trying a thing of the colour of one that did not come up; one that does:");
     if (!r.plan) {
       reason = r.reason;
       continue;
