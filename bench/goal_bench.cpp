@@ -3,7 +3,8 @@
 // stepping it, in two processes over DDS, a few runs side by side. The policies: kurt_plan over
 // the domain learned from trials (--affordances DIR), kurt_plan over the hand-written domain (the
 // upper bound), kurt_demo (the script), and kurt_plan --policy random (a step chosen at random
-// among those the hand-written domain allows, with the same step budget). Per family and policy:
+// among those the hand-written domain allows, with the same step budget); the plan policies judge
+// what stands in the way by DIR/traverse.yml when it is there. Per family and policy:
 // the success rate, and of the runs that reached the goal the median plan length, replans, robot
 // time and planning time. `name value unit` lines, then one table per family.
 //   bench_goals [--domain N] [--jobs J] [--families A,B] [--policies A,B] [--affordances DIR]
@@ -78,6 +79,8 @@ std::vector<std::string> controller_argv(const std::string& bin, const std::stri
     argv.insert(argv.end(), {"--affordances", affordances});
   } else {
     argv.insert(argv.end(), {"--pddl-domain", kByHand});
+    // The same perception as the learned policy: DIR's traverse model, when there is one.
+    if (!affordances.empty()) argv.insert(argv.end(), {"--affordances", affordances});
     if (policy == "random") argv.insert(argv.end(), {"--policy", "random"});
   }
   return argv;
@@ -111,7 +114,9 @@ int main(int argc, char** argv) {
         "1001, the layouts kept for measuring) of each goal family (worlds/goals/: %s), in "
         "lock-step, J runs side by side (default 2). Policies: learned (kurt_plan "
         "--affordances DIR: DIR/effects.ppddl, e.g. learn_effects --from-trials "
-        "tests/affordances/effect_trials.csv --out DIR), hand (kurt_plan over %s), script "
+        "tests/affordances/effect_trials.csv --out DIR; with DIR/traverse.yml, e.g. affordance_learn "
+        "--in tests/tools/affordances/traverse_trials.csv --features shape --save-model DIR, "
+        "the plan policies judge what stands in their way by it), hand (kurt_plan over %s), script "
         "(kurt_demo), random (kurt_plan --policy random over the same domain). Prints per family "
         "and policy the success rate and, of the runs that reached the door, the median plan "
         "steps, replans, robot time and planning time; the logs of failed runs are kept. Each "

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "macsim/affordances/perception.h"
+#include "macsim/affordances/traverse.h"
 
 namespace macsim::affordances {
 
@@ -37,6 +38,8 @@ constexpr double kLastPush = 0.25;           // m: the longest push once the box
 constexpr double kDoorSettle = 3.0;          // s: a door the robot's weight opened has closed again after this
 constexpr double kPlateHidden = 0.5;         // m: a box closer than this to the plate hides part of it
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
+constexpr double kTrialSlack = 0.1;          // m: a thing's near side this close to a trial's is judged from there
+constexpr int kMostJudged = 6;               // things judged by the traverse model per travel at most
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char* format, ...) {
@@ -373,21 +376,89 @@ Point Behaviours::approach_point(Point target, double standoff, double reach) co
   return {target.x - standoff * (target.x - pose_.x) / d, target.y - standoff * (target.y - pose_.y) / d};
 }
 
-void Behaviours::travel_to(Point goal, double tolerance) {
+std::optional<Point> Behaviours::detour(Point goal) const {
   const Point here{pose_.x, pose_.y};
-  if (!obstacles_.free(here, goal, kHalfWidth)) {
-    // Around it: the first waypoint beside the straight way from which both legs are free.
-    const double dx = goal.x - here.x, dy = goal.y - here.y, d = std::hypot(dx, dy);
-    for (double side : {0.5, -0.5, 0.8, -0.8, 1.1, -1.1, 1.4, -1.4}) {
-      for (double along : {0.5, 0.25, 0.75}) {
-        const Point via{here.x + along * dx - side * dy / d, here.y + along * dy + side * dx / d};
-        if (obstacles_.clearance(via, kRobotRadius) >= kRobotRadius &&
-            obstacles_.free(here, via, kHalfWidth) && obstacles_.free(via, goal, kHalfWidth)) {
-          drive_to(via.x, via.y, 0.08);
-          drive_to(goal.x, goal.y, tolerance);
-          return;
-        }
+  const double dx = goal.x - here.x, dy = goal.y - here.y, d = std::max(std::hypot(dx, dy), 1e-9);
+  for (double side : {0.5, -0.5, 0.8, -0.8, 1.1, -1.1, 1.4, -1.4}) {
+    for (double along : {0.5, 0.25, 0.75}) {
+      const Point via{here.x + along * dx - side * dy / d, here.y + along * dy + side * dx / d};
+      if (obstacles_.clearance(via, kRobotRadius) >= kRobotRadius &&
+          obstacles_.free(here, via, kHalfWidth) && obstacles_.free(via, goal, kHalfWidth))
+        return via;
+    }
+  }
+  return std::nullopt;
+}
+
+bool Behaviours::judge_in_way(Point goal) {
+  const auto block = obstacles_.first_blocked({pose_.x, pose_.y}, goal, kHalfWidth);
+  if (!block || judged_.count(cell_of({block->x, block->y}))) return false;
+  // The thing of a cloud that holds the blocked cell (or the one nearest `at`, its middle seen
+  // from further off).
+  const auto thing_at = [](const std::vector<Thing>& things, Point2 at, double within) {
+    const Thing* found = nullptr;
+    for (const auto& t : things)
+      for (const auto& c : t.cells) {
+        const double d = std::hypot(c[0] - at[0], c[1] - at[1]);
+        if (d < within) within = d, found = &t;
       }
+    return found;
+  };
+  auto cloud = take_cloud();  // all round the robot
+  auto things = things_in(cloud, pose_);
+  const Thing* thing = thing_at(things, {block->x, block->y}, 0.15);
+  // Stand before it as a traverse trial stood: facing its middle, its near side kTrialNear ahead.
+  if (thing && thing->height != Height::Towering) {
+    const double near = near_side(cloud, pose_, *thing);
+    if (std::fabs(near - kTrialNear) > kTrialSlack) {
+      const Point2 centre = thing->centre;
+      turn_to(std::atan2(centre[1] - pose_.y, centre[0] - pose_.x));
+      drive_straight(near - kTrialNear, 0.15);
+      turn_to(std::atan2(centre[1] - pose_.y, centre[0] - pose_.x));
+      cloud = take_cloud();
+      things = things_in(cloud, pose_);
+      thing = thing_at(things, centre, 0.3);
+    }
+  }
+  if (!thing) {  // gone (a ball rolled off), or where the map has it the odometry drifted
+    obstacles_.clear(*block, 0.15);
+    say(stage_, fmt("nothing stands at %.2f,%.2f now", block->x, block->y));
+    return true;
+  }
+  const double p = thing->height == Height::Towering
+                       ? 0.0
+                       : p_traversable(*options_.traverse_model, cloud, pose_, things, *thing);
+  // What the cameras took for a thing of the scene is kept clear of, whatever the model says.
+  bool known = false;
+  const auto near_known = [&](const SeenThing& t) {
+    for (const auto& c : thing->cells) known |= std::hypot(c[0] - t.x, c[1] - t.y) < kSameThing;
+  };
+  for (const auto& t : scene_.things) near_known(t);
+  if (scene_.switch_platform) near_known(*scene_.switch_platform);
+  const bool over = p >= 0.5 && !known;
+  for (const auto& c : thing->cells) {
+    judged_.insert(cell_of(c));
+    if (over) obstacles_.let_pass({c[0], c[1]});
+  }
+  judged_.insert(cell_of({block->x, block->y}));
+  if (over) obstacles_.let_pass(*block);
+  say(stage_, fmt("judged what stands at %.2f,%.2f (%.2f m across): P(traversable) %.2f, %s",
+                  thing->centre[0], thing->centre[1], thing->across, p,
+                  over ? "over it" : known ? "a thing of the scene: around it" : "around it"));
+  return true;
+}
+
+void Behaviours::travel_to(Point goal, double tolerance) {
+  for (int judged = 0;; ++judged) {
+    if (obstacles_.free({pose_.x, pose_.y}, goal, kHalfWidth)) break;
+    if (const auto via = detour(goal)) {
+      drive_to(via->x, via->y, 0.08);
+      break;
+    }
+    if (!options_.traverse_model || judged == kMostJudged || !judge_in_way(goal)) {
+      if (options_.traverse_model)
+        say(stage_, fmt("no way to %.2f,%.2f judged passable: driving on", goal.x, goal.y));
+      break;
     }
   }
   drive_to(goal.x, goal.y, tolerance);

@@ -114,8 +114,15 @@ void ObstacleMap::add(const macsim::client::Cloud& cloud, const KurtGeometry& g,
                       double y, double yaw) {
   const double c = std::cos(yaw), s = std::sin(yaw);
   for (const Point& p : slice(cloud, g, 0.04, 0.45, 0.45, 4.0)) {
-    cells_.insert(key(cell(x + c * p.x - s * p.y), cell(y + s * p.x + c * p.y)));
+    const int64_t k = key(cell(x + c * p.x - s * p.y), cell(y + s * p.x + c * p.y));
+    if (!passable_.count(k)) cells_.insert(k);
   }
+}
+
+void ObstacleMap::let_pass(Point at) {
+  const int64_t k = key(cell(at.x), cell(at.y));
+  passable_.insert(k);
+  cells_.erase(k);
 }
 
 void ObstacleMap::clear(Point at, double radius) {
@@ -151,6 +158,28 @@ bool ObstacleMap::free(Point a, Point b, double half_width, Point except, double
     if (clearance(p, half_width, except, spare) < half_width) return false;
   }
   return true;
+}
+
+std::optional<Point> ObstacleMap::first_blocked(Point a, Point b, double half_width) const {
+  const double length = std::hypot(b.x - a.x, b.y - a.y);
+  const int steps = std::max(1, static_cast<int>(std::ceil(length / kCell)));
+  const int r = static_cast<int>(std::ceil(half_width / kCell));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = static_cast<double>(i) / steps;
+    const Point p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    std::optional<Point> nearest;
+    double best = half_width;
+    for (int ix = cell(p.x) - r; ix <= cell(p.x) + r; ++ix) {
+      for (int iy = cell(p.y) - r; iy <= cell(p.y) + r; ++iy) {
+        if (!cells_.count(key(ix, iy))) continue;
+        const Point centre{(ix + 0.5) * kCell, (iy + 0.5) * kCell};
+        const double d = std::hypot(centre.x - p.x, centre.y - p.y);
+        if (d < best) best = d, nearest = centre;
+      }
+    }
+    if (nearest) return nearest;
+  }
+  return std::nullopt;
 }
 
 }  // namespace macsim::affordances

@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   }
   if (options.policy == Policy::Model) {
     try {
-      options.traverse_model = load_traverse_model(affordances);
+      options.traverse_model = macsim::affordances::load_traverse_model(affordances);
     } catch (const std::exception& e) {
       macsim::log::error("kurt_navigate: --affordances: {}", e.what());
       return kUsage;

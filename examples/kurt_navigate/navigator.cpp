@@ -10,6 +10,10 @@ namespace kurt_navigate {
 namespace {
 
 using macsim::affordances::wrap;
+using macsim::affordances::length;
+using macsim::affordances::near_side;
+using macsim::affordances::p_traversable;
+using macsim::affordances::things_in;
 
 constexpr double kSpeed = 0.4;    // m/s, the traverse trials' speed
 constexpr double kStretch = 1.0;  // m of the way driven before looking again
@@ -21,7 +25,7 @@ constexpr double kClearance = 0.3, kMargin = 0.5;
 constexpr double kDoubted = 0.25, kDoubtedCost = 8.0;
 constexpr double kLookahead = 0.35;  // m: the point of the way it steers for
 // The traverse trials' obstacle: its near side 0.62-0.75 m ahead.
-constexpr double kTrialNear = 0.68;
+using macsim::affordances::kTrialNear;
 // A thing is judged from where its near side lies kJudgeNearest-kJudgeNear m away (a trial's
 // lay 0.62-0.75 m ahead), alone in the cloud turned to face it; the look nearest kTrialNear
 // wins. The robot stops where its way comes within kApproach of a thing not judged yet; standing
@@ -74,19 +78,15 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
     for (const auto& at : pressed_)
       for (const auto& c : thing.cells) pressed |= std::hypot(c[0] - at[0], c[1] - at[1]) < 0.2;
     char text[80];
-    const double off =
-        wrap(std::atan2(thing.centre[1] - pose_.y, thing.centre[0] - pose_.x) - pose_.yaw);
     if (pressed) {
       thing.passable = false;
       continue;
     }
-    const double near = near_side(cloud, thing);
+    const double near = near_side(cloud, pose_, thing);
     if (near >= kJudgeNearest && near <= kJudgeNear) {
       // Near, as a trial's obstacle stood: the model is asked about it alone, in the frame that
       // faces it; the verdict of the look nearest a trial's stance is kept.
-      const auto f = way_features(along(without_others(cloud, things, thing), off));
-      const auto said = options_.traverse_model->predict(f);
-      const double p = said.label == "traversable" ? said.confidence : 1 - said.confidence;
+      const double p = p_traversable(*options_.traverse_model, cloud, pose_, things, thing);
       const double off_trial = std::fabs(near - kTrialNear);
       std::size_t taken = 0;  // cells this look judged first or from nearer a trial's stance
       for (const auto& c : thing.cells) {
@@ -175,25 +175,12 @@ Navigator::Way Navigator::plan(const macsim::client::Cloud& cloud) {
     if (!ahead) continue;
     way.stretch = run;
     if (run < 0.1 && ahead->distance <= kJudgeRange)
-      way.judge = Stand{ahead->centre, near_side(cloud, *ahead)};
+      way.judge = Stand{ahead->centre, near_side(cloud, pose_, *ahead)};
     else
       way.stretch = std::max(run, 0.1);
     break;
   }
   return way;
-}
-
-double Navigator::near_side(const macsim::client::Cloud& cloud, const Thing& thing) const {
-  // Along the bearing of its middle, of its returns within 0.3 m of that line.
-  const double bearing =
-      std::atan2(thing.centre[1] - pose_.y, thing.centre[0] - pose_.x) - pose_.yaw;
-  const double c = std::cos(bearing), s = std::sin(bearing);
-  double near = std::hypot(thing.centre[0] - pose_.x, thing.centre[1] - pose_.y);
-  for (std::size_t k : thing.points) {
-    const auto& q = cloud.points[k];
-    if (std::fabs(-s * q[0] + c * q[1]) < 0.3) near = std::min(near, c * q[0] + s * q[1]);
-  }
-  return near;
 }
 
 void Navigator::stand_before(const Stand& stand) {

@@ -11,11 +11,15 @@
 #include <string>
 
 #include "macsim/affordances/model.h"
-#include "plan.h"
+#include "macsim/affordances/traverse.h"
 #include "macsim/affordances/robot_loop.h"
 #include "ways.h"
 
 namespace kurt_navigate {
+
+using macsim::affordances::FloorPlan;
+using macsim::affordances::Height;
+using macsim::affordances::Thing;
 
 /// Exit codes.
 enum Exit : int {
@@ -70,8 +74,6 @@ class Navigator : public macsim::affordances::RobotLoop {
   macsim::client::Cloud level(macsim::client::Cloud cloud) const;
   /// The way to the goal from here, judged from `cloud`.
   Way plan(const macsim::client::Cloud& cloud);
-  /// The near side of `thing` (m from the robot) along the bearing of its middle, from `cloud`.
-  double near_side(const macsim::client::Cloud& cloud, const Thing& thing) const;
   /// Turns to face the thing and moves to stand where a trial stood before its obstacle (its
   /// near side kTrialNear ahead).
   void stand_before(const Stand& stand);

@@ -18,32 +18,6 @@ constexpr double kSightingCell = 0.1;  // m: the sightings' cells
 
 }  // namespace
 
-double height_above_floor(const std::array<float, 3>& point) {
-  return point[2] + af::SensorMount{}.base_height;
-}
-
-macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading) {
-  macsim::client::Cloud way;
-  way.stamp = cloud.stamp;
-  way.points.reserve(cloud.points.size());
-  const double c = std::cos(heading), s = std::sin(heading);
-  for (const auto& q : cloud.points) {
-    way.points.push_back(
-        {static_cast<float>(c * q[0] + s * q[1]), static_cast<float>(-s * q[0] + c * q[1]), q[2]});
-  }
-  return way;
-}
-
-std::map<std::string, double> way_features(const macsim::client::Cloud& way) {
-  af::Percept p;
-  af::perceive_cloud(way, af::SensorMount{}, p);
-  return af::named_features(p, af::Affordance::Traverse);
-}
-
-std::pair<int, int> cell_of(const Point2& p) {
-  return {static_cast<int>(std::floor(p[0] / kGrid)), static_cast<int>(std::floor(p[1] / kGrid))};
-}
-
 std::vector<Point2> static_structure(const macsim::client::Cloud& cloud,
                                      const macsim::affordances::Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
@@ -204,31 +178,6 @@ std::optional<std::array<double, 2>> align(const std::vector<Point2>& map,
   }
   if (!best) return std::nullopt;
   return std::array<double, 2>{best->shift.x(), best->shift.y()};
-}
-
-af::AffordanceModel load_traverse_model(const std::string& dir) {
-  const std::string file = dir + "/traverse.yml";
-  auto model = af::AffordanceModel::load(file);  // its errors name the file
-  const auto& info = model.info();
-  if (info.affordance != "traverse")
-    throw std::runtime_error(file + " is a model of " + info.affordance + ", not traverse");
-  if (std::find(info.labels.begin(), info.labels.end(), "traversable") == info.labels.end())
-    throw std::runtime_error(file + " has no label 'traversable'");
-  const auto& cloud = *af::feature_group("cloud");
-  const auto& shape = *af::feature_group("shape");
-  std::string other;
-  for (const auto& f : info.features) {
-    if (std::find(cloud.begin(), cloud.end(), f) == cloud.end() &&
-        std::find(shape.begin(), shape.end(), f) == shape.end())
-      other += (other.empty() ? "" : ",") + f;
-  }
-  if (!other.empty()) {
-    throw std::runtime_error(file + " takes " + other +
-                             ", which a cloud does not give (the navigator judges what stands in "
-                             "its way from the 3D laser only; train with affordance_learn "
-                             "--features shape; cloud and cloud,shape are taken too)");
-  }
-  return model;
 }
 
 void Sightings::add(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose) {

@@ -1,7 +1,6 @@
-// What kurt_navigate takes from one 3D laser cloud: the traverse features of the way ahead (as a
-// trial computes them), what stands still and the laser odometry that aligns each look to it,
-// the traverse model it takes, and what the laser saw along the run, for the summary: things
-// driven through or around.
+// What kurt_navigate takes from one 3D laser cloud besides its things (macsim/affordances/
+// traverse.h): what stands still and the laser odometry that aligns each look to it, and what the
+// laser saw along the run, for the summary: things driven through or around.
 #pragma once
 
 #include <array>
@@ -10,32 +9,16 @@
 #include <string>
 #include <vector>
 
-#include "macsim/affordances/model.h"
 #include "macsim/client/robot_devices.h"
 #include "macsim/affordances/robot_loop.h"
+#include "macsim/affordances/traverse.h"
 
 namespace kurt_navigate {
 
-/// The cloud (base_link) in the frame of a way `heading` rad to the left of the robot's: x
-/// along the way, y to its left, z unchanged.
-macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading);
-
-/// The traverse features of a way (a cloud turned by along()), computed as a trial computes
-/// them of its cloud: the grid ahead, the corridor and the shape of what stands in it.
-std::map<std::string, double> way_features(const macsim::client::Cloud& way);
-
-/// A point on the floor plan, m.
-using Point2 = std::array<double, 2>;
-
-/// The cells of things and of what stands still, m.
-inline constexpr double kGrid = 0.05;
-/// The kGrid cell (odometry frame) that holds `p`.
-std::pair<int, int> cell_of(const Point2& p);
-
-/// Returns lower than this above the floor are the floor (the trials' corridor), m.
-inline constexpr double kAboveFloor = 0.03;
-/// Height above the floor of a cloud's point (base_link), m.
-double height_above_floor(const std::array<float, 3>& point);
+using macsim::affordances::cell_of;
+using macsim::affordances::height_above_floor;
+using macsim::affordances::kAboveFloor;
+using macsim::affordances::Point2;
 
 /// What stands still in a cloud taken at `pose`: its returns kStaticHeight-60 cm above the floor
 /// (higher than anything the robot may push aside or drive over), 0.6-9.5 m away, in the
@@ -71,11 +54,6 @@ class StaticMap {
   std::map<std::pair<int, int>, std::size_t> cells_;
   std::vector<Point2> points_;
 };
-
-/// The traverse model DIR/traverse.yml, when it takes only what a cloud gives
-/// (affordance_learn --features shape or cloud); throws std::runtime_error naming the file and
-/// the fault.
-macsim::affordances::AffordanceModel load_traverse_model(const std::string& dir);
 
 /// Things above the floor the laser saw during a run (cells of 10 cm in the odometry frame,
 /// grouped into things), and the path the robot took: which things it drove through (its

@@ -1,13 +1,15 @@
 // kurt_plan: reaches a goal nobody scripted. It perceives the room with the KURT3D's own sensors,
 // plans over a domain of what its behaviours do (learned from trials, --affordances DIR, or written
 // by hand, --pddl-domain FILE), executes the plan with the behaviours, watches each step's effect
-// and plans again when it differs from the prediction. Against macsim or the real robot.
+// and plans again when it differs from the prediction; what stands in its way it judges by the
+// traverse model in DIR, when there is one. Against macsim or the real robot.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/log.h"
+#include "macsim/affordances/traverse.h"
 #include "plan_controller.h"
 
 int main(int argc, char** argv) {
@@ -29,10 +31,12 @@ int main(int argc, char** argv) {
              "on-switch:COLOUR (a thing of that colour on the switch's platform)",
              &goal);
   cli.option("affordances", "DIR",
-             "plan over the domain learned from trials: DIR/effects.ppddl (learn_effects --out DIR)",
+             "what the robot learned: plan over DIR/effects.ppddl (learn_effects --out DIR), and "
+             "judge what stands in the way by DIR/traverse.yml when it is there (affordance_learn "
+             "--features shape --save-model DIR)",
              &affordances);
   cli.option("pddl-domain", "FILE",
-             "plan over this PDDL domain instead (e.g. the hand-written "
+             "plan over this PDDL domain instead of DIR/effects.ppddl (e.g. the hand-written "
              "affordances/domains/kurt3d_room_by_hand.pddl)",
              &pddl_domain);
   cli.option("problems", "DIR", "write each planning round's problem (the perceived scene) here",
@@ -71,8 +75,8 @@ int main(int argc, char** argv) {
     return kurt_plan::kUsage;
   }
   options.policy_seed = static_cast<std::uint32_t>(policy_seed);
-  if (affordances.empty() == pddl_domain.empty()) {
-    macsim::log::error("kurt_plan: give one of --affordances DIR and --pddl-domain FILE");
+  if (affordances.empty() && pddl_domain.empty()) {
+    macsim::log::error("kurt_plan: give --affordances DIR, --pddl-domain FILE, or both");
     return kurt_plan::kUsage;
   }
   if (const auto problem = macsim::affordances::loop_options_problem(options.loop); !problem.empty()) {
@@ -90,10 +94,17 @@ int main(int argc, char** argv) {
   try {
     options.domain = macsim::affordances::pddl::load_domain(
         pddl_domain.empty() ? affordances + "/effects.ppddl" : pddl_domain);
-    if (!affordances.empty() && std::filesystem::exists(affordances + "/thresholds.yml"))
+    if (pddl_domain.empty() && std::filesystem::exists(affordances + "/thresholds.yml"))
       options.thresholds = macsim::affordances::load_thresholds(affordances + "/thresholds.yml");
   } catch (const macsim::affordances::pddl::PddlError& e) {
     macsim::log::error("kurt_plan: {}", e.what());
+    return kurt_plan::kUsage;
+  }
+  try {
+    if (!affordances.empty() && std::filesystem::exists(affordances + "/traverse.yml"))
+      options.traverse_model = macsim::affordances::load_traverse_model(affordances);
+  } catch (const std::exception& e) {
+    macsim::log::error("kurt_plan: --affordances: {}", e.what());
     return kurt_plan::kUsage;
   }
   const auto wall_start = std::chrono::steady_clock::now();

@@ -102,6 +102,7 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
                    b.program = "kurt_plan";
                    b.debug_images = options.debug_images;
                    b.pictures = options.pictures;
+                   b.traverse_model = options.traverse_model;
                    return b;
                  }()),
       options_(options),

@@ -48,6 +48,8 @@ struct PlanOptions {
   macsim::affordances::pddl::Domain domain;  ///< what the planner plans over
   /// A learned domain's thresholds: the atoms each thing's perceived features make true.
   std::vector<macsim::affordances::Threshold> thresholds;
+  /// A traverse model, asked about what stands in the way when no way round it is free.
+  std::optional<macsim::affordances::AffordanceModel> traverse_model;
   std::string problems;  ///< a folder to write each planning round's problem file to, or empty
   std::string debug_images;  ///< a folder for the camera images looked at, with what was seen
   bool pictures = false;     ///< ask the simulator for an overview picture after each step, and draw the plan on it

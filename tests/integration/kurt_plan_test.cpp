@@ -5,7 +5,8 @@
 // it acts is on rt/kurt/plan; the problem files it writes are the scene as PDDL, and plan as it
 // did; a goal no can of the room serves (a blue can on the switch when the blue cans are lead)
 // is unreachable, said with its own exit code; where no can can be lifted it pushes a box onto a
-// switch plate flush with the floor; it crosses a way cluttered with joists, logs and posts;
+// switch plate flush with the floor; it crosses a way cluttered with joists, logs and posts,
+// judging what stands in its way by a learned traverse model;
 // its overview pictures carry the plan; bad arguments move nothing.
 #include <gtest/gtest.h>
 
@@ -196,10 +197,21 @@ TEST(KurtPlan, WhereNoCanCanBeLiftedItPushesABoxOntoTheFlushSwitch) {
 TEST(KurtPlan, CrossesAClutteredWayToTheSwitchAndTheDoor) {
   // The cluttered-way family, layout 1: joists, logs, balls and posts across the room between
   // the cans and the switch; the robot starts west of them and ends east of the partition.
+  // What stands in its way it judges by a traverse model learned from the committed trials, on
+  // what the 3D laser gives.
   const std::string world = source("worlds/goals/cluttered_way.xml");
-  const DemoRun run = play_demonstrator("kurt_plan", world, 1, {"--pddl-domain", source(kByHand)});
+  TempDir learned("kurt_plan_traverse_");
+  ChildProcess learn({bin("affordance_learn"), "--in", source("tests/tools/affordances/traverse_trials.csv"),
+                      "--features", "shape", "--save-model", learned.path(), "--out",
+                      learned.path() + "/plots", "--quiet"});
+  ASSERT_EQ(learn.wait_for_exit(60s), 0) << learn.output();
+  const DemoRun run = play_demonstrator("kurt_plan", world, 1,
+                                        {"--pddl-domain", source(kByHand), "--affordances", learned.path()});
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("goal reached: yes"), std::string::npos) << run.output;
+  // It stood before something in its way and the model let it drive over it.
+  EXPECT_TRUE(std::regex_search(run.output, std::regex("judged what stands at .*P\\(traversable\\) 0\\.[5-9][0-9], over it")))
+      << run.output;
   ASSERT_TRUE(run.door.has_value());
   EXPECT_TRUE(run.door->door().triggered());
   ASSERT_TRUE(run.truth.has_value());
@@ -224,6 +236,12 @@ TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
   TempDir dir("kurt_plan_args_");
   const std::string bad_domain = dir.path() + "/bad.pddl";
   pddl::save_text(bad_domain, "(define (domain d)\n  (:predicates (p))\n  (:action a :effect (q)))\n");
+  // A lift model saved as DIR/lift/traverse.yml.
+  std::filesystem::create_directories(dir.path() + "/lift");
+  ChildProcess learn({bin("affordance_learn"), "--in", source("tests/tools/affordances/lift_trials.csv"),
+                      "--save-model", dir.path() + "/lift", "--out", dir.path() + "/plots", "--quiet"});
+  ASSERT_EQ(learn.wait_for_exit(60s), 0) << learn.output();
+  std::filesystem::rename(dir.path() + "/lift/lift.yml", dir.path() + "/lift/traverse.yml");
   const std::string domain = std::to_string(unique_test_domain());
   const std::string by_hand = source(kByHand);
   struct Case {
@@ -232,9 +250,10 @@ TEST(KurtPlan, AnswersHelpAndRefusesBadArgumentsWithoutMovingAnything) {
   };
   for (const Case& c : std::vector<Case>{
            {{"--pddl-domain", by_hand}, "--domain"},
-           {{"--domain", domain}, "one of --affordances DIR and --pddl-domain FILE"},
-           {{"--domain", domain, "--pddl-domain", by_hand, "--affordances", dir.path()},
-            "one of --affordances"},
+           {{"--domain", domain}, "give --affordances DIR, --pddl-domain FILE, or both"},
+           // Beside the hand-written domain, DIR gives the traverse model: one it cannot take.
+           {{"--domain", domain, "--pddl-domain", by_hand, "--affordances", dir.path() + "/lift"},
+            dir.path() + "/lift/traverse.yml is a model of lift, not traverse"},
            {{"--domain", domain, "--pddl-domain", by_hand, "--goal", "fly"}, "not 'fly'"},
            {{"--domain", domain, "--pddl-domain", by_hand, "--goal", "on-switch:"}, "on-switch:COLOUR"},
            {{"--domain", domain, "--affordances", dir.path()}, dir.path() + "/effects.ppddl: cannot be read"},

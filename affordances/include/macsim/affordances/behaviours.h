@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,9 @@ struct BehaviourOptions {
   bool pictures = false;      ///< ask the simulator for overview pictures (overview_picture())
   /// A lift model to judge each can by while looking (SeenThing::liftable).
   std::optional<AffordanceModel> lift_model;
+  /// A traverse model (load_traverse_model) to ask about what stands in the way when no way
+  /// round it is free; without one the robot drives on over what it cannot go round.
+  std::optional<AffordanceModel> traverse_model;
 };
 
 /// Empty, or why `--debug-images DIR` cannot take the camera images (DIR is no folder).
@@ -188,7 +192,16 @@ class Behaviours : public RobotLoop {
   std::optional<Point> look_at_flush_plate();
   void map_here();
   Point approach_point(Point target, double standoff, double reach) const;
+  /// Drives to `goal`: straight when the way is free, else by a waypoint beside it; when neither
+  /// is free, what stands in the way is judged by the traverse model (if any) and what it calls
+  /// traversable is driven over.
   void travel_to(Point goal, double tolerance);
+  /// A waypoint beside the straight way to `goal` from which both legs are free, if any.
+  std::optional<Point> detour(Point goal) const;
+  /// Judges the first thing the obstacle map has on the straight way to `goal` by the traverse
+  /// model, standing before it as a traverse trial stood; false when there was nothing new to
+  /// judge.
+  bool judge_in_way(Point goal);
   /// Where the cameras see the target again (within `radius` of where it was), looking about
   /// and from further back when they do not at first; `last`, if given, gets the last sighting.
   std::optional<Point> find_again(const SeenThing& target, Kind kind, double radius = 0.45,
@@ -210,6 +223,7 @@ class Behaviours : public RobotLoop {
   ObstacleMap obstacles_;
   int debug_count_ = 0;
   std::vector<Point> looked_from_;  ///< odometry frame: where it looked around
+  std::set<std::pair<int, int>> judged_;  ///< traverse cells (cell_of) judged already
   double view_half_angle_ = 0;  ///< rad, half the cameras' horizontal view (from the last frame)
   std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
 };

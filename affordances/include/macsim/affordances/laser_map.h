@@ -50,6 +50,9 @@ class ObstacleMap {
            double yaw);
   /// Forgets what was within `radius` of (x, y) (a can that was carried away).
   void clear(Point at, double radius);
+  /// The cell holding `at` is no obstacle from now on, whatever later clouds show (it holds
+  /// something judged traversable).
+  void let_pass(Point at);
   /// Distance from `at` to the nearest obstacle (up to `limit`), ignoring those within `spare`
   /// of `except`.
   double clearance(Point at, double limit, Point except = {1e9, 1e9}, double spare = 0) const;
@@ -57,11 +60,15 @@ class ObstacleMap {
   /// within `spare` of `except`.
   bool free(Point a, Point b, double half_width, Point except = {1e9, 1e9},
             double spare = 0) const;
+  /// The middle of the first obstacle cell within `half_width` of the segment a-b, going from a;
+  /// nothing when the segment is free.
+  std::optional<Point> first_blocked(Point a, Point b, double half_width) const;
   std::size_t cells() const { return cells_.size(); }
 
  private:
   static int64_t key(int ix, int iy) { return (int64_t(ix) << 32) ^ uint32_t(iy); }
   std::unordered_set<int64_t> cells_;
+  std::unordered_set<int64_t> passable_;
 };
 
 }  // namespace macsim::affordances

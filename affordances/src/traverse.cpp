@@ -1,16 +1,15 @@
-#include "plan.h"
+#include "macsim/affordances/traverse.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <queue>
+#include <stdexcept>
 
 #include "macsim/affordances/perception.h"
 
-namespace kurt_navigate {
-
-namespace af = macsim::affordances;
+namespace macsim::affordances {
 
 namespace {
 
@@ -25,7 +24,58 @@ bool on_body(const std::array<float, 3>& q) {
 
 }  // namespace
 
-std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose,
+double height_above_floor(const std::array<float, 3>& point) {
+  return point[2] + SensorMount{}.base_height;
+}
+
+std::pair<int, int> cell_of(const Point2& p) {
+  return {static_cast<int>(std::floor(p[0] / kGrid)), static_cast<int>(std::floor(p[1] / kGrid))};
+}
+
+macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading) {
+  macsim::client::Cloud way;
+  way.stamp = cloud.stamp;
+  way.points.reserve(cloud.points.size());
+  const double c = std::cos(heading), s = std::sin(heading);
+  for (const auto& q : cloud.points) {
+    way.points.push_back(
+        {static_cast<float>(c * q[0] + s * q[1]), static_cast<float>(-s * q[0] + c * q[1]), q[2]});
+  }
+  return way;
+}
+
+std::map<std::string, double> way_features(const macsim::client::Cloud& way) {
+  Percept p;
+  perceive_cloud(way, SensorMount{}, p);
+  return named_features(p, Affordance::Traverse);
+}
+
+AffordanceModel load_traverse_model(const std::string& dir) {
+  const std::string file = dir + "/traverse.yml";
+  auto model = AffordanceModel::load(file);  // its errors name the file
+  const auto& info = model.info();
+  if (info.affordance != "traverse")
+    throw std::runtime_error(file + " is a model of " + info.affordance + ", not traverse");
+  if (std::find(info.labels.begin(), info.labels.end(), "traversable") == info.labels.end())
+    throw std::runtime_error(file + " has no label 'traversable'");
+  const auto& cloud = *feature_group("cloud");
+  const auto& shape = *feature_group("shape");
+  std::string other;
+  for (const auto& f : info.features) {
+    if (std::find(cloud.begin(), cloud.end(), f) == cloud.end() &&
+        std::find(shape.begin(), shape.end(), f) == shape.end())
+      other += (other.empty() ? "" : ",") + f;
+  }
+  if (!other.empty()) {
+    throw std::runtime_error(file + " takes " + other +
+                             ", which a cloud does not give (the robot judges what stands in "
+                             "its way from the 3D laser only; train with affordance_learn "
+                             "--features shape; cloud and cloud,shape are taken too)");
+  }
+  return model;
+}
+
+std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const Pose2& pose,
                              double range) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   using Key = std::pair<int, int>;
@@ -39,7 +89,7 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const macsim::a
     const auto key = cell_of({x, y});
     auto [t, fresh] = top.try_emplace(key, h);
     if (!fresh) t->second = std::max(t->second, h);
-    if (h <= af::GroundGrid::kTop) cells[key].push_back(k);
+    if (h <= GroundGrid::kTop) cells[key].push_back(k);
   }
   // A cell is as high as its highest return, and things are grouped by height: low cells (a
   // joist, a doorstep's bar) make things of their own, so that a joist beside a log or a box is
@@ -48,7 +98,7 @@ std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const macsim::a
   std::map<Key, Height> level;
   for (const auto& [key, h] : top) {
     cells.try_emplace(key);  // a wall's cell may have no return within the view
-    if (h > af::GroundGrid::kTop) {
+    if (h > GroundGrid::kTop) {
       level[key] = Height::Towering;
       continue;
     }
@@ -242,4 +292,24 @@ double length(const std::vector<Point2>& way) {
   return sum;
 }
 
-}  // namespace kurt_navigate
+double near_side(const macsim::client::Cloud& cloud, const Pose2& pose, const Thing& thing) {
+  // Along the bearing of its middle, of its returns within 0.3 m of that line.
+  const double bearing =
+      std::atan2(thing.centre[1] - pose.y, thing.centre[0] - pose.x) - pose.yaw;
+  const double c = std::cos(bearing), s = std::sin(bearing);
+  double near = std::hypot(thing.centre[0] - pose.x, thing.centre[1] - pose.y);
+  for (std::size_t k : thing.points) {
+    const auto& q = cloud.points[k];
+    if (std::fabs(-s * q[0] + c * q[1]) < 0.3) near = std::min(near, c * q[0] + s * q[1]);
+  }
+  return near;
+}
+
+double p_traversable(const AffordanceModel& model, const macsim::client::Cloud& cloud,
+                     const Pose2& pose, const std::vector<Thing>& things, const Thing& thing) {
+  const double off = wrap(std::atan2(thing.centre[1] - pose.y, thing.centre[0] - pose.x) - pose.yaw);
+  const auto said = model.predict(way_features(along(without_others(cloud, things, thing), off)));
+  return said.label == "traversable" ? said.confidence : 1 - said.confidence;
+}
+
+}  // namespace macsim::affordances

@@ -1,19 +1,50 @@
-// What one look of the 3D laser shows around the robot and the way to the goal across it: the
-// returns above the floor grouped into things, each thing as a traverse trial would have seen it
-// (straight ahead, its near side where the trials' obstacle stood), and the shortest way over a
-// floor plan of 5 cm cells on which the things judged not traversable are grown by the robot's
-// half-width and those judged traversable cost a little more than bare floor.
+// What stands on the floor in one look of the 3D laser and whether the robot can cross it: the
+// returns above the floor grouped into things, each asked of a learned traverse model as a
+// traverse trial saw its obstacle (alone, straight ahead, its near side where the trials' stood),
+// and the shortest way over a floor plan of 5 cm cells on which the things judged not traversable
+// are grown by the robot's half-width and those judged traversable cost a little more than bare
+// floor. kurt_navigate and the behaviours' travel stand on it.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
-#include "macsim/client/robot_devices.h"
+#include "macsim/affordances/model.h"
 #include "macsim/affordances/robot_loop.h"
-#include "ways.h"
+#include "macsim/client/robot_devices.h"
 
-namespace kurt_navigate {
+namespace macsim::affordances {
+
+/// A point on the floor plan (odometry frame), m.
+using Point2 = std::array<double, 2>;
+
+/// The cells of things, m.
+inline constexpr double kGrid = 0.05;
+/// The kGrid cell (odometry frame) that holds `p`.
+std::pair<int, int> cell_of(const Point2& p);
+
+/// Returns lower than this above the floor are the floor (the trials' corridor), m.
+inline constexpr double kAboveFloor = 0.03;
+/// Height above the floor of a cloud's point (base_link), m.
+double height_above_floor(const std::array<float, 3>& point);
+
+/// The cloud (base_link) in the frame of a way `heading` rad to the left of the robot's: x
+/// along the way, y to its left, z unchanged.
+macsim::client::Cloud along(const macsim::client::Cloud& cloud, double heading);
+
+/// The traverse features of a way (a cloud turned by along()), computed as a trial computes
+/// them of its cloud: the grid ahead, the corridor and the shape of what stands in it.
+std::map<std::string, double> way_features(const macsim::client::Cloud& way);
+
+/// The traverse model DIR/traverse.yml, when it takes only what a cloud gives
+/// (affordance_learn --features shape or cloud); throws std::runtime_error naming the file and
+/// the fault.
+AffordanceModel load_traverse_model(const std::string& dir);
+
 
 /// How high a thing stands: lower than kLowThing everywhere (a joist, a bar), higher, or higher
 /// than a traverse trial's view somewhere (a wall: never asked about, never passable).
@@ -39,7 +70,7 @@ inline constexpr double kLowThing = 0.08;
 
 /// The things of a cloud (base_link) taken at `pose`, up to `range` m away; the robot's own body
 /// is left out.
-std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const macsim::affordances::Pose2& pose,
+std::vector<Thing> things_in(const macsim::client::Cloud& cloud, const Pose2& pose,
                              double range = 4.0);
 
 /// The cloud without the returns of the things but `kept` (of those with 3 returns or more): what
@@ -80,4 +111,16 @@ class FloorPlan {
 /// The length (m) of a way of points.
 double length(const std::vector<Point2>& way);
 
-}  // namespace kurt_navigate
+/// The traverse trials' obstacle: its near side this far ahead of the robot's middle, m.
+inline constexpr double kTrialNear = 0.68;
+
+/// The near side of `thing` of `cloud` (taken at `pose`), m from the robot along the bearing of
+/// its middle.
+double near_side(const macsim::client::Cloud& cloud, const Pose2& pose, const Thing& thing);
+
+/// P(traversable) the model gives `thing` of `cloud` (taken at `pose`, `things` all of its
+/// things) seen alone and straight ahead, as a trial saw its obstacle.
+double p_traversable(const AffordanceModel& model, const macsim::client::Cloud& cloud,
+                     const Pose2& pose, const std::vector<Thing>& things, const Thing& thing);
+
+}  // namespace macsim::affordances

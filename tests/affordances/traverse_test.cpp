@@ -1,17 +1,42 @@
-// kurt_navigate's floor plan: the things of a synthetic cloud, and the ways the plan finds around
-// what blocks and through what is passable.
-#include "plan.h"
+// What stands on the floor in a synthetic cloud: its things, a way turned ahead and the trials'
+// features of it, the traverse model files taken, and the ways the floor plan finds around what
+// blocks and through what is passable.
+#include "macsim/affordances/traverse.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
+#include "learning.h"
 #include "macsim/affordances/perception.h"
+#include "support/child_process.h"
+#include "trial_record.h"
 
-namespace kurt_navigate {
+namespace macsim::affordances {
 namespace {
 
-const double kFloor = -macsim::affordances::SensorMount{}.base_height;  // base_link z of the floor
+namespace af = macsim::affordances;
+const double kFloor = -SensorMount{}.base_height;  // base_link z of the floor
+
+/// A post 0.3 m high at (x, y) (base_link), its points every 2 cm up and every 22.5 degrees
+/// around, and a square of floor about the robot (points off the grid's cell borders): turned
+/// by a quarter, the cloud maps onto itself but for the post.
+macsim::client::Cloud post_at(double x, double y) {
+  macsim::client::Cloud cloud;
+  for (double z = 0.02; z <= 0.3; z += 0.02)
+    for (int k = 0; k < 16; ++k)
+      cloud.points.push_back({float(x + 0.05 * std::cos(k * M_PI / 8)),
+                              float(y + 0.05 * std::sin(k * M_PI / 8)), float(kFloor + z)});
+  std::vector<float> along;  // -1.97 ... 1.97, as many each side, none on a cell's border
+  for (int i = 0; i < 20; ++i)
+    for (double v : {0.1 * i + 0.03, 0.1 * i + 0.07})
+      along.insert(along.end(), {float(v), -float(v)});
+  for (float a : along)
+    for (float b : along) cloud.points.push_back({a, b, float(kFloor)});
+  return cloud;
+}
+
 
 /// A post of radius 0.05 m and `height` at (x, y), base_link: points every 2 cm up and every 22.5
 /// degrees around.
@@ -49,7 +74,7 @@ double nearest(const std::vector<Point2>& way, double x, double y) {
   return d;
 }
 
-TEST(NavigatePlan, ACloudsThingsAreItsReturnsAboveTheFloorGroupedLeavingOutTheRobot) {
+TEST(Traverse, ACloudsThingsAreItsReturnsAboveTheFloorGroupedLeavingOutTheRobot) {
   macsim::client::Cloud cloud;
   for (double x = -2; x <= 2; x += 0.1)  // the floor
     for (double y = -2; y <= 2; y += 0.1)
@@ -89,7 +114,7 @@ void add_box(macsim::client::Cloud& cloud, double x0, double y0, double x1, doub
   }
 }
 
-TEST(NavigatePlan, ThingsAreGroupedByHeightAndWhatRisesAboveTheViewIsAWall) {
+TEST(Traverse, ThingsAreGroupedByHeightAndWhatRisesAboveTheViewIsAWall) {
   macsim::client::Cloud cloud;
   // A joist (4 cm) touching a log-high box (12 cm) ahead, and a wall (0.5 m) to the left with a
   // box (20 cm) touching it.
@@ -123,7 +148,7 @@ TEST(NavigatePlan, ThingsAreGroupedByHeightAndWhatRisesAboveTheViewIsAWall) {
   EXPECT_LT(box->across, 0.5);
 }
 
-TEST(NavigatePlan, TheWayKeepsClearOfWhatBlocksAndCrossesWhatIsPassable) {
+TEST(Traverse, TheWayKeepsClearOfWhatBlocksAndCrossesWhatIsPassable) {
   {
     FloorPlan plan({0, 0}, {4, 0});
     plan.add(disc(2, 0, 0.2, false), 0.3, 0.5);
@@ -155,7 +180,7 @@ TEST(NavigatePlan, TheWayKeepsClearOfWhatBlocksAndCrossesWhatIsPassable) {
   }
 }
 
-TEST(NavigatePlan, ItLeavesWhatItStandsAgainstAndNeverEntersABlockedGoal) {
+TEST(Traverse, ItLeavesWhatItStandsAgainstAndNeverEntersABlockedGoal) {
   {
     FloorPlan plan({0, 0}, {3, 0});
     plan.add(disc(0.25, 0, 0.1, false), 0.3, 0.5);  // against its front
@@ -170,7 +195,7 @@ TEST(NavigatePlan, ItLeavesWhatItStandsAgainstAndNeverEntersABlockedGoal) {
   }
 }
 
-TEST(NavigatePlan, ThingsNotYetJudgedAreCrossedOnlyAtAPrice) {
+TEST(Traverse, ThingsNotYetJudgedAreCrossedOnlyAtAPrice) {
   FloorPlan plan({0, 0}, {4, 0});
   Thing unknown = disc(2, 0, 0.3, false);
   unknown.judged = false;
@@ -180,5 +205,80 @@ TEST(NavigatePlan, ThingsNotYetJudgedAreCrossedOnlyAtAPrice) {
   EXPECT_GE(nearest(way, 2, 0), 0.3) << "around it, where that is cheap";
 }
 
+TEST(Traverse, AWayTurnedAheadSeesWhatStandsAlongIt) {
+  // The post about 1 m to the left: the way 90 degrees left has it about 1 m ahead.
+  const auto cloud = post_at(-0.07, 0.98);
+  const auto left = along(cloud, M_PI / 2);
+  EXPECT_DOUBLE_EQ(way_features(cloud).at("corridor_nearest"), 0.0) << "straight ahead is free";
+  EXPECT_DOUBLE_EQ(way_features(along(cloud, -M_PI / 2)).at("corridor_nearest"), 0.0)
+      << "it is behind";
+  // The features of the turned way are a trial's of a cloud taken facing the post.
+  const auto facing = post_at(0.98, 0.07);
+  const auto a = way_features(left), b = way_features(facing);
+  ASSERT_EQ(a.size(), af::feature_names(af::Affordance::Traverse).size());
+  EXPECT_NEAR(a.at("corridor_height"), 0.3, 0.02);
+  EXPECT_NEAR(a.at("corridor_nearest"), 0.93, 0.005);
+  for (const auto& [name, value] : b) EXPECT_NEAR(a.at(name), value, 1e-3) << name;
+}
+
+/// A model of the committed rows of `rows` on `features` (empty: all), saved as DIR/traverse.yml.
+void save_model(const std::string& rows, const std::vector<std::string>& features,
+                const std::string& dir) {
+  auto sets = ::affordances::datasets(
+      ::affordances::read_csv(macsim::test::source("tests/tools/affordances/" + rows)), features);
+  ASSERT_EQ(sets.size(), 1u);
+  const auto& data = sets.begin()->second;
+  std::filesystem::create_directories(dir);
+  ::affordances::fit(data, ::affordances::evaluate(data)).save(dir + "/traverse.yml");
+}
+
+TEST(Traverse, OnlyATraverseModelOnTheCloudsFeaturesIsTaken) {
+  macsim::test::TempDir dir("navigate_models_");
+  save_model("traverse_trials.csv", *af::feature_group("shape"), dir.path() + "/shape");
+  const auto model = load_traverse_model(dir.path() + "/shape");
+  EXPECT_EQ(model.info().features, *af::feature_group("shape"));
+  // The grid's cells are a cloud's too.
+  save_model("traverse_trials.csv", *af::feature_group("cloud"), dir.path() + "/cloud");
+  EXPECT_EQ(load_traverse_model(dir.path() + "/cloud").info().features,
+            *af::feature_group("cloud"));
+  // Asked by name, as the navigator asks it (a way's features hold the cameras' too, which it
+  // leaves out), it gives the trials their labels.
+  auto sets = ::affordances::datasets(
+      ::affordances::read_csv(macsim::test::source("tests/tools/affordances/traverse_trials.csv")));
+  const auto& rows = sets.at("traverse");
+  int agree = 0;
+  for (int i = 0; i < rows.features.rows; ++i) {
+    std::map<std::string, double> named;
+    for (std::size_t k = 0; k < rows.feature_names.size(); ++k)
+      named[rows.feature_names[k]] = rows.features.at<float>(i, static_cast<int>(k));
+    agree += model.predict(named).label == rows.classes[static_cast<std::size_t>(rows.labels[i])];
+  }
+  EXPECT_GE(agree, rows.features.rows * 9 / 10) << agree << " of " << rows.features.rows;
+  EXPECT_GT(model.info().held_out_accuracy, 0.8);
+
+  save_model("traverse_trials.csv", {}, dir.path() + "/all");
+  try {
+    load_traverse_model(dir.path() + "/all");
+    ADD_FAILURE() << "a model on the cameras' features was taken";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("--features shape"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("hue"), std::string::npos) << e.what();
+  }
+  save_model("lift_trials.csv", {}, dir.path() + "/lift");  // a lift model named traverse.yml
+  try {
+    load_traverse_model(dir.path() + "/lift");
+    ADD_FAILURE() << "a lift model was taken";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("not traverse"), std::string::npos) << e.what();
+  }
+  try {
+    load_traverse_model(dir.path() + "/none");
+    ADD_FAILURE() << "a missing model was taken";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(dir.path() + "/none/traverse.yml"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
-}  // namespace kurt_navigate
+}  // namespace macsim::affordances
