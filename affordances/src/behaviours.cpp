@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "macsim/affordances/laser_odometry.h"
 #include "macsim/affordances/perception.h"
 #include "macsim/affordances/traverse.h"
 
@@ -39,7 +40,12 @@ constexpr double kDoorSettle = 3.0;          // s: a door the robot's weight ope
 constexpr double kPlateHidden = 0.5;         // m: a box closer than this to the plate hides part of it
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
 constexpr double kTrialSlack = 0.1;          // m: a thing's near side this close to a trial's is judged from there
-constexpr int kMostJudged = 6;               // things judged by the traverse model per travel at most
+constexpr int kMostJudged = 6;
+constexpr double kSlipSaid = 0.1;
+constexpr double kStuck = 0.4;               // m: a slip this large was the tracks spinning against something
+constexpr double kStuckAhead = 0.35;         // m: from base_link to what it stood against
+constexpr double kStuckRadius = 0.15;        // m: around that, what blocks from then on
+constexpr double kMovedSinceCloud = 0.05;    // m: a look around from further than this from the last cloud takes one            // m: a laser odometry correction this large is said               // things judged by the traverse model per travel at most
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char* format, ...) {
@@ -354,8 +360,49 @@ void Behaviours::record(const std::vector<std::pair<Sighting, Pose2>>& sightings
   }
 }
 
-void Behaviours::map_here() {
+macsim::client::Cloud Behaviours::located_cloud() {
   const auto cloud = take_cloud();
+  auto still = static_structure(cloud, pose_);
+  std::optional<std::array<double, 2>> shift;
+  if (!static_map_.points().empty()) {
+    // Its tracks may have slipped since the last cloud by any part of what the wheels made, up
+    // to all of it (stuck): where it would stand had they slipped by each fifth, and a hand to
+    // either side.
+    std::vector<std::array<double, 2>> guesses;
+    const double bx = cloud_pose_.x - pose_.x, by = cloud_pose_.y - pose_.y;
+    const double made = std::hypot(bx, by);
+    if (made > 0.05) {
+      for (int fifth = 1; fifth <= 5; ++fifth)
+        for (double side : {0.0, -0.15, 0.15})
+          guesses.push_back({fifth * bx / 5 - side * by / made, fifth * by / 5 + side * bx / made});
+    }
+    shift = align(static_map_.points(), still, guesses);
+  }
+  if (shift) {
+    pose_.x += (*shift)[0];
+    pose_.y += (*shift)[1];
+    const double slip = std::hypot((*shift)[0], (*shift)[1]);
+    if (slip > kSlipSaid)
+      say(stage_, fmt("the laser puts it %.2f,%.2f m off where the wheels say (they slipped)",
+                      (*shift)[0], (*shift)[1]));
+    if (slip > kStuck) {
+      // Its tracks spun against what stands before it: that blocks from now on, whatever the
+      // traverse model said of it.
+      const Point against{pose_.x + kStuckAhead * std::cos(pose_.yaw),
+                          pose_.y + kStuckAhead * std::sin(pose_.yaw)};
+      obstacles_.block(against, kStuckRadius);
+      say(stage_, fmt("stuck against something at %.2f,%.2f: it blocks from now on", against.x, against.y));
+    }
+    still = static_structure(cloud, pose_);
+  }
+  // The first cloud makes the map; a cloud laid onto it adds what it saw anew.
+  if (shift || static_map_.points().empty()) static_map_.add(still);
+  cloud_pose_ = pose_;
+  return cloud;
+}
+
+void Behaviours::map_here() {
+  const auto cloud = located_cloud();
   obstacles_.add(cloud, geometry_, pose_.x, pose_.y, pose_.yaw);
 }
 
@@ -404,7 +451,7 @@ bool Behaviours::judge_in_way(Point goal) {
       }
     return found;
   };
-  auto cloud = take_cloud();  // all round the robot
+  auto cloud = located_cloud();  // all round the robot
   auto things = things_in(cloud, pose_);
   const Thing* thing = thing_at(things, {block->x, block->y}, 0.15);
   // Stand before it as a traverse trial stood: facing its middle, its near side kTrialNear ahead.
@@ -415,7 +462,7 @@ bool Behaviours::judge_in_way(Point goal) {
       turn_to(std::atan2(centre[1] - pose_.y, centre[0] - pose_.x));
       drive_straight(near - kTrialNear, 0.15);
       turn_to(std::atan2(centre[1] - pose_.y, centre[0] - pose_.x));
-      cloud = take_cloud();
+      cloud = located_cloud();
       things = things_in(cloud, pose_);
       thing = thing_at(things, centre, 0.3);
     }
@@ -514,6 +561,9 @@ bool Behaviours::close_in(SeenThing& target, Kind kind) {
 
 BehaviourReport Behaviours::look_around(bool until_switch) {
   BehaviourReport r = report("look_around", "");
+  // Where it looks from by the laser first: what it sees is placed by its pose, which the tracks'
+  // slip since the last cloud has put off.
+  if (std::hypot(pose_.x - cloud_pose_.x, pose_.y - cloud_pose_.y) > kMovedSinceCloud) map_here();
   looked_from_.push_back({pose_.x, pose_.y});
   const double start_yaw = pose_.yaw;
   for (int k = 0; k < 9; ++k) {
@@ -659,7 +709,7 @@ BehaviourReport Behaviours::go_to_switch() {
   say(stage_, fmt("carrying the can to the switch at %.2f,%.2f", scene_.switch_platform->x,
                   scene_.switch_platform->y));
   map_here();
-  if (!close_in(*scene_.switch_platform, Kind::Switch)) {
+  if (!close_in(*scene_.switch_platform, Kind::Switch) && !close_in_by_what_is_on_it()) {
     // Seen from far (or the odometry drifted): look for it again from here, once.
     say(stage_, "the switch is not where it was seen; looking around for it");
     scene_.switch_platform.reset();
@@ -669,6 +719,19 @@ BehaviourReport Behaviours::go_to_switch() {
   }
   scene_.at = "switch";
   return finish(r);
+}
+
+bool Behaviours::close_in_by_what_is_on_it() {
+  if (scene_.on_switch.empty()) return false;
+  const SeenThing* put = thing(scene_.on_switch.front());  // put in the platform's middle
+  if (!put) return false;
+  SeenThing marker = *put;
+  say(stage_, fmt("the switch is hidden behind what stands on it: going by the %s %s there",
+                  marker.colour.c_str(), marker.kind == Kind::Box ? "box" : "can"));
+  if (!close_in(marker, marker.kind)) return false;
+  scene_.switch_platform->x = marker.x;
+  scene_.switch_platform->y = marker.y;
+  return true;
 }
 
 BehaviourReport Behaviours::put_down() {
@@ -839,7 +902,7 @@ bool Behaviours::perceive_door() {
   // From across the room the partition's band (only it reaches 0.5 m) holds few points: a dozen
   // on its line make it a wall here, where the watch before driving through wants 40.
   constexpr int kFewestWallPoints = 12;
-  const auto points = slice(take_cloud(), geometry_, 0.505, 0.615, 0.3, 6.0);
+  const auto points = slice(located_cloud(), geometry_, 0.505, 0.615, 0.3, 6.0);
   if (const auto passage = find_passage(points, 0.6, kFewestWallPoints)) {
     const Pose2 centre = to_odom(passage->centre.x, passage->centre.y);
     const Pose2 across = to_odom(passage->normal.x, passage->normal.y);
@@ -875,7 +938,7 @@ BehaviourReport Behaviours::go_to_door() {
   std::optional<Passage> passage;
   int walls = 0;
   while (now_ < give_up) {
-    const auto cloud = take_cloud();
+    const auto cloud = located_cloud();
     const auto points = slice(cloud, geometry_, 0.505, 0.615, 0.6, 6.0);
     passage = find_passage(points, 0.6);
     if (passage) break;
@@ -910,7 +973,7 @@ BehaviourReport Behaviours::drive_through() {
   }
   // A closer look to centre on the gap.
   double nx = scene_.door->nx, ny = scene_.door->ny;
-  const auto closer = find_passage(slice(take_cloud(), geometry_, 0.505, 0.615, 0.3, 4.0), 0.6);
+  const auto closer = find_passage(slice(located_cloud(), geometry_, 0.505, 0.615, 0.3, 4.0), 0.6);
   Pose2 c{scene_.door->x, scene_.door->y, 0};
   if (closer) {
     c = to_odom(closer->centre.x, closer->centre.y);

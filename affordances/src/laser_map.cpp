@@ -119,6 +119,17 @@ void ObstacleMap::add(const macsim::client::Cloud& cloud, const KurtGeometry& g,
   }
 }
 
+void ObstacleMap::block(Point at, double radius) {
+  const int r = static_cast<int>(std::ceil(radius / kCell));
+  for (int ix = cell(at.x) - r; ix <= cell(at.x) + r; ++ix) {
+    for (int iy = cell(at.y) - r; iy <= cell(at.y) + r; ++iy) {
+      if (std::hypot((ix + 0.5) * kCell - at.x, (iy + 0.5) * kCell - at.y) > radius) continue;
+      passable_.erase(key(ix, iy));
+      cells_.insert(key(ix, iy));
+    }
+  }
+}
+
 void ObstacleMap::let_pass(Point at) {
   const int64_t k = key(cell(at.x), cell(at.y));
   passable_.insert(k);

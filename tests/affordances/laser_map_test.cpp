@@ -62,6 +62,34 @@ TEST(KurtDemoLaserMap, ObstacleMapTellsFreeWaysFromBlockedOnes) {
   EXPECT_TRUE(map.free({1.0, 1.0}, {1.0, 3.0}, 0.25));
 }
 
+TEST(KurtDemoLaserMap, TheFirstBlockedCellIsTheNearestOnTheWayAndWhatIsLetPassStaysFree) {
+  macsim::client::Cloud cloud;
+  cloud.points = {{1.0f, 0.0f, 0.0f}, {2.0f, 0.1f, 0.0f}};  // two things ahead, at 1 and 2 m
+  ObstacleMap map;
+  map.add(cloud, kGeometry, 0.0, 0.0, 0.0);
+  const auto first = map.first_blocked({0.0, 0.0}, {3.0, 0.0}, 0.25);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_NEAR(first->x, 1.025, 1e-9);  // the middle of the 5 cm cell holding (1, 0)
+  EXPECT_NEAR(first->y, 0.025, 1e-9);
+  EXPECT_FALSE(map.first_blocked({0.0, 1.0}, {3.0, 1.0}, 0.25).has_value());  // beside both
+  // The first judged traversable: the next is the second, and a later cloud does not bring the
+  // first back.
+  map.let_pass(*first);
+  map.add(cloud, kGeometry, 0.0, 0.0, 0.0);
+  const auto next = map.first_blocked({0.0, 0.0}, {3.0, 0.0}, 0.25);
+  ASSERT_TRUE(next.has_value());
+  EXPECT_NEAR(next->x, 2.025, 1e-9);
+  map.let_pass(*next);
+  EXPECT_TRUE(map.free({0.0, 0.0}, {3.0, 0.0}, 0.25));
+  EXPECT_EQ(map.cells(), 0u);
+  // Stalled against the first after all: it blocks again, and a later cloud keeps it.
+  map.block(*first, 0.05);
+  map.add(cloud, kGeometry, 0.0, 0.0, 0.0);
+  const auto again = map.first_blocked({0.0, 0.0}, {3.0, 0.0}, 0.25);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_NEAR(again->x, 1.025, 0.05);
+}
+
 TEST(KurtDemoLaserMap, CorridorIgnoresTheGoalButNotWhatIsInFrontOfIt) {
   const std::vector<Point> points{{1.0, 0.05}, {2.0, 0.0}};
   EXPECT_FALSE(corridor_free(points, {2.0, 0.0}, 0.2, 0.15));

@@ -16,6 +16,7 @@
 
 #include "macsim/affordances/kurt_geometry.h"
 #include "macsim/affordances/laser_map.h"
+#include "macsim/affordances/laser_odometry.h"
 #include "macsim/affordances/model.h"
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/robot_loop.h"
@@ -190,6 +191,9 @@ class Behaviours : public RobotLoop {
   std::vector<std::pair<Sighting, Pose2>> look(int frames = 1);
   /// Where a few frames put a flush plate's middle judged from its outline (odometry frame).
   std::optional<Point> look_at_flush_plate();
+  /// One 3D laser cloud, the robot's pose corrected by laser odometry on the way (what stands
+  /// still laid onto what stood still in the clouds before: the tracks' slip taken out).
+  macsim::client::Cloud located_cloud();
   void map_here();
   Point approach_point(Point target, double standoff, double reach) const;
   /// Drives to `goal`: straight when the way is free, else by a waypoint beside it; when neither
@@ -207,6 +211,9 @@ class Behaviours : public RobotLoop {
   std::optional<Point> find_again(const SeenThing& target, Kind kind, double radius = 0.45,
                                   Sighting* last = nullptr);
   bool close_in(SeenThing& target, Kind kind);
+  /// Closes in on the switch by the thing put in its platform's middle, seen where it was put
+  /// (from close by, that thing hides the middle of the yellow); false with nothing on it.
+  bool close_in_by_what_is_on_it();
   /// Marks lost each thing this look should have shown (well inside the view, 1-3 m away, not
   /// held, not on the switch) but did not, near where it was: after the tracks slipped, what
   /// the robot remembers lies where nothing is.
@@ -224,6 +231,8 @@ class Behaviours : public RobotLoop {
   int debug_count_ = 0;
   std::vector<Point> looked_from_;  ///< odometry frame: where it looked around
   std::set<std::pair<int, int>> judged_;  ///< traverse cells (cell_of) judged already
+  StaticMap static_map_;  ///< what stood still in the clouds taken (laser odometry)
+  Pose2 cloud_pose_;      ///< where the last cloud was taken
   double view_half_angle_ = 0;  ///< rad, half the cameras' horizontal view (from the last frame)
   std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
 };

@@ -53,6 +53,9 @@ class ObstacleMap {
   /// The cell holding `at` is no obstacle from now on, whatever later clouds show (it holds
   /// something judged traversable).
   void let_pass(Point at);
+  /// The cells within `radius` of `at` are obstacles from now on, whatever was let pass there
+  /// (something the robot stalled against).
+  void block(Point at, double radius);
   /// Distance from `at` to the nearest obstacle (up to `limit`), ignoring those within `spare`
   /// of `except`.
   double clearance(Point at, double limit, Point except = {1e9, 1e9}, double spare = 0) const;
