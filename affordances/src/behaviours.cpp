@@ -385,7 +385,7 @@ macsim::client::Cloud Behaviours::located_cloud() {
     if (slip > kSlipSaid)
       say(stage_, fmt("the laser puts it %.2f,%.2f m off where the wheels say (they slipped)",
                       (*shift)[0], (*shift)[1]));
-    if (slip > kStuck) {
+    if (slip > kStuck && !pushing_) {
       // Its tracks spun against what stands before it: that blocks from now on, whatever the
       // traverse model said of it.
       const Point against{pose_.x + kStuckAhead * std::cos(pose_.yaw),
@@ -774,6 +774,9 @@ BehaviourReport Behaviours::put_down() {
 
 BehaviourReport Behaviours::push(const std::string& name) {
   BehaviourReport r = report("push", name);
+  // Pushing, the tracks spin against the box by design: no slip marks what it stands against.
+  pushing_ = true;
+  const std::shared_ptr<void> done_pushing(nullptr, [this](void*) { pushing_ = false; });
   SeenThing* box = thing(name);
   if (!box) return finish(r, Setback::NotSeen, name + " was never seen");
   if (!scene_.switch_platform) {
@@ -846,6 +849,12 @@ BehaviourReport Behaviours::push(const std::string& name) {
     say(stage_, fmt("behind it: the box %.2f m ahead, %.2f m from the switch; pushing it %.2f m", b.x, left, along));
     drive_straight(b.x - kBumper - kBoxHalf + along, 0.15);
     drive_straight(-0.8, 0.2);  // far enough for the cameras to see it whole
+    // Where it stands by the laser: the tracks slip when the box catches, and the box went on by
+    // as much less.
+    const Pose2 wheels = pose_;
+    map_here();
+    const double slipped = std::max(0.0, -((pose_.x - wheels.x) * u.x + (pose_.y - wheels.y) * u.y));
+    if (slipped > kSlipSaid) say(stage_, fmt("the tracks slipped %.2f m of the push", slipped));
     if (door_shut && door_stays_open()) {
       say(stage_, "the door opened: the box presses the switch");
       on_plate = true;
@@ -853,8 +862,9 @@ BehaviourReport Behaviours::push(const std::string& name) {
     }
     // Looked for where it should be now (the box may have turned the robot aside).
     SeenThing pushed = *box;
-    pushed.x = from.x + along * u.x;
-    pushed.y = from.y + along * u.y;
+    const double went = std::max(0.0, along - slipped);
+    pushed.x = from.x + went * u.x;
+    pushed.y = from.y + went * u.y;
     turn_to(std::atan2(pushed.y - pose_.y, pushed.x - pose_.x));
     Sighting sighted;
     const auto there = find_again(pushed, Kind::Box, 0.7, &sighted);  // the tracks slipped

@@ -233,6 +233,7 @@ class Behaviours : public RobotLoop {
   std::set<std::pair<int, int>> judged_;  ///< traverse cells (cell_of) judged already
   StaticMap static_map_;  ///< what stood still in the clouds taken (laser odometry)
   Pose2 cloud_pose_;      ///< where the last cloud was taken
+  bool pushing_ = false;  ///< a push under way (its tracks slip against the box by design)
   double view_half_angle_ = 0;  ///< rad, half the cameras' horizontal view (from the last frame)
   std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
 };
