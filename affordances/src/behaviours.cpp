@@ -41,6 +41,8 @@ constexpr double kPlateHidden = 0.5;         // m: a box closer than this to the
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
 constexpr double kTrialSlack = 0.1;          // m: a thing's near side this close to a trial's is judged from there
 constexpr int kMostJudged = 6;
+constexpr double kWayBorder = 1.5;           // m: the floor plan reaches this far beyond here and the goal
+constexpr double kWaypoint = 0.4;            // m: between the waypoints of a way round
 constexpr double kSlipSaid = 0.1;
 constexpr double kStuck = 0.4;               // m: a slip this large was the tracks spinning against something
 constexpr double kStuckAhead = 0.35;         // m: from base_link to what it stood against
@@ -495,6 +497,25 @@ bool Behaviours::judge_in_way(Point goal) {
   return true;
 }
 
+std::vector<Point> Behaviours::way_round(Point goal) const {
+  const Point here{pose_.x, pose_.y};
+  FloorPlan floor({here.x, here.y}, {goal.x, goal.y}, kWayBorder);
+  for (const Point& c : obstacles_.obstacles_near(here, goal, kWayBorder + kHalfWidth))
+    floor.block({c.x, c.y}, kHalfWidth);
+  const auto cells = floor.path(kRobotRadius);  // it may leave what it stands against
+  // Waypoints every kWaypoint m along the cells' way, and its end.
+  std::vector<Point> way;
+  double since = 0;
+  for (std::size_t k = 1; k < cells.size(); ++k) {
+    since += std::hypot(cells[k][0] - cells[k - 1][0], cells[k][1] - cells[k - 1][1]);
+    if (since >= kWaypoint || k + 1 == cells.size()) {
+      way.push_back({cells[k][0], cells[k][1]});
+      since = 0;
+    }
+  }
+  return way;
+}
+
 void Behaviours::travel_to(Point goal, double tolerance) {
   for (int judged = 0;; ++judged) {
     if (obstacles_.free({pose_.x, pose_.y}, goal, kHalfWidth)) break;
@@ -502,11 +523,15 @@ void Behaviours::travel_to(Point goal, double tolerance) {
       drive_to(via->x, via->y, 0.08);
       break;
     }
-    if (!options_.traverse_model || judged == kMostJudged || !judge_in_way(goal)) {
-      if (options_.traverse_model)
-        say(stage_, fmt("no way to %.2f,%.2f judged passable: driving on", goal.x, goal.y));
+    if (options_.traverse_model && judged < kMostJudged && judge_in_way(goal)) continue;
+    // No way with one turn in it: the shortest over the floor the laser saw free.
+    if (const auto way = way_round(goal); !way.empty()) {
+      say(stage_, fmt("a way of %zu legs round what the laser sees", way.size()));
+      for (const Point& p : way) drive_to(p.x, p.y, 0.1);
       break;
     }
+    say(stage_, fmt("no way to %.2f,%.2f judged passable: driving on", goal.x, goal.y));
+    break;
   }
   drive_to(goal.x, goal.y, tolerance);
 }

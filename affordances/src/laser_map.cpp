@@ -119,6 +119,18 @@ void ObstacleMap::add(const macsim::client::Cloud& cloud, const KurtGeometry& g,
   }
 }
 
+std::vector<Point> ObstacleMap::obstacles_near(Point a, Point b, double reach) const {
+  std::vector<Point> out;
+  const double x0 = std::min(a.x, b.x) - reach, x1 = std::max(a.x, b.x) + reach;
+  const double y0 = std::min(a.y, b.y) - reach, y1 = std::max(a.y, b.y) + reach;
+  for (const int64_t k : cells_) {
+    const int ix = static_cast<int>(k >> 32), iy = static_cast<int>(static_cast<int32_t>(k & 0xffffffff));
+    const Point c{(ix + 0.5) * kCell, (iy + 0.5) * kCell};
+    if (c.x >= x0 && c.x <= x1 && c.y >= y0 && c.y <= y1) out.push_back(c);
+  }
+  return out;
+}
+
 void ObstacleMap::block(Point at, double radius) {
   const int r = static_cast<int>(std::ceil(radius / kCell));
   for (int ix = cell(at.x) - r; ix <= cell(at.x) + r; ++ix) {

@@ -198,8 +198,11 @@ class Behaviours : public RobotLoop {
   Point approach_point(Point target, double standoff, double reach) const;
   /// Drives to `goal`: straight when the way is free, else by a waypoint beside it; when neither
   /// is free, what stands in the way is judged by the traverse model (if any) and what it calls
-  /// traversable is driven over.
+  /// traversable is driven over; then by the shortest way round what the laser sees, or on.
   void travel_to(Point goal, double tolerance);
+  /// The shortest way to `goal` over the floor the obstacle map leaves free (A* on 5 cm cells,
+  /// every obstacle grown by half the robot's corridor), as waypoints; empty when there is none.
+  std::vector<Point> way_round(Point goal) const;
   /// A waypoint beside the straight way to `goal` from which both legs are free, if any.
   std::optional<Point> detour(Point goal) const;
   /// Judges the first thing the obstacle map has on the straight way to `goal` by the traverse

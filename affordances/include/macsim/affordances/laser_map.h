@@ -67,6 +67,8 @@ class ObstacleMap {
   /// nothing when the segment is free.
   std::optional<Point> first_blocked(Point a, Point b, double half_width) const;
   std::size_t cells() const { return cells_.size(); }
+  /// The middles of the obstacle cells within `reach` of the segment a-b's bounding box.
+  std::vector<Point> obstacles_near(Point a, Point b, double reach) const;
 
  private:
   static int64_t key(int ix, int iy) { return (int64_t(ix) << 32) ^ uint32_t(iy); }
