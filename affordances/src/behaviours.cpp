@@ -606,7 +606,8 @@ BehaviourReport Behaviours::look_around(bool until_switch) {
     what << (kind == Kind::Can ? "" : "; ") << count << (kind == Kind::Can ? " can candidate(s)" : " box(es)");
     for (const auto& c : scene_.things) {
       if (c.kind == kind)
-        what << fmt(" [%s at %.2f,%.2f%s]", c.colour.c_str(), c.x, c.y, c.tried ? ", tried" : "");
+        what << fmt(" [%s at %.2f,%.2f%s%s]", c.colour.c_str(), c.x, c.y, c.tried ? ", tried" : "",
+                    c.lost ? ", lost" : "");
     }
   }
   if (scene_.switch_platform)
