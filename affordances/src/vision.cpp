@@ -31,6 +31,7 @@ constexpr std::array<ColourClass, 6> kColours{{{"red", 0, 7, 165, 179, 200},
 constexpr int kMinValue = 50, kMinArea = 12;
 constexpr double kCanRadius = 0.033;
 constexpr double kBoxHalf = 0.1;  // m: half a pushable box's side (the demonstrator's are 0.2 m)
+constexpr double kOneBoxWidest = 0.4;  // m: one box seen from any side is at most this wide
 
 struct Blob {
   int colour = 0;
@@ -179,14 +180,30 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
       s.kind = Kind::Switch;
       s.x = bx;
       s.y = by;
-    } else if (s.width >= 0.18 && s.width <= 0.4 && s.height >= 0.15 && s.height <= 0.4 && fill >= 0.6 &&
-               height >= 0.04 && height <= 0.2) {
+    } else if (s.width >= 0.18 && s.width <= 2 * kOneBoxWidest && s.height >= 0.15 && s.height <= 0.4 &&
+               fill >= 0.6 && height >= 0.04 && height <= 0.2) {
       // A box to push (measured here: a 0.2 m box 0.22-0.29 m wide, 0.26-0.31 m high with its top;
       // a 0.1 m cube 0.15 m wide): a solid face, its top seen with it from close by, on the floor.
       s.kind = Kind::Box;
       s.x = bx + kBoxHalf * dx / d;
       s.y = by + kBoxHalf * dy / d;
       s.on_plate = yellow_below(frame.left, l.box);
+      if (s.width > kOneBoxWidest) {
+        // Wider than one box: two of a colour side by side (a pushed box came to rest against the
+        // other), one in each half of the blob, at the blob's depth.
+        for (const double quarter : {0.25, 0.75}) {
+          Sighting half = s;
+          const double u = l.box.x + quarter * l.box.width;
+          const double hx = g.camera_x + cp * ahead + sp * up;
+          const double hy = g.camera_y - (u - frame.cx) * z / f;
+          const double hd = std::hypot(hx - g.camera_x, hy - g.camera_y);
+          half.width = s.width / 2;
+          half.x = hx + kBoxHalf * (hx - g.camera_x) / hd;
+          half.y = hy + kBoxHalf * (hy - g.camera_y) / hd;
+          out.push_back(half);
+        }
+        continue;
+      }
     } else {
       // A can: an upright cylinder's side, taller than wide, standing on the floor.
       if (s.width < 0.035 || s.width > 0.11 || s.height < 0.06 || s.height > 0.22 ||

@@ -156,6 +156,24 @@ TEST(KurtDemoVision, FindsABoxToPushAndASwitchPlateFlushWithTheFloor) {
   EXPECT_FALSE(b->on_plate);  // it stands on the floor
 }
 
+TEST(KurtDemoVision, TwoBoxesSideBySideAreTwoBoxes) {
+  // Two blue boxes touching, across the view 1.8 m ahead: one blob wider than any one box.
+  const Looked looked(
+      "<OBJECT><ID>box_a</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>1.8,0.1,0.1</POS>"
+      "<COLOR>0.1,0.2,0.85</COLOR></OBJECT>"
+      "<OBJECT><ID>box_b</ID><SHAPE>BOX</SHAPE><DIMS>0.2,0.2,0.2</DIMS><POS>1.8,-0.1,0.1</POS>"
+      "<COLOR>0.1,0.2,0.85</COLOR></OBJECT>");
+  ASSERT_EQ(looked.count(af::Kind::Box), 2);
+  for (const double y : {0.1, -0.1}) {
+    const Eigen::Vector3d box = looked.in_base(1.8, y);
+    const auto* b = nearest(looked.seen, af::Kind::Box, box.x(), box.y());
+    ASSERT_NE(b, nullptr);
+    EXPECT_EQ(b->colour, "blue");
+    EXPECT_NEAR(b->x, box.x(), 0.1) << y;
+    EXPECT_NEAR(b->y, box.y(), 0.06) << y;
+  }
+}
+
 TEST(KurtDemoVision, ABoxStandingOnAFlushPlateShowsThePlateInFrontOfItsFoot) {
   // The same plate; the box on it, then 0.3 m short of it (its foot on the floor in front).
   for (const double short_of : {0.0, 0.3}) {
