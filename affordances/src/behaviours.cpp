@@ -40,14 +40,14 @@ constexpr double kDoorSettle = 3.0;          // s: a door the robot's weight ope
 constexpr double kPlateHidden = 0.5;         // m: a box closer than this to the plate hides part of it
 constexpr double kOnSwitch = 0.18;           // m: a box's middle this close to the plate's is on it (0.5 m wide)
 constexpr double kTrialSlack = 0.1;          // m: a thing's near side this close to a trial's is judged from there
-constexpr int kMostJudged = 6;
+constexpr int kMostJudged = 6;               // things judged by the traverse model per travel at most
 constexpr double kWayBorder = 1.5;           // m: the floor plan reaches this far beyond here and the goal
 constexpr double kWaypoint = 0.4;            // m: between the waypoints of a way round
-constexpr double kSlipSaid = 0.1;
+constexpr double kSlipSaid = 0.1;            // m: a laser odometry correction this large is said
 constexpr double kStuck = 0.4;               // m: a slip this large was the tracks spinning against something
 constexpr double kStuckAhead = 0.35;         // m: from base_link to what it stood against
 constexpr double kStuckRadius = 0.15;        // m: around that, what blocks from then on
-constexpr double kMovedSinceCloud = 0.05;    // m: a look around from further than this from the last cloud takes one            // m: a laser odometry correction this large is said               // things judged by the traverse model per travel at most
+constexpr double kMovedSinceCloud = 0.05;    // m: a look around from further than this from the last cloud takes one
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char* format, ...) {

@@ -193,12 +193,11 @@ std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
         // other), one in each half of the blob, at the blob's depth.
         for (const double quarter : {0.25, 0.75}) {
           Sighting half = s;
-          const double u = l.box.x + quarter * l.box.width;
-          const double hx = g.camera_x + cp * ahead + sp * up;
-          const double hy = g.camera_y - (u - frame.cx) * z / f;
-          const double hd = std::hypot(hx - g.camera_x, hy - g.camera_y);
+          // The centroid's triangulation, moved sideways to the quarter's column.
+          const double hy = by - (l.box.x + quarter * l.box.width - l.cx) * z / f;
+          const double hd = std::hypot(dx, hy - g.camera_y);
           half.width = s.width / 2;
-          half.x = hx + kBoxHalf * (hx - g.camera_x) / hd;
+          half.x = bx + kBoxHalf * dx / hd;
           half.y = hy + kBoxHalf * (hy - g.camera_y) / hd;
           out.push_back(half);
         }
