@@ -25,7 +25,7 @@ constexpr double kRobotRadius = 0.33;  // m: the chassis and wheels, from base_l
 constexpr double kHalfWidth = 0.25;    // m: half the corridor the robot drives in
 constexpr double kCanTop = 0.135;      // m: where the magnet meets a can
 constexpr double kPlatformTop = 0.07;  // m: the switch's platform above the floor
-constexpr double kBesideOnPlatform = 0.08;  // m: a second thing from the platform's middle
+constexpr double kBesideOnPlatform = 0.04;  // m: things put down from the platform's middle, to each side
 constexpr double kBumper = 0.21;             // m: base_link to the front bumper
 constexpr double kBoxHalf = 0.1;             // m: half a pushable box's side
 constexpr double kPushStandoff = 1.0;        // m: from a box's middle to stand behind it
@@ -47,6 +47,8 @@ constexpr double kSlipSaid = 0.1;            // m: a laser odometry correction t
 constexpr double kStuck = 0.4;               // m: a slip this large was the tracks spinning against something
 constexpr double kStuckAhead = 0.35;         // m: from base_link to what it stood against
 constexpr double kStuckRadius = 0.15;        // m: around that, what blocks from then on
+constexpr double kSwitchMargin = 0.15;       // m: kept off a raised platform's yellow: its base, and the slip
+constexpr double kPlateWidth = 0.3;          // m: a switch platform whose width was not measured
 constexpr double kMovedSinceCloud = 0.05;    // m: a look around from further than this from the last cloud takes one
 
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
@@ -78,6 +80,12 @@ bool flush_switch(const Scene& scene) {
 }
 
 }  // namespace
+
+double switch_keep_off(const Scene& scene) {
+  if (!scene.switch_platform || flush_switch(scene)) return 0;
+  const auto width = scene.switch_platform->features.find("width_m");
+  return (width != scene.switch_platform->features.end() ? width->second : kPlateWidth) / 2 + kSwitchMargin;
+}
 
 const std::vector<std::string>& thing_features() {
   static const std::vector<std::string> names{"hue", "width_m"};
@@ -406,6 +414,18 @@ macsim::client::Cloud Behaviours::located_cloud() {
 void Behaviours::map_here() {
   const auto cloud = located_cloud();
   obstacles_.add(cloud, geometry_, pose_.x, pose_.y, pose_.yaw);
+  keep_off_the_switch();
+}
+
+bool Behaviours::on_raised_switch(Point at) const {
+  const double radius = switch_keep_off(scene_);
+  return radius > 0 && std::hypot(at.x - scene_.switch_platform->x, at.y - scene_.switch_platform->y) <= radius;
+}
+
+void Behaviours::keep_off_the_switch() {
+  // A raised platform lies below what the laser takes for an obstacle.
+  if (const double radius = switch_keep_off(scene_); radius > 0)
+    obstacles_.block({scene_.switch_platform->x, scene_.switch_platform->y}, radius);
 }
 
 Point Behaviours::approach_point(Point target, double standoff, double reach) const {
@@ -442,6 +462,7 @@ std::optional<Point> Behaviours::detour(Point goal) const {
 bool Behaviours::judge_in_way(Point goal) {
   const auto block = obstacles_.first_blocked({pose_.x, pose_.y}, goal, kHalfWidth);
   if (!block || judged_.count(cell_of({block->x, block->y}))) return false;
+  if (on_raised_switch(*block)) return false;  // kept off, whatever stands there
   // The thing of a cloud that holds the blocked cell (or the one nearest `at`, its middle seen
   // from further off).
   const auto thing_at = [](const std::vector<Thing>& things, Point2 at, double within) {
@@ -553,15 +574,19 @@ std::optional<Point> Behaviours::find_again(const SeenThing& target, Kind kind, 
   };
   if (auto at = matches(look(3))) return at;
   // Not where expected: the odometry drifted. Look a little to each side, then from further
-  // back (closer than about 0.8 m the floor in front is out of the cameras' view).
+  // back (closer than about 0.8 m the floor in front is out of the cameras' view; where the
+  // tracks slipped on the way in, it may stand closer still, so it backs off twice).
   const double ahead = pose_.yaw;
   for (double off : {0.45, -0.45}) {
     turn_to(ahead + off);
     if (auto at = matches(look(2))) return at;
   }
   turn_to(ahead);
-  drive_straight(-0.4, 0.15);
-  return matches(look(3));
+  for (int back = 0; back < 2; ++back) {
+    drive_straight(-0.4, 0.15);
+    if (auto at = matches(look(3))) return at;
+  }
+  return std::nullopt;
 }
 
 bool Behaviours::close_in(SeenThing& target, Kind kind) {
@@ -610,6 +635,7 @@ BehaviourReport Behaviours::look_around(bool until_switch) {
                     c.lost ? ", lost" : "");
     }
   }
+  keep_off_the_switch();
   if (scene_.switch_platform)
     what << fmt("; the switch at %.2f,%.2f (%.2f m wide)", scene_.switch_platform->x, scene_.switch_platform->y,
                 scene_.switch_platform->features["width_m"]);
@@ -749,14 +775,14 @@ BehaviourReport Behaviours::go_to_switch() {
 
 bool Behaviours::close_in_by_what_is_on_it() {
   if (scene_.on_switch.empty()) return false;
-  const SeenThing* put = thing(scene_.on_switch.front());  // put in the platform's middle
+  const SeenThing* put = thing(scene_.on_switch.front());  // put beside the platform's middle
   if (!put) return false;
   SeenThing marker = *put;
   say(stage_, fmt("the switch is hidden behind what stands on it: going by the %s %s there",
                   marker.colour.c_str(), marker.kind == Kind::Box ? "box" : "can"));
   if (!close_in(marker, marker.kind)) return false;
-  scene_.switch_platform->x = marker.x;
-  scene_.switch_platform->y = marker.y;
+  scene_.switch_platform->x = marker.x + middle_from_first_.x;
+  scene_.switch_platform->y = marker.y + middle_from_first_.y;
   return true;
 }
 
@@ -764,17 +790,17 @@ BehaviourReport Behaviours::put_down() {
   BehaviourReport r = report("put_down", scene_.holding);
   if (!scene_.switch_platform) return finish(r, Setback::NoSwitch, "no switch was seen");
   const Pose2 b = to_base(scene_.switch_platform->x, scene_.switch_platform->y);
-  // The first thing in the platform's middle, the next beside it (left, then right).
+  // The first thing right of the platform's middle, the next left of it: two cans side by side
+  // keep 0.05 m off its edges, where one in the middle and one beside it kept 0.02 m and the
+  // second, lowered a few centimetres off, fell.
   const std::size_t there = scene_.on_switch.size();
-  const double side = there == 0 ? 0.0 : (there % 2 ? kBesideOnPlatform : -kBesideOnPlatform);
+  const double side = there % 2 ? kBesideOnPlatform : -kBesideOnPlatform;
   const double dx = b.x - geometry_.pivot_x, dy = b.y + side;
   const double slew = std::atan2(dy, dx);
   const double lift = std::clamp(
       -std::acos(std::clamp(std::hypot(dx, dy) / geometry_.boom_length, 0.0, 1.0)), -0.1, 0.36);
-  say(stage_, there == 0 ? fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it", b.x, b.y)
-                         : fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it, %.2f m "
-                               "beside what stands there",
-                               b.x, b.y, side));
+  say(stage_, fmt("switch at %.3f m ahead, %.3f m left: lowering the can onto it, %.2f m %s of its middle%s", b.x,
+                  b.y, std::fabs(side), side > 0 ? "left" : "right", there ? ", beside what stands there" : ""));
   crane_to(slew, kParkLift, 0.0);
   crane_to(slew, lift, 0.0);
   // The can meets the platform under the magnet.
@@ -791,6 +817,7 @@ BehaviourReport Behaviours::put_down() {
       const Pose2 at = to_odom(b.x, b.y + side);
       put->x = at.x;
       put->y = at.y;
+      if (there == 0) middle_from_first_ = {scene_.switch_platform->x - at.x, scene_.switch_platform->y - at.y};
     }
   }
   scene_.holding.clear();

@@ -115,5 +115,17 @@ TEST(Behaviours, ABoxAndAFlushPlateMakeAPushPlanWhereNoCanCanBeLifted) {
                                                         "(go switch door)", "(drive-through door)"}));
 }
 
+TEST(Behaviours, TravelKeepsOffARaisedSwitchBeyondItsBaseAndDrivesOverAFlushPlate) {
+  Scene scene;
+  EXPECT_EQ(switch_keep_off(scene), 0.0);  // none seen
+  scene.switch_platform = seen("switch", "yellow");
+  scene.switch_platform->features["width_m"] = 0.28;  // the yellow of a raised platform
+  // Its base (0.30 m square: 0.21 m to a corner) lies beyond the yellow seen.
+  EXPECT_GT(switch_keep_off(scene), 0.22);
+  EXPECT_LT(switch_keep_off(scene), 0.4);  // the way to put a can down on it stays free
+  scene.switch_platform->features["width_m"] = 0.52;  // flush with the floor
+  EXPECT_EQ(switch_keep_off(scene), 0.0);
+}
+
 }  // namespace
 }  // namespace macsim::affordances

@@ -79,6 +79,11 @@ std::string robot_place(const Scene& scene);
 /// things say nothing.
 std::vector<pddl::Atom> scene_atoms(const Scene& scene);
 
+/// How far from a raised switch platform's middle travel keeps off (m): its base and the tracks'
+/// slip beyond the yellow seen, so that what stands on it is not knocked off; 0 when no switch
+/// was seen or it is a plate flush with the floor (driven over freely).
+double switch_keep_off(const Scene& scene);
+
 /// Why a behaviour did not do what it set out to do.
 enum class Setback {
   None,
@@ -195,6 +200,10 @@ class Behaviours : public RobotLoop {
   /// still laid onto what stood still in the clouds before: the tracks' slip taken out).
   macsim::client::Cloud located_cloud();
   void map_here();
+  /// Marks a raised switch platform seen as an obstacle: travel keeps off what stands on it.
+  void keep_off_the_switch();
+  /// Whether `at` lies on the raised switch platform kept off.
+  bool on_raised_switch(Point at) const;
   Point approach_point(Point target, double standoff, double reach) const;
   /// Drives to `goal`: straight when the way is free, else by a waypoint beside it; when neither
   /// is free, what stands in the way is judged by the traverse model (if any) and what it calls
@@ -236,6 +245,7 @@ class Behaviours : public RobotLoop {
   std::set<std::pair<int, int>> judged_;  ///< traverse cells (cell_of) judged already
   StaticMap static_map_;  ///< what stood still in the clouds taken (laser odometry)
   Pose2 cloud_pose_;      ///< where the last cloud was taken
+  Point middle_from_first_;  ///< the platform's middle from the first thing put on it
   bool pushing_ = false;  ///< a push under way (its tracks slip against the box by design)
   double view_half_angle_ = 0;  ///< rad, half the cameras' horizontal view (from the last frame)
   std::unique_ptr<macsim::client::PictureClient> pictures_;  ///< while pictures are asked for and served
