@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <thread>
 
 #include "macsim/sim_core/log_sink.h"
 #include "macsim/sim_core/session.h"
@@ -15,6 +17,17 @@ namespace {
 /// Senders whose commands before a reset are remembered at most (beyond: one forgotten per new
 /// one).
 constexpr std::size_t kMaxFences = 4096;
+
+/// A writer's GUID as Fast DDS prints it: the participant's prefix, then the entity.
+std::string guid_text(const std::array<uint8_t, 16>& id) {
+  std::string text;
+  char byte[4];
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    std::snprintf(byte, sizeof byte, "%02x", id[k]);
+    text += (k == 0 ? "" : k == 12 ? "|" : ".") + std::string(byte);
+  }
+  return text;
+}
 }  // namespace
 
 Runner::Runner(WorldSpec spec, RunSettings settings)
@@ -138,6 +151,12 @@ bool Runner::push(std::function<void(World&)> local) {
 bool Runner::push(Command command) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (command.sent_by) {  // arrived, even when refused below: a step request waits no more
+      const auto& [id, sequence] = *command.sent_by;
+      if (arrived_from_.size() >= kMaxFences && !arrived_from_.count(id)) arrived_from_.erase(arrived_from_.begin());
+      uint64_t& last = arrived_from_[id];
+      last = std::max(last, sequence);
+    }
     if (queued_ >= max_queued_) return false;
     pending_.emplace_back(std::move(command));
     ++queued_;
@@ -210,6 +229,12 @@ std::size_t Runner::apply_commands() {
       Item item = std::move(batch.front());
       batch.pop_front();
       if (auto* command = std::get_if<Command>(&item)) {
+        if (written_after_request(*command)) {  // acts once the request it came after ended
+          after_request_.push_back(std::move(*command));
+          ++commands_held_;
+          ++ran_now;
+          continue;
+        }
         try {
           execute(*command);
         } catch (const std::exception& e) {  // a command's own errors are its replies
@@ -300,10 +325,69 @@ void Runner::step() {
   if (!stable && settings_.pause_on_instability) pause();
 }
 
+bool Runner::written_after_request(const Command& command) const {
+  if (requested_steps_ == 0 || !command.sent_by) return false;
+  const auto named = named_.find(command.sent_by->id);
+  return named != named_.end() && command.sent_by->sequence > named->second;
+}
+
+bool Runner::wait_for_named_commands(const StepHooks& hooks) {
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(settings_.command_wait));
+  for (;;) {
+    std::optional<Sender> missing;
+    uint64_t had = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& named : named_) {
+        const auto arrived = arrived_from_.find(named.first);
+        if (arrived == arrived_from_.end() || arrived->second < named.second) {
+          missing = Sender{named.first, named.second};
+          had = arrived == arrived_from_.end() ? 0 : arrived->second;
+          break;
+        }
+      }
+    }
+    if (!missing) {
+      named_arrived_ = true;
+      return true;
+    }
+    if (Clock::now() >= deadline) {
+      char waited[32];
+      std::snprintf(waited, sizeof waited, "%g", settings_.command_wait);
+      const std::string why =
+          "refused: robot command " + std::to_string(missing->sequence) + " of writer " +
+          guid_text(missing->id) + ", named by the step request (commands_sent), did not arrive within " +
+          waited + " s (macsim --command-wait); " +
+          (had ? "the last of that writer was " + std::to_string(had) : "none of that writer arrived");
+      say("macsim: a step request was " + why);
+      auto refused = std::move(request_.refused);
+      auto done = std::move(request_.done);
+      requested_steps_ = 0;
+      request_ = {};
+      named_.clear();
+      named_arrived_ = false;
+      if (refused) {
+        refused(why);
+      } else if (done) {
+        done(false);
+      }
+      return false;
+    }
+    // Robot commands come in where the hooks take them: again, a moment later.
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+    if (hooks.before_step) hooks.before_step();
+  }
+}
+
 void Runner::step(const StepHooks& hooks) {
   const StepHooks* outer = hooks_;
   hooks_ = &hooks;  // a request ended inside (by its steps or cancelled) calls its request_end
   if (hooks.before_step) hooks.before_step();
+  if (requested_steps_ > 0 && !named_arrived_ && !wait_for_named_commands(hooks)) {
+    hooks_ = outer;
+    return;
+  }
   if (requested_steps_ > 0 && request_.hold_commands) {
     Command keep;
     keep.source = CommandSource::Simulation;
@@ -338,6 +422,15 @@ void Runner::end_request(bool completed) {
   if (hooks_ && hooks_->request_end) hooks_->request_end(*world_);
   auto done = std::move(request_.done);
   request_ = {};
+  named_.clear();
+  named_arrived_ = false;
+  if (!after_request_.empty()) {  // commands written after it run first, before what came later
+    std::lock_guard<std::mutex> lock(mutex_);
+    queued_ += after_request_.size();
+    pending_.insert(pending_.begin(), std::make_move_iterator(after_request_.begin()),
+                    std::make_move_iterator(after_request_.end()));
+    after_request_.clear();
+  }
   if (done) done(completed);
 }
 
@@ -357,6 +450,12 @@ bool Runner::request_steps(StepRequest request) {
   request.check_every = std::max<uint64_t>(request.check_every, 1);
   requested_steps_ = request.steps;
   steps_since_check_ = 0;
+  named_.clear();
+  for (const Sender& s : request.commands_named) {
+    uint64_t& n = named_[s.id];
+    n = std::max(n, s.sequence);
+  }
+  named_arrived_ = named_.empty();
   request_ = std::move(request);
   return true;
 }

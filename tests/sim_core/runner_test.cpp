@@ -419,6 +419,87 @@ TEST(Runner, ARobotCommandSentBeforeAResetAndRunAfterItNeverActs) {
   EXPECT_EQ(runner.commands_sent_before_reset(), 2u);
 }
 
+TEST(Runner, AStepRequestWaitsForTheCommandItNamesAndHoldsOnesWrittenAfterIt) {
+  // A controller (sender 7) wrote its 3rd command (drive) and asked for 300 steps naming it; DDS
+  // delivers that command 0.1 s late, together with its 4th (stop), written after the request.
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  const std::string name = runner.world().robots().front()->name();
+  const auto sent = [&](uint64_t sequence, double speed) {
+    Command c = robot_command(name, robot::Twist{speed, 0.0});
+    c.sent_by = Sender{{7}, sequence};
+    return c;
+  };
+  std::atomic<bool> stop{false};
+  std::optional<bool> completed;
+  const auto asked = std::chrono::steady_clock::now();
+  StepHooks hooks;
+  bool delivered = false;
+  hooks.before_step = [&] {
+    if (delivered || std::chrono::steady_clock::now() - asked < std::chrono::milliseconds(100)) return;
+    delivered = true;
+    EXPECT_TRUE(runner.push(sent(3, 0.3)));
+    EXPECT_TRUE(runner.push(sent(4, 0.0)));
+  };
+  std::optional<double> first_step_after;  // s after the request
+  uint64_t robot_commands_at_first_step = 0;
+  hooks.after_step = [&](World&) {
+    if (first_step_after) return;
+    first_step_after = std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+    robot_commands_at_first_step = runner.commands_run(CommandSource::Robot);
+  };
+  const double x0 = runner.world().robots().front()->base_footprint_pose().position.x();
+  StepRequest request;
+  request.steps = 300;
+  request.commands_named = {Sender{{7}, 3}};
+  request.done = [&](bool done) {
+    completed = done;
+    stop = true;
+  };
+  request.refused = [&](const std::string& why) { ADD_FAILURE() << why; };
+  ASSERT_TRUE(runner.request_steps(std::move(request)));
+  runner.run(stop, 1000, hooks);
+  ASSERT_TRUE(completed.has_value());
+  EXPECT_TRUE(*completed);
+  ASSERT_TRUE(first_step_after.has_value());
+  EXPECT_GE(*first_step_after, 0.1);              // the first step waited for it
+  EXPECT_EQ(robot_commands_at_first_step, 1u);    // and took it before its first tick
+  EXPECT_EQ(runner.commands_held_for_request(), 1u);  // the stop waited for the request's end
+  const double x1 = runner.world().robots().front()->base_footprint_pose().position.x();
+  EXPECT_GT(x1 - x0, 0.03);  // it drove the whole request
+  // After the request the stop acts.
+  EXPECT_EQ(runner.apply_commands(), 1u);
+  EXPECT_EQ(runner.commands_run(CommandSource::Robot), 2u);
+}
+
+TEST(Runner, AStepRequestWhoseNamedCommandNeverComesIsRefusedNamingItWithNoStep) {
+  RunSettings settings{true, 0.0};
+  settings.command_wait = 0.2;
+  Runner runner(small_room(), settings);
+  std::atomic<bool> stop{false};
+  std::string why;
+  StepRequest request;
+  request.steps = 5;
+  request.commands_named = {Sender{{0x09, 0xab}, 12}};
+  request.done = [&](bool) { ADD_FAILURE() << "answered as stepped"; };
+  request.refused = [&](const std::string& w) {
+    why = w;
+    stop = true;
+  };
+  ASSERT_TRUE(runner.request_steps(std::move(request)));
+  const auto asked = std::chrono::steady_clock::now();
+  runner.run(stop, 1000, StepHooks{});
+  EXPECT_GE(std::chrono::steady_clock::now() - asked, std::chrono::milliseconds(200));
+  EXPECT_NE(why.find("robot command 12 of writer 09.ab.00"), std::string::npos) << why;
+  EXPECT_NE(why.find("none of that writer arrived"), std::string::npos) << why;
+  EXPECT_EQ(runner.world().steps(), 0u);
+  EXPECT_FALSE(runner.stepping_on_request());
+  // The next request (naming nothing) steps as ever.
+  EXPECT_TRUE(runner.request_steps(2, [&](bool done) { EXPECT_TRUE(done); }));
+  runner.step(StepHooks{});
+  runner.step(StepHooks{});
+  EXPECT_EQ(runner.world().steps(), 2u);
+}
+
 TEST(Runner, APauseCancelsAHugeStepRequest) {
   Runner runner(small_room(), RunSettings{true, 0.0});
   std::atomic<bool> stop{false};

@@ -47,6 +47,9 @@ inline constexpr double kMinRealTimeFactor = 1e-3;
 /// Commands and loads queued and not yet run, at most, by default (RunSettings).
 inline constexpr std::size_t kDefaultMaxQueuedCommands = 65536;
 
+/// Wall seconds a step request waits for the robot commands it names, by default (RunSettings).
+inline constexpr double kDefaultCommandWait = 2.0;
+
 /// How the loop steps.
 struct RunSettings {
   bool paused = false;               ///< no stepping but on request
@@ -61,6 +64,9 @@ struct RunSettings {
   bool part_overlaps = false;
   /// Commands and loads queued and not yet run at most: push() and load() refuse more.
   std::size_t max_queued_commands = kDefaultMaxQueuedCommands;
+  /// Wall seconds a step request waits for a robot command it names (StepRequest::
+  /// commands_named) before it is refused.
+  double command_wait = kDefaultCommandWait;
 };
 
 /// What load() did with a world load.
@@ -92,7 +98,15 @@ struct StepRequest {
   std::string hold_robots;
   bool publish_at_end = false;  ///< the hooks need publish only the newest data, at the end
   bool cameras = true;          ///< the hooks render the camera instants within it
+  /// The caller's last robot command of each of its writers, written before the request: the
+  /// first step waits until each has arrived (or a later one of its writer), and a command of
+  /// those writers numbered after it waits for the request's end. Lock-step by contract: the
+  /// caller need not wait for DDS to acknowledge its commands.
+  std::vector<Sender> commands_named;
   std::function<void(bool completed)> done;  ///< false: a pause cancelled it
+  /// A named command did not arrive within RunSettings::command_wait: the request ends before
+  /// its first step, told why (naming the writer and the sample) instead of `done`.
+  std::function<void(const std::string& why)> refused;
 };
 
 /// Owns and runs one world at a time.
@@ -150,6 +164,9 @@ class Runner {
   /// Robot commands dropped because their sender had sent them before a request that put the
   /// world back (Command::sent_before), and they arrived after it.
   uint64_t commands_sent_before_reset() const { return commands_fenced_; }
+  /// Robot commands written after a step request that named their writer, and so held until
+  /// it ended.
+  uint64_t commands_held_for_request() const { return commands_held_; }
   /// Robot commands are dropped, not run, until the next step has run its commands (a step
   /// request cut by a kill goes on with the set-points it had: its client's copies, sent again
   /// before it repeats the request, must not act in its middle).
@@ -218,6 +235,12 @@ class Runner {
   /// True if the item at the queue's front may run now (a load only once parsed).
   static bool runnable(const Item& item);
   void replace_world(Load& load);
+  /// Before a request's first step: takes commands (the hooks' before_step) until every one it
+  /// names has arrived; false (and the request refused) when RunSettings::command_wait passed.
+  bool wait_for_named_commands(const StepHooks& hooks);
+  /// The running request's named command of this robot command's writer, if the command was
+  /// written after it (it then waits for the request's end).
+  bool written_after_request(const Command& command) const;
   void finish_requested_step();
   /// The running step request, if any, ends unfinished (its `done` gets false).
   void cancel_request();
@@ -229,6 +252,10 @@ class Runner {
   std::vector<uint64_t> commands_run_;      // by CommandSource
   std::map<std::array<uint8_t, 16>, uint64_t> fences_;  // by sender: its last command dropped
   uint64_t commands_fenced_ = 0;
+  std::map<std::array<uint8_t, 16>, uint64_t> named_;  // of the running request, by writer
+  bool named_arrived_ = false;         // the running request's named commands all came
+  std::deque<Command> after_request_;  // written after the running request: run at its end
+  uint64_t commands_held_ = 0;
   bool drop_robot_commands_ = false;  // drop_robot_commands_until_next_step()
   std::shared_ptr<SessionWriter> recording_;
   bool recorded_now_ = false;  // the command being run was written by record_now()
@@ -248,6 +275,7 @@ class Runner {
   std::deque<Item> pending_;
   std::size_t queued_ = 0;        // items queued and not yet run (in pending_ or a batch running)
   const std::size_t max_queued_;  // settings_.max_queued_commands (at least 1), for any thread
+  std::map<std::array<uint8_t, 16>, uint64_t> arrived_from_;  // by writer: the last number pushed
   std::vector<std::future<void>> loaders_;  // parses running or done
   bool loading_ = false;                    // a load is queued or parsing (guarded by mutex_)
 };
