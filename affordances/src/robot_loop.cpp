@@ -73,8 +73,8 @@ RobotLoop::RobotLoop(macsim::dds::Participant& participant, const LoopOptions& o
           // The new simulator's data must reach this loop: each of its readers matched a new
           // writer (one that found the new process late would miss a step's image or IMU
           // sample, and the loop would decide a tick later than a run never killed). And the
-          // next set-points must be acknowledged by it alone: a killed simulator's readers stay
-          // matched until their lease runs out, and would never acknowledge them.
+          // set-points below must reach it: written before its readers matched, they never
+          // would, and the step request that names them would be refused.
           const auto until = std::chrono::steady_clock::now() + 12s;
           while ((!simulator_renewed() || !drive_.commander_matched() || !crane_.matched() ||
                   drive_.command_readers() > 1 || crane_.command_readers() > 1 ||
@@ -113,12 +113,8 @@ void RobotLoop::send_set_points() {
   crane_.command(slew_, lift_, hoist_);
   crane_.magnet(magnet_);
   laser_.rotate(rotunit_);
-  if (simulation_) {
-    // Every command must be in before the step: the simulator takes what it received.
-    drive_.wait_delivered();
-    crane_.wait_delivered();
-    laser_.wait_delivered();
-  }
+  // In lock-step the next step request names these (commands_sent) and the simulator waits for
+  // them before its first step: nothing here waits for DDS to acknowledge them.
 }
 
 RobotLoop::~RobotLoop() = default;
@@ -176,6 +172,8 @@ void RobotLoop::tick(double seconds) {
       throw LoopError{Stop::NoRobot,
                       macsim::client::describe(simulation_->last_outcome(), "simulation control")};
     }
+    if (reply->code() == mm::ERR_COMMANDS_MISSING)
+      throw LoopError{Stop::NoRobot, "the simulator refused the step: " + reply->message()};
   }
   std::optional<macsim::client::RobotClient::Odometry> odometry;
   auto deadline = std::chrono::steady_clock::now() + 10s;

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     settings.real_time_factor = o.as_fast_as_possible ? 0.0 : o.rtf;
     settings.refuse_overlaps = o.strict;  // for worlds loaded later by a request
     settings.max_queued_commands = std::size_t(o.max_queued_commands);
+    settings.command_wait = o.command_wait;
     runner = std::make_unique<macsim::Runner>(std::move(spec), settings);
     const auto overlaps = macsim::admit_overlaps(runner->world(), o.strict);
     if (o.validate) {

@@ -9,12 +9,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/data_files.h"
 #include "macsim/dds/log.h"
 #include "macsim/render/camera_modes.h"
+#include "simulation/session_compare.h"
 
 namespace macsim::program {
 
@@ -82,6 +84,32 @@ std::optional<int> take_session_settings(Options& o, const char* doing) {
         doing, o.strict ? "--strict" : "--keep-overlaps");
   }
   return std::nullopt;
+}
+
+/// macsim --compare A B: 0 the same run, 1 they part (said where), 2 a usage or file error.
+int compare_sessions(const Options& o) {
+  if (o.arguments.size() != 1) {
+    macsim::log::error("macsim: --compare A B takes two session files");
+    return 2;
+  }
+  const std::string& a = o.compare;
+  const std::string& b = o.arguments.front();
+  std::optional<macsim::Session> sa, sb;
+  try {
+    sa = macsim::read_session(a);
+    sb = macsim::read_session(b);
+  } catch (const macsim::SessionFileError& e) {
+    macsim::log::error("macsim: --compare: {}", e.what());
+    return 2;
+  }
+  if (const auto part = macsim::first_difference(*sa, *sb)) {
+    std::cout << "macsim: " << a << " and " << b << " part at " << *part << std::endl;
+    return 1;
+  }
+  std::cout << "macsim: " << a << " and " << b << " are the same run: " << sa->commands.size()
+            << " command records, " << sa->requests.size() << " request records, "
+            << sa->hashes.size() << " state hashes, " << sa->steps << " steps" << std::endl;
+  return 0;
 }
 
 }  // namespace
@@ -185,6 +213,12 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "counted (default " +
                  std::to_string(o.max_queued_commands) + ")",
              &o.max_queued_commands);
+  cli.option("command-wait", "SECONDS",
+             "a step request waits this long (wall time) for each robot command it names "
+             "(commands_sent: its client's last command of each writer), then is refused "
+             "(ERR_COMMANDS_MISSING, naming the writer and sample) (default " +
+                 fmt::format("{:g}", o.command_wait) + ")",
+             &o.command_wait);
   cli.option("record-session", "FILE",
              "write every command that reaches the world (with its step), the state hash every "
              "--session-hash-every steps, every file the run reads (world, imports, textures, "
@@ -207,7 +241,19 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   cli.option("extract", "DIR",
              "with --replay: write the files the session holds under DIR instead of replaying",
              &o.extract);
+  cli.option("compare", "A B",
+             "read the sessions A and B and exit 0 when they are the same run (every command, "
+             "request, state hash and file alike; the clients' identities and DDS writers taken "
+             "as the same when they first appear in the same order, the world file's path "
+             "aside), else 1, naming the first record where they part",
+             &o.compare);
+  cli.arguments("[B of --compare A B]", &o.arguments);
   if (auto code = cli.parse(argc, argv)) return code;
+  if (!o.compare.empty()) return compare_sessions(o);
+  if (!o.arguments.empty()) {
+    macsim::log::error("macsim: unexpected argument '{}' (see --help)", o.arguments.front());
+    return 2;
+  }
   if (o.session_hash_every < 1) {
     macsim::log::error("macsim: --session-hash-every must be at least 1");
     return 2;
@@ -262,6 +308,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
       return 2;
     }
     o.snapshot_limits = {std::size_t(o.max_snapshots), std::size_t(bytes)};
+  }
+  if (!(o.command_wait > 0 && o.command_wait <= 3600)) {
+    macsim::log::error("macsim: --command-wait must be more than 0 and at most 3600 seconds");
+    return 2;
   }
   if (o.max_objects < 1 || o.max_import_depth < 1 || o.max_imported_files < 1 ||
       o.max_queued_commands < 1) {

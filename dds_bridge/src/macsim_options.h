@@ -52,12 +52,15 @@ struct Options {
   std::string max_snapshot_bytes = std::to_string(macsim::SnapshotLimits{}.max_bytes);
   int max_pictures = int(macsim::PictureServer::kDefaultMaxFiles);
   int max_queued_commands = int(macsim::kDefaultMaxQueuedCommands);
+  double command_wait = macsim::kDefaultCommandWait;  // s
   macsim::SnapshotLimits snapshot_limits;  // from the two above, once parsed
   std::vector<std::string> data_paths;
   std::string record_session;
   int session_hash_every = 100;
   std::string replay;
   std::string extract;                     // --replay FILE --extract DIR
+  std::string compare;                     // --compare A B: A
+  std::vector<std::string> arguments;      // B of --compare A B
   std::string resume;                      // --resume FILE
   std::optional<macsim::Session> session;  // read from --replay, or from --resume if it exists
   /// The files a self-contained session holds (--replay): all a replay reads.

@@ -148,15 +148,22 @@ bool Runner::push(std::function<void(World&)> local) {
   return push(std::move(command));
 }
 
+void Runner::note_arrival(const Sender& sent) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  arrived(sent);
+}
+
+void Runner::arrived(const Sender& sent) {
+  if (arrived_from_.size() >= kMaxFences && !arrived_from_.count(sent.id)) arrived_from_.erase(arrived_from_.begin());
+  uint64_t& last = arrived_from_[sent.id];
+  last = std::max(last, sent.sequence);
+}
+
 bool Runner::push(Command command) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (command.sent_by) {  // arrived, even when refused below: a step request waits no more
-      const auto& [id, sequence] = *command.sent_by;
-      if (arrived_from_.size() >= kMaxFences && !arrived_from_.count(id)) arrived_from_.erase(arrived_from_.begin());
-      uint64_t& last = arrived_from_[id];
-      last = std::max(last, sequence);
-    }
+    // Arrived, even when refused below: a step request waits no more.
+    if (command.sent_by) arrived(*command.sent_by);
     if (queued_ >= max_queued_) return false;
     pending_.emplace_back(std::move(command));
     ++queued_;

@@ -27,10 +27,10 @@ TEST(QosFamilies, TheShippedProfileSetsEveryFamily) {
   EXPECT_EQ(command.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(command.durability().kind, fdds::VOLATILE_DURABILITY_QOS);
   EXPECT_EQ(command.history().depth, 10);
-  // acknowledged within a fraction of a millisecond (a lock-step controller waits for it
-  // before each step): a heartbeat every 0.2 ms while unacknowledged, answered at once
+  // no controller waits for its commands' acknowledgement (a step request names them): the
+  // other families' heartbeat of 0.1 s, answered at once
   EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.seconds, 0);
-  EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.nanosec, 200000u);
+  EXPECT_EQ(command.reliable_writer_qos().times.heartbeatPeriod.nanosec, 100000000u);
   EXPECT_EQ(dds::reader_qos(dds::QosFamily::Command, p.subscriber())
                 .reliable_reader_qos()
                 .times.heartbeatResponseDelay.nanosec,

@@ -3,6 +3,8 @@
 // flow controller) while its reset request goes at once. The request names the command
 // (client/commands_sent.h), and macsim drops it when it comes; a command sent after the reset
 // still acts. In lock-step and in real time.
+// And lock-step by contract: a step request names the commands it steps on, and macsim waits
+// for a late one before the first step, or refuses the request naming one that never comes.
 #include "macsim/client/commands_sent.h"
 
 #include <gtest/gtest.h>
@@ -41,7 +43,9 @@ class LateCommand : public ::testing::TestWithParam<bool> {
                                   "--domain",
                                   std::to_string(domain_),
                                   "--cameras",
-                                  "off"};
+                                  "off",
+                                  "--command-wait",
+                                  "5"};
     if (lockstep()) args.push_back("--lockstep");
     macsim_ = std::make_unique<ChildProcess>(args);
     ASSERT_TRUE(
@@ -74,7 +78,7 @@ class LateCommand : public ::testing::TestWithParam<bool> {
 
   /// Writes a twist through the late writer, noted as the client's writers note theirs.
   void drive(double speed) {
-    client::note_command_sent(cmd_vel_->write(dds::planar_twist(speed, 0.0)));
+    client::note_command_sent(cmd_vel_->write(dds::planar_twist(speed, 0.0)), domain_);
   }
   /// Resets the world; true if it was done before the late command was delivered.
   bool reset_before_delivery() {
@@ -153,6 +157,49 @@ TEST_P(LateCommand, ACommandSentBeforeAResetAndDeliveredAfterItNeverActs) {
   EXPECT_TRUE(count == "1" || count == "2") << out;
   macsim_.reset();
 }
+
+/// The same controller, stepping the simulation.
+class LateStepCommand : public LateCommand {};
+
+TEST_P(LateStepCommand, AStepWaitsForTheLateCommandItNamesAndActsOnItFromItsFirstStep) {
+  ASSERT_TRUE(simulation_->step(10).has_value());
+  ASSERT_TRUE(truth_->wait_for_count(1, 10s));
+  drive(0.0);  // leaves at once
+  drive(0.5);  // leaves about kLate later: the step request below names it
+  const auto asked = std::chrono::steady_clock::now();
+  const auto [moved, _] = travelled();
+  EXPECT_GE(std::chrono::steady_clock::now() - asked, 1s) << "it did not wait for the command";
+  EXPECT_GT(moved, 0.05) << "the late command did not drive the robot in the steps after it";
+}
+
+TEST_P(LateStepCommand, AStepWhoseNamedCommandNeverComesIsRefusedNamingItWithNoStep) {
+  const auto before = simulation_->step(10);
+  ASSERT_TRUE(before.has_value());
+  dds::SampleId never;  // a writer of this process that macsim never hears
+  never.writer = {0x01, 0x0f, 0x5a, 0x5a, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0x12, 0x03};
+  never.sequence = 3;
+  client::note_command_sent(never, domain_);
+  const auto reply = simulation_->step(10, 20s);
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_EQ(reply->code(), mm::ERR_COMMANDS_MISSING) << reply->message();
+  EXPECT_NE(reply->message().find("robot command 3 of writer 01.0f.5a.5a"), std::string::npos)
+      << reply->message();
+  EXPECT_EQ(reply->steps(), before->steps());  // not one step
+  EXPECT_EQ(reply->steps_done(), 0u);
+}
+
+TEST_P(LateStepCommand, ANonFiniteCommandNamedCountsAsArrivedAndDrivesNothing) {
+  ASSERT_TRUE(simulation_->step(10).has_value());
+  ASSERT_TRUE(truth_->wait_for_count(1, 10s));
+  drive(0.0);
+  drive(std::nan(""));  // late, and dropped by macsim when it comes: the step goes on then
+  const auto [moved, _] = travelled();
+  EXPECT_LT(std::fabs(moved), 1e-3);
+  EXPECT_TRUE(std::isfinite(moved)) << "a step was refused";
+}
+
+INSTANTIATE_TEST_SUITE_P(Lockstep, LateStepCommand, ::testing::Values(true),
+                         [](const auto&) { return "Lockstep"; });
 
 INSTANTIATE_TEST_SUITE_P(LockstepAndRealTime, LateCommand, ::testing::Bool(),
                          [](const auto& test) { return test.param ? "Lockstep" : "RealTime"; });

@@ -50,12 +50,11 @@ std::vector<uint64_t> lockstep_run() {
     }
     // The twist given at sim time 0 drives the robot for 0.6 s (the command timeout); the ball
     // is pushed through the supervisor, whose replies order it before the next step. Later
-    // twists are ordered with the steps by waiting until macsim acknowledged them: macsim takes
-    // every received command right before it steps.
+    // twists are ordered with the steps by contract: the next step request names them, and
+    // macsim waits for them before its first step.
     for (int k = 0; k < 12; ++k) {
       if (k == 7 || k == 9) {
-        EXPECT_TRUE(kurt.drive(k == 7 ? -0.2 : 0.25, k == 7 ? 0.6 : -0.3));
-        EXPECT_TRUE(kurt.wait_delivered());
+        EXPECT_TRUE(kurt.drive(k == 7 ? -0.2 : 0.25, k == 7 ? 0.6 : -0.3));  // the step names it
       }
       if (k == 3) {
         const auto find = client::supervisor::find_object("environment_01/ball_green");
@@ -66,6 +65,7 @@ std::vector<uint64_t> lockstep_run() {
       auto reply = sim.step(100);
       EXPECT_TRUE(reply.has_value());
       if (!reply) break;
+      EXPECT_EQ(reply->code(), mm::ERR_OK) << reply->message();
       EXPECT_EQ(reply->steps(), 100u * (k + 1));
       EXPECT_NEAR(reply->sim_time(), 0.1 * (k + 1), 1e-9);
       hashes.push_back(reply->state_hash());
@@ -189,7 +189,6 @@ TEST(Lockstep, AStepRequestHoldsTheCommandsOfTheRobotItNamesAndNoOther) {
     ASSERT_TRUE(kurt.drive(0.3, 0.0) && rover.drive(0.3, 0.0));
     std::this_thread::sleep_for(50ms);
   }
-  ASSERT_TRUE(kurt.wait_delivered() && rover.wait_delivered());
   const auto [kurt1, rover1] = x(2000, mm::STEP_HOLD_COMMANDS, {"kurt"});
   EXPECT_GT(kurt1, 0.45);   // about 0.3 m/s for 2 s (odometry starts at 0)
   EXPECT_LT(rover1, 0.25);  // stopped after 0.6 s
@@ -257,7 +256,6 @@ TEST(Lockstep, ARequestWantingItsDataAtItsEndGetsTheNewestSampleOfEachAndNoUnask
     // A drive that ends when the odometry the robot publishes passes 0.05 m.
     for (int i = 0; i < 50 && !kurt.commander_matched(); ++i) std::this_thread::sleep_for(100ms);
     ASSERT_TRUE(kurt.drive(0.3, 0.0));
-    ASSERT_TRUE(kurt.wait_delivered());
     auto drive = client::step_until::request(
         5000, 10, mm::STEP_PUBLISH_AT_END | mm::STEP_HOLD_COMMANDS | mm::STEP_NO_CAMERAS);
     drive.until({client::step_until::above(mm::STEP_READ_ODOMETRY_X, 0.05)});

@@ -195,7 +195,6 @@ struct TrialRobot::Impl {
   double now = 0;
   double dt = 0;  // the world's step, s (from the first step's reply)
   uint64_t steps = 0, hash = 0, trace = 0;
-  bool drive_sent = false, crane_sent = false, laser_sent = false;
   double speed = 0;
   macsim::affordances::SensorInputs inputs;  // the last look's (keep_inputs)
 
@@ -238,18 +237,6 @@ struct TrialRobot::Impl {
     }
   }
 
-  /// Waits until the robot commands sent since the last step reached the simulator.
-  void deliver() {
-    constexpr auto kSlice = 200ms;
-    if (drive_sent)
-      await([&] { return drive.wait_delivered(kSlice); }, [] { return "cmd_vel not delivered"s; });
-    if (crane_sent)
-      await([&] { return crane.wait_delivered(kSlice); }, [] { return "crane not delivered"s; });
-    if (laser_sent)
-      await([&] { return laser.wait_delivered(kSlice); }, [] { return "rot_vel not delivered"s; });
-    drive_sent = crane_sent = laser_sent = false;
-  }
-
   /// Steps of one tick.
   int tick_steps() const { return static_cast<int>(std::lround(kTick / dt)); }
   /// Ticks from now to `until` (sim time).
@@ -263,7 +250,8 @@ struct TrialRobot::Impl {
   /// command holds through it, and the cameras render only when asked.
   mm::SimulationReply_ step(int n, const Conditions& conditions = {},
                             const Conditions& samples = {}, bool render = false) {
-    deliver();
+    // The request names the robot commands sent before it (commands_sent): the simulator waits
+    // for them, however late DDS delivers them.
     uint32_t options = mm::STEP_PUBLISH_AT_END | mm::STEP_HOLD_COMMANDS;
     if (!render) options |= mm::STEP_NO_CAMERAS;
     if (o.hash_every_step) options |= mm::STEP_TRACE_HASH;
@@ -304,15 +292,12 @@ struct TrialRobot::Impl {
   void set_speed(double v) {
     speed = v;
     drive.drive(v, 0.0);
-    drive_sent = true;
   }
   void crane_to(double slew, double lift, double hoist) {
     crane.command(slew, lift, hoist);
-    crane_sent = true;
   }
   void magnet(bool on) {
     crane.magnet(on);
-    crane_sent = true;
   }
 
   /// The newest sample of a topic due by now: stamped after `now - window`. Waits for it.
@@ -378,7 +363,6 @@ struct TrialRobot::Impl {
     now = 0;
     trace = 0;
     speed = 0;
-    drive_sent = crane_sent = laser_sent = false;
   }
 
   uint32_t spawn(const mm::Object_& object) {
@@ -540,7 +524,6 @@ struct TrialRobot::Impl {
     const uint64_t seen = laser.clouds();
     const double look_from = now;
     laser.rotate(2 * M_PI);  // a turn a second: a cloud of about 75 sweeps
-    laser_sent = true;
     step(ticks_to(now + 1.04) * tick_steps());
     std::optional<macsim::client::Cloud> cloud;
     await(
@@ -552,7 +535,6 @@ struct TrialRobot::Impl {
     perceive_cloud(*cloud, SensorMount{}, p);
     if (o.keep_inputs) inputs.cloud = cloud;
     laser.rotate(0);
-    laser_sent = true;
     const double far = s.x + s.reach_ahead();
     Outcome out;
     // At most 6 s: the farthest edge, 1.55 m, takes 3.9 s at full speed. No stop command after

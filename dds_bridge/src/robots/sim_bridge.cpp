@@ -48,8 +48,16 @@ struct SimBridge::RobotTopics {
                           runner.queue_full_message());
               }
             },
-            node_options),
+            with_dropped(node_options, runner)),
         camera_instants(camera_rate) {}
+
+  /// The node's options, a sample it drops (not finite) told to the runner as arrived.
+  static robot::NodeOptions with_dropped(robot::NodeOptions options, Runner& runner) {
+    options.dropped = [&runner](const dds::SampleId& sent) {
+      runner.note_arrival(Sender{sent.writer, sent.sequence});
+    };
+    return options;
+  }
 
   std::string name;
   std::atomic<uint64_t> commands_dropped{0};  // the runner's queue was full (before node)
@@ -107,9 +115,11 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
     const std::string frames = options_.robot_frames ? name + "/" : "";
-    auto topics = std::make_unique<RobotTopics>(
-        participant, runner, name, robot::NodeOptions{frames, options_.cmd_vel_stamped, sensors},
-        options_.camera_rate);
+    robot::NodeOptions node;
+    node.frame_prefix = frames;
+    node.cmd_vel_stamped = options_.cmd_vel_stamped;
+    node.sensors = sensors;
+    auto topics = std::make_unique<RobotTopics>(participant, runner, name, node, options_.camera_rate);
     // Resumed after a step since the world's time was last set: the killed process published
     // the readings so far, each stamped when it went out (again now, they would go out as new
     // ones stamped now); they are the newest a step request's conditions look at. Resumed

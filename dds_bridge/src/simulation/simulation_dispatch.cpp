@@ -3,6 +3,8 @@
 #include <memory>
 #include <utility>
 
+#include "supervisor/supervisor_codec.h"
+
 namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
@@ -90,7 +92,8 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
       request.hold_robots = held;
       request.publish_at_end = q.step_options() & mm::STEP_PUBLISH_AT_END;
       request.cameras = !(q.step_options() & mm::STEP_NO_CAMERAS);
-      request.done = [&runner, q, conditions, steps_done, stepped = std::move(stepped)](bool done) {
+      request.commands_named = codec::senders(q.commands_sent());
+      request.done = [&runner, q, conditions, steps_done, stepped](bool done) {
         auto reply = done ? simulation_reply(q, runner, mm::ERR_OK, "")
                           : simulation_reply(q, runner, mm::ERR_NOT_APPLICABLE,
                                              "cancelled: paused (SIM_PAUSE, or a body that "
@@ -100,6 +103,11 @@ std::optional<mm::SimulationReply_> dispatch_simulation(
         reply.steps_done(steps_done->load(std::memory_order_relaxed));
         reply.samples(conditions->samples());
         reply.step_trace(conditions->step_trace());
+        stepped(reply);
+      };
+      request.refused = [&runner, q, stepped](const std::string& why) {
+        auto reply = simulation_reply(q, runner, mm::ERR_COMMANDS_MISSING, why);
+        reply.ended_by(mm::STEP_CANCELLED);
         stepped(reply);
       };
       const bool taken = runner.request_steps(std::move(request));

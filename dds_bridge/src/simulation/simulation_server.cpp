@@ -293,6 +293,9 @@ void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
         q.sequence_number(), q.client_id(), recorded.step, runner_.steps_run(), q.steps() - done,
         q.steps());
     q.steps(q.steps() - done);
+    // What it named went to the killed process (the commands took effect there, or come from
+    // the session now): this one never hears them.
+    q.commands_sent({});
     remember_load(q.client_id(), q.sequence_number());
     // Not at once: its data would go out before the client's readers have found this process.
     resumable_[id] = q;

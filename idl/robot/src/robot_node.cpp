@@ -196,10 +196,20 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     text.data(frames_.description);
     t.description->write(text);
   }
-  // On Fast DDS's threads: copy the numbers, drop what is not finite, post; nothing else.
-  auto twist = [post](const gm::Twist_& m, const dds::SampleId& sent) {
+  // On Fast DDS's threads: copy the numbers, drop what is not finite (said to `dropped`),
+  // post; nothing else.
+  const std::function<void(const dds::SampleId&)> dropped =
+      options_.dropped ? options_.dropped : [](const dds::SampleId&) {};
+  const auto post_if = [post, dropped](bool ok, RobotCommand command, const dds::SampleId& sent) {
+    if (ok) {
+      post(std::move(command), sent);
+    } else {
+      dropped(sent);
+    }
+  };
+  auto twist = [post_if](const gm::Twist_& m, const dds::SampleId& sent) {
     const double v = m.linear().x(), w = m.angular().z();
-    if (finite({v, w})) post(Twist{v, w}, sent);
+    post_if(finite({v, w}), Twist{v, w}, sent);
   };
   if (options_.cmd_vel_stamped) {
     t.cmd_vel_stamped = std::make_unique<dds::Reader<gm::TwistStamped_PubSubType>>(
@@ -212,26 +222,24 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
   }
   t.wheel_speeds = std::make_unique<dds::Reader<km::WheelSpeeds_PubSubType>>(
       p, dds::topics::wheel_speeds(name), QosFamily::Command,
-      [post](const km::WheelSpeeds_& m, const dds::SampleId& sent) {
+      [post_if](const km::WheelSpeeds_& m, const dds::SampleId& sent) {
         const double l = m.left(), r = m.right();
-        if (finite({l, r})) post(WheelSpeedCommand{l, r}, sent);
+        post_if(finite({l, r}), WheelSpeedCommand{l, r}, sent);
       });
   if (t.has.rotunit) {
     t.rot_vel = std::make_unique<dds::Reader<gm::Twist_PubSubType>>(
         p, dds::topics::rot_vel(name), QosFamily::Command,
-        [post](const gm::Twist_& m, const dds::SampleId& sent) {
+        [post_if](const gm::Twist_& m, const dds::SampleId& sent) {
           const double speed = m.angular().z();
-          if (finite({speed})) post(RotunitSpeed{speed}, sent);
+          post_if(finite({speed}), RotunitSpeed{speed}, sent);
         });
   }
   if (t.has.crane) {
     t.crane_command = std::make_unique<dds::Reader<km::CraneCommand_PubSubType>>(
         p, dds::topics::crane_command(name), QosFamily::Command,
-        [post](const km::CraneCommand_& m, const dds::SampleId& sent) {
+        [post_if](const km::CraneCommand_& m, const dds::SampleId& sent) {
           const double slew = m.slew(), lift = m.lift(), hoist = m.hoist();
-          if (finite({slew, lift, hoist})) {
-            post(CraneTarget{slew, lift, hoist}, sent);
-          }
+          post_if(finite({slew, lift, hoist}), CraneTarget{slew, lift, hoist}, sent);
         });
   }
   if (t.has.magnet) {
@@ -251,11 +259,12 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     }
     t.own_commands.push_back(std::make_unique<dds::Reader<sd::Float64MultiArray_PubSubType>>(
         p, dds::topics::robot_command(name, command), QosFamily::Command,
-        [post, decode = *decode](const sd::Float64MultiArray_& m, const dds::SampleId& sent) {
+        [post, dropped, decode = *decode](const sd::Float64MultiArray_& m, const dds::SampleId& sent) {
           for (double v : m.data()) {
-            if (!std::isfinite(v)) return;
+            if (!std::isfinite(v)) return dropped(sent);
           }
-          if (auto c = decode(m.data())) post(std::move(*c), sent);
+          if (auto c = decode(m.data())) return post(std::move(*c), sent);
+          dropped(sent);
         }));
   }
 }

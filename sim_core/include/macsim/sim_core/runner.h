@@ -122,6 +122,9 @@ class Runner {
   /// Queues a command; it runs before the next step (or at once while paused). False (and
   /// nothing queued) when the queue is full (RunSettings::max_queued_commands).
   [[nodiscard]] bool push(Command command);
+  /// A robot command that arrived and was dropped before the queue (not finite): a step
+  /// request naming it waits for it no more.
+  void note_arrival(const Sender& sent);
   /// Queues in-process code (a Local command: tests, programs embedding the runner).
   [[nodiscard]] bool push(std::function<void(World&)> local);
   /// Queues a world load: `parse` runs on a thread of its own while the current world runs on;
@@ -238,6 +241,8 @@ class Runner {
   /// Before a request's first step: takes commands (the hooks' before_step) until every one it
   /// names has arrived; false (and the request refused) when RunSettings::command_wait passed.
   bool wait_for_named_commands(const StepHooks& hooks);
+  /// Notes a robot command's arrival (under mutex_).
+  void arrived(const Sender& sent);
   /// The running request's named command of this robot command's writer, if the command was
   /// written after it (it then waits for the request's end).
   bool written_after_request(const Command& command) const;

@@ -134,6 +134,7 @@ class RequestReply {
   RequestReply(dds::Participant& participant, const std::string& request_topic,
                const std::string& reply_topic, std::string client_id)
       : client_id_(client_id.empty() ? unique_client_id() : std::move(client_id)),
+        domain_(participant.domain()),
         requests_(participant, request_topic, dds::QosFamily::Request),
         replies_(participant, reply_topic, dds::QosFamily::Request,
                  typename dds::Reader<ReplyPubSub>::SentCallback(
@@ -197,10 +198,10 @@ class RequestReply {
       deadline = Clock::now() + timeout;  // the call's time starts once the server is back
     }
     request.client_id(client_id_);
-    // What this process's robot commands were: none acts after a request that puts the world
-    // back, whenever DDS delivers it.
+    // What this participant's robot commands were: none acts after a request that puts the
+    // world back, whenever DDS delivers it; a step request steps on them.
     if constexpr (requires { request.commands_sent(); }) {
-      if (puts_world_back(request)) request.commands_sent(commands_sent());
+      if (names_commands_sent(request)) request.commands_sent(commands_sent(domain_));
     }
     std::unique_lock<std::mutex> lock(mutex_);
     const uint64_t sequence = next_sequence_++;
@@ -428,6 +429,7 @@ class RequestReply {
   std::optional<std::array<uint8_t, 16>> server_;  // the last reply's writer (under mutex_)
   Clock::time_point last_served_;                  // when it came (under mutex_)
   std::condition_variable replied_;
+  int domain_;  // its requests name the process's robot commands on this domain
   dds::Writer<RequestPubSub> requests_;
   dds::Reader<ReplyPubSub> replies_;
 };

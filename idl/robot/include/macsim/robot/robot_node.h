@@ -27,6 +27,9 @@ struct NodeOptions {
   /// The QoS family of its sensor writers (ranges, scans, clouds): LockstepSensor for a
   /// lock-step simulator, whose samples are sent once each.
   dds::QosFamily sensors = dds::QosFamily::Sensor;
+  /// Told of each command sample dropped (a number not finite, or numbers that do not fit):
+  /// it arrived, and does nothing (a lock-step simulator's step request waits for no more).
+  std::function<void(const dds::SampleId& sent)> dropped;
 };
 
 /// Serves one robot over DDS.
