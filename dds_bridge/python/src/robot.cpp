@@ -214,8 +214,9 @@ void bind_robot(py::module_& m) {
                    r.laser.wait_delivered(t);
           },
           py::arg("timeout") = 5.0,
-          "Waits until the robot received every command sent so far (lock-step: call it "
-          "before asking for the next step); False after `timeout` s.")
+          "Waits until the robot received every command sent so far; False after `timeout` s. "
+          "Lock-step needs no such wait: a step request names the commands sent before it and "
+          "the simulator waits for them.")
       .def(
           "odometry",
           [](PythonRobot& r, double timeout) {

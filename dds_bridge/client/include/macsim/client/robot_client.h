@@ -34,8 +34,8 @@ class RobotClient {
   /// Publishes left and right wheel rim speeds (m/s) on wheel_speeds, the alternative to a
   /// twist (the same 0.6 s timeout).
   bool drive_wheels(double left, double right);
-  /// Waits until the robot's participant has received every command sent so far (lock-step:
-  /// call it before asking the simulator for the next step).
+  /// Waits until the robot's participant has received every command sent so far (lock-step
+  /// needs no such wait: a step request names the commands sent before it).
   bool wait_delivered(std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
     return cmd_vel_.wait_acknowledged(timeout) && wheel_speeds_.wait_acknowledged(timeout);
   }
