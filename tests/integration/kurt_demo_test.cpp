@@ -69,8 +69,9 @@ TEST(KurtDemo, WhereNoCanCanBeLiftedItSaysSoAndExitsFive) {
   EXPECT_LT(run.truth->pose().pose().position().x(), 1.3);
 }
 
-/// Five layouts of the demo world (macsim --seed): cans, colours and the robot's start at random
-/// (bench_demo plays fifty).
+/// Four layouts of the demo world (macsim --seed): cans, colours and the robot's start at random
+/// (bench_demo plays fifty; layout 5 is played twice, to the door, by
+/// LockstepCompare.TwoRunsOfTheDemonstratorAreTheSameRun).
 class KurtDemoSeeds : public ::testing::TestWithParam<int> {};
 
 TEST_P(KurtDemoSeeds, GetsThroughTheDoor) {
@@ -78,7 +79,7 @@ TEST_P(KurtDemoSeeds, GetsThroughTheDoor) {
   expect_through(run, "seed " + std::to_string(GetParam()));
 }
 
-INSTANTIATE_TEST_SUITE_P(FiveLayouts, KurtDemoSeeds, ::testing::Values(2, 4, 5, 6, 7));
+INSTANTIATE_TEST_SUITE_P(FourLayouts, KurtDemoSeeds, ::testing::Values(2, 4, 6, 7));
 
 /// Three Figure 11 layouts (blue cans heavy) with a lift model learned at test time from
 /// figure11 trials on the hue the cameras see: the first can tried is one the crane can lift.
