@@ -18,6 +18,14 @@ namespace {
 /// one).
 constexpr std::size_t kMaxFences = 4096;
 
+/// Notes `sent` in a map of the highest number seen by sender, at most kMaxFences senders (one
+/// forgotten per new one beyond).
+void keep_highest(std::map<std::array<uint8_t, 16>, uint64_t>& highest, const Sender& sent) {
+  if (highest.size() >= kMaxFences && !highest.count(sent.id)) highest.erase(highest.begin());
+  uint64_t& last = highest[sent.id];
+  last = std::max(last, sent.sequence);
+}
+
 /// A writer's GUID as Fast DDS prints it: the participant's prefix, then the entity.
 std::string guid_text(const std::array<uint8_t, 16>& id) {
   std::string text;
@@ -67,11 +75,7 @@ void Runner::answered_repeat(const Command& command) {
 }
 
 void Runner::fence(const std::vector<Sender>& sent_before) {
-  for (const Sender& s : sent_before) {
-    if (fences_.size() >= kMaxFences && !fences_.count(s.id)) fences_.erase(fences_.begin());
-    uint64_t& through = fences_[s.id];
-    through = std::max(through, s.sequence);
-  }
+  for (const Sender& s : sent_before) keep_highest(fences_, s);
 }
 
 bool Runner::fenced(const Command& command) const {
@@ -153,11 +157,7 @@ void Runner::note_arrival(const Sender& sent) {
   arrived(sent);
 }
 
-void Runner::arrived(const Sender& sent) {
-  if (arrived_from_.size() >= kMaxFences && !arrived_from_.count(sent.id)) arrived_from_.erase(arrived_from_.begin());
-  uint64_t& last = arrived_from_[sent.id];
-  last = std::max(last, sent.sequence);
-}
+void Runner::arrived(const Sender& sent) { keep_highest(arrived_from_, sent); }
 
 bool Runner::push(Command command) {
   {

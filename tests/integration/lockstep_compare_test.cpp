@@ -51,6 +51,10 @@ void expect_same_runs(const std::string& dir) {
   EXPECT_EQ(differ, 1) << where;
   EXPECT_NE(where.find("A command " + std::to_string(changed) + " at step"), std::string::npos)
       << where;
+  // A file that is no session: a usage error naming it.
+  const auto [bad, why] = compare(a, dir + "/missing.session");
+  EXPECT_EQ(bad, 2) << why;
+  EXPECT_NE(why.find("missing.session"), std::string::npos) << why;
 }
 
 TEST(LockstepCompare, TwoRunsOfTheDemonstratorAreTheSameRun) {
