@@ -44,10 +44,11 @@ int main(int argc, char** argv) {
         "worlds/DemoWorld_v1.xml; 50 from seed 1), with the lift model DIR/lift.yml if given; "
         "prints the success rate, how often the first can tried came up, the lift attempts, "
         "and the median and p90 robot and wall time per run. Each run has a DDS domain of its "
-        "own among the 80 from --domain (default 150). Run from the repository root.\n");
+        "own among the 80 from --domain (default 10). Run from the repository root.\n");
     return 0;
   }
-  const auto domain_base = macsim::bench::take_domain_base(args, "bench_demo", 150);
+  const auto domain_base =
+      macsim::bench::take_domain_base(args, "bench_demo", macsim::bench::kLayoutDomainBase);
   if (!domain_base) return 2;
   std::string world = "worlds/DemoWorld_v1.xml", affordances;
   while (args.size() >= 2 && (args[0] == "--world" || args[0] == "--affordances")) {
@@ -98,8 +99,9 @@ int main(int argc, char** argv) {
     const int attempts = tries == std::string::npos ? 0 : std::atoi(last.c_str() + tries + 15);
     lift_attempts += attempts;
     if (code == 0 && attempts == 1) ++first_lifts;
-    std::fprintf(stderr, "seed %d: exit %d, robot time %.1f s, wall time %.1f s, lift attempts %d\n",
-                 seed, code, sim_time, wall, attempts);
+    std::fprintf(stderr,
+                 "seed %d: exit %d, robot time %.1f s, wall time %.1f s, lift attempts %d\n", seed,
+                 code, sim_time, wall, attempts);
     if (code != 0) {
       failed.push_back(seed);
       continue;

@@ -12,6 +12,9 @@ namespace macsim::bench {
 
 /// How many domains from the first a layout benchmark uses.
 inline constexpr int kLayoutDomains = 80;
+/// The first of them by default: 10-89, below the tests' 100-232 (tests/support/test_domain.cpp),
+/// so that a benchmark run beside the test suite never shares a domain with a test.
+inline constexpr int kLayoutDomainBase = 10;
 
 /// `--domain N` taken out of `args` (the first domain, 0-152: Fast DDS's ports reach to domain
 /// 232), or `fallback` without it; nullopt, with a message naming `program`, when N is no such

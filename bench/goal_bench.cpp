@@ -31,8 +31,8 @@ namespace {
 using namespace std::chrono_literals;
 using macsim::process::ChildProcess;
 
-const std::vector<std::string> kFamilies = {"demonstrator", "door_open", "push_to_switch", "stiff_switch",
-                                            "cluttered_way"};
+const std::vector<std::string> kFamilies = {"demonstrator", "door_open", "push_to_switch",
+                                            "stiff_switch", "cluttered_way"};
 const std::vector<std::string> kPolicies = {"learned", "hand", "script", "random"};
 const char* kByHand = "affordances/domains/kurt3d_room_by_hand.pddl";
 constexpr auto kRunLimit = 900s;  // wall time of one run
@@ -74,7 +74,8 @@ std::vector<std::string> controller_argv(const std::string& bin, const std::stri
                                          const std::string& affordances, int domain) {
   const std::string d = std::to_string(domain);
   if (policy == "script") return {bin + "/kurt_demo", "--domain", d, "--lockstep"};
-  std::vector<std::string> argv{bin + "/kurt_plan", "--domain", d, "--lockstep", "--goal", "through-door"};
+  std::vector<std::string> argv{bin + "/kurt_plan", "--domain", d,
+                                "--lockstep",       "--goal",   "through-door"};
   if (policy == "learned") {
     argv.insert(argv.end(), {"--affordances", affordances});
   } else {
@@ -114,18 +115,20 @@ int main(int argc, char** argv) {
         "1001, the layouts kept for measuring) of each goal family (worlds/goals/: %s), in "
         "lock-step, J runs side by side (default 2). Policies: learned (kurt_plan "
         "--affordances DIR: DIR/effects.ppddl, e.g. learn_effects --from-trials "
-        "tests/affordances/effect_trials.csv --out DIR; with DIR/traverse.yml, e.g. affordance_learn "
+        "tests/affordances/effect_trials.csv --out DIR; with DIR/traverse.yml, e.g. "
+        "affordance_learn "
         "--in tests/tools/affordances/traverse_trials.csv --features shape --save-model DIR, "
         "the plan policies judge what stands in their way by it), hand (kurt_plan over %s), script "
         "(kurt_demo), random (kurt_plan --policy random over the same domain). Prints per family "
         "and policy the success rate and, of the runs that reached the door, the median plan "
         "steps, replans, robot time and planning time; the logs of failed runs are kept. Each "
-        "run has a DDS domain of its own among the 80 from --domain (default 150). Run from the "
+        "run has a DDS domain of its own among the 80 from --domain (default 10). Run from the "
         "repository root.\n",
         "demonstrator, door_open, push_to_switch, stiff_switch, cluttered_way", kByHand);
     return 0;
   }
-  const auto domain_base = macsim::bench::take_domain_base(args, "bench_goals", 150);
+  const auto domain_base =
+      macsim::bench::take_domain_base(args, "bench_goals", macsim::bench::kLayoutDomainBase);
   if (!domain_base) return 2;
   std::vector<std::string> families = kFamilies, policies = kPolicies;
   std::string affordances;
@@ -147,30 +150,36 @@ int main(int argc, char** argv) {
     args.erase(args.begin(), args.begin() + 2);
   }
   if ((!args.empty() && (seeds = std::atoi(args[0].c_str())) <= 0) ||
-      (args.size() > 1 && (first = std::atoi(args[1].c_str())) < 0) || args.size() > 2 || jobs < 1 ||
-      jobs > 8) {
-    std::fprintf(stderr, "bench_goals: SEEDS must be positive, FIRST not negative, J 1-8 (--help)\n");
+      (args.size() > 1 && (first = std::atoi(args[1].c_str())) < 0) || args.size() > 2 ||
+      jobs < 1 || jobs > 8) {
+    std::fprintf(stderr,
+                 "bench_goals: SEEDS must be positive, FIRST not negative, J 1-8 (--help)\n");
     return 2;
   }
   for (const auto& f : families) {
     if (!std::filesystem::exists("worlds/goals/" + f + ".xml")) {
-      std::fprintf(stderr, "bench_goals: no family %s (worlds/goals/%s.xml; run from the repository root)\n",
-                   f.c_str(), f.c_str());
+      std::fprintf(
+          stderr, "bench_goals: no family %s (worlds/goals/%s.xml; run from the repository root)\n",
+          f.c_str(), f.c_str());
       return 2;
     }
   }
   for (const auto& p : policies) {
     if (std::find(kPolicies.begin(), kPolicies.end(), p) == kPolicies.end()) {
-      std::fprintf(stderr, "bench_goals: no policy %s (learned, hand, script, random)\n", p.c_str());
+      std::fprintf(stderr, "bench_goals: no policy %s (learned, hand, script, random)\n",
+                   p.c_str());
       return 2;
     }
     if (p == "learned" && !std::filesystem::exists(affordances + "/effects.ppddl")) {
-      std::fprintf(stderr, "bench_goals: the learned policy needs --affordances DIR with DIR/effects.ppddl\n");
+      std::fprintf(
+          stderr,
+          "bench_goals: the learned policy needs --affordances DIR with DIR/effects.ppddl\n");
       return 2;
     }
   }
   const std::string bin = std::filesystem::canonical("/proc/self/exe").parent_path().string();
-  const std::string logs = std::filesystem::temp_directory_path() / ("bench_goals_" + std::to_string(getpid()));
+  const std::string logs =
+      std::filesystem::temp_directory_path() / ("bench_goals_" + std::to_string(getpid()));
   std::filesystem::create_directories(logs);
 
   // Every run to make, the families' layouts in turn, each layout's policies side by side.
@@ -192,8 +201,9 @@ int main(int argc, char** argv) {
     const std::string output = run.controller->output();
     const Result r = judge(run.policy, code, output);
     results[{run.family, run.policy}].push_back(r);
-    std::fprintf(stderr, "%s seed %d %s: exit %d, steps %.0f, replans %.0f, robot time %.1f s\n", run.family.c_str(),
-                 run.seed, run.policy.c_str(), code, r.steps, r.replans, r.robot_time);
+    std::fprintf(stderr, "%s seed %d %s: exit %d, steps %.0f, replans %.0f, robot time %.1f s\n",
+                 run.family.c_str(), run.seed, run.policy.c_str(), code, r.steps, r.replans,
+                 r.robot_time);
     if (r.reached) {
       std::filesystem::remove(run.controller->output_path());
       std::filesystem::remove(run.sim->output_path());
@@ -205,19 +215,22 @@ int main(int argc, char** argv) {
       todo.pop_back();
       const std::string name = run.family + "_" + std::to_string(run.seed) + "_" + run.policy;
       run.sim = std::make_unique<ChildProcess>(
-          std::vector<std::string>{bin + "/macsim", "--world", "worlds/goals/" + run.family + ".xml", "--domain",
+          std::vector<std::string>{bin + "/macsim", "--world",
+                                   "worlds/goals/" + run.family + ".xml", "--domain",
                                    std::to_string(run.domain), "--lockstep", "--quiet", "--seed",
                                    std::to_string(run.seed)},
           macsim::process::Output::file(logs + "/macsim_" + name + ".log"));
-      run.controller = std::make_unique<ChildProcess>(controller_argv(bin, run.policy, affordances, run.domain),
-                                                      macsim::process::Output::file(logs + "/" + name + ".log"));
+      run.controller =
+          std::make_unique<ChildProcess>(controller_argv(bin, run.policy, affordances, run.domain),
+                                         macsim::process::Output::file(logs + "/" + name + ".log"));
       run.started = std::chrono::steady_clock::now();
       running.push_back(std::move(run));
     }
     std::this_thread::sleep_for(200ms);
     for (auto it = running.begin(); it != running.end();) {
       std::optional<int> code = it->controller->wait_for_exit(0ms);
-      if (!code && std::chrono::steady_clock::now() - it->started > kRunLimit) code = it->controller->stop();
+      if (!code && std::chrono::steady_clock::now() - it->started > kRunLimit)
+        code = it->controller->stop();
       if (!code) {
         ++it;
         continue;
@@ -229,9 +242,11 @@ int main(int argc, char** argv) {
 
   std::string tables;
   for (const auto& family : families) {
-    tables += "\n" + family + " (layouts " + std::to_string(first) + "-" + std::to_string(first + seeds - 1) +
-              ")\n| policy | reached | plan steps | replans | robot time (s) | planning time (ms) |\n"
-              "|---|---|---|---|---|---|\n";
+    tables +=
+        "\n" + family + " (layouts " + std::to_string(first) + "-" +
+        std::to_string(first + seeds - 1) +
+        ")\n| policy | reached | plan steps | replans | robot time (s) | planning time (ms) |\n"
+        "|---|---|---|---|---|---|\n";
     for (const auto& policy : policies) {
       const auto& rs = results[{family, policy}];
       std::vector<double> steps, replans, times, planning;
@@ -253,15 +268,17 @@ int main(int argc, char** argv) {
       }
       char row[256];
       if (policy == "script")
-        std::snprintf(row, sizeof row, "| %s | %zu/%zu | - | - | %.0f | - |\n", policy.c_str(), times.size(), rs.size(),
-                      median(times));
+        std::snprintf(row, sizeof row, "| %s | %zu/%zu | - | - | %.0f | - |\n", policy.c_str(),
+                      times.size(), rs.size(), median(times));
       else
-        std::snprintf(row, sizeof row, "| %s | %zu/%zu | %.0f | %.0f | %.0f | %.2f |\n", policy.c_str(), times.size(),
-                      rs.size(), median(steps), median(replans), median(times), median(planning));
+        std::snprintf(row, sizeof row, "| %s | %zu/%zu | %.0f | %.0f | %.0f | %.2f |\n",
+                      policy.c_str(), times.size(), rs.size(), median(steps), median(replans),
+                      median(times), median(planning));
       tables += row;
     }
   }
   std::printf("%s", tables.c_str());
-  std::fprintf(stderr, "bench_goals: logs of the runs that did not reach the door in %s\n", logs.c_str());
+  std::fprintf(stderr, "bench_goals: logs of the runs that did not reach the door in %s\n",
+               logs.c_str());
   return 0;
 }

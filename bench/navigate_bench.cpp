@@ -132,7 +132,8 @@ int main(int argc, char** argv) {
                args.begin() + static_cast<std::ptrdiff_t>(k) + 2);
     break;
   }
-  const auto domain_base = macsim::bench::take_domain_base(args, "bench_navigate", 150);
+  const auto domain_base =
+      macsim::bench::take_domain_base(args, "bench_navigate", macsim::bench::kLayoutDomainBase);
   if (!domain_base) return 2;
   bool verbose = false;  // the navigator's --verbose, into its logs
   if (const auto v = std::find(args.begin(), args.end(), "--verbose"); v != args.end()) {
@@ -161,7 +162,7 @@ int main(int argc, char** argv) {
         "and after, the path by ground truth, where the navigator believed it stood); --verbose "
         "keeps each look's fit and things in the navigator's logs. Run from the repository root. "
         "Each run has a DDS domain of its own among the 80 from --domain "
-        "(default 150).\n");
+        "(default 10).\n");
     return 0;
   }
   int seeds = 50, first = 1;

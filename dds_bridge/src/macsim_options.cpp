@@ -15,6 +15,7 @@
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/data_files.h"
 #include "macsim/dds/log.h"
+#include "macsim/dds/wire.h"
 #include "macsim/render/camera_modes.h"
 #include "simulation/session_compare.h"
 
@@ -42,6 +43,22 @@ std::string world_summary(const macsim::WorldSpec& spec) {
 }
 
 namespace {
+
+/// read_session(), refusing at once a session whose bytes were written with other wire types
+/// than this build's, naming both (one that names none, format 5 and older, reads as ours).
+macsim::Session read_session_of_our_types(const std::string& path,
+                                          macsim::SessionRead read = macsim::SessionRead::Whole) {
+  macsim::Session session = macsim::read_session(path, read);
+  const std::string& recorded = session.header.wire_types;
+  const std::string_view ours = macsim::dds::session_wire_types();
+  if (!recorded.empty() && recorded != ours) {
+    throw macsim::SessionFileError(fmt::format(
+        "{}: recorded with wire types {}, this macsim's are {}: the IDL changed since, and its "
+        "requests would not decode as they were written (use the macsim that recorded it)",
+        path, recorded, ours));
+  }
+  return session;
+}
 
 /// The world, files and settings of the session read into `o` (`doing`: "replaying",
 /// "resuming"), warning of command-line options it overrides.
@@ -96,8 +113,8 @@ int compare_sessions(const Options& o) {
   const std::string& b = o.arguments.front();
   std::optional<macsim::Session> sa, sb;
   try {
-    sa = macsim::read_session(a);
-    sb = macsim::read_session(b);
+    sa = read_session_of_our_types(a);
+    sb = read_session_of_our_types(b);
   } catch (const macsim::SessionFileError& e) {
     macsim::log::error("macsim: --compare: {}", e.what());
     return 2;
@@ -238,6 +255,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "world from it, run it to its last whole record, serve on and record on to FILE; "
              "with no session at FILE yet, record a new one there (as --record-session)",
              &o.resume);
+  cli.option("kill-at-step", "N",
+             "for tests of --resume: the process kills itself (SIGKILL, as a kill from outside "
+             "would) once the run has taken N steps in all, a kill point that does not depend on "
+             "timing (default 0: never)",
+             &o.kill_at_step);
   cli.option("extract", "DIR",
              "with --replay: write the files the session holds under DIR instead of replaying",
              &o.extract);
@@ -254,6 +276,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     macsim::log::error("macsim: unexpected argument '{}' (see --help)", o.arguments.front());
     return 2;
   }
+  if (o.kill_at_step < 0) {
+    macsim::log::error("macsim: --kill-at-step takes a step count, 1 or more (0: never)");
+    return 2;
+  }
   if (o.session_hash_every < 1) {
     macsim::log::error("macsim: --session-hash-every must be at least 1");
     return 2;
@@ -268,7 +294,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     std::error_code error;
     if (std::filesystem::file_size(o.resume, error) > 0 && !error) {
       try {
-        o.session = macsim::read_session(o.resume, macsim::SessionRead::UpToLastWholeRecord);
+        o.session = read_session_of_our_types(o.resume, macsim::SessionRead::UpToLastWholeRecord);
       } catch (const macsim::SessionFileError& e) {
         macsim::log::error("macsim: --resume: {}", e.what());
         return 2;
@@ -288,7 +314,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
   }
   if (!o.replay.empty()) {
     try {
-      o.session = macsim::read_session(o.replay);
+      o.session = read_session_of_our_types(o.replay);
     } catch (const macsim::SessionFileError& e) {
       macsim::log::error("macsim: --replay: {}", e.what());
       return 2;
@@ -370,6 +396,7 @@ macsim::SessionHeader session_header(const Options& o, bool overlaps_parted) {
   header.strict = o.strict;
   header.limits = o.limits();
   header.snapshot_limits = o.snapshot_limits;
+  header.wire_types = std::string(macsim::dds::session_wire_types());
   return header;
 }
 

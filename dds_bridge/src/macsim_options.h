@@ -53,7 +53,7 @@ struct Options {
   int max_pictures = int(macsim::PictureServer::kDefaultMaxFiles);
   int max_queued_commands = int(macsim::kDefaultMaxQueuedCommands);
   double command_wait = macsim::kDefaultCommandWait;  // s
-  macsim::SnapshotLimits snapshot_limits;  // from the two above, once parsed
+  macsim::SnapshotLimits snapshot_limits;             // from the two above, once parsed
   std::vector<std::string> data_paths;
   std::string record_session;
   int session_hash_every = 100;
@@ -62,6 +62,7 @@ struct Options {
   std::string compare;                     // --compare A B: A
   std::vector<std::string> arguments;      // B of --compare A B
   std::string resume;                      // --resume FILE
+  int kill_at_step = 0;                    // --kill-at-step N (tests of --resume): 0 never
   std::optional<macsim::Session> session;  // read from --replay, or from --resume if it exists
   /// The files a self-contained session holds (--replay): all a replay reads.
   std::shared_ptr<macsim::MemoryFiles> session_files;

@@ -106,7 +106,7 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
 }
 
 int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter* session,
-          const Resumed* resumed) {
+          Resumed* resumed) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   macsim::render::ViewerOptions viewer_options;
@@ -134,7 +134,6 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     bridge_options.robot_frames = o.robot_frames;
     bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
     bridge_options.lockstep = o.lockstep;
-    bridge_options.resumed = resumed != nullptr;
     // The camera schedule runs with cameras off too (a world's schedule is one).
     if (!(std::isfinite(o.camera_rate) && o.camera_rate > 0) ||
         (bridge_options.cameras &&
@@ -147,6 +146,10 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
       return 2;
     }
     macsim::SimBridge bridge(dds, runner, bridge_options);
+    if (resumed && resumed->catch_up) {
+      if (const int code = resumed->catch_up(bridge)) return code;
+      session = resumed->writer.get();
+    }
     macsim::SupervisorServer supervisor(dds, runner);
     macsim::SimulationServer control(dds, runner, o.limits(), [&bridge](const std::string& robot) {
       return bridge.latest_readings(robot);
@@ -218,6 +221,8 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     hooks.before_step = [&] { bridge.poll_commands(); };
     hooks.after_step = [&](macsim::World& world) {
       bridge.publish();
+      // A kill at a chosen step (tests of --resume): as SIGKILL from outside, nothing after it.
+      if (o.kill_at_step > 0 && runner.steps_run() == o.kill_at_step) std::raise(SIGKILL);
       // Steps on request (lock-step): the step is done when its data is out, images included.
       if (runner.stepping_on_request()) bridge.wait_for_cameras();
       supervisor.publish();
@@ -314,58 +319,75 @@ int resume(macsim::Runner& runner, const Options& o) {
   const macsim::Session& session = *o.session;
   Resumed resumed;
   resumed.requests = session.requests;
-  // The supervisor's requests run as they did, their replies kept for a repeat (the latest
-  // ones: a client repeats only what it had in flight).
-  constexpr std::size_t kKeptReplies = 4096;
-  runner.set_executor(macsim::CommandSource::Supervisor,
-                      [&runner, &resumed](const macsim::Command& c, macsim::World& world) {
-                        namespace mm = macsim_msgs::msg::dds_;
-                        const auto q =
-                            macsim::dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
-                        if (!q) return false;
-                        auto& replies = resumed.supervisor_replies;
-                        if (replies.size() >= 2 * kKeptReplies)
-                          replies.erase(replies.begin(), replies.begin() + kKeptReplies);
-                        replies.push_back(macsim::dispatch(*q, world, runner.snapshots()));
-                        return true;
-                      });
-  runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
-  const auto load = session_world_loader(runner, o);
-  const auto start = std::chrono::steady_clock::now();
-  const auto outcome = macsim::replay_session(session, runner, load, o.session_files.get());
-  if (!outcome.equal) {
-    macsim::log::error("macsim: --resume: cannot resume {}: {}", o.resume, outcome.message);
-    return 1;
+  // The step request the killed process had begun, if it kept its data back for its end: the
+  // steps of it the session holds are replayed with their readings kept back again.
+  std::optional<uint64_t> held_from;
+  for (const auto& begun : macsim::SimulationServer::begun(session.requests)) {
+    if (begun.request.command() == macsim_msgs::msg::dds_::SIM_STEP &&
+        (begun.request.step_options() & macsim_msgs::msg::dds_::STEP_PUBLISH_AT_END)) {
+      held_from = begun.first_step;
+    }
   }
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  macsim::log::info(
-      "macsim: resumed {} at step {} (sim time {:.3f} s) in {:.2f} s: {} commands and {} "
-      "hashes as recorded; {}",
-      o.resume, runner.steps_run(), runner.world().time(), wall, outcome.commands_run,
-      outcome.hashes_checked,
-      session.cut_short ? "the session was cut short by a kill: steps the killed run took after "
-                          "its last record are run again"
-                        : "the session had ended cleanly");
-  // From here requests read the disk again (the files they read going into the session).
-  Options live = o;
-  live.session_files.reset();
-  std::shared_ptr<macsim::SessionWriter> writer;
-  try {
-    writer = std::make_shared<macsim::SessionWriter>(o.resume, session);
-    runner.set_data_roots(
-        data_roots(live)->watched([writer](const std::string& path, const std::string& bytes) {
-          writer->file(path, bytes);
-        }));
-  } catch (const std::invalid_argument& e) {
-    macsim::log::error("macsim: --data-path: {}", e.what());
-    return 2;
-  } catch (const macsim::SessionFileError& e) {
-    macsim::log::error("macsim: --resume: {}", e.what());
-    return 2;
-  }
-  runner.record(writer, /*resumed=*/true);
-  return serve(runner, o, writer.get(), &resumed);
+  resumed.catch_up = [&runner, &o, &session, &resumed, held_from](macsim::SimBridge& bridge) {
+    // The supervisor's requests run as they did, their replies kept for a repeat (the latest
+    // ones: a client repeats only what it had in flight).
+    constexpr std::size_t kKeptReplies = 4096;
+    runner.set_executor(macsim::CommandSource::Supervisor,
+                        [&runner, &resumed](const macsim::Command& c, macsim::World& world) {
+                          namespace mm = macsim_msgs::msg::dds_;
+                          const auto q =
+                              macsim::dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
+                          if (!q) return false;
+                          auto& replies = resumed.supervisor_replies;
+                          if (replies.size() >= 2 * kKeptReplies)
+                            replies.erase(replies.begin(), replies.begin() + kKeptReplies);
+                          replies.push_back(macsim::dispatch(*q, world, runner.snapshots()));
+                          return true;
+                        });
+    runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
+    const auto load = session_world_loader(runner, o);
+    const auto start = std::chrono::steady_clock::now();
+    // A step's readings as the killed process took them: held from the begun request's first
+    // step on (the step the session says it was taken after), else gone out with it.
+    const auto outcome = macsim::replay_session(session, runner, load, o.session_files.get(), [&] {
+      bridge.replayed_step(held_from && runner.steps_run() >= *held_from);
+    });
+    bridge.caught_up();
+    if (!outcome.equal) {
+      macsim::log::error("macsim: --resume: cannot resume {}: {}", o.resume, outcome.message);
+      return 1;
+    }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    macsim::log::info(
+        "macsim: resumed {} at step {} (sim time {:.3f} s) in {:.2f} s: {} commands and {} "
+        "hashes as recorded; {}",
+        o.resume, runner.steps_run(), runner.world().time(), wall, outcome.commands_run,
+        outcome.hashes_checked,
+        session.cut_short ? "the session was cut short by a kill: steps the killed run took "
+                            "after its last record are run again"
+                          : "the session had ended cleanly");
+    // From here requests read the disk again (the files they read going into the session).
+    Options live = o;
+    live.session_files.reset();
+    try {
+      auto writer = std::make_shared<macsim::SessionWriter>(o.resume, session);
+      runner.set_data_roots(
+          data_roots(live)->watched([writer](const std::string& path, const std::string& bytes) {
+            writer->file(path, bytes);
+          }));
+      runner.record(writer, /*resumed=*/true);
+      resumed.writer = std::move(writer);
+    } catch (const std::invalid_argument& e) {
+      macsim::log::error("macsim: --data-path: {}", e.what());
+      return 2;
+    } catch (const macsim::SessionFileError& e) {
+      macsim::log::error("macsim: --resume: {}", e.what());
+      return 2;
+    }
+    return 0;
+  };
+  return serve(runner, o, nullptr, &resumed);
 }
 
 }  // namespace macsim::program

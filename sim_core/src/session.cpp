@@ -32,10 +32,16 @@ namespace macsim {
 //                                        refused (version 4, as the next two)
 //   limits <import depth> <imported files> <objects>   what one world may hold
 //   snapshots <count> <bytes>            named snapshots kept at most
+//   wire-types <digest>                  the wire types the bytes below were written with, as
+//                                        the recorder named them; "-": not named (version 6)
 //   f <path> <checksum> <bytes>          a file the run read (the path as asked), embedded when
 //                                        it was read: the bytes in hex, the checksum their XXH3
 //                                        in 16 hex digits (version 4)
-//   c <step> <source> <operation> <target> <values> <message>   a command, before step+1
+//   c <step> <source> <operation> <target> <values> <message> [<sender>]   a command, before
+//                                        step+1; a robot command's sender, if known, as its
+//                                        writer's id in 32 hex digits, ':' and the sample's
+//                                        sequence number (version 6): a resumed simulator knows
+//                                        which commands the killed one had
 //   k <first> <last> [<robots>]          keep_robot_commands before each step first+1..last+1:
 //                                        what a step request holding the robots' commands runs
 //                                        once a step, as one record (version 3); the robots
@@ -126,11 +132,17 @@ std::string bytes_text(const std::vector<uint8_t>& bytes) {
   return bytes_text(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
+/// A robot command's sender: its writer's id (32 hex digits), ':', the sample's sequence number.
+std::string sender_text(const Sender& s) {
+  return bytes_text(std::string_view(reinterpret_cast<const char*>(s.id.data()), s.id.size())) +
+         ":" + std::to_string(s.sequence);
+}
+
 std::string command_line(uint64_t step, const Command& c) {
   return "c " + std::to_string(step) + " " + std::string(to_string(c.source)) + " " +
          encode(c.operation) + " " + encode(c.target) + " " +
          values_text(c.robot ? c.robot->values() : std::vector<double>{}) + " " +
-         bytes_text(c.message) + "\n";
+         bytes_text(c.message) + (c.robot && c.sent_by ? " " + sender_text(*c.sent_by) : "") + "\n";
 }
 
 std::string hex16(uint64_t v) {
@@ -245,6 +257,18 @@ struct LineReader {
     return out;
   }
 
+  Sender sender(const std::string& field) const {
+    const std::size_t colon = field.find(':');
+    if (colon != 32)
+      fail("a command's sender must be its writer's id in 32 hex digits, ':' and a number; got '" +
+           field.substr(0, 60) + "'");
+    const auto id = bytes(field.substr(0, 32), "a sender's id");
+    Sender s;
+    std::copy(id.begin(), id.end(), s.id.begin());
+    s.sequence = number(field.substr(33), "a sender's sequence number");
+    return s;
+  }
+
   std::string text(const std::string& field, const char* what) const {
     auto decoded = decode(field);
     if (!decoded) fail(std::string(what) + " is not a percent-encoded text: '" + field + "'");
@@ -277,7 +301,8 @@ std::string header_text(const SessionHeader& header) {
          "\nlimits " + std::to_string(l.max_import_depth) + " " +
          std::to_string(l.max_imported_files) + " " + std::to_string(l.max_objects) +
          "\nsnapshots " + std::to_string(header.snapshot_limits.max_count) + " " +
-         std::to_string(header.snapshot_limits.max_bytes) + "\n";
+         std::to_string(header.snapshot_limits.max_bytes) + "\nwire-types " +
+         encode(header.wire_types) + "\n";
 }
 
 }  // namespace
@@ -394,6 +419,7 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
   bool has_overlaps = true;  // a version 2 file must say (below); version 1 had no parting
   bool has_settings = true;  // strict, limits and snapshots: a version 4 file must say (below)
   bool has_strict = false, has_limits = false, has_snapshots = false;
+  bool has_wire_types = true;  // a version 6 file must say (below)
   uint64_t last_step = 0;
   uint64_t commands = 0;  // as many as ran: a run of held steps counts each step
   int version = 0;
@@ -419,20 +445,24 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
       }
       session.header.self_contained = version >= 4;
       if (version >= 4) has_settings = false;
+      if (version >= 6) has_wire_types = false;
       continue;
     }
     const bool header_line =
         f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps" ||
-        (version >= 4 && (f[0] == "strict" || f[0] == "limits" || f[0] == "snapshots"));
+        (version >= 4 && (f[0] == "strict" || f[0] == "limits" || f[0] == "snapshots")) ||
+        (version >= 6 && f[0] == "wire-types");
     if (version >= 4) has_settings = has_strict && has_limits && has_snapshots;
-    if (!header_line && !(has_world && has_seed && has_every && has_overlaps && has_settings)) {
+    if (!header_line &&
+        !(has_world && has_seed && has_every && has_overlaps && has_settings && has_wire_types)) {
       std::string missing;  // the lines this version's header lacks, by name
       for (const auto& [name, has] :
            {std::pair{"world", has_world}, std::pair{"seed", has_seed},
             std::pair{"hash-every", has_every}, std::pair{"overlaps", has_overlaps},
             std::pair{"strict", has_strict || version < 4},
             std::pair{"limits", has_limits || version < 4},
-            std::pair{"snapshots", has_snapshots || version < 4}}) {
+            std::pair{"snapshots", has_snapshots || version < 4},
+            std::pair{"wire-types", has_wire_types}}) {
         if (!has) missing += std::string(missing.empty() ? "" : ", ") + "'" + name + "'";
       }
       r.fail("the header needs its " + missing + " line(s) before any record");
@@ -472,6 +502,9 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
       l.max_bytes = r.number(f[2], "the snapshot bytes");
       if (l.max_count == 0) r.fail("the snapshot count must be 1 or more");
       has_snapshots = true;
+    } else if (f[0] == "wire-types" && f.size() == 2 && version >= 6 && !has_wire_types) {
+      session.header.wire_types = r.text(f[1], "the wire types");
+      has_wire_types = true;
     } else if (f[0] == "f" && f.size() == 4 && version >= 4) {
       EmbeddedFile file;
       file.path = r.text(f[1], "the file's path");
@@ -486,7 +519,7 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
       }
       file.commands_before = session.commands.size();
       session.files.push_back(std::move(file));
-    } else if (f[0] == "c" && f.size() == 7) {
+    } else if (f[0] == "c" && (f.size() == 7 || (f.size() == 8 && version >= 6))) {
       RecordedCommand rc;
       rc.step = r.number(f[1], "a command's step");
       const auto source = command_source(f[2]);
@@ -504,6 +537,10 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
         if (!rc.command.robot) r.fail(why);
       } else if (!values.empty()) {
         r.fail("only a robot command carries numbers");
+      }
+      if (f.size() == 8) {
+        if (rc.command.source != CommandSource::Robot) r.fail("only a robot command has a sender");
+        rc.command.sent_by = r.sender(f[7]);
       }
       if (rc.step < last_step) r.fail("steps must not go back");
       last_step = rc.step;
@@ -647,7 +684,7 @@ void embed_first_files(const Session& session, MemoryFiles& files) {
 }
 
 ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
-                             MemoryFiles* files) {
+                             MemoryFiles* files, const std::function<void()>& after_step) {
   ReplayOutcome out;
   std::size_t c = 0, h = 0, f = 0;
   const auto hex = hex16;
@@ -699,12 +736,16 @@ ReplayOutcome replay_session(const Session& session, Runner& runner, const Sessi
           return out;
         }
       } else {
+        // What the recorded run had heard of its sender: a step request naming it waits no more
+        // (a resumed simulator, whose clients name what the killed one took).
+        if (command.sent_by) runner.note_arrival(*command.sent_by);
         runner.execute(command);
       }
       ++out.commands_run;
     }
     if (step >= session.steps) break;
     runner.step();
+    if (after_step) after_step();
   }
   out.steps = session.steps;
   out.message = "replayed " + std::to_string(out.steps) + " steps and " +

@@ -1,7 +1,8 @@
 // affordance_trials against real lock-step simulators: the rows do not depend on how many
 // instances ran them (lift, push, climb, stack, traverse), a trial repeats bit for bit under CPU
 // load with the state hash checked after every step, a killed run resumes without losing or
-// repeating a row, an instance killed mid-run is noticed and its trials run elsewhere; the
+// repeating a row, an instance killed mid-run is noticed and its trials run elsewhere, a
+// simulator of the run that died is started again and its trial played again; the
 // committed rows are what the trials make today;
 // affordance_learn learns from the rows and draws its plots; bad arguments start nothing.
 #include <gtest/gtest.h>
@@ -293,6 +294,57 @@ TEST(AffordanceTrials, ASimulatorOfTheRunLostWhileItStillRunsIsConnectedToAgain)
   ASSERT_EQ(runner.wait_for_exit(120s), 0) << runner.output();
   EXPECT_NE(runner.output().find("1 reconnection(s)"), std::string::npos) << runner.output();
   expect_each_trial_once(csv, 6, runner.output());
+}
+
+/// The rows' results in the order of their trials (several instances finish them in any order).
+std::vector<std::string> results_by_trial(const std::string& csv) {
+  auto rows = results(csv);
+  std::sort(rows.begin() + (rows.empty() ? 0 : 1), rows.end());
+  return rows;
+}
+
+// A simulator the run started whose process died (the Slurm array's one instance, or one of
+// several) is started again and the trial under way plays again from its reset: the rows equal
+// those of a run never killed.
+TEST(AffordanceTrials, ASimulatorOfTheRunThatDiedIsStartedAgainAndTheRowsEqualARunNeverKilled) {
+  TempDir dir("affordance_restart_");
+  const auto command = [&](int instances, const std::string& csv) {
+    return std::vector<std::string>{bin("affordance_trials"),
+                                    "--domain",
+                                    std::to_string(unique_test_domains(instances)),
+                                    "--instances",
+                                    std::to_string(instances),
+                                    "--trials",
+                                    "8",
+                                    "--seed",
+                                    "11",
+                                    "--timeout",
+                                    "2",
+                                    "--out",
+                                    csv};
+  };
+  std::string output;
+  ASSERT_EQ(run(command(1, dir.path() + "/never_killed.csv"), &output), 0) << output;
+  const auto never_killed = results_by_trial(dir.path() + "/never_killed.csv");
+  ASSERT_EQ(never_killed.size(), 9u) << output;
+  for (const int instances : {1, 2}) {
+    const std::string csv = dir.path() + "/killed_" + std::to_string(instances) + ".csv";
+    ChildProcess runner(command(instances, csv));
+    for (int i = 0; i < 1200 && lines_of(csv).size() < 3; ++i) std::this_thread::sleep_for(50ms);
+    ASSERT_GE(lines_of(csv).size(), 3u) << runner.output();
+    const auto simulators = children_of(runner.pid());
+    ASSERT_EQ(simulators.size(), std::size_t(instances)) << runner.output();
+    ASSERT_EQ(::kill(simulators[0], SIGKILL), 0);
+    ASSERT_EQ(runner.wait_for_exit(120s), 0) << runner.output();
+    EXPECT_NE(runner.output().find("starting its simulator again (1 of 3)"), std::string::npos)
+        << runner.output();
+    EXPECT_NE(runner.output().find("1 simulator(s) started again after they died"),
+              std::string::npos)
+        << runner.output();
+    EXPECT_EQ(runner.output().find("instance(s) lost"), std::string::npos) << runner.output();
+    EXPECT_EQ(results_by_trial(csv), never_killed) << instances << " instance(s)\n"
+                                                   << runner.output();
+  }
 }
 
 TEST(AffordanceLearn, LearnsFromTrialRowsAndDrawsItsPlots) {

@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sched.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -294,16 +295,21 @@ class TwoHosts : public ::testing::Test {
     seen.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return seen;
   }
-  /// macsim on host a, in lock-step, on `world`.
-  std::vector<std::string> lockstep_macsim(const std::string& world) const {
-    return on(host_a_, {bin("macsim"), "--world", source(world), "--domain",
-                        std::to_string(domain_), "--lockstep", "--cameras", "off"});
+  /// macsim on host a, in lock-step, on `world`, recording its session to `session` if named.
+  std::vector<std::string> lockstep_macsim(const std::string& world,
+                                           const std::string& session = "") const {
+    std::vector<std::string> args{bin("macsim"),           "--world",    source(world), "--domain",
+                                  std::to_string(domain_), "--lockstep", "--cameras",   "off"};
+    if (!session.empty()) args.insert(args.end(), {"--record-session", session});
+    return on(host_a_, args);
   }
   /// lockstep_from_b() against a lock-step simulator of the small room started for it, which
-  /// must answer every request and still run at the end.
+  /// must answer every request and still run at the end; its session recorded to `session`
+  /// (closed cleanly at the end) if named.
   Stepped lockstep_run(int requests, std::chrono::milliseconds pace = {},
-                       const std::function<void()>& ready = {}) const {
-    ChildProcess sim(lockstep_macsim("worlds/small_room.xml"));
+                       const std::function<void()>& ready = {},
+                       const std::string& session = "") const {
+    ChildProcess sim(lockstep_macsim("worlds/small_room.xml", session));
     if (!sim.wait_for_output("stepping", 30s)) {
       ADD_FAILURE() << sim.output();
       return {};
@@ -313,6 +319,10 @@ class TwoHosts : public ::testing::Test {
         << "the controller on host b ended with " << stepped.exit_code << "\n"
         << sim.output();
     EXPECT_TRUE(sim.running()) << sim.output();
+    if (!session.empty()) {
+      sim.signal(SIGINT);
+      EXPECT_EQ(sim.wait_for_exit(30s), 0) << sim.output();
+    }
     return stepped;
   }
 
@@ -336,15 +346,15 @@ TEST_F(TwoHosts, AControllerOnAnotherHostDrivesTheRobot) {
 TEST_F(TwoHosts, AffordanceTrialsRunOnASimulatorOnAnotherHost) {
   // Lock-step trials over a real link: the simulator on host a, the trial runner on host b.
   ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
-  ChildProcess sim(on(host_a_, {bin("macsim"), "--world", source("worlds/affordance_trials.xml"),
-                                "--domain", std::to_string(domain_), "--lockstep",
-                                "--camera-rate", "1.25"}));
+  ChildProcess sim(
+      on(host_a_, {bin("macsim"), "--world", source("worlds/affordance_trials.xml"), "--domain",
+                   std::to_string(domain_), "--lockstep", "--camera-rate", "1.25"}));
   ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
   TempDir dir("affordance_hosts_");
   const long before = received_on_b();
-  ChildProcess trials(on(host_b_, {bin("affordance_trials"), "--attach", std::to_string(domain_),
-                                   "--trials", "3", "--seed", "4", "--out",
-                                   dir.path() + "/rows.csv"}));
+  ChildProcess trials(
+      on(host_b_, {bin("affordance_trials"), "--attach", std::to_string(domain_), "--trials", "3",
+                   "--seed", "4", "--out", dir.path() + "/rows.csv"}));
   ASSERT_EQ(trials.wait_for_exit(120s), 0) << trials.output() << sim.output();
   std::ifstream rows(dir.path() + "/rows.csv");
   int lines = 0;
@@ -399,7 +409,8 @@ TEST_F(TwoHosts, UnderPacketLossLockstepResultsAreBitIdenticalAndControllersStil
   // At each loss rate, on both hosts' receiving side: affordance trials in lock-step (their
   // rows, hashes and step counts included, equal to the loss-free run's), a lock-step
   // controller's 220 step requests (every reply's hash equal, the step count exact: no request
-  // ran twice or was lost), and helloKurt against a real-time simulator.
+  // ran twice or was lost; its session the same run as the loss-free one's by macsim --compare),
+  // and helloKurt against a real-time simulator.
   ScopedEnv profile("FASTRTPS_DEFAULT_PROFILES_FILE", source("deploy/dds/network.xml"));
   TempDir dir("lossy_hosts_");
   std::vector<std::string> reference_rows;
@@ -425,9 +436,18 @@ TEST_F(TwoHosts, UnderPacketLossLockstepResultsAreBitIdenticalAndControllersStil
       rows = rows_without_wall_time(csv);
       ASSERT_EQ(rows.size(), 4u) << trials.output();  // the header and three rows
     }
-    const Stepped stepped = lockstep_run(200);
+    const std::string session = dir.path() + "/lockstep" + std::to_string(percent) + ".session";
+    const Stepped stepped = lockstep_run(200, {}, {}, session);
     EXPECT_EQ(stepped.steps, 220u * kStepsPerRequest) << "a step request lost or run twice";
     EXPECT_EQ(stepped.gaps, 0);
+    if (percent > 0) {
+      // The same run as the loss-free one, record by record: every command at its step, every
+      // request, every hash.
+      ChildProcess compare(
+          {bin("macsim"), "--compare", dir.path() + "/lockstep0.session", session});
+      EXPECT_EQ(compare.wait_for_exit(60s), 0) << compare.output();
+      EXPECT_NE(compare.output().find("are the same run"), std::string::npos) << compare.output();
+    }
     {
       ChildProcess sim(macsim());
       ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();

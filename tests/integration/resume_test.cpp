@@ -3,10 +3,14 @@
 // lock-step the resumed run gives the same hash after every step request as a run never killed
 // (a request in flight at the kill is finished, one answered before it is answered again and
 // never run twice); in real time the world is the one the killed process last wrote, even when
-// the kill cut the session's last line. A damaged session is refused naming its line.
+// the kill cut the session's last line; a step request that holds its data for its end, killed
+// at a chosen step inside it, delivers every reading once with the stamp a run never killed gave
+// it. A damaged session is refused naming its line.
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -16,6 +20,7 @@
 #include <thread>
 
 #include "macsim/client/robot_client.h"
+#include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/participant.h"
 #include "macsim/dds/topics.h"
@@ -143,7 +148,7 @@ class StampsSeen {
 
 struct LockstepRun {
   std::set<int64_t> odometry_stamps, image_stamps;  // of every sample received
-  std::vector<uint64_t> hashes;  // after every step request
+  std::vector<uint64_t> hashes;                     // after every step request
   std::vector<client::Gap> gaps;
   std::optional<mm::SimulationReply_> hand_reply, hand_repeat;  // the request sent by hand
   uint64_t steps_before_repeat = 0, steps_after_repeat = 0;
@@ -189,7 +194,7 @@ LockstepRun lockstep_run(const std::string& session, bool kill) {
     for (int i = 0; i < 100 && (odometry_reader->matched() == 0 || image_reader->matched() == 0);
          ++i)
       std::this_thread::sleep_for(50ms);  // every stamp from the first step on, in both runs
-    for (int i = 0; i < 40; ++i) {  // at sim time 0 while discovery settles (lockstep_test)
+    for (int i = 0; i < 40; ++i) {        // at sim time 0 while discovery settles (lockstep_test)
       kurt.drive(twist.linear, twist.angular);
       std::this_thread::sleep_for(50ms);
     }
@@ -279,6 +284,154 @@ TEST(Resume, InLockstepTheHashAfterEveryRequestIsAsIfNeverKilled) {
   ChildProcess replay({bin("macsim"), "--replay", path});
   EXPECT_EQ(replay.wait_for_exit(120s), 0) << replay.output();
   EXPECT_NE(replay.output().find("hashes equal"), std::string::npos) << replay.output();
+}
+
+/// Every sample a topic brought, stamp by stamp (ns of sim time), repeats counted.
+class EverySample {
+ public:
+  template <class PubSubType>
+  std::unique_ptr<dds::Reader<PubSubType>> reader(dds::Participant& p, const std::string& topic) {
+    return std::make_unique<dds::Reader<PubSubType>>(
+        p, topic, dds::QosFamily::LockstepSensor, [this](const typename PubSubType::type& m) {
+          const auto& t = m.header().stamp();
+          std::lock_guard<std::mutex> lock(mutex_);
+          stamps_.insert(int64_t{t.sec()} * 1000000000 + t.nanosec());
+        });
+  }
+  std::multiset<int64_t> stamps() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stamps_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::multiset<int64_t> stamps_;
+};
+
+struct HeldRun {
+  std::multiset<int64_t> clouds, odometry, scans;
+  std::vector<uint64_t> ends;  // the step count after each request
+  double step_size = 0;
+  std::string output;
+};
+
+/// The small room in lock-step (1 ms steps), its laser turning (a cloud every 2 s of sim time):
+/// a request of 500 steps, then eight of 1500 steps that ask for their data at their end
+/// (STEP_PUBLISH_AT_END), each so holding one cloud at most.
+/// With `kill_at` > 0 macsim kills itself after that many steps (--kill-at-step, SIGKILL: a
+/// deterministic kill point) and is started again on its session (--resume).
+HeldRun held_run(const std::string& session, uint64_t kill_at) {
+  const int domain = unique_test_domain();
+  std::vector<std::string> args{bin("macsim"),
+                                "--world",
+                                source("worlds/small_room.xml"),
+                                "--domain",
+                                std::to_string(domain),
+                                "--lockstep",
+                                "--cameras",
+                                "off",
+                                "--session-hash-every",
+                                "10",
+                                "--resume",
+                                session};
+  std::vector<std::string> first = args;
+  if (kill_at > 0) first.insert(first.end(), {"--kill-at-step", std::to_string(kill_at)});
+  auto macsim = std::make_unique<ChildProcess>(first);
+  EXPECT_TRUE(macsim->wait_for_output("stepping on request", 30s)) << macsim->output();
+  HeldRun run;
+  {
+    dds::Participant p({domain, "", "resume_test"});
+    client::SimulationClient sim(p);
+    client::Laser laser(p, "kurt", true, dds::QosFamily::LockstepSensor);
+    EverySample clouds, odometry, scans;
+    auto cloud_reader = clouds.reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType>(
+        p, dds::topics::points("kurt"));
+    auto odometry_reader =
+        odometry.reader<nav_msgs::msg::dds_::Odometry_PubSubType>(p, dds::topics::odom("kurt"));
+    auto scan_reader = scans.reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>(
+        p, dds::topics::scan("kurt", true));
+    sim.set_restart_patience(60s);
+    EXPECT_TRUE(sim.wait_for_server(20s));
+    for (int i = 0; i < 100 && !(laser.matched() && cloud_reader->matched() > 0 &&
+                                 odometry_reader->matched() > 0 && scan_reader->matched() > 0);
+         ++i)
+      std::this_thread::sleep_for(50ms);
+    EXPECT_TRUE(laser.rotate(M_PI));  // a turn in 2 s; the first request names the command
+    std::thread killed;
+    std::atomic<bool> requests_done{false};
+    if (kill_at > 0) {
+      killed = std::thread([&] {
+        // Killed by itself at the step asked for; started again on its session.
+        EXPECT_EQ(macsim->wait_for_exit(120s), 128 + SIGKILL) << macsim->output();
+        run.output += macsim->output();
+        macsim = std::make_unique<ChildProcess>(args);
+        EXPECT_TRUE(macsim->wait_for_output("stepping on request", 60s)) << macsim->output();
+        // A child dies with the thread that started it (its parent-death signal): this one
+        // lives until the requests are done.
+        while (!requests_done.load()) std::this_thread::sleep_for(20ms);
+      });
+    }
+    for (int k = 0; k < 9; ++k) {
+      const auto reply = sim.call(
+          client::step_until::request(k == 0 ? 500 : 1500, 0, k == 0 ? 0 : mm::STEP_PUBLISH_AT_END),
+          90s);
+      EXPECT_TRUE(reply && reply->code() == mm::ERR_OK)
+          << "request " << k << ": " << client::describe(sim.last_outcome(), "step");
+      if (!reply) break;
+      run.ends.push_back(reply->steps());
+      run.step_size = reply->sim_time() / static_cast<double>(reply->steps());
+    }
+    requests_done.store(true);
+    if (killed.joinable()) killed.join();
+    std::this_thread::sleep_for(500ms);  // the last request's data is in before its reply, and
+                                         // nothing comes after it
+    run.clouds = clouds.stamps();
+    run.odometry = odometry.stamps();
+    run.scans = scans.stamps();
+  }
+  macsim->signal(SIGINT);
+  EXPECT_EQ(macsim->wait_for_exit(30s), 0) << macsim->output();
+  run.output += macsim->output();
+  return run;
+}
+
+// A step request that holds its data for its end (as every lock-step controller asks), its
+// simulator killed at a chosen step inside it after a cloud was made and a hash recorded: the
+// resumed simulator sends exactly what the killed one owed, that cloud too, each sample once
+// and with the stamp a run never killed gave it.
+TEST(Resume, AHeldRequestKilledInsideItDeliversEveryReadingOnceWithTheStampOfARunNeverKilled) {
+  const TempDir dir("macsim_resume_");
+  const HeldRun reference = held_run(dir.path() + "/reference.session", 0);
+  ASSERT_EQ(reference.ends.size(), 9u) << reference.output;
+  ASSERT_GT(reference.step_size, 0.0);
+  // The kill point: 25 steps after a cloud made inside a request, at least 30 steps before its
+  // end, so that the session has a hash after the cloud (every 10 steps) and no newer cloud
+  // comes before the request's end to stand in for it.
+  uint64_t kill_at = 0;
+  int64_t owed = 0;
+  for (const int64_t stamp : reference.clouds) {
+    const auto made = static_cast<uint64_t>(std::llround(stamp * 1e-9 / reference.step_size));
+    for (std::size_t k = 1; k < reference.ends.size() && kill_at == 0; ++k) {
+      if (made > reference.ends[k - 1] + 5 && made + 55 < reference.ends[k]) {
+        kill_at = made + 25;
+        owed = stamp;
+      }
+    }
+    if (kill_at) break;
+  }
+  ASSERT_GT(kill_at, 0u) << "no cloud in the middle of a request: " << reference.clouds.size()
+                         << " clouds";
+  const HeldRun killed = held_run(dir.path() + "/killed.session", kill_at);
+  ASSERT_EQ(killed.ends, reference.ends) << killed.output;
+  EXPECT_NE(killed.output.find("goes on from step"), std::string::npos) << killed.output;
+  EXPECT_EQ(killed.clouds.count(owed), 1u)
+      << "the cloud made at " << owed * 1e-9 << " s, before the kill at step " << kill_at;
+  EXPECT_EQ(killed.clouds, reference.clouds);
+  EXPECT_EQ(killed.odometry, reference.odometry);
+  EXPECT_EQ(killed.scans, reference.scans);
+  for (const auto* seen : {&reference.clouds, &reference.odometry})
+    EXPECT_EQ(std::set<int64_t>(seen->begin(), seen->end()).size(), seen->size())
+        << "a sample came twice";
 }
 
 /// The state hash of the world a session (cut or not) leaves after its last record, replayed

@@ -210,7 +210,7 @@ TEST_F(DemonstratorSession, ADamagedOrOtherVersionFileIsRefused) {
   Replay r = replay(other);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(
-      r.output.find(other + ":1: session format version 99; this macsim reads versions 1 to 5"),
+      r.output.find(other + ":1: session format version 99; this macsim reads versions 1 to 6"),
       std::string::npos)
       << r.output;
   const std::string cut = dir_->path() + "/cut.session";
@@ -227,6 +227,39 @@ TEST_F(DemonstratorSession, ADamagedOrOtherVersionFileIsRefused) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("not a session record"), std::string::npos) << r.output;
   EXPECT_EQ(replay(dir_->path() + "/missing.session").exit_code, 2);
+}
+
+// A session names the wire types it was written with; one of other types (an IDL type changed
+// since) is refused at once by replay, resume and compare, naming both, before any byte of it is
+// decoded.
+TEST_F(DemonstratorSession, ASessionOfOtherWireTypesIsRefusedNamingBoth) {
+  const std::string text = read_text(path_);
+  const std::size_t line = text.find("\nwire-types ") + 1;
+  ASSERT_NE(line, 0u) << text.substr(0, 300);
+  const std::size_t end = text.find('\n', line);
+  const std::string ours = text.substr(line + 11, end - line - 11);
+  ASSERT_EQ(ours.size(), 16u) << ours;
+  const std::string theirs = ours == "0123456789abcdef" ? "fedcba9876543210" : "0123456789abcdef";
+  std::string changed = text;
+  changed.replace(line + 11, ours.size(), theirs);
+  const std::string other = dir_->path() + "/other_types.session";
+  std::ofstream(other) << changed;
+  const std::string said =
+      other + ": recorded with wire types " + theirs + ", this macsim's are " + ours;
+  Replay r = replay(other);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--compare", path_, other},
+        std::vector<std::string>{"--resume", other, "--domain",
+                                 std::to_string(unique_test_domain())}}) {
+    std::vector<std::string> command{bin("macsim")};
+    command.insert(command.end(), args.begin(), args.end());
+    ChildProcess macsim(command);
+    EXPECT_EQ(macsim.wait_for_exit(30s), 2) << args.front() << ": " << macsim.output();
+    EXPECT_NE(macsim.output().find(said), std::string::npos)
+        << args.front() << ": " << macsim.output();
+  }
 }
 
 TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {

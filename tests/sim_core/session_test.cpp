@@ -233,22 +233,23 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   const std::string bad = dir.path() + "/bad.session";
   // Another version.
   std::string other = good;
-  other.replace(0, good.find('\n'), "macsim-session 6");
+  other.replace(0, good.find('\n'), "macsim-session 7");
   EXPECT_NE(refusal(bad, other)
-                .find(bad + ":1: session format version 6; this macsim reads "
-                            "versions 1 to 5"),
+                .find(bad + ":1: session format version 7; this macsim reads "
+                            "versions 1 to 6"),
             std::string::npos)
       << refusal(bad, other);
   // Cut short: half of it, ending inside a line.
   const std::string half = good.substr(0, good.size() / 2);
   EXPECT_NE(refusal(bad, half).find("cut short"), std::string::npos) << refusal(bad, half);
-  // A line whose hash is not hex, on line 9 (the first hash, after a header of 8).
+  // A line whose hash is not hex, on line 10 (the first hash, after a header of 9).
   std::string garbled = good;
   std::size_t at = 0;
-  for (int line = 1; line < 9; ++line) at = garbled.find('\n', at) + 1;
+  for (int line = 1; line < 10; ++line) at = garbled.find('\n', at) + 1;
   ASSERT_EQ(garbled.substr(at, 2), "h ");
   garbled.replace(garbled.find(' ', at + 2) + 1, 1, "z");
-  EXPECT_NE(refusal(bad, garbled).find(bad + ":9: a hash must be 16 hex digits"), std::string::npos)
+  EXPECT_NE(refusal(bad, garbled).find(bad + ":10: a hash must be 16 hex digits"),
+            std::string::npos)
       << refusal(bad, garbled);
   // A line lost: the closing line's counts say so.
   std::string lost = good;
@@ -264,7 +265,7 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
       << refusal(bad, "macsim-session 1\nend 0 0 0\n");
   const std::string header = good.substr(0, good.find("\nh 0 ") + 1);
   EXPECT_NE(refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n")
-                .find(":9: a command's values must be finite numbers; got 'nan'"),
+                .find(":10: a command's values must be finite numbers; got 'nan'"),
             std::string::npos)
       << refusal(bad, header + "c 3 robot twist kurt nan,0.1 -\nend 3 1 0\n");
   std::string seed = good;
@@ -275,7 +276,7 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   std::string no_overlaps = good;
   no_overlaps.erase(no_overlaps.find("overlaps parted\n"), 16);
   EXPECT_NE(refusal(bad, no_overlaps)
-                .find(":8: the header needs its 'overlaps' line(s) before any record"),
+                .find(":9: the header needs its 'overlaps' line(s) before any record"),
             std::string::npos)
       << refusal(bad, no_overlaps);
   // Version 4 must give the settings that change results.
@@ -285,13 +286,21 @@ TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
       no_settings.find("snapshots "),
       no_settings.find('\n', no_settings.find("snapshots ")) + 1 - no_settings.find("snapshots "));
   EXPECT_NE(refusal(bad, no_settings)
-                .find(":7: the header needs its 'strict', 'snapshots' line(s) before any record"),
+                .find(":8: the header needs its 'strict', 'snapshots' line(s) before any record"),
             std::string::npos)
       << refusal(bad, no_settings);
   std::string no_limit = good;
   no_limit.replace(no_limit.find("limits 32"), 9, "limits 0");
   EXPECT_NE(refusal(bad, no_limit).find(":7: each limit must be 1 or more"), std::string::npos)
       << refusal(bad, no_limit);
+  // Version 6 must name the wire types its bytes were written with.
+  std::string no_types = good;
+  no_types.erase(no_types.find("wire-types "), no_types.find('\n', no_types.find("wire-types ")) +
+                                                   1 - no_types.find("wire-types "));
+  EXPECT_NE(refusal(bad, no_types)
+                .find(":9: the header needs its 'wire-types' line(s) before any record"),
+            std::string::npos)
+      << refusal(bad, no_types);
   std::string odd = good;
   odd.replace(odd.find("overlaps parted"), 15, "overlaps maybe");
   EXPECT_NE(refusal(bad, odd).find(":5: overlaps must be 'parted' or 'kept'; got 'maybe'"),
@@ -459,6 +468,86 @@ TEST(Session, TheHeaderSaysWhetherOverlapsWerePartedAndAVersion1FileReadsAsKept)
   EXPECT_EQ(session.hashes.size(), read_session(path).hashes.size());
 }
 
+// A session names the wire types its bytes were written with, as its recorder gave them; one of
+// format 5, before sessions named them, reads as naming none.
+TEST(Session, TheHeaderNamesTheWireTypesAndAVersion5FileNamesNone) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/typed.session";
+  SessionHeader typed = header(kWorld, 50);
+  typed.wire_types = "0123456789abcdef";
+  {
+    SessionWriter writer(path, typed);
+    writer.finish(0);
+  }
+  EXPECT_NE(read_text(path).find("\nwire-types 0123456789abcdef\n"), std::string::npos)
+      << read_text(path);
+  EXPECT_EQ(read_session(path).header.wire_types, "0123456789abcdef");
+  const std::string untyped = dir.path() + "/untyped.session";
+  {
+    SessionWriter writer(untyped, header(kWorld, 50));
+    writer.finish(0);
+  }
+  EXPECT_NE(read_text(untyped).find("\nwire-types -\n"), std::string::npos) << read_text(untyped);
+  EXPECT_EQ(read_session(untyped).header.wire_types, "");
+  // Format 5 had no such line.
+  std::string v5 = read_text(path);
+  v5.replace(0, v5.find('\n'), "macsim-session 5");
+  v5.erase(v5.find("wire-types "),
+           v5.find('\n', v5.find("wire-types ")) + 1 - v5.find("wire-types "));
+  const std::string old = dir.path() + "/v5.session";
+  write_text(old, v5);
+  EXPECT_EQ(read_session(old).header.wire_types, "");
+  // A version 5 file naming them is refused: the line is not of its format.
+  std::string v5_typed = read_text(path);
+  v5_typed.replace(0, v5_typed.find('\n'), "macsim-session 5");
+  write_text(old, v5_typed);
+  EXPECT_THROW(read_session(old), SessionFileError);
+}
+
+// A robot command's sender (its writer and sample) is written beside it and read back: a resumed
+// simulator knows which samples the killed one took (a step request may name them).
+TEST(Session, ARobotCommandsSenderIsWrittenAndReadBack) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/senders.session";
+  Command sent = robot_command("kurt", robot::Twist{0.2, 0.1});
+  Sender sender;
+  for (std::size_t k = 0; k < sender.id.size(); ++k) sender.id[k] = static_cast<uint8_t>(k * 17);
+  sender.sequence = 42;
+  sent.sent_by = sender;
+  {
+    SessionWriter writer(path, header(kWorld, 50));
+    writer.command(0, sent);
+    writer.command(3, robot_command("kurt", robot::Twist{0.0, 0.0}));  // a sender not known
+    writer.finish(5);
+  }
+  const std::string text = read_text(path);
+  EXPECT_NE(text.find(" - 00112233445566778899aabbccddeeff:42\n"), std::string::npos) << text;
+  const Session session = read_session(path);
+  ASSERT_EQ(session.commands.size(), 2u);
+  ASSERT_TRUE(session.commands[0].command.sent_by.has_value());
+  EXPECT_EQ(session.commands[0].command.sent_by->id, sender.id);
+  EXPECT_EQ(session.commands[0].command.sent_by->sequence, 42u);
+  EXPECT_FALSE(session.commands[1].command.sent_by.has_value());
+  // A sender that is not one, or one in a version 5 file, is refused by line.
+  std::string bad_text = text;
+  bad_text.replace(bad_text.find("ff:42"), 5, "f:42");
+  const std::string bad = dir.path() + "/bad.session";
+  write_text(bad, bad_text);
+  EXPECT_THROW(read_session(bad), SessionFileError);
+  std::string v5 = text;
+  v5.replace(0, v5.find('\n'), "macsim-session 5");
+  v5.erase(v5.find("wire-types "),
+           v5.find('\n', v5.find("wire-types ")) + 1 - v5.find("wire-types "));
+  write_text(bad, v5);
+  try {
+    read_session(bad);
+    ADD_FAILURE() << "a version 5 file with a sender was read";
+  } catch (const SessionFileError& e) {
+    EXPECT_NE(std::string(e.what()).find(bad + ":9: not a session record"), std::string::npos)
+        << e.what();
+  }
+}
+
 // A lock-step controller's step requests that hold the robots' commands run one command a
 // step: a run of them is one record, ended by a hash or another command, and reads back as one
 // command a step in the order they ran.
@@ -490,7 +579,7 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
                           "\nk 150 199 kurt\n", "\nk 200 249\nend 250 251 3\n"}) {
     EXPECT_NE(text.find(run), std::string::npos) << run << " in\n" << text;
   }
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 18) << text;  // header 8, h 3, k 5, c, end
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 19) << text;  // header 9, h 3, k 5, c, end
   const Session session = read_session(path);
   // A run is one record in memory too (a file of a few bytes may name millions of steps).
   EXPECT_EQ(session.commands.size(), 6u);                 // 5 runs and the twist
@@ -514,9 +603,9 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
   // A run that ends before it starts, or longer than a run may be, is refused by line.
   for (const auto& [from, to, says] :
        std::vector<std::tuple<std::string, std::string, std::string>>{
-           {"k 121 149", "k 149 121", ":14: a run ends before it starts"},
-           {"k 121 149", "k 121 99999999999", ":14: a run of more than 10000000 steps"},
-           {"k 121 149", "k 12x 149", ":14: a run's first step must be a whole number"}}) {
+           {"k 121 149", "k 149 121", ":15: a run ends before it starts"},
+           {"k 121 149", "k 121 99999999999", ":15: a run of more than 10000000 steps"},
+           {"k 121 149", "k 12x 149", ":15: a run's first step must be a whole number"}}) {
     std::string bad_text = text;
     bad_text.replace(bad_text.find(from), from.size(), to);
     const std::string bad = dir.path() + "/bad.session";

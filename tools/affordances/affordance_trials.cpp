@@ -231,10 +231,10 @@ int merge(int argc, char** argv) {
       known = columns == csv_header(*affordance_from_name(affordance_name));
     if (!known || (!header.empty() && columns != header)) {
       log::error("affordance_trials merge: {}{} (its header: {}...)", path,
-                 known                    ? " has other columns than the files before it"
-                 : affordance_name.empty() ? " has other columns than this version writes"
-                                           : " has other columns than " + affordance_name +
-                                                 " rows (--affordance)",
+                 known ? " has other columns than the files before it"
+                 : affordance_name.empty()
+                     ? " has other columns than this version writes"
+                     : " has other columns than " + affordance_name + " rows (--affordance)",
                  columns.substr(0, 120));
       return 2;
     }
@@ -413,9 +413,13 @@ int main(int argc, char** argv) {
   cli.option("camera-rate", "HZ",
              "camera rate of the simulators (default 1.25: a pair at the perception instant)",
              &camera_rate);
-  cli.option("timeout", "SECONDS", "an instance whose participant left is lost after this long (wall time); one still matched but silent, after six times it (default 10)",
+  cli.option("timeout", "SECONDS",
+             "an instance whose participant left is lost after this long (wall time); one still "
+             "matched but silent, after six times it (default 10)",
              &timeout);
-  cli.option("logs", "DIR", "logs of the started simulators (default a fresh /tmp directory, removed after a run where no instance was lost and no trial refused)",
+  cli.option("logs", "DIR",
+             "logs of the started simulators (default a fresh /tmp directory, removed after a run "
+             "where no instance was lost and no trial refused)",
              &log_dir);
   cli.option("repeat", "R", "run every trial R times and check the rows are identical (default 1)",
              &repeat);
@@ -498,8 +502,7 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeat; ++r) todo.push_back(spec);
   }
   const int already = wanted - static_cast<int>(todo.size()) / repeat;
-  if (already > 0)
-    log::info("affordance_trials: {} trials already in {}", already, out);
+  if (already > 0) log::info("affordance_trials: {} trials already in {}", already, out);
 
   // The file as it stands (a row cut short by a kill is dropped), then a row per trial done.
   {
@@ -595,9 +598,10 @@ int main(int argc, char** argv) {
     if (sorted) std::filesystem::rename(temporary, out, error);
     if (!sorted || error) {
       std::filesystem::remove(temporary, error);
-      log::warn("affordance_trials: cannot write the sorted rows; {} keeps them in the order they "
-                "came",
-                out);
+      log::warn(
+          "affordance_trials: cannot write the sorted rows; {} keeps them in the order they "
+          "came",
+          out);
     }
   }
   std::map<std::string, int> labels;
@@ -632,10 +636,17 @@ int main(int argc, char** argv) {
   if (summary.reconnects > 0)
     std::printf("affordance_trials: %d reconnection(s) to a simulator lost while it still ran\n",
                 summary.reconnects);
+  if (summary.restarts > 0)
+    std::printf(
+        "affordance_trials: %d simulator(s) started again after they died; the trials "
+        "under way played again from their reset\n",
+        summary.restarts);
   if (summary.lost_instances > 0)
     std::printf("affordance_trials: %d instance(s) lost; their trials ran elsewhere\n",
                 summary.lost_instances);
-  const bool clean = summary.lost_instances == 0 && summary.not_run.empty() && summary.failed == 0;
+  // The logs of a run whose simulators died or were lost are kept, so that it can be understood.
+  const bool clean = summary.lost_instances == 0 && summary.restarts == 0 &&
+                     summary.not_run.empty() && summary.failed == 0;
   if (temporary_logs && !todo.empty()) {
     std::error_code ignored;
     if (clean)

@@ -17,6 +17,8 @@ namespace {
 
 /// Times a lost simulator of this run that still runs is connected to again.
 constexpr int kReconnects = 3;
+/// Times a simulator of this run whose process died is started again.
+constexpr int kRestarts = 3;
 
 /// The last `lines` lines of a text file (or what there is).
 std::string log_tail(const std::string& file, std::size_t lines) {
@@ -88,26 +90,37 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
       std::lock_guard<std::mutex> lock(report);
       macsim::log::warn("\naffordance_trials: instance {} (domain {}): {}", index, domain, text);
     };
-    try {
-      if (options_.attach.empty()) {
-        std::vector<std::string> argv{macsim::process::sibling_program("macsim"),
-                                      "--world",
-                                      options_.world,
-                                      "--domain",
-                                      std::to_string(domain),
-                                      "--lockstep",
-                                      "--cameras",
-                                      options_.cameras,
-                                      "--camera-rate",
-                                      std::to_string(options_.instance.camera_rate)};
-        if (!options_.instance.profile.empty()) {
-          argv.insert(argv.end(), {"--profile", options_.instance.profile});
-        }
-        macsim::process::Options output;
-        output.output = macsim::process::Output::file(options_.log_dir + "/macsim_domain_" +
-                                                      std::to_string(domain) + ".log");
-        simulator = std::make_unique<macsim::process::ChildProcess>(argv, output);
+    // A simulator of this run, started (again: `start` > 0) with its log in a file of its own.
+    auto start_simulator = [&](int start) {
+      std::vector<std::string> argv{macsim::process::sibling_program("macsim"),
+                                    "--world",
+                                    options_.world,
+                                    "--domain",
+                                    std::to_string(domain),
+                                    "--lockstep",
+                                    "--cameras",
+                                    options_.cameras,
+                                    "--camera-rate",
+                                    std::to_string(options_.instance.camera_rate)};
+      if (!options_.instance.profile.empty()) {
+        argv.insert(argv.end(), {"--profile", options_.instance.profile});
       }
+      macsim::process::Options output;
+      output.output = macsim::process::Output::file(
+          options_.log_dir + "/macsim_domain_" + std::to_string(domain) +
+          (start > 0 ? ".restart" + std::to_string(start) : "") + ".log");
+      simulator.reset();  // a dead one reaped before its domain is taken again
+      simulator = std::make_unique<macsim::process::ChildProcess>(argv, output);
+    };
+    // How a simulator of ours ended, with its last words.
+    auto how_it_ended = [&] {
+      return "the simulator ended with exit code " +
+             std::to_string(simulator->wait_for_exit(std::chrono::milliseconds(0)).value_or(-1)) +
+             "; the end of " + simulator->output_path() + ":\n" +
+             log_tail(simulator->output_path(), 20);
+    };
+    try {
+      if (options_.attach.empty()) start_simulator(0);
       InstanceOptions o = options_.instance;
       o.domain = domain;
       // Connects and plays trials until none is left; throws InstanceLost, its trial given back.
@@ -137,29 +150,36 @@ PoolSummary TrialPool::run(const std::vector<TrialSpec>& trials,
         }
       };
       // A simulator of ours lost while its process still runs (unmatched or silent under a
-      // heavy load) is connected to again, a few times: its trials start over from their reset.
-      for (int reconnects = 0;; ++reconnects) {
+      // heavy load) is connected to again, one whose process died is started again, a few
+      // times each: the trial under way starts over from its reset.
+      for (int reconnects = 0, restarts = 0;;) {
         try {
           play_trials();
           break;
         } catch (const InstanceLost& e) {
-          if (!simulator || !simulator->running() || reconnects == kReconnects) throw;
-          say(std::string("lost: ") + e.what() + "; its simulator still runs: connecting again (" +
-              std::to_string(reconnects + 1) + " of " + std::to_string(kReconnects) + ")");
+          if (!simulator) throw;  // attached to: not ours to start again
+          if (simulator->running()) {
+            if (reconnects == kReconnects) throw;
+            say(std::string("lost: ") + e.what() +
+                "; its simulator still runs: connecting again (" + std::to_string(++reconnects) +
+                " of " + std::to_string(kReconnects) + ")");
+            std::lock_guard<std::mutex> lock(report);
+            ++summary.reconnects;
+            continue;
+          }
+          if (restarts == kRestarts) throw;
+          say(std::string("lost: ") + e.what() + " (" + how_it_ended() +
+              "); starting its simulator again (" + std::to_string(++restarts) + " of " +
+              std::to_string(kRestarts) + "): the trial under way plays again from its reset");
+          start_simulator(restarts);
           std::lock_guard<std::mutex> lock(report);
-          ++summary.reconnects;
+          ++summary.restarts;
         }
       }
     } catch (const std::exception& e) {
-      std::string ended;
-      if (simulator && !simulator->running()) {
-        // How it ended and its last words, so that a lost instance can be understood later.
-        ended =
-            " (the simulator ended with exit code " +
-            std::to_string(simulator->wait_for_exit(std::chrono::milliseconds(0)).value_or(-1)) +
-            "; the end of " + simulator->output_path() + ":\n" +
-            log_tail(simulator->output_path(), 20) + ")";
-      }
+      // How it ended and its last words, so that a lost instance can be understood later.
+      const std::string ended =
+          simulator && !simulator->running() ? " (" + how_it_ended() + ")" : "";
       say(std::string("lost: ") + e.what() + ended + "; its trials go to the other instances");
       std::lock_guard<std::mutex> lock(report);
       ++summary.lost_instances;

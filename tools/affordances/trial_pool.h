@@ -1,6 +1,8 @@
 // Trials spread over K lock-step simulators: started here (one macsim per DDS domain) or
 // attached to (already running, on this host or another). Each instance has a worker that takes
-// the next trial; an instance that stops answering is dropped and its trial goes to another.
+// the next trial. A simulator started here that stops answering is connected to again while its
+// process runs and started again when it died (its trial played again from its reset); an
+// instance lost for good is dropped and its trial goes to another.
 #pragma once
 
 #include <functional>
@@ -27,6 +29,7 @@ struct PoolSummary {
   int done = 0;
   int lost_instances = 0;
   int reconnects = 0;              ///< to simulators of this run lost while still running
+  int restarts = 0;                ///< simulators of this run started again after they died
   int failed = 0;                  ///< trials refused by the simulator (not retried)
   std::vector<TrialSpec> not_run;  ///< every instance was lost before these ran
 };

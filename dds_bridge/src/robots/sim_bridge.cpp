@@ -119,13 +119,8 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     node.frame_prefix = frames;
     node.cmd_vel_stamped = options_.cmd_vel_stamped;
     node.sensors = sensors;
-    auto topics = std::make_unique<RobotTopics>(participant, runner, name, node, options_.camera_rate);
-    // Resumed after a step since the world's time was last set: the killed process published
-    // the readings so far, each stamped when it went out (again now, they would go out as new
-    // ones stamped now); they are the newest a step request's conditions look at. Resumed
-    // before one: the first read takes everything, as the killed process's would have.
-    const World& world = runner.world();
-    if (options_.resumed && world.steps() > world.time_origin().step) topics->node.prime();
+    auto topics =
+        std::make_unique<RobotTopics>(participant, runner, name, node, options_.camera_rate);
     const auto stereo = robot->cameras();  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
@@ -167,7 +162,32 @@ void SimBridge::poll_commands() {
   for (auto& t : robots_) t->node.poll_commands();
 }
 
-void SimBridge::publish() {
+void SimBridge::publish() { publish_step(false); }
+
+void SimBridge::replayed_step(bool held) {
+  if (!held) {
+    replayed_unread_ = true;
+    return;
+  }
+  take_replayed_as_read();  // what came before the request went out with the killed process
+  publish_step(true);
+}
+
+void SimBridge::caught_up() { take_replayed_as_read(); }
+
+void SimBridge::take_replayed_as_read() {
+  if (!replayed_unread_) return;
+  replayed_unread_ = false;
+  // The killed process published these readings, each stamped when it went out (again now,
+  // they would go out as new ones stamped now); they are the newest a step request's conditions
+  // look at. Replayed to a step that set the world's time: the first read takes everything, as
+  // the killed process's would have.
+  const World& world = runner_.world();
+  if (world.steps() <= world.time_origin().step) return;
+  for (auto& t : robots_) t->node.prime();
+}
+
+void SimBridge::publish_step(bool replayed) {
   World& world = runner_.world();
   const double now = world.time();
   const World::TimeOrigin origin = world.time_origin();
@@ -188,7 +208,7 @@ void SimBridge::publish() {
   }
   // A controller's request may ask for its data only at its end (it reads nothing before).
   const StepRequest* request = runner_.step_request();
-  const bool hold = request && request->publish_at_end;
+  const bool hold = replayed || (request && request->publish_at_end);
   if (clock_instants_.due(now)) {
     held_clock_.emplace();
     held_clock_->clock(dds::to_time(now));
@@ -196,7 +216,9 @@ void SimBridge::publish() {
   if (!hold) flush_clock();
   for (auto& topics : robots_) {
     topics->node.publish(hold);
-    publish_cameras(*topics, now, !request || request->cameras);
+    // A replayed step's camera instants were rendered and sent by the killed process: their
+    // schedule goes on, nothing is rendered.
+    publish_cameras(*topics, now, !replayed && (!request || request->cameras));
   }
 }
 

@@ -23,7 +23,6 @@ struct BridgeOptions {
   bool robot_frames = false;        ///< frame ids start with "<robot>/" (several robots, one tree)
   bool cmd_vel_stamped = false;     ///< cmd_vel as geometry_msgs/TwistStamped
   bool lockstep = false;            ///< sensor data sent reliably (QosFamily::LockstepSensor)
-  bool resumed = false;  ///< the world was resumed: what its robots read so far went out already
 };
 
 /// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's
@@ -42,6 +41,14 @@ class SimBridge {
   void publish();
   /// Writes what publish() kept back (a step request's end).
   void flush();
+  /// A step a resumed simulator replayed from its session, before serving (the steps of the
+  /// run the killed process made). `held`: inside a step request that wanted its data at its
+  /// end, which the killed process kept back and never wrote: what the robots read is kept
+  /// back again, the newest of each with the stamp it had, for that request's end. Otherwise
+  /// what they read went out with the killed process: it is taken as read, and sent no more.
+  void replayed_step(bool held);
+  /// The replay is over (after the last replayed_step()).
+  void caught_up();
   /// The newest readings a robot published (empty name: the first robot), or nullptr.
   const robot::Readings* latest_readings(const std::string& robot) const;
   /// Blocks until every camera image submitted so far is rendered and written (lock-step: the
@@ -59,14 +66,19 @@ class SimBridge {
   struct RobotTopics;
   void publish_cameras(RobotTopics& topics, double now, bool render);
   void flush_clock();
+  /// publish(); `replayed`: a held step replayed (replayed_step()): kept back, nothing rendered.
+  void publish_step(bool replayed);
+  /// What the robots read in the replayed steps not held is taken as read (RobotNode::prime()).
+  void take_replayed_as_read();
 
   Runner& runner_;
   BridgeOptions options_;
   Schedule clock_instants_{100.0};  // /clock at 100 Hz of sim time
   bool started_ = false;            // the schedules run
   std::optional<rosgraph_msgs::msg::dds_::Clock_> held_clock_;
-  uint64_t generation_ = 0;   // of the world whose schedules run
-  uint64_t time_origins_ = 0;  // World::time_origin().count the schedules started at
+  uint64_t generation_ = 0;       // of the world whose schedules run
+  uint64_t time_origins_ = 0;     // World::time_origin().count the schedules started at
+  bool replayed_unread_ = false;  // steps were replayed whose readings went out with the killed run
   struct Clock;
   std::unique_ptr<Clock> clock_;
   std::vector<std::unique_ptr<RobotTopics>> robots_;

@@ -59,37 +59,35 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread. A repeat of a
   // request still running gets its progress (RequestProgress) and is not queued again.
-  service_.open(
-      participant, {dds::topics::kSimulationRequest, dds::topics::kSimulationReply},
-      [this, command](const Request& r, const dds::RequestId&) {
-        const auto asked = [steps = r.command() == mm::SIM_STEP ? r.steps() : 0](Reply& p) {
-          p.steps_asked(steps);
-        };
-        if (!progress_.begin(r, waiting_text(r), asked)) return;
-        if (r.command() != mm::SIM_LOAD_WORLD) {
-          if (!runner_.push(command(nullptr, r))) refuse_full(r);
-          return;
-        }
-        if (load_seen(r)) {
-          // Sent again: never load twice; answer again if the load was answered.
-          const bool pushed = runner_.push(command("answer_repeated_load", r));
-          if (!pushed) refuse_full(r);
-          return;
-        }
-        const LoadQueued queued = queue_world_load(
-            runner_, limits_, {r.world_file(), ""},
-            [this, r](const LoadOutcome& outcome) {
-              send(reply_to(r, codec::error_code(outcome.code), outcome.error));
-            },
-            codec::senders(r.commands_sent()));
-        if (queued == LoadQueued::QueueFull) {
-          forget_load(r);  // not loaded: a repeat may try again
-          refuse_full(r);
-        } else if (queued == LoadQueued::LoadRunning) {
-          const bool pushed = runner_.push(command("answer_load_running", r));
-          if (!pushed) refuse_full(r);
-        }
-      });
+  service_.open(participant, {dds::topics::kSimulationRequest, dds::topics::kSimulationReply},
+                [this, command](const Request& r, const dds::RequestId&) {
+                  const auto asked = [steps = r.command() == mm::SIM_STEP ? r.steps() : 0](
+                                         Reply& p) { p.steps_asked(steps); };
+                  if (!progress_.begin(r, waiting_text(r), asked)) return;
+                  if (r.command() != mm::SIM_LOAD_WORLD) {
+                    if (!runner_.push(command(nullptr, r))) refuse_full(r);
+                    return;
+                  }
+                  if (load_seen(r)) {
+                    // Sent again: never load twice; answer again if the load was answered.
+                    const bool pushed = runner_.push(command("answer_repeated_load", r));
+                    if (!pushed) refuse_full(r);
+                    return;
+                  }
+                  const LoadQueued queued = queue_world_load(
+                      runner_, limits_, {r.world_file(), ""},
+                      [this, r](const LoadOutcome& outcome) {
+                        send(reply_to(r, codec::error_code(outcome.code), outcome.error));
+                      },
+                      codec::senders(r.commands_sent()));
+                  if (queued == LoadQueued::QueueFull) {
+                    forget_load(r);  // not loaded: a repeat may try again
+                    refuse_full(r);
+                  } else if (queued == LoadQueued::LoadRunning) {
+                    const bool pushed = runner_.push(command("answer_load_running", r));
+                    if (!pushed) refuse_full(r);
+                  }
+                });
 }
 
 void SimulationServer::refuse_full(const Request& q) {
@@ -254,23 +252,46 @@ void SimulationServer::send(const Reply& reply, bool query) {
   service_.reply(reply);
 }
 
-void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
-  std::optional<Reply> last;
-  // By client and sequence number: the step request taken, and whether it was answered.
-  std::map<std::pair<std::string, uint64_t>, std::pair<RecordedRequest, bool>> taken;
+std::vector<SimulationServer::Begun> SimulationServer::begun(
+    const std::vector<RecordedRequest>& requests) {
+  // By client and sequence number: the request taken, in the order taken.
+  std::map<std::pair<std::string, uint64_t>, std::size_t> taken;
+  std::vector<std::optional<Begun>> in_order;
   for (const auto& recorded : requests) {
     if (recorded.service != kSessionService) continue;
     if (recorded.kind == RecordedRequest::Kind::Taken) {
-      const auto q = dds::from_wire<mm::SimulationRequest_PubSubType>(recorded.bytes);
-      if (q) taken[{q->client_id(), q->sequence_number()}] = {recorded, false};
-      continue;
+      if (const auto q = dds::from_wire<mm::SimulationRequest_PubSubType>(recorded.bytes)) {
+        // Taken again (a resumed run going on with it): the one taken last is the one begun.
+        auto [t, added] = taken.try_emplace({q->client_id(), q->sequence_number()}, 0);
+        uint64_t first = recorded.step;
+        if (!added && in_order[t->second]) {
+          first = in_order[t->second]->first_step;
+          in_order[t->second].reset();
+        }
+        t->second = in_order.size();
+        in_order.push_back(Begun{recorded.step, first, *q});
+      }
+    } else if (const auto reply = dds::from_wire<mm::SimulationReply_PubSubType>(recorded.bytes)) {
+      if (auto t = taken.find({reply->client_id(), reply->sequence_number()}); t != taken.end())
+        in_order[t->second].reset();  // answered
     }
+  }
+  std::vector<Begun> out;
+  for (auto& each : in_order) {
+    if (each) out.push_back(std::move(*each));
+  }
+  return out;
+}
+
+void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
+  std::optional<Reply> last;
+  for (const auto& recorded : requests) {
+    if (recorded.service != kSessionService || recorded.kind == RecordedRequest::Kind::Taken)
+      continue;
     const auto reply = dds::from_wire<mm::SimulationReply_PubSubType>(recorded.bytes);
     if (!reply) continue;
     replied_.remember(*reply);
     remember_load(reply->client_id(), reply->sequence_number());
-    if (auto t = taken.find({reply->client_id(), reply->sequence_number()}); t != taken.end())
-      t->second.second = true;
     last = reply;
   }
   if (last) {  // the run as its last answer left it
@@ -281,24 +302,22 @@ void SimulationServer::resume(const std::vector<RecordedRequest>& requests) {
     }
     (void)runner_.set_real_time_factor(last->real_time_factor());
   }
-  for (const auto& [id, entry] : taken) {
-    const auto& [recorded, answered] = entry;
-    if (answered) continue;
-    auto q = *dds::from_wire<mm::SimulationRequest_PubSubType>(recorded.bytes);
+  for (Begun& each : begun(requests)) {
+    const uint64_t step = each.step;
+    Request& q = each.request;
     // Its steps ran and its reply was lost with the process: a repeat is answered at once.
-    const uint64_t done = std::min<uint64_t>(runner_.steps_run() - recorded.step, q.steps());
+    const uint64_t done = std::min<uint64_t>(runner_.steps_run() - step, q.steps());
     log::info(
         "macsim: step request {} of client {}, taken at step {}, goes on from step {} when "
         "its client sends it again ({} of its {} steps left)",
-        q.sequence_number(), q.client_id(), recorded.step, runner_.steps_run(), q.steps() - done,
-        q.steps());
+        q.sequence_number(), q.client_id(), step, runner_.steps_run(), q.steps() - done, q.steps());
     q.steps(q.steps() - done);
     // What it named went to the killed process (the commands took effect there, or come from
     // the session now): this one never hears them.
     q.commands_sent({});
     remember_load(q.client_id(), q.sequence_number());
     // Not at once: its data would go out before the client's readers have found this process.
-    resumable_[id] = q;
+    resumable_[{q.client_id(), q.sequence_number()}] = q;
     // With the set-points it had: its client, not knowing it was begun, sends them again
     // before the repeat, and they must not act in its middle (the first step drops them).
     if (q.steps() > 0) runner_.drop_robot_commands_until_next_step();

@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "macsim/dds/participant.h"
 #include "macsim/msg/macsim_msgsPubSubTypes.h"
@@ -47,6 +48,17 @@ class SimulationServer {
   /// and not answered steps on from where the world is to the end it asked for, once its
   /// client sends it again (its readers then know this process).
   void resume(const std::vector<RecordedRequest>& requests);
+
+  /// A request a session took (began stepping) and never answered: the killed simulator had
+  /// begun it.
+  struct Begun {
+    uint64_t step = 0;  ///< steps run when it was taken (after its first step), last
+    /// The same when it was first taken: a resumed run that goes on with it takes it again.
+    uint64_t first_step = 0;
+    macsim_msgs::msg::dds_::SimulationRequest_ request;  ///< as taken last (its steps left)
+  };
+  /// The requests `requests` (a session's) took and never answered, in the order taken.
+  static std::vector<Begun> begun(const std::vector<RecordedRequest>& requests);
 
  private:
   using Request = macsim_msgs::msg::dds_::SimulationRequest_;

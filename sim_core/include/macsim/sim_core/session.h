@@ -28,9 +28,10 @@ class Runner;
 /// The version of the session format this build writes and reads (its first line).
 /// Version 2 added the header's `overlaps` line, version 3 the `k` record (a run of steps
 /// that held the robots' commands), version 4 the files read (`f`) and the settings (`strict`,
-/// `limits`, `snapshots`), version 5 the requests taken and answered (`r`); versions 1 to 4 are
-/// still read (the files of versions 1 to 3 from the disk).
-inline constexpr int kSessionFormatVersion = 5;
+/// `limits`, `snapshots`), version 5 the requests taken and answered (`r`), version 6 the wire
+/// types its bytes were written with (`wire-types`) and each robot command's sender; versions 1
+/// to 5 are still read (the files of versions 1 to 3 from the disk).
+inline constexpr int kSessionFormatVersion = 6;
 
 /// A session file that cannot be read: names the file and line.
 class SessionFileError : public std::runtime_error {
@@ -52,6 +53,9 @@ struct SessionHeader {
   SnapshotLimits snapshot_limits;  ///< named snapshots kept at most (--max-snapshots, ...)
   /// The file holds the files the run read (version 4): a replay reads nothing else.
   bool self_contained = true;
+  /// The digest of the wire types its requests' and messages' bytes were written with, as the
+  /// recording program named them (version 6); empty: not named (version 5 and older).
+  std::string wire_types;
 };
 
 /// A file the recorded run read, as it read it (the path as it was asked for).
@@ -186,12 +190,15 @@ struct ReplayOutcome {
 using SessionWorldLoader = std::function<std::function<WorldSpec()>(const Command& command)>;
 
 /// Replays a session on a runner built from its header's world, with the executors of its
-/// sources set (the same as a live run's, minus the answers): runs each command at its step,
+/// sources set (the same as a live run's, minus the answers): runs each command at its step
+/// (a robot command's sender noted as arrived: Runner::note_arrival()),
 /// steps, checks each recorded hash, and stops at the first that differs. Each embedded file
 /// goes into `files` (what the runner's data roots read) before the first command recorded
-/// after it.
+/// after it. `after_step` runs after each step it takes (e.g. a resumed simulator's robots
+/// read what the step made).
 ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
-                             MemoryFiles* files = nullptr);
+                             MemoryFiles* files = nullptr,
+                             const std::function<void()>& after_step = {});
 /// Puts the files the session embeds before its first command into `files` (what its first
 /// world is read from).
 void embed_first_files(const Session& session, MemoryFiles& files);

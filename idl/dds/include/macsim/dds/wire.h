@@ -4,11 +4,16 @@
 
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "macsim/dds/participant.h"
 
 namespace macsim::dds {
+
+/// The digest of the wire types a session's recorded bytes are made of (16 hex digits, from the
+/// IDL files at build time: a type, field or annotation changed changes it, a comment does not).
+std::string_view session_wire_types();
 
 /// The sample's bytes as a DataWriter of its type would send them.
 template <class PubSubType>
