@@ -222,7 +222,7 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     hooks.after_step = [&](macsim::World& world) {
       bridge.publish();
       // A kill at a chosen step (tests of --resume): as SIGKILL from outside, nothing after it.
-      if (o.kill_at_step > 0 && runner.steps_run() == o.kill_at_step) std::raise(SIGKILL);
+      if (o.kill_at_step > 0 && runner.steps_run() == uint64_t(o.kill_at_step)) std::raise(SIGKILL);
       // Steps on request (lock-step): the step is done when its data is out, images included.
       if (runner.stepping_on_request()) bridge.wait_for_cameras();
       supervisor.publish();
