@@ -7,6 +7,7 @@
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/log.h"
+#include "macsim/dds/topics.h"
 
 namespace macsim::affordances {
 
@@ -15,7 +16,7 @@ namespace {
 using namespace std::chrono_literals;
 namespace mm = macsim_msgs::msg::dds_;
 
-constexpr double kTurnRate = 0.6;  // rad/s
+constexpr double kTurnRate = 0.6;           // rad/s
 constexpr const char* kLog = "robot loop";  // what its messages begin with
 
 }  // namespace
@@ -41,14 +42,14 @@ void add_loop_options(macsim::dds::CommandLine& cli, LoopOptions& options) {
              &options.discovery_timeout);
   cli.option("restart-patience", "SECONDS",
              "wait this long for a simulator that went away (killed and resumed: macsim --resume) "
-             "or a robot gone silent (default " + seconds(options.restart_patience) +
-                 "; 0: give up at once)",
+             "or a robot gone silent (default " +
+                 seconds(options.restart_patience) + "; 0: give up at once)",
              &options.restart_patience);
 }
 
 std::string loop_options_problem(const LoopOptions& options) {
-  if (!(options.timeout > 0) || !(options.discovery_timeout > 0) || !(options.restart_patience >= 0) ||
-      options.robot.empty())
+  if (!(options.timeout > 0) || !(options.discovery_timeout > 0) ||
+      !(options.restart_patience >= 0) || options.robot.empty())
     return "--timeout and --discovery-timeout must be positive, --restart-patience not negative, "
            "--robot not empty";
   return {};
@@ -160,6 +161,8 @@ void RobotLoop::connect() {
 void RobotLoop::tick(double seconds) {
   send_set_points();
   const double target = now_ + seconds - 1e-6;
+  const double began = now_;
+  bool cloud_due = false;  // the tick's end wrote a cloud (its reply says so)
   if (simulation_) {
     const auto steps = static_cast<uint64_t>(std::max(1L, std::lround(seconds / step_size_)));
     // The robot's topics bring their newest sample at the tick's end (the controller reads
@@ -174,6 +177,9 @@ void RobotLoop::tick(double seconds) {
     }
     if (reply->code() == mm::ERR_COMMANDS_MISSING)
       throw LoopError{Stop::NoRobot, "the simulator refused the step: " + reply->message()};
+    const auto& published = reply->published();
+    cloud_due = std::find(published.begin(), published.end(),
+                          macsim::dds::topics::points(loop_options_.robot)) != published.end();
   }
   std::optional<macsim::client::RobotClient::Odometry> odometry;
   auto deadline = std::chrono::steady_clock::now() + 10s;
@@ -210,6 +216,16 @@ void RobotLoop::tick(double seconds) {
     const auto imu = imu_.latest();
     if (!imu || macsim::client::stamp_seconds(imu->header()) >= target - 0.0105) break;
     if (std::chrono::steady_clock::now() > deadline) break;  // the last one, then
+    std::this_thread::sleep_for(1ms);
+  }
+  // And the cloud the tick completed, which its reply names: a cloud may come after the
+  // odometry, and taken a tick late it would make two runs of one layout differ.
+  while (cloud_due && !laser_.cloud(began + 1e-9)) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw LoopError{Stop::NoRobot,
+                      "the simulator wrote a cloud at the end of a step request "
+                      "and it did not arrive within 10 s"};
+    }
     std::this_thread::sleep_for(1ms);
   }
   now_ = macsim::client::stamp_seconds(odometry->header());

@@ -151,9 +151,10 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
       session = resumed->writer.get();
     }
     macsim::SupervisorServer supervisor(dds, runner);
-    macsim::SimulationServer control(dds, runner, o.limits(), [&bridge](const std::string& robot) {
-      return bridge.latest_readings(robot);
-    });
+    macsim::SimulationServer control(
+        dds, runner, o.limits(),
+        [&bridge](const std::string& robot) { return bridge.latest_readings(robot); },
+        [&bridge] { return bridge.flushed(); });
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     if (!o.pictures.empty()) {
       std::error_code error;

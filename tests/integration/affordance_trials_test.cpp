@@ -315,7 +315,7 @@ TEST(AffordanceTrials, ASimulatorOfTheRunThatDiedIsStartedAgainAndTheRowsEqualAR
                                     "--instances",
                                     std::to_string(instances),
                                     "--trials",
-                                    "8",
+                                    "6",
                                     "--seed",
                                     "11",
                                     "--timeout",
@@ -326,7 +326,7 @@ TEST(AffordanceTrials, ASimulatorOfTheRunThatDiedIsStartedAgainAndTheRowsEqualAR
   std::string output;
   ASSERT_EQ(run(command(1, dir.path() + "/never_killed.csv"), &output), 0) << output;
   const auto never_killed = results_by_trial(dir.path() + "/never_killed.csv");
-  ASSERT_EQ(never_killed.size(), 9u) << output;
+  ASSERT_EQ(never_killed.size(), 7u) << output;
   for (const int instances : {1, 2}) {
     const std::string csv = dir.path() + "/killed_" + std::to_string(instances) + ".csv";
     ChildProcess runner(command(instances, csv));

@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <set>
 #include <vector>
 
 #include "macsim/client/robot_client.h"
+#include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
@@ -242,8 +244,7 @@ TEST(Lockstep, ARequestWantingItsDataAtItsEndGetsTheNewestSampleOfEachAndNoUnask
     EXPECT_GE(odom_every, 45u);
     EXPECT_GE(images_every, 7);
     // The same 0.5 s wanting its data at the end, no images: one odometry sample, the newest.
-    auto q = client::step_until::request(500, 10,
-                                         mm::STEP_PUBLISH_AT_END | mm::STEP_NO_CAMERAS);
+    auto q = client::step_until::request(500, 10, mm::STEP_PUBLISH_AT_END | mm::STEP_NO_CAMERAS);
     const auto reply = sim.call(q, 10s);
     ASSERT_TRUE(reply && reply->code() == mm::ERR_OK);
     const auto [odom_end, images_end] = counts();
@@ -268,6 +269,58 @@ TEST(Lockstep, ARequestWantingItsDataAtItsEndGetsTheNewestSampleOfEachAndNoUnask
     ASSERT_TRUE(newest.has_value());
     EXPECT_GT(newest->pose().pose().position().x(), 0.05);
     EXPECT_LT(newest->pose().pose().position().x(), 0.06);
+  }
+  macsim.signal(SIGTERM);
+  EXPECT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();
+}
+
+// A step request that wants its data at its end names in its reply the topics that end wrote:
+// a reader that waits for each takes the reading of the steps it asked for, never a later one.
+// Over 5 s of 0.1 s ticks with the laser turning, every tick's reply names the odometry and the
+// clock, the reply of each tick in which a cloud was completed names the clouds, and every cloud
+// that came was named by the reply of the tick it was made in.
+TEST(Lockstep, AStepReplyNamesTheTopicsItsEndWroteAndEveryCloudIsNamedByItsTick) {
+  const int domain = unique_test_domain();
+  ChildProcess macsim({bin("macsim"), "--world", source("worlds/small_room.xml"), "--domain",
+                       std::to_string(domain), "--lockstep", "--cameras", "off"});
+  ASSERT_TRUE(macsim.wait_for_output("stepping on request", 30s)) << macsim.output();
+  {
+    dds::Participant p({domain, "", "lockstep_test"});
+    client::SimulationClient sim(p);
+    client::Laser laser(p, "kurt", true, dds::QosFamily::LockstepSensor);
+    ASSERT_TRUE(sim.wait_for_server(20s));
+    for (int i = 0; i < 100 && !laser.matched(); ++i) std::this_thread::sleep_for(50ms);
+    ASSERT_TRUE(laser.rotate(M_PI));  // the first request names it: it acts from its first step
+    const std::string clouds = dds::topics::points("kurt");
+    double began = 0;
+    int named = 0;
+    for (int tick = 0; tick < 50; ++tick) {
+      const auto reply =
+          sim.call(client::step_until::request(100, 0, mm::STEP_PUBLISH_AT_END), 10s);
+      ASSERT_TRUE(reply && reply->code() == mm::ERR_OK) << "tick " << tick;
+      const auto& published = reply->published();
+      const auto names = [&](const std::string& topic) {
+        return std::find(published.begin(), published.end(), topic) != published.end();
+      };
+      EXPECT_TRUE(names(dds::topics::odom("kurt"))) << "tick " << tick;
+      EXPECT_TRUE(names(dds::topics::kClock)) << "tick " << tick;
+      if (names(clouds)) {
+        ++named;
+        // It comes, stamped within the tick.
+        std::optional<client::Cloud> cloud;
+        for (int i = 0; i < 500 && !(cloud = laser.cloud(began + 1e-9)); ++i)
+          std::this_thread::sleep_for(10ms);
+        ASSERT_TRUE(cloud.has_value()) << "tick " << tick << " named a cloud that never came";
+        EXPECT_LE(cloud->stamp, reply->sim_time() + 1e-9);
+      } else {
+        // None made in it: none comes (whatever DDS delays, it would be on its way by now).
+        std::this_thread::sleep_for(20ms);
+        EXPECT_FALSE(laser.cloud(began + 1e-9).has_value()) << "tick " << tick;
+      }
+      began = reply->sim_time();
+    }
+    EXPECT_EQ(laser.clouds(), uint64_t(named));
+    EXPECT_GE(named, 2);  // a turn every 2 s of the 5
   }
   macsim.signal(SIGTERM);
   EXPECT_EQ(macsim.wait_for_exit(20s), 0) << macsim.output();

@@ -206,12 +206,12 @@ int main(int argc, char** argv) {
       web.broadcast_text(update);
       // The plan, when a controller publishes one; its things in the world by where the
       // odometry frame lies (ground truth and odometry of about the same instant).
-      if (auto shown = plan_reader.get_shared()) {
+      if (auto published = plan_reader.get_shared()) {
         std::array<double, 3> frame{0, 0, 0};
         const auto pose = truth.get_shared();
         const auto odometry = odom.get_shared();
         if (pose && odometry) frame = macsim::web::odom_in_world(pose->pose().pose(), odometry->pose().pose());
-        std::string text = macsim::web::plan_message(*shown, frame);
+        std::string text = macsim::web::plan_message(*published, frame);
         std::lock_guard<std::mutex> lock(scene_mutex);
         if (text != plan) {
           plan = std::move(text);

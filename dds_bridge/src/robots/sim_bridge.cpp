@@ -223,8 +223,10 @@ void SimBridge::publish_step(bool replayed) {
 }
 
 void SimBridge::flush() {
+  flushed_.clear();
+  if (held_clock_) flushed_.push_back(clock_->writer.topic_name());
   flush_clock();
-  for (auto& topics : robots_) topics->node.flush();
+  for (auto& topics : robots_) topics->node.flush(&flushed_);
 }
 
 void SimBridge::flush_clock() {

@@ -41,6 +41,8 @@ class SimBridge {
   void publish();
   /// Writes what publish() kept back (a step request's end).
   void flush();
+  /// The topics the last flush() wrote, in the order written (a step request's reply names them).
+  const std::vector<std::string>& flushed() const { return flushed_; }
   /// A step a resumed simulator replayed from its session, before serving (the steps of the
   /// run the killed process made). `held`: inside a step request that wanted its data at its
   /// end, which the killed process kept back and never wrote: what the robots read is kept
@@ -76,8 +78,9 @@ class SimBridge {
   Schedule clock_instants_{100.0};  // /clock at 100 Hz of sim time
   bool started_ = false;            // the schedules run
   std::optional<rosgraph_msgs::msg::dds_::Clock_> held_clock_;
-  uint64_t generation_ = 0;       // of the world whose schedules run
-  uint64_t time_origins_ = 0;     // World::time_origin().count the schedules started at
+  uint64_t generation_ = 0;           // of the world whose schedules run
+  uint64_t time_origins_ = 0;         // World::time_origin().count the schedules started at
+  std::vector<std::string> flushed_;  // by the last flush()
   bool replayed_unread_ = false;  // steps were replayed whose readings went out with the killed run
   struct Clock;
   std::unique_ptr<Clock> clock_;

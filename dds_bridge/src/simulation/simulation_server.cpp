@@ -24,10 +24,11 @@ std::string waiting_text(const mm::SimulationRequest_& r) {
 }  // namespace
 
 SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits,
-                                   LatestReadings readings)
+                                   LatestReadings readings, PublishedAtEnd published)
     : runner_(runner),
       limits_(limits),
       readings_(std::move(readings)),
+      published_(std::move(published)),
       progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread: control of the run, not of the world (a load is recorded by the
   // runner when the new world is swapped in).
@@ -177,8 +178,14 @@ void SimulationServer::execute(const Request& q) {
   auto steps_done = std::make_shared<std::atomic<uint64_t>>(0);
   auto reply = dispatch_simulation(
       q, runner_,
-      [this](const Reply& stepped) {
+      [this, at_end = bool(q.step_options() & mm::STEP_PUBLISH_AT_END)](Reply stepped) {
         stepping_.reset();
+        // What its end wrote (the request_end hook ran before this): a reader waits for those.
+        if (at_end && published_) {
+          std::vector<std::string> topics = published_();
+          if (topics.size() > 64) topics.resize(64);  // the field's bound (macsim_msgs.idl)
+          stepped.published(std::move(topics));
+        }
         if (!cancelling_) {
           send(stepped);
           return;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -35,9 +36,12 @@ class SimulationServer {
   /// known as seen (its sequence number is below them) and never loads again.
   static constexpr std::size_t kLoadWindow = 16;
 
-  /// Worlds loaded on request are held to `limits`; step conditions read `readings`.
+  /// The topics a step request's end wrote (SimBridge::flushed()), on the simulation thread.
+  using PublishedAtEnd = std::function<std::vector<std::string>()>;
+  /// Worlds loaded on request are held to `limits`; step conditions read `readings`; the reply
+  /// to a step request that wanted its data at its end names what `published` says went out.
   SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
-                   LatestReadings readings = {});
+                   LatestReadings readings = {}, PublishedAtEnd published = {});
   ~SimulationServer();
 
   /// The service's name in a recorded session (its requests taken and answered).
@@ -86,6 +90,7 @@ class SimulationServer {
   Runner& runner_;
   const LoadLimits limits_;
   const LatestReadings readings_;
+  const PublishedAtEnd published_;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
   bool cancelling_ = false;          // a SIM_CANCEL is ending stepping_
   std::optional<Reply> cancelled_;   // the reply of the request it ended

@@ -1,6 +1,7 @@
 #include "macsim/robot/robot_node.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
@@ -259,7 +260,8 @@ RobotNode::RobotNode(dds::Participant& p, RobotInterface& robot, PostCommand pos
     }
     t.own_commands.push_back(std::make_unique<dds::Reader<sd::Float64MultiArray_PubSubType>>(
         p, dds::topics::robot_command(name, command), QosFamily::Command,
-        [post, dropped, decode = *decode](const sd::Float64MultiArray_& m, const dds::SampleId& sent) {
+        [post, dropped, decode = *decode](const sd::Float64MultiArray_& m,
+                                          const dds::SampleId& sent) {
           for (double v : m.data()) {
             if (!std::isfinite(v)) return dropped(sent);
           }
@@ -435,7 +437,7 @@ void RobotNode::fill(const Readings& r) {
   }
 }
 
-void RobotNode::flush() {
+void RobotNode::flush(std::vector<std::string>* written) {
   // What publish(true) held, made into messages now, each kind with its own stamp.
   Held& h = *held_;
   auto one = [this](auto& slot, auto member) {
@@ -462,21 +464,27 @@ void RobotNode::flush() {
   }
   Topics& t = *topics_;
   Outbox& out = *outbox_;
-  if (out.odom) t.odom.write(*out.odom);
-  if (out.truth) t.ground_truth->write(*out.truth);
-  if (out.wheels) t.joint_states.write(*out.wheels);
-  if (out.imu) t.imu->write(*out.imu);
-  for (const auto& range : out.ranges) t.range->write(range);
-  if (out.crane) t.crane_state->write(*out.crane);
-  if (out.scan) t.scan->write(*out.scan);
-  if (out.rotunit) t.joint_states.write(*out.rotunit);
-  if (out.cloud) t.points->write(*out.cloud);
+  const auto write = [written](auto& writer, const auto& message) {
+    writer.write(message);
+    if (written &&
+        std::find(written->begin(), written->end(), writer.topic_name()) == written->end())
+      written->push_back(writer.topic_name());
+  };
+  if (out.odom) write(t.odom, *out.odom);
+  if (out.truth) write(*t.ground_truth, *out.truth);
+  if (out.wheels) write(t.joint_states, *out.wheels);
+  if (out.imu) write(*t.imu, *out.imu);
+  for (const auto& range : out.ranges) write(*t.range, range);
+  if (out.crane) write(*t.crane_state, *out.crane);
+  if (out.scan) write(*t.scan, *out.scan);
+  if (out.rotunit) write(t.joint_states, *out.rotunit);
+  if (out.cloud) write(*t.points, *out.cloud);
   tf::TFMessage_ moving;
   for (auto* part : {&out.tf_odom, &out.tf_crane, &out.tf_laser}) {
     for (auto& each : *part) moving.transforms().push_back(std::move(each));
   }
-  if (!moving.transforms().empty()) t.tf.write(moving);
-  if (out.tf_static) t.tf_static.write(*out.tf_static);
+  if (!moving.transforms().empty()) write(t.tf, moving);
+  if (out.tf_static) write(t.tf_static, *out.tf_static);
   out = Outbox{};
 }
 
@@ -505,8 +513,7 @@ std::vector<TopicLine> topic_table(const std::string& n, const Capabilities& c, 
           {c.laser, dds::topics::scan(n, c.laser_rotating), "sensor_msgs/LaserScan, out"},
           {c.points, dds::topics::points(n), "sensor_msgs/PointCloud2, out"},
           {c.crane, dds::topics::crane_state(n), "kurt_msgs/CraneState, out"},
-          {described, dds::topics::robot_description(n),
-           "std_msgs/String, transient local, out"}};
+          {described, dds::topics::robot_description(n), "std_msgs/String, transient local, out"}};
 }
 }  // namespace
 

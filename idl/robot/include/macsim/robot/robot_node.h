@@ -53,8 +53,9 @@ class RobotNode {
   /// `hold`: nothing is written yet; only the newest message of each kind waits for flush()
   /// (lock-step: a controller reads only at the end of its step request).
   void publish(bool hold = false);
-  /// Writes what publish(true) held back.
-  void flush();
+  /// Writes what publish(true) held back; the names of the topics it wrote go to `written`
+  /// (if given), in that order.
+  void flush(std::vector<std::string>* written = nullptr);
   /// Reads the robot into latest() and writes nothing: what it has went out already (a
   /// simulator resumed from a session, the killed process having published it).
   void prime();
