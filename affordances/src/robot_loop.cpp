@@ -222,9 +222,10 @@ void RobotLoop::tick(double seconds) {
   // odometry, and taken a tick late it would make two runs of one layout differ.
   while (cloud_due && !laser_.cloud(began + 1e-9)) {
     if (std::chrono::steady_clock::now() > deadline) {
-      throw LoopError{Stop::NoRobot,
-                      "the simulator wrote a cloud at the end of a step request "
-                      "and it did not arrive within 10 s"};
+      // (A reply repeated after a kill may name a cloud its killed writer never delivered.)
+      macsim::log::warn("{}: the cloud the tick's reply named did not come within 10 s; going on",
+                        kLog);
+      break;
     }
     std::this_thread::sleep_for(1ms);
   }

@@ -306,6 +306,16 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
             o.resume);
         return 2;
       }
+      if (o.session->version < macsim::kSessionFormatVersion) {
+        // Its requests' bytes are of types it does not name, and this macsim would append
+        // records of a newer format to it.
+        macsim::log::error(
+            "macsim: --resume: {} is a session of format version {}, written before sessions "
+            "named their wire types: this macsim cannot go on with it (macsim --replay still "
+            "reads it)",
+            o.resume, o.session->version);
+        return 2;
+      }
       if (auto code = take_session_settings(o, "resuming")) return code;
     } else {
       macsim::log::info("macsim: no session at {} yet: recording a new one", o.resume);

@@ -134,6 +134,7 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     bridge_options.robot_frames = o.robot_frames;
     bridge_options.cmd_vel_stamped = o.cmd_vel_stamped;
     bridge_options.lockstep = o.lockstep;
+    bridge_options.replaying = resumed && resumed->catch_up;
     // The camera schedule runs with cameras off too (a world's schedule is one).
     if (!(std::isfinite(o.camera_rate) && o.camera_rate > 0) ||
         (bridge_options.cameras &&
@@ -154,7 +155,11 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
     macsim::SimulationServer control(
         dds, runner, o.limits(),
         [&bridge](const std::string& robot) { return bridge.latest_readings(robot); },
-        [&bridge] { return bridge.flushed(); });
+        macsim::SimulationServer::HeldOutput{[&bridge, &supervisor] {
+                                               bridge.flush();
+                                               supervisor.flush();
+                                             },
+                                             [&bridge] { return bridge.flushed(); }});
     macsim::SimInterfacesServer ros_services(dds, runner, o.limits(), [] { g_stop.store(true); });
     if (!o.pictures.empty()) {
       std::error_code error;
@@ -316,20 +321,43 @@ int replay(macsim::Runner& runner, const Options& o) {
   return outcome.equal ? 0 : 1;
 }
 
+namespace {
+
+/// Steps of a step request (their step counts after each, first to last).
+struct StepSpan {
+  uint64_t first = 0, last = 0;
+};
+
+/// The steps of the step request a killed process had begun and kept its data back for
+/// (STEP_PUBLISH_AT_END), if the session's last step request taken is one never answered.
+std::optional<StepSpan> held_steps(const macsim::Session& session) {
+  namespace mm = macsim_msgs::msg::dds_;
+  const auto begun = macsim::SimulationServer::begun(session.requests);
+  if (begun.empty()) return std::nullopt;
+  // The session's last request taken: only it can have been stepping at the kill.
+  std::optional<mm::SimulationRequest_> last;
+  for (const auto& r : session.requests) {
+    if (r.service == macsim::SimulationServer::kSessionService &&
+        r.kind == macsim::RecordedRequest::Kind::Taken)
+      last = macsim::dds::from_wire<mm::SimulationRequest_PubSubType>(r.bytes);
+  }
+  const auto& b = begun.back();
+  if (!last || last->client_id() != b.request.client_id() ||
+      last->sequence_number() != b.request.sequence_number() ||
+      b.request.command() != mm::SIM_STEP || !(b.request.step_options() & mm::STEP_PUBLISH_AT_END))
+    return std::nullopt;
+  // Taken after its first step, with the steps it had left.
+  return StepSpan{b.first_step, b.step + b.request.steps()};
+}
+
+}  // namespace
+
 int resume(macsim::Runner& runner, const Options& o) {
   const macsim::Session& session = *o.session;
   Resumed resumed;
   resumed.requests = session.requests;
-  // The step request the killed process had begun, if it kept its data back for its end: the
-  // steps of it the session holds are replayed with their readings kept back again.
-  std::optional<uint64_t> held_from;
-  for (const auto& begun : macsim::SimulationServer::begun(session.requests)) {
-    if (begun.request.command() == macsim_msgs::msg::dds_::SIM_STEP &&
-        (begun.request.step_options() & macsim_msgs::msg::dds_::STEP_PUBLISH_AT_END)) {
-      held_from = begun.first_step;
-    }
-  }
-  resumed.catch_up = [&runner, &o, &session, &resumed, held_from](macsim::SimBridge& bridge) {
+  const auto held = held_steps(session);
+  resumed.catch_up = [&runner, &o, &session, &resumed, held](macsim::SimBridge& bridge) {
     // The supervisor's requests run as they did, their replies kept for a repeat (the latest
     // ones: a client repeats only what it had in flight).
     constexpr std::size_t kKeptReplies = 4096;
@@ -348,10 +376,12 @@ int resume(macsim::Runner& runner, const Options& o) {
     runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
     const auto load = session_world_loader(runner, o);
     const auto start = std::chrono::steady_clock::now();
-    // A step's readings as the killed process took them: held from the begun request's first
-    // step on (the step the session says it was taken after), else gone out with it.
+    // A step's readings as the killed process took them: kept back in the begun request's
+    // steps, else gone out with it (up to the step before the request's first, then).
     const auto outcome = macsim::replay_session(session, runner, load, o.session_files.get(), [&] {
-      bridge.replayed_step(held_from && runner.steps_run() >= *held_from);
+      const uint64_t step = runner.steps_run();
+      bridge.replayed_step(held && step >= held->first && step <= held->last);
+      if (held && step + 1 == held->first) bridge.replayed_as_sent();
     });
     bridge.caught_up();
     if (!outcome.equal) {

@@ -438,6 +438,7 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
         r.fail("session format version " + f[1] + "; this macsim reads versions 1 to " +
                std::to_string(kSessionFormatVersion));
       }
+      session.version = version;
       if (version == 1) {
         session.header.overlaps_parted = false;  // recorded before macsim parted them
       } else {

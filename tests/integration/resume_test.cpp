@@ -122,7 +122,7 @@ class HandClient {
   dds::Reader<mm::SimulationReply_PubSubType> replies_;
 };
 
-/// Stamps (ns of sim time) of the samples a topic brought.
+/// Stamps (ns of sim time) of every sample a topic brought, repeats counted.
 class StampsSeen {
  public:
   template <class PubSubType>
@@ -136,19 +136,19 @@ class StampsSeen {
           into.stamps_.insert(int64_t{t.sec()} * 1000000000 + t.nanosec());
         });
   }
-  std::set<int64_t> stamps() const {
+  std::multiset<int64_t> stamps() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return stamps_;
   }
 
  private:
   mutable std::mutex mutex_;
-  std::set<int64_t> stamps_;
+  std::multiset<int64_t> stamps_;
 };
 
 struct LockstepRun {
-  std::set<int64_t> odometry_stamps, image_stamps;  // of every sample received
-  std::vector<uint64_t> hashes;                     // after every step request
+  std::multiset<int64_t> odometry_stamps, image_stamps;  // of every sample received
+  std::vector<uint64_t> hashes;                          // after every step request
   std::vector<client::Gap> gaps;
   std::optional<mm::SimulationReply_> hand_reply, hand_repeat;  // the request sent by hand
   uint64_t steps_before_repeat = 0, steps_after_repeat = 0;
@@ -286,28 +286,6 @@ TEST(Resume, InLockstepTheHashAfterEveryRequestIsAsIfNeverKilled) {
   EXPECT_NE(replay.output().find("hashes equal"), std::string::npos) << replay.output();
 }
 
-/// Every sample a topic brought, stamp by stamp (ns of sim time), repeats counted.
-class EverySample {
- public:
-  template <class PubSubType>
-  std::unique_ptr<dds::Reader<PubSubType>> reader(dds::Participant& p, const std::string& topic) {
-    return std::make_unique<dds::Reader<PubSubType>>(
-        p, topic, dds::QosFamily::LockstepSensor, [this](const typename PubSubType::type& m) {
-          const auto& t = m.header().stamp();
-          std::lock_guard<std::mutex> lock(mutex_);
-          stamps_.insert(int64_t{t.sec()} * 1000000000 + t.nanosec());
-        });
-  }
-  std::multiset<int64_t> stamps() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return stamps_;
-  }
-
- private:
-  mutable std::mutex mutex_;
-  std::multiset<int64_t> stamps_;
-};
-
 struct HeldRun {
   std::multiset<int64_t> clouds, odometry, scans;
   std::vector<uint64_t> ends;  // the step count after each request
@@ -343,13 +321,14 @@ HeldRun held_run(const std::string& session, uint64_t kill_at) {
     dds::Participant p({domain, "", "resume_test"});
     client::SimulationClient sim(p);
     client::Laser laser(p, "kurt", true, dds::QosFamily::LockstepSensor);
-    EverySample clouds, odometry, scans;
-    auto cloud_reader = clouds.reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType>(
-        p, dds::topics::points("kurt"));
-    auto odometry_reader =
-        odometry.reader<nav_msgs::msg::dds_::Odometry_PubSubType>(p, dds::topics::odom("kurt"));
-    auto scan_reader = scans.reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>(
-        p, dds::topics::scan("kurt", true));
+    StampsSeen clouds, odometry, scans;
+    const auto sensor = dds::QosFamily::LockstepSensor;
+    auto cloud_reader = StampsSeen::reader<sensor_msgs::msg::dds_::PointCloud2_PubSubType>(
+        p, dds::topics::points("kurt"), sensor, clouds);
+    auto odometry_reader = StampsSeen::reader<nav_msgs::msg::dds_::Odometry_PubSubType>(
+        p, dds::topics::odom("kurt"), sensor, odometry);
+    auto scan_reader = StampsSeen::reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>(
+        p, dds::topics::scan("kurt", true), sensor, scans);
     sim.set_restart_patience(60s);
     EXPECT_TRUE(sim.wait_for_server(20s));
     for (int i = 0; i < 100 && !(laser.matched() && cloud_reader->matched() > 0 &&
@@ -407,13 +386,14 @@ TEST(Resume, AHeldRequestKilledInsideItDeliversEveryReadingOnceWithTheStampOfARu
   // The kill point: 25 steps after a cloud made inside a request, at least 30 steps before its
   // end, so that the session has a hash after the cloud (every 10 steps) and no newer cloud
   // comes before the request's end to stand in for it.
-  uint64_t kill_at = 0;
+  uint64_t kill_at = 0, request_end = 0;
   int64_t owed = 0;
   for (const int64_t stamp : reference.clouds) {
     const auto made = static_cast<uint64_t>(std::llround(stamp * 1e-9 / reference.step_size));
     for (std::size_t k = 1; k < reference.ends.size() && kill_at == 0; ++k) {
       if (made > reference.ends[k - 1] + 5 && made + 55 < reference.ends[k]) {
         kill_at = made + 25;
+        request_end = reference.ends[k];
         owed = stamp;
       }
     }
@@ -421,17 +401,43 @@ TEST(Resume, AHeldRequestKilledInsideItDeliversEveryReadingOnceWithTheStampOfARu
   }
   ASSERT_GT(kill_at, 0u) << "no cloud in the middle of a request: " << reference.clouds.size()
                          << " clouds";
-  const HeldRun killed = held_run(dir.path() + "/killed.session", kill_at);
-  ASSERT_EQ(killed.ends, reference.ends) << killed.output;
-  EXPECT_NE(killed.output.find("goes on from step"), std::string::npos) << killed.output;
-  EXPECT_EQ(killed.clouds.count(owed), 1u)
-      << "the cloud made at " << owed * 1e-9 << " s, before the kill at step " << kill_at;
-  EXPECT_EQ(killed.clouds, reference.clouds);
-  EXPECT_EQ(killed.odometry, reference.odometry);
-  EXPECT_EQ(killed.scans, reference.scans);
+  // Inside the request, and at its last step (every step ran before the kill, its reply did
+  // not go out: the resumed simulator answers at once, and sends what it held first).
+  for (const uint64_t kill : {kill_at, request_end}) {
+    SCOPED_TRACE("killed at step " + std::to_string(kill));
+    const HeldRun killed =
+        held_run(dir.path() + "/killed_" + std::to_string(kill) + ".session", kill);
+    ASSERT_EQ(killed.ends, reference.ends) << killed.output;
+    EXPECT_NE(killed.output.find(kill == request_end ? "(0 of its" : "goes on from step"),
+              std::string::npos)
+        << killed.output;
+    EXPECT_EQ(killed.clouds.count(owed), 1u)
+        << "the cloud made at " << owed * 1e-9 << " s, before the kill at step " << kill;
+    EXPECT_EQ(killed.clouds, reference.clouds);
+    EXPECT_EQ(killed.odometry, reference.odometry);
+    EXPECT_EQ(killed.scans, reference.scans);
+  }
   for (const auto* seen : {&reference.clouds, &reference.odometry})
     EXPECT_EQ(std::set<int64_t>(seen->begin(), seen->end()).size(), seen->size())
         << "a sample came twice";
+}
+
+// A session of format 5 was written before sessions named their wire types and their commands'
+// senders: --resume refuses it (its replies do not decode as this build's, and it would grow
+// with records of format 6), naming its version.
+TEST(Resume, ASessionOfAnOlderFormatIsRefused) {
+  const TempDir dir("macsim_resume_");
+  const std::string path = dir.path() + "/old.session";
+  std::ofstream(path) << "macsim-session 5\nworld " << source("worlds/small_room.xml")
+                      << "\nseed -1\nhash-every 100\noverlaps parted\nstrict 0\n"
+                         "limits 32 256 100000\nsnapshots 64 268435456\nend 0 0 0\n";
+  ChildProcess macsim({bin("macsim"), "--domain", std::to_string(unique_test_domain()), "--cameras",
+                       "off", "--resume", path});
+  EXPECT_EQ(macsim.wait_for_exit(30s), 2) << macsim.output();
+  EXPECT_NE(macsim.output().find(path + " is a session of format version 5, written before "
+                                        "sessions named their wire types"),
+            std::string::npos)
+      << macsim.output();
 }
 
 /// The state hash of the world a session (cut or not) leaves after its last record, replayed

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <mutex>
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/kurt_messages.h"
@@ -29,19 +30,32 @@ struct SimBridge::Clock {
   dds::Writer<rosgraph_msgs::msg::dds_::Clock_PubSubType> writer;
 };
 
+/// Robot commands that came while a resumed simulator replayed its session: they wait for its
+/// end (run in the replay they would change the world the session rebuilds).
+struct SimBridge::Gate {
+  std::mutex mutex;
+  bool open = true;
+  std::vector<Command> parked;  // in arrival order
+};
+
 struct SimBridge::RobotTopics {
   RobotTopics(dds::Participant& p, Runner& runner, const std::string& robot_name,
-              const robot::NodeOptions& node_options, double camera_rate)
+              const robot::NodeOptions& node_options, double camera_rate, Gate& gate)
       : name(robot_name),
         simulated(runner, robot_name),
         // Commands run on the simulation thread, between steps, on the current world's robot.
         node(
             p, simulated,
-            [&runner, this](robot::RobotCommand command, const dds::SampleId& sent) {
+            [&runner, &gate, this](robot::RobotCommand command, const dds::SampleId& sent) {
               // A value the runner runs on the world's robot (and a session records), unless
               // its sender asked for a reset after sending it (Command::sent_before).
               Command c = robot_command(name, std::move(command));
               c.sent_by = Sender{sent.writer, sent.sequence};
+              std::lock_guard<std::mutex> lock(gate.mutex);
+              if (!gate.open) {
+                gate.parked.push_back(std::move(c));
+                return;
+              }
               if (runner.push(std::move(c))) return;
               if (commands_dropped.fetch_add(1) == 0) {  // said once; counted in the summary
                 log::warn("macsim: {}'s commands are being dropped: {}", name,
@@ -110,7 +124,9 @@ sm::CameraInfo_ camera_info(const render::CameraIntrinsics& in, double stamp,
 SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const BridgeOptions& options)
     : runner_(runner),
       options_(options),
-      clock_(new Clock{{participant, dds::topics::kClock, QosFamily::State}}) {
+      clock_(new Clock{{participant, dds::topics::kClock, QosFamily::State}}),
+      gate_(std::make_unique<Gate>()) {
+  gate_->open = !options_.replaying;
   const QosFamily sensors = dds::sensor_family(options_.lockstep);
   for (const auto& robot : runner.world().robots()) {
     const std::string name = robot->name();
@@ -119,8 +135,8 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     node.frame_prefix = frames;
     node.cmd_vel_stamped = options_.cmd_vel_stamped;
     node.sensors = sensors;
-    auto topics =
-        std::make_unique<RobotTopics>(participant, runner, name, node, options_.camera_rate);
+    auto topics = std::make_unique<RobotTopics>(participant, runner, name, node,
+                                                options_.camera_rate, *gate_);
     const auto stereo = robot->cameras();  // a robot type without cameras has none
     if (options_.cameras && stereo) {
       auto* t = topics.get();
@@ -169,13 +185,24 @@ void SimBridge::replayed_step(bool held) {
     replayed_unread_ = true;
     return;
   }
-  take_replayed_as_read();  // what came before the request went out with the killed process
   publish_step(true);
 }
 
-void SimBridge::caught_up() { take_replayed_as_read(); }
+void SimBridge::caught_up() {
+  replayed_as_sent();
+  // The robot commands that came meanwhile, in the order they came, then the gate open.
+  std::lock_guard<std::mutex> lock(gate_->mutex);
+  for (Command& c : gate_->parked) {
+    if (!runner_.push(std::move(c))) {
+      log::warn("macsim: a robot command that came while the session replayed was dropped: {}",
+                runner_.queue_full_message());
+    }
+  }
+  gate_->parked.clear();
+  gate_->open = true;
+}
 
-void SimBridge::take_replayed_as_read() {
+void SimBridge::replayed_as_sent() {
   if (!replayed_unread_) return;
   replayed_unread_ = false;
   // The killed process published these readings, each stamped when it went out (again now,

@@ -23,6 +23,9 @@ struct BridgeOptions {
   bool robot_frames = false;        ///< frame ids start with "<robot>/" (several robots, one tree)
   bool cmd_vel_stamped = false;     ///< cmd_vel as geometry_msgs/TwistStamped
   bool lockstep = false;            ///< sensor data sent reliably (QosFamily::LockstepSensor)
+  /// A resumed simulator replays its session first: robot commands that come meanwhile wait
+  /// for caught_up().
+  bool replaying = false;
 };
 
 /// Serves a runner's world over DDS. Reader callbacks only push commands onto the runner's
@@ -47,9 +50,13 @@ class SimBridge {
   /// run the killed process made). `held`: inside a step request that wanted its data at its
   /// end, which the killed process kept back and never wrote: what the robots read is kept
   /// back again, the newest of each with the stamp it had, for that request's end. Otherwise
-  /// what they read went out with the killed process: it is taken as read, and sent no more.
+  /// what they read went out with the killed process (replayed_as_sent()).
   void replayed_step(bool held);
-  /// The replay is over (after the last replayed_step()).
+  /// What the robots read in the steps replayed so far and not held went out with the killed
+  /// process: taken as read, sent no more (call after the step before a held request's first).
+  void replayed_as_sent();
+  /// The replay is over: replayed_as_sent(), and the robot commands that came meanwhile go to
+  /// the runner, in the order they came (BridgeOptions::replaying).
   void caught_up();
   /// The newest readings a robot published (empty name: the first robot), or nullptr.
   const robot::Readings* latest_readings(const std::string& robot) const;
@@ -66,12 +73,11 @@ class SimBridge {
 
  private:
   struct RobotTopics;
+  struct Gate;
   void publish_cameras(RobotTopics& topics, double now, bool render);
   void flush_clock();
   /// publish(); `replayed`: a held step replayed (replayed_step()): kept back, nothing rendered.
   void publish_step(bool replayed);
-  /// What the robots read in the replayed steps not held is taken as read (RobotNode::prime()).
-  void take_replayed_as_read();
 
   Runner& runner_;
   BridgeOptions options_;
@@ -84,6 +90,7 @@ class SimBridge {
   bool replayed_unread_ = false;  // steps were replayed whose readings went out with the killed run
   struct Clock;
   std::unique_ptr<Clock> clock_;
+  std::unique_ptr<Gate> gate_;  // before robots_: their commands' callbacks use it
   std::vector<std::unique_ptr<RobotTopics>> robots_;
 };
 

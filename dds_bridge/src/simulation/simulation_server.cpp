@@ -24,11 +24,11 @@ std::string waiting_text(const mm::SimulationRequest_& r) {
 }  // namespace
 
 SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits,
-                                   LatestReadings readings, PublishedAtEnd published)
+                                   LatestReadings readings, HeldOutput held)
     : runner_(runner),
       limits_(limits),
       readings_(std::move(readings)),
-      published_(std::move(published)),
+      held_(std::move(held)),
       progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread: control of the run, not of the world (a load is recorded by the
   // runner when the new world is swapped in).
@@ -181,11 +181,8 @@ void SimulationServer::execute(const Request& q) {
       [this, at_end = bool(q.step_options() & mm::STEP_PUBLISH_AT_END)](Reply stepped) {
         stepping_.reset();
         // What its end wrote (the request_end hook ran before this): a reader waits for those.
-        if (at_end && published_) {
-          std::vector<std::string> topics = published_();
-          if (topics.size() > 64) topics.resize(64);  // the field's bound (macsim_msgs.idl)
-          stepped.published(std::move(topics));
-        }
+        // (A request refused before its first step wrote nothing.)
+        if (at_end && stepped.code() != mm::ERR_COMMANDS_MISSING) stepped.published(published());
         if (!cancelling_) {
           send(stepped);
           return;
@@ -207,6 +204,13 @@ void SimulationServer::execute(const Request& q) {
                                 dds::to_wire<mm::SimulationRequest_PubSubType>(left)});
       });
   if (reply) {
+    if (q.command() == mm::SIM_STEP && q.steps() == 0 && reply->code() == mm::ERR_OK &&
+        (q.step_options() & mm::STEP_PUBLISH_AT_END) && held_.flush) {
+      // No step to take (a resumed request whose steps all ran before the kill): what they
+      // kept back goes out now, before its reply.
+      held_.flush();
+      reply->published(published());
+    }
     send(*reply, q.command() == mm::SIM_STATUS || q.command() == mm::SIM_FEATURES);
     return;
   }
@@ -217,6 +221,13 @@ void SimulationServer::execute(const Request& q) {
                      progress.steps_done(steps_done->load(std::memory_order_relaxed));
                      progress.steps_asked(asked);
                    });
+}
+
+std::vector<std::string> SimulationServer::published() const {
+  if (!held_.published) return {};
+  std::vector<std::string> topics = held_.published();
+  if (topics.size() > 64) topics.resize(64);  // the field's bound (macsim_msgs.idl)
+  return topics;
 }
 
 SimulationServer::Reply SimulationServer::cancel(const Request& q) {

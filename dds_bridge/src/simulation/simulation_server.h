@@ -36,12 +36,15 @@ class SimulationServer {
   /// known as seen (its sequence number is below them) and never loads again.
   static constexpr std::size_t kLoadWindow = 16;
 
-  /// The topics a step request's end wrote (SimBridge::flushed()), on the simulation thread.
-  using PublishedAtEnd = std::function<std::vector<std::string>()>;
+  /// What a step request wanting its data at its end kept back, on the simulation thread.
+  struct HeldOutput {
+    std::function<void()> flush;  ///< writes it (the runner's request_end hook does the same)
+    std::function<std::vector<std::string>()> published;  ///< the topics the last write wrote
+  };
   /// Worlds loaded on request are held to `limits`; step conditions read `readings`; the reply
-  /// to a step request that wanted its data at its end names what `published` says went out.
+  /// to a step request that wanted its data at its end names the topics its end wrote.
   SimulationServer(dds::Participant& participant, Runner& runner, LoadLimits limits = {},
-                   LatestReadings readings = {}, PublishedAtEnd published = {});
+                   LatestReadings readings = {}, HeldOutput held = {});
   ~SimulationServer();
 
   /// The service's name in a recorded session (its requests taken and answered).
@@ -90,7 +93,9 @@ class SimulationServer {
   Runner& runner_;
   const LoadLimits limits_;
   const LatestReadings readings_;
-  const PublishedAtEnd published_;
+  const HeldOutput held_;
+  /// held_.published(), within the reply field's bound.
+  std::vector<std::string> published() const;
   std::optional<Request> stepping_;  // the SIM_STEP request being served
   bool cancelling_ = false;          // a SIM_CANCEL is ending stepping_
   std::optional<Reply> cancelled_;   // the reply of the request it ended

@@ -95,6 +95,7 @@ struct RecordedHash {
 
 /// A whole session file.
 struct Session {
+  int version = kSessionFormatVersion;  ///< the format version it was written in
   SessionHeader header;
   std::vector<RecordedCommand> commands;  ///< in the order they ran (a run of held steps is one)
   std::vector<RecordedHash> hashes;       ///< by step
