@@ -171,7 +171,6 @@ TEST_P(LateStepCommand, AStepWaitsForTheLateCommandItNamesAndActsOnItFromItsFirs
   // flow controller was: a wall-time bound failed under load.)
   const auto [moved, _] = travelled();
   EXPECT_GT(moved, 0.05) << "the late command did not drive the robot in the steps after it";
-  EXPECT_TRUE(cmd_vel_->delivered(0ms));
 }
 
 TEST_P(LateStepCommand, AStepWhoseNamedCommandNeverComesIsRefusedNamingItWithNoStep) {
