@@ -206,6 +206,36 @@ def test_step_until_ends_on_the_published_odometry_and_reads_samples(domain, spa
     assert simulation.status().steps == status.steps
 
 
+def test_a_lockstep_read_takes_the_cloud_its_step_request_published(domain, spawn):
+    """A step request with publish_at_end names the topics its end wrote: a cloud it names
+    comes (reliably, in lock-step), stamped within the request; one it does not name was never
+    written, so none newer is there to take."""
+    start_macsim(spawn, domain, "worlds/small_room.xml", *LOCKSTEP)
+    participant = macsim.Participant(domain=domain, name="published_test")
+    simulation = macsim.Simulation(participant)
+    robot = macsim.Robot(participant, lockstep=True)
+    wait_connected(robot)
+    for _ in range(20):  # while paused; a reader that matched late takes a later copy
+        robot.rotate_laser(3.0)  # a turn in about 2.1 s
+        time.sleep(0.05)
+    points, odom = robot.topic("points"), robot.topic("odom")
+    assert points == "rt/kurt/points"
+    named = unnamed = 0
+    before = simulation.status().sim_time
+    for _ in range(12):
+        status = simulation.step_until(400, publish_at_end=True, cameras=False)
+        assert odom in status.published
+        assert all(t.startswith("rt/") for t in status.published), status.published
+        if points in status.published:
+            named += 1
+            assert robot.points(after=before, timeout=10).shape[1] == 3
+        else:
+            unnamed += 1
+            assert robot.points(after=before) is None, "a cloud no reply named"
+        before = status.sim_time
+    assert named >= 1 and unnamed >= 1, (named, unnamed)
+
+
 LONG = 2**31  # steps no test waits for
 
 

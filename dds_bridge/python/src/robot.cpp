@@ -8,6 +8,7 @@
 #include "bindings.h"
 #include "macsim/client/robot_client.h"
 #include "macsim/client/robot_devices.h"
+#include "macsim/dds/topics.h"
 
 namespace macsim::python {
 
@@ -182,6 +183,14 @@ void bind_robot(py::module_& m) {
            "none is lost on a network (a real-time simulator's or the real robot's sensors are "
            "then not heard).")
       .def_property_readonly("name", [](const PythonRobot& r) { return r.drive.robot_name(); })
+      .def(
+          "topic",
+          [](const PythonRobot& r, const std::string& name) {
+            return dds::topics::robot(r.drive.robot_name(), name);
+          },
+          py::arg("name"),
+          "The DDS name of this robot's topic `name` (e.g. 'points' -> 'rt/kurt/points'), as a "
+          "step's published lists it.")
       .def_property_readonly(
           "connected", [](const PythonRobot& r) { return r.drive.commander_matched(); },
           "True once a participant serving this robot's cmd_vel is matched.")

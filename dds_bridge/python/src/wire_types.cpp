@@ -315,6 +315,10 @@ void bind_wire_types(py::module_& m) {
       .def_property_readonly(
           "message", [](const mm::SimulationReply_& r) { return r.message(); },
           "what the simulator said, e.g. of a cancel")
+      .def_property_readonly(
+          "published", [](const mm::SimulationReply_& r) { return r.published(); },
+          "step_until(publish_at_end=True): the topics its end wrote (Robot.topic names them); "
+          "a lock-step read of one of them waits for that sample, of another finds none new")
       .def("__repr__", [](const mm::SimulationReply_& r) {
         return "<macsim.SimulationStatus t=" + std::to_string(r.sim_time()) +
                " steps=" + std::to_string(r.steps()) + " hash=" + std::to_string(r.state_hash()) +
