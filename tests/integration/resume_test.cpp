@@ -24,6 +24,7 @@
 #include "macsim/client/supervisor_client.h"
 #include "macsim/dds/participant.h"
 #include "macsim/dds/topics.h"
+#include "macsim/dds/wire.h"
 #include "macsim/msg/nav_msgsPubSubTypes.h"
 #include "macsim/msg/sensor_msgsPubSubTypes.h"
 #include "macsim/sim_core/runner.h"
@@ -422,15 +423,24 @@ TEST(Resume, AHeldRequestKilledInsideItDeliversEveryReadingOnceWithTheStampOfARu
         << "a sample came twice";
 }
 
+/// The header of a session of format `version` on the small room, no record after it; from
+/// format 6 on it names this build's wire types, as macsim writes it.
+std::string session_header(int version) {
+  std::string text = "macsim-session " + std::to_string(version) + "\nworld " +
+                     source("worlds/small_room.xml") +
+                     "\nseed -1\nhash-every 100\noverlaps parted\nstrict 0\n"
+                     "limits 32 256 100000\nsnapshots 64 268435456\n";
+  if (version >= 6) text += "wire-types " + std::string(dds::session_wire_types()) + "\n";
+  return text;
+}
+
 // A session of format 5 was written before sessions named their wire types and their commands'
 // senders: --resume refuses it (its replies do not decode as this build's, and it would grow
 // with records of format 6), naming its version.
 TEST(Resume, ASessionOfAnOlderFormatIsRefused) {
   const TempDir dir("macsim_resume_");
   const std::string path = dir.path() + "/old.session";
-  std::ofstream(path) << "macsim-session 5\nworld " << source("worlds/small_room.xml")
-                      << "\nseed -1\nhash-every 100\noverlaps parted\nstrict 0\n"
-                         "limits 32 256 100000\nsnapshots 64 268435456\nend 0 0 0\n";
+  std::ofstream(path) << session_header(5) << "end 0 0 0\n";
   ChildProcess macsim({bin("macsim"), "--domain", std::to_string(unique_test_domain()), "--cameras",
                        "off", "--resume", path});
   EXPECT_EQ(macsim.wait_for_exit(30s), 2) << macsim.output();
@@ -527,14 +537,12 @@ TEST(Resume, InRealTimeTheWorldIsTheOneTheKilledProcessLastWroteEvenWithItsLastL
 TEST(Resume, ADamagedSessionIsRefusedNamingItsLine) {
   const TempDir dir("macsim_resume_");
   const std::string path = dir.path() + "/damaged.session";
-  std::ofstream(path) << "macsim-session 5\nworld " << source("worlds/small_room.xml")
-                      << "\nseed -1\nhash-every 100\noverlaps parted\nstrict 0\n"
-                         "limits 32 256 100000\nsnapshots 64 268435456\nh 0 00000000000000zz\n";
+  std::ofstream(path) << session_header(kSessionFormatVersion) << "h 0 00000000000000zz\n";
   const int domain = unique_test_domain();
   ChildProcess macsim(
       {bin("macsim"), "--domain", std::to_string(domain), "--cameras", "off", "--resume", path});
   EXPECT_EQ(macsim.wait_for_exit(30s), 2) << macsim.output();
-  EXPECT_NE(macsim.output().find(path + ":9: a hash must be 16 hex digits"), std::string::npos)
+  EXPECT_NE(macsim.output().find(path + ":10: a hash must be 16 hex digits"), std::string::npos)
       << macsim.output();
 }
 
