@@ -15,7 +15,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <thread>
@@ -24,6 +23,7 @@
 #include "domain_arg.h"
 #include "macsim/client/robot_devices.h"
 #include "macsim/client/supervisor_client.h"
+#include "macsim/images/image_files.h"
 #include "macsim/process/child_process.h"
 #include "support/clutter_judge.h"
 #include "support/world_view.h"
@@ -112,7 +112,7 @@ void draw_run(const std::string& file,
     const auto k = std::lower_bound(stamps.begin(), stamps.end(), stamps.front() + b.t);
     if (k != stamps.end()) cv::line(image, px(b.at), px(path[k - stamps.begin()]), {0, 0, 230}, 1);
   }
-  cv::imwrite(file, image);
+  macsim::images::write_image(file, image);
 }
 
 }  // namespace

@@ -41,6 +41,9 @@ set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
 set(CPACK_DEBIAN_DEV_PACKAGE_RECOMMENDS "cmake, g++")
 set(CPACK_DEBIAN_COMMON_PACKAGE_RECOMMENDS "openssl")  # security/make_security.sh
 set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS "python3 (>= 3.11), python3 (<< 3.12), python3-numpy")
+# The image codecs' module (lib/macsim/, OpenCV's imgcodecs) is the simulator package's; the
+# Python module and the SDK's programs load it when they read or write an image file.
+set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "macsim (= ${PROJECT_VERSION})")
 
 include(CPack)
 cpack_add_component(common DISPLAY_NAME "MACSim-DDS common files"

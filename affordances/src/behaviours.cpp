@@ -6,12 +6,12 @@
 #include <cstdarg>
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "macsim/affordances/laser_odometry.h"
 #include "macsim/affordances/perception.h"
 #include "macsim/affordances/traverse.h"
+#include "macsim/images/image_files.h"
 
 namespace macsim::affordances {
 
@@ -297,7 +297,7 @@ std::vector<std::pair<Sighting, Pose2>> Behaviours::look(int frames) {
     }
     for (const auto& s : sightings) seen.emplace_back(s, to_odom(s.x, s.y));
     if (!options_.debug_images.empty()) {
-      cv::imwrite(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
+      images::write_image(fmt("%s/look_%03d.png", options_.debug_images.c_str(), debug_count_++),
                   draw_sightings(frame.left, sightings));
     }
   });

@@ -5,10 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "macsim/images/image_files.h"
 
 namespace macsim::affordances {
 
@@ -372,7 +373,7 @@ void save_inputs(const SensorInputs& in, const std::string& dir, const std::stri
     for (const auto& [side, image] : {std::pair{"left", &in.frame->left},
                                       std::pair{"right", &in.frame->right}}) {
       const std::string file = base + "_" + side + ".png";
-      if (!cv::imwrite(file, *image)) throw std::runtime_error(file + ": cannot be written");
+      if (!images::write_image(file, *image)) throw std::runtime_error(file + ": cannot be written");
     }
     fs << "frame" << "{" << "stamp" << in.frame->stamp << "focal" << in.frame->focal << "cx"
        << in.frame->cx << "cy" << in.frame->cy << "baseline" << in.frame->baseline << "}";
@@ -410,8 +411,8 @@ SensorInputs load_inputs(const std::string& dir, const std::string& name) {
       f["cx"] >> frame.cx;
       f["cy"] >> frame.cy;
       f["baseline"] >> frame.baseline;
-      frame.left = cv::imread(base + "_left.png", cv::IMREAD_COLOR);
-      frame.right = cv::imread(base + "_right.png", cv::IMREAD_COLOR);
+      frame.left = images::read_image(base + "_left.png");
+      frame.right = images::read_image(base + "_right.png");
       if (frame.left.empty() || frame.right.empty())
         throw std::runtime_error(base + "_left.png or _right.png: missing or not an image");
       in.frame = frame;

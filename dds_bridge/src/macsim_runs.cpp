@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <iostream>
 #include <mutex>
-#include <opencv2/imgcodecs.hpp>
 #include <thread>
 
 #include "macsim/dds/command_line.h"
@@ -17,6 +16,7 @@
 #include "macsim/dds/shared_memory.h"
 #include "macsim/dds/topics.h"
 #include "macsim/dds/wire.h"
+#include "macsim/images/image_files.h"
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/renderer.h"
 #include "macsim/render/viewer.h"
@@ -91,7 +91,7 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
     const macsim::Scene scene = macsim::capture_scene(runner.world());
     for (const auto& [mode, file] : jobs) {
       const cv::Mat image = renderer.render(scene, render::camera_pose(mode, scene), intrinsics);
-      if (!cv::imwrite(file, image)) {
+      if (!macsim::images::write_image(file, image)) {
         macsim::log::error("macsim: cannot write '{}'", file);
         return 1;
       }

@@ -8,11 +8,11 @@
 #include <random>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "macsim/dds/convert.h"
 #include "macsim/dds/topics.h"
+#include "macsim/images/image_files.h"
 
 namespace kurt_plan {
 
@@ -115,7 +115,7 @@ PlanController::PlanController(macsim::dds::Participant& participant, const Plan
 void PlanController::picture(const std::string& name) {
   const auto file = overview_picture(name);
   if (!file) return;
-  const cv::Mat taken = cv::imread(*file);
+  const cv::Mat taken = macsim::images::read_image(*file);
   if (taken.empty()) {
     say(name, *file + " cannot be read here (the simulator runs elsewhere?); no plan drawn on it");
     return;
@@ -138,7 +138,7 @@ void PlanController::picture(const std::string& name) {
   }
   for (const auto& t : shown_.things()) line(t.name() + ": " + t.label() + " " + decimals(t.confidence(), 2), cv::Scalar(230, 200, 160));
   const std::string drawn = std::filesystem::path(*file).replace_extension().string() + "_plan.png";
-  if (cv::imwrite(drawn, out)) say(name, "with the plan: " + drawn);
+  if (macsim::images::write_image(drawn, out)) say(name, "with the plan: " + drawn);
 }
 
 std::vector<plan_msg::JudgedThing_> PlanController::judged_things() const {

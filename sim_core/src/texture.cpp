@@ -1,7 +1,8 @@
 #include "macsim/sim_core/texture.h"
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
+#include "macsim/images/image_files.h"
 #include "macsim/sim_core/world_loader.h"
 
 namespace macsim {
@@ -28,9 +29,10 @@ std::optional<std::string> texture_bytes_problem(const std::string& path,
   }
   cv::Mat image;
   try {
-    image = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),
-                         cv::IMREAD_UNCHANGED);
+    image = images::decode_image(bytes.data(), bytes.size(), images::Pixels::AsStored);
   } catch (const cv::Exception&) {
+  } catch (const images::CodecsUnavailable& e) {
+    return "texture '" + path + "' cannot be checked: " + e.what();
   }
   if (image.empty()) return "texture '" + path + "' cannot be decoded as a BMP image";
   const int w = image.cols, h = image.rows;

@@ -12,11 +12,11 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <regex>
 
 #include "macsim/affordances/planner.h"
+#include "macsim/images/image_files.h"
 #include "macsim/sim_core/world_loader.h"
 #include "macsim/sim_core/world_variation.h"
 #include "support/demonstrator_run.h"
@@ -63,8 +63,8 @@ TEST(KurtPlan, AnOpenDoorIsDrivenThroughAtOnceWhereTheScriptFetchesACanFirst) {
   EXPECT_NE(plan.output.find("(go start door): as predicted"), std::string::npos) << plan.output;
   // After each step an overview picture, and beside it the same with the plan drawn on its right.
   for (const char* step : {"plan_1_step_1", "plan_1_step_2"}) {
-    const cv::Mat taken = cv::imread(pictures.path() + "/" + step + ".png");
-    const cv::Mat drawn = cv::imread(pictures.path() + "/" + step + "_plan.png");
+    const cv::Mat taken = macsim::images::read_image(pictures.path() + "/" + step + ".png");
+    const cv::Mat drawn = macsim::images::read_image(pictures.path() + "/" + step + "_plan.png");
     ASSERT_FALSE(taken.empty()) << step << "\n" << plan.output;
     ASSERT_FALSE(drawn.empty()) << step << "\n" << plan.output;
     ASSERT_EQ(drawn.rows, taken.rows);

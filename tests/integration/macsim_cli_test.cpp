@@ -7,13 +7,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <thread>
 
 #include "macsim/dds/participant.h"
+#include "macsim/images/image_files.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 #include "topic_graph.h"
@@ -72,6 +73,8 @@ TEST(MacsimCli, BenchmarksRefuseBadArgumentsWithoutAborting) {
            {{bin("bench_models"), "5x"}, 2, "PREDICTIONS must be positive, not '5x'"},
            {{bin("bench_planning"), "--help"}, 0, "usage: bench_planning"},
            {{bin("bench_planning"), "0"}, 2, "RUNS must be positive, not '0'"},
+           {{bin("bench_startup"), "--help"}, 0, "usage: bench_startup"},
+           {{bin("bench_startup"), "0"}, 2, "STARTS must be positive, not '0'"},
            {{bin("bench_client"), "--help"}, 0, "usage: bench_client"},
            {{bin("bench_client")}, 2, "--domain"}}) {
     ChildProcess p(c.argv);
@@ -205,6 +208,29 @@ TEST(MacsimCli, NoProgramActsOnHelpABadArgumentOrWithoutADomain) {
       EXPECT_TRUE(t.writers.empty()) << name << " got a writer from " << t.writers[0].participant;
     }
   }
+}
+
+// OpenCV's imgcodecs loads about 130 libraries (GDAL, Poppler, HDF5...) at a process's start,
+// 0.2 s of CPU: no program links it, only the codecs' module that a program loads when it first
+// reads or writes an image file (idl/images).
+TEST(MacsimCli, OnlyTheImageCodecsModuleLinksOpenCvsImageCodecs) {
+  const auto dynamic_section = [](const std::string& file) {
+    ChildProcess p({"/usr/bin/readelf", "--dynamic", file});
+    EXPECT_EQ(p.wait_for_exit(20s), 0) << file << ": " << p.output();
+    return p.output();
+  };
+  int elf_programs = 0;
+  for (const std::string& program : built_programs()) {
+    char magic[4] = {};
+    std::ifstream(bin(program), std::ios::binary).read(magic, sizeof magic);
+    if (std::string(magic, sizeof magic) != "\x7f" "ELF") continue;  // a script
+    ++elf_programs;
+    const std::string dynamic = dynamic_section(bin(program));
+    EXPECT_EQ(dynamic.find("libopencv_imgcodecs"), std::string::npos) << program << ": " << dynamic;
+  }
+  EXPECT_GE(elf_programs, 25);
+  const std::string module = dynamic_section(bin("../lib/macsim/libmacsim_image_codecs.so"));
+  EXPECT_NE(module.find("libopencv_imgcodecs"), std::string::npos) << module;
 }
 
 TEST(MacsimCli, TestBinariesAnswerHelpAndRefuseAnUnknownArgumentInsteadOfRunningTheirSuite) {
@@ -594,7 +620,7 @@ TEST(MacsimCli, SnapshotsRenderEveryCameraModeOffscreen) {
   ChildProcess p(argv);
   ASSERT_EQ(p.wait_for_exit(60s), 0) << p.output();
   for (const auto& mode : modes) {
-    const cv::Mat image = cv::imread(::testing::TempDir() + "snapshot_" + mode + ".png");
+    const cv::Mat image = macsim::images::read_image(::testing::TempDir() + "snapshot_" + mode + ".png");
     ASSERT_FALSE(image.empty()) << mode;
     EXPECT_EQ(image.size(), cv::Size(320, 240)) << mode;
     cv::Scalar mean, stddev;
@@ -623,7 +649,7 @@ TEST(MacsimCli, TheViewerOpensARealWindowOnAnXServer) {
                        "--viewer-screenshot", shot, "--duration", "2.0"});
   unsetenv("DISPLAY");
   ASSERT_EQ(viewer.wait_for_exit(60s), 0) << viewer.output();
-  const cv::Mat image = cv::imread(shot);
+  const cv::Mat image = macsim::images::read_image(shot);
   ASSERT_FALSE(image.empty()) << viewer.output();
   EXPECT_EQ(image.size(), cv::Size(960, 720));
   cv::Scalar mean, stddev;

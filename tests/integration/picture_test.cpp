@@ -6,9 +6,10 @@
 #include <signal.h>
 
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
 #include "macsim/client/picture_client.h"
+#include "macsim/images/image_files.h"
 #include "support/child_process.h"
 #include "support/test_domain.h"
 
@@ -32,7 +33,7 @@ TEST(Pictures, ARequestWritesThePngOfTheCameraModeEvenWhilePaused) {
   EXPECT_EQ(reply->code(), mm::ERR_OK) << reply->message();
   EXPECT_EQ(reply->file(), dir.path() + "/out/overview.png");
   EXPECT_DOUBLE_EQ(reply->sim_time(), 0.0);  // never stepped
-  const cv::Mat image = cv::imread(reply->file());
+  const cv::Mat image = macsim::images::read_image(reply->file());
   ASSERT_FALSE(image.empty());
   EXPECT_EQ(image.size(), cv::Size(320, 200));
   cv::Scalar mean, deviation;

@@ -1,12 +1,12 @@
 // Offscreen rendering against known scenes: colours where objects are, depth, textures, the
 // stereo pair's disparity, every camera mode, and the render thread.
+#include "macsim/images/image_files.h"
 #include "macsim/render/renderer.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "macsim/render/camera_modes.h"
 #include "macsim/render/camera_rig.h"
@@ -78,7 +78,7 @@ TEST(Renderer, TexturesNotDrawnLatelyAreDroppedBeyondTheCapAndReadAgainWhenNeede
   std::filesystem::create_directories(dir);
   auto solid = [&](const std::string& name, const cv::Scalar& bgr) {
     const std::string file = dir + "/" + name + ".bmp";
-    EXPECT_TRUE(cv::imwrite(file, cv::Mat(8, 8, CV_8UC3, bgr)));
+    EXPECT_TRUE(macsim::images::write_image(file, cv::Mat(8, 8, CV_8UC3, bgr)));
     return file;
   };
   auto centre = [&](const std::string& texture) {

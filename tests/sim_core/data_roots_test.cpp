@@ -1,6 +1,7 @@
 // DataRoots: files under the roots are read; a path outside (by `..`, a symbolic link, or
 // plainly) gets one answer whether it exists or not; special files are refused unopened; the
 // size cap holds; the world's operations and the loader answer with the same refusal.
+#include "macsim/images/image_files.h"
 #include "macsim/sim_core/data_roots.h"
 
 #include <fcntl.h>
@@ -13,7 +14,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <thread>
 
 #include "macsim/sim_core/world.h"
@@ -284,7 +284,7 @@ TEST_F(DataRootsTest, TheLoaderAndTheWorldsOperationsAnswerWithTheRefusal) {
   // Inside the roots the operations go on as before; a texture is kept as the file checked,
   // in one spelling (what the renderer reads later is what was checked).
   EXPECT_TRUE(world.edit().import_environment((root_ / "inside.xml").string(), "in", Pose{}).ok());
-  ASSERT_TRUE(cv::imwrite((root_ / "tex.bmp").string(), cv::Mat(4, 4, CV_8UC3, cv::Scalar(1, 2, 3))));
+  ASSERT_TRUE(macsim::images::write_image((root_ / "tex.bmp").string(), cv::Mat(4, 4, CV_8UC3, cv::Scalar(1, 2, 3))));
   EXPECT_TRUE(world.edit().set_texture(box, (root_ / "sub" / ".." / "." / "tex.bmp").string()).ok());
   EXPECT_EQ(world.objects().object_texture(box).value.second, (fs::canonical(root_) / "tex.bmp").string());
 }

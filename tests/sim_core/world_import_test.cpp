@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 
+#include "macsim/images/image_files.h"
 #include "macsim/sim_core/log_sink.h"
 #include "support/world_helpers.h"
 
@@ -85,8 +85,8 @@ TEST_F(WorldImport, ImportedFilesMustBeEnvironments) {
 }
 
 TEST_F(WorldImport, TexturesAreCheckedWhenLoading) {
-  cv::imwrite((dir / "ok.bmp").string(), cv::Mat(64, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
-  cv::imwrite((dir / "npot.bmp").string(), cv::Mat(48, 48, CV_8UC3, cv::Scalar(1, 2, 3)));
+  macsim::images::write_image((dir / "ok.bmp").string(), cv::Mat(64, 64, CV_8UC3, cv::Scalar(1, 2, 3)));
+  macsim::images::write_image((dir / "npot.bmp").string(), cv::Mat(48, 48, CV_8UC3, cv::Scalar(1, 2, 3)));
   write_file(dir / "world.xml", R"(<WORLD>
 <OBJECT><ID>a</ID><SHAPE>BOX</SHAPE><DIMS>1,1,1</DIMS><TEXTURE>ok.bmp</TEXTURE></OBJECT>
 <OBJECT><ID>b</ID><SHAPE>BOX</SHAPE><DIMS>1,1,1</DIMS>

@@ -2,8 +2,8 @@
 // hand computation, penetration checks, bad requests, instability containment.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
 
+#include "macsim/images/image_files.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "support/world_helpers.h"
 
@@ -203,7 +203,7 @@ TEST_F(WorldObjects, TexturesMustBeSquarePowerOfTwoBmpsUpTo1024) {
   const ObjectId box = id_of(world, "environment_01/box_red_small");
   const auto dir = temp_dir("textures");
   auto write = [&](const std::string& name, int w, int h) {
-    cv::imwrite((dir / name).string(), cv::Mat(h, w, CV_8UC3, cv::Scalar(10, 200, 30)));
+    macsim::images::write_image((dir / name).string(), cv::Mat(h, w, CV_8UC3, cv::Scalar(10, 200, 30)));
     return (dir / name).string();
   };
   EXPECT_TRUE(world.edit().set_texture(box, write("ok_1024.bmp", 1024, 1024)).ok());

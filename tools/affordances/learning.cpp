@@ -4,10 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <stdexcept>
+
+#include "macsim/images/image_files.h"
 
 namespace affordances {
 
@@ -191,7 +192,7 @@ struct Canvas {
             area.br().y - static_cast<int>(fy * area.height)};
   }
   void write(const std::string& file) const {
-    if (!cv::imwrite(file, image)) throw std::runtime_error("cannot write " + file);
+    if (!macsim::images::write_image(file, image)) throw std::runtime_error("cannot write " + file);
   }
 };
 

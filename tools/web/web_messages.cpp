@@ -1,10 +1,10 @@
 #include "web_messages.h"
 
 #include "macsim/dds/convert.h"
+#include "macsim/images/image_files.h"
 
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
 namespace macsim::web {
@@ -108,9 +108,9 @@ std::string cloud_message(const client::Cloud& cloud, std::size_t max_points) {
 }
 
 std::string image_frame(char eye, const cv::Mat& bgr, int quality) {
-  std::vector<uchar> jpeg;
-  if (bgr.empty() || !cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, quality}))
-    return {};
+  if (bgr.empty()) return {};
+  const std::vector<unsigned char> jpeg = images::encode_jpeg(bgr, quality);
+  if (jpeg.empty()) return {};
   std::string frame(1, eye);
   frame.append(jpeg.begin(), jpeg.end());
   return frame;

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <opencv2/imgcodecs.hpp>
 #include <optional>
 
 #include "macsim/dds/topics.h"
 #include "macsim/dds/wire.h"
+#include "macsim/images/image_files.h"
 #include "macsim/render/camera_modes.h"
 
 namespace macsim {
@@ -157,13 +157,16 @@ void PictureServer::render_loop() {
         renderer = std::make_unique<render::OffscreenRenderer>(size_.width, size_.height);
       const cv::Mat image =
           renderer->render(job.scene, render::camera_pose(mode, job.scene), size_);
-      if (!cv::imwrite(file, image)) {
+      if (!images::write_image(file, image)) {
         code = mm::ERR_BAD_FILE;
         message = "cannot write '" + file + "'";
       }
     } catch (const render::RenderError& e) {
       code = mm::ERR_NOT_APPLICABLE;
       message = std::string("cannot render: ") + e.what();
+    } catch (const images::CodecsUnavailable& e) {
+      code = mm::ERR_NOT_APPLICABLE;
+      message = std::string("cannot write pictures: ") + e.what();
     }
     job.scene = Scene{};  // its place is free before the reply goes out
     {

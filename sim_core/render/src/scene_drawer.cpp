@@ -6,8 +6,9 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "macsim/images/image_files.h"
 
 namespace macsim::render::detail {
 
@@ -144,7 +145,7 @@ unsigned SceneDrawer::texture(const std::string& path) {
   std::error_code error;
   const bool readable = std::filesystem::is_regular_file(path, error) &&
                         std::filesystem::file_size(path, error) <= kMaxTextureFileBytes && !error;
-  const cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
+  const cv::Mat image = readable ? images::read_image(path) : cv::Mat();
   const unsigned id = image.empty() ? 0 : upload(image);
   const std::size_t bytes = image.empty() ? 0 : image.total() * image.elemSize();
   textures_[path] = {id, bytes, draws_};

@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <opencv2/imgcodecs.hpp>
 
+#include "macsim/images/image_files.h"
 #include "macsim/sim_core/log_sink.h"
 #include "scene_drawer.h"
 
@@ -53,7 +53,7 @@ void display() {
     glReadBuffer(GL_BACK);
     glReadPixels(0, 0, in.width, in.height, GL_BGR, GL_UNSIGNED_BYTE, image.data);
     cv::flip(image, image, 0);
-    cv::imwrite(s.options.screenshot, image);
+    images::write_image(s.options.screenshot, image);
     log_message(LogLevel::Info, "viewer: wrote a screenshot to " + s.options.screenshot);
     s.shot = true;
   }

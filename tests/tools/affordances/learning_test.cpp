@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 
+#include "macsim/images/image_files.h"
 #include "support/child_process.h"
 
 namespace affordances {
@@ -84,7 +84,7 @@ TEST(Learning, PlotsAreWrittenAndNotBlank) {
   plot_learning_curve(learning_curve(lift), "lift", dir.path() + "/curve.png");
   plot_scatter(lift, "hue", "width_m", dir.path() + "/scatter.png");
   for (const char* f : {"/curve.png", "/scatter.png"}) {
-    const cv::Mat image = cv::imread(dir.path() + f);
+    const cv::Mat image = macsim::images::read_image(dir.path() + f);
     ASSERT_FALSE(image.empty()) << f;
     cv::Scalar mean, deviation;
     cv::meanStdDev(image, mean, deviation);

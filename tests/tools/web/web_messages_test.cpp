@@ -1,4 +1,5 @@
 // macsim_web's messages from wire types: what the page is sent, parsed back as JSON.
+#include "macsim/images/image_files.h"
 #include "web_messages.h"
 
 #include <gtest/gtest.h>
@@ -6,7 +7,6 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "macsim/dds/convert.h"
 
@@ -100,7 +100,7 @@ TEST(WebMessages, AnImageIsItsEyeThenAJpegOfTheSameSize) {
   ASSERT_GT(frame.size(), 3u);
   EXPECT_EQ(frame[0], 'R');
   const std::vector<uchar> jpeg(frame.begin() + 1, frame.end());
-  const cv::Mat back = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  const cv::Mat back = macsim::images::decode_image(jpeg.data(), jpeg.size());
   EXPECT_EQ(back.size(), bgr.size());
   EXPECT_NEAR(back.at<cv::Vec3b>(20, 20)[1], 200, 4);
   EXPECT_TRUE(image_frame('L', cv::Mat(), 80).empty());
