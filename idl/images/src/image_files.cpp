@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <filesystem>
 #include <limits>
 
 #include "image_codecs.h"
@@ -11,15 +12,36 @@ namespace {
 
 using detail::ImageCodecs;
 
-/// The module, loaded at the first call (found through the program's run path: lib/macsim of
-/// the build tree or of the installation); a failed load is tried again at the next call.
+/// lib/macsim/<module> beside the bin/ of the program (or shared object) this code is in.
+std::string module_beside_this_object() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&module_beside_this_object), &info) == 0 ||
+      info.dli_fname == nullptr)
+    return {};
+  std::error_code error;
+  const auto object = std::filesystem::canonical(info.dli_fname, error);
+  if (error) return {};
+  return (object.parent_path() / ".." / "lib" / "macsim" / detail::kModuleFile)
+      .lexically_normal()
+      .string();
+}
+
+/// The module, loaded at the first call; a failed load is tried again at the next call. Found
+/// through the program's run path (lib/macsim of the build tree or of the installation), else
+/// beside the program's bin/: a program under AddressSanitizer calls dlopen through the
+/// sanitizer's library, whose run path is searched instead of the program's.
 const ImageCodecs& codecs() {
   static const ImageCodecs* const loaded = [] {
     void* module = dlopen(detail::kModuleFile, RTLD_NOW | RTLD_LOCAL);
     if (module == nullptr) {
-      throw CodecsUnavailable(std::string("image files need ") + detail::kModuleFile +
-                              " (lib/macsim/ of the installation), which did not load: " +
-                              dlerror());
+      const std::string first_error = dlerror();
+      const std::string beside = module_beside_this_object();
+      if (!beside.empty()) module = dlopen(beside.c_str(), RTLD_NOW | RTLD_LOCAL);
+      if (module == nullptr) {
+        throw CodecsUnavailable(std::string("image files need ") + detail::kModuleFile +
+                                " (lib/macsim/ of the installation), which did not load: " +
+                                first_error);
+      }
     }
     using Entry = const ImageCodecs* (*)();
     const auto entry = reinterpret_cast<Entry>(dlsym(module, detail::kEntryPoint));
