@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "macsim/images/image_files.h"
 #include "macsim/process/child_process.h"
 
 namespace {
@@ -68,9 +69,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_startup: STARTS must be positive, not '%s'\n", argv[1]);
     return 2;
   }
-  const std::string module = std::filesystem::weakly_canonical(
-      macsim::process::sibling_program("../lib/macsim/libmacsim_image_codecs.so")).string();
-  if (!std::filesystem::exists(module)) {
+  const std::string module = macsim::images::codecs_module_file();
+  if (module.empty() || !std::filesystem::exists(module)) {
     std::fprintf(stderr, "bench_startup: no image codecs' module at %s\n", module.c_str());
     return 1;
   }

@@ -101,6 +101,9 @@ int write_snapshots(macsim::Runner& runner, const std::vector<std::string>& requ
   } catch (const render::RenderError& e) {
     macsim::log::error("macsim: cannot render offscreen: {}", e.what());
     return 1;
+  } catch (const macsim::images::CodecsUnavailable& e) {
+    macsim::log::error("macsim: cannot write a snapshot: {}", e.what());
+    return 1;
   }
   return 0;
 }

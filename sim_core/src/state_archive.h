@@ -128,6 +128,30 @@ class ByteSink {
   std::size_t used_ = 0;
 };
 
+/// Counts the bytes written to it: the size a value's bytes will take, found before writing them.
+class SizeSink {
+ public:
+  void raw(const void*, std::size_t size) { size_ += size; }
+  std::size_t size() const { return size_; }
+
+ private:
+  std::size_t size_ = 0;
+};
+
+/// Appends the bytes to a vector reserved to their size beforehand: one allocation, no fill.
+class VectorSink {
+ public:
+  void reserve(std::size_t size) { bytes_.reserve(size); }
+  void raw(const void* data, std::size_t size) {
+    const auto* from = static_cast<const uint8_t*>(data);
+    bytes_.insert(bytes_.end(), from, from + size);
+  }
+  std::vector<uint8_t> take() { return std::move(bytes_); }
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
 /// Reads values back in the order they were written; throws std::runtime_error when the bytes
 /// run out or a length is impossible (a damaged snapshot, or one of another build).
 class StateReader {
@@ -230,12 +254,17 @@ inline bool plausible_generator(const std::mt19937& generator) {
   return any;
 }
 
-/// `value`'s bytes by its field list (a robot's part of the state, say).
+/// `value`'s bytes by its field list (a robot's part of the state, say): counted first, then
+/// written once into a vector of that size (a robot's clouds make it a megabyte, taken at every
+/// state hash: growing a buffer to it cost more than the rest of the hash).
 template <class T>
 std::vector<uint8_t> to_bytes(const T& value) {
-  StateWriter<ByteSink> writer;
+  StateWriter<SizeSink> counter;
+  counter(value);
+  StateWriter<VectorSink> writer;
+  writer.sink().reserve(counter.sink().size());
   writer(value);
-  return {writer.sink().data(), writer.sink().data() + writer.sink().size()};
+  return writer.sink().take();
 }
 
 /// The value to_bytes() wrote; throws std::runtime_error on damaged or trailing bytes.

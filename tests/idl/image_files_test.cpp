@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <sstream>
@@ -35,6 +36,11 @@ cv::Mat gradient(int rows, int cols) {
 // reads or writes an image.
 TEST(ImageFiles, TheCodecsAreLoadedAtTheFirstImageOnly) {
   EXPECT_FALSE(codecs_loaded()) << "imgcodecs was mapped before any image file was touched";
+  // The module beside this program is the build tree's lib/macsim/ one; naming it loads nothing.
+  const std::string module = images::codecs_module_file();
+  EXPECT_TRUE(std::filesystem::is_regular_file(module)) << module;
+  EXPECT_NE(module.find("/lib/macsim/libmacsim_image_codecs.so"), std::string::npos) << module;
+  EXPECT_FALSE(codecs_loaded());
   const TempDir dir("macsim_images_");
   ASSERT_TRUE(images::write_image(dir.path() + "/a.png", gradient(8, 8)));
   EXPECT_TRUE(codecs_loaded());

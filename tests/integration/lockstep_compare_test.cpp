@@ -63,8 +63,9 @@ TEST(LockstepCompare, TwoRunsOfTheDemonstratorAreTheSameRun) {
     const DemoRun played =
         play_demonstrator("kurt_demo", source("worlds/DemoWorld_v1.xml"), 5, {}, 170s,
                           {"--record-session", dir.path() + "/" + run + ".session"});
-    ASSERT_EQ(played.exit_code, 0) << played.output;  // through the door
-    EXPECT_NE(played.output.find("SUCCESS"), std::string::npos) << played.output;
+    // Each run is also one of the demonstrator's layouts, checked as KurtDemoSeeds checks its own.
+    expect_through_the_door(played, std::string("layout 5, ") + run);
+    if (::testing::Test::HasFatalFailure()) return;
   }
   expect_same_runs(dir.path());
 }

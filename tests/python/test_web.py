@@ -17,7 +17,7 @@ import pytest
 
 import headless_chromium
 import macsim
-from conftest import binary, source, start_macsim
+from conftest import Process, _lock_domain, binary, source, start_macsim
 
 
 def wait_until(check, timeout, what):
@@ -30,17 +30,43 @@ def wait_until(check, timeout, what):
     raise AssertionError(f"{what} within {timeout} s")
 
 
-@pytest.fixture
-def served(domain, spawn):
-    start_macsim(spawn, domain, "worlds/DemoWorld_v1.xml", "--cameras", "320x240")
-    web = spawn([binary("macsim_web"), "--domain", domain, "--port", "0"])
-    assert web.wait_for_output("serving http://", 20), web.output()
-    url = re.search(r"serving (http://\S+)", web.output()).group(1)
+@pytest.fixture(scope="module")
+def chromium():
+    """One headless Chromium for the file's tests (a start costs seconds of CPU)."""
     browser = headless_chromium.start()
     try:
-        yield url, browser, web
+        yield browser
     finally:
         browser.quit()
+
+
+@pytest.fixture(scope="module")
+def served_domain():
+    """The DDS domain of the simulator the first two tests share."""
+    number, fd = _lock_domain()
+    yield number
+    os.close(fd)
+
+
+@pytest.fixture(scope="module")
+def served(served_domain, chromium):
+    """macsim on the demo world and macsim_web serving it, shared by the first two tests (the
+    second only reads: it asks for pages and sends malformed messages)."""
+    started = []
+
+    def spawn(argv, env=None):
+        started.append(Process([str(a) for a in argv], env))
+        return started[-1]
+
+    try:
+        start_macsim(spawn, served_domain, "worlds/DemoWorld_v1.xml", "--cameras", "320x240")
+        web = spawn([binary("macsim_web"), "--domain", served_domain, "--port", "0"])
+        assert web.wait_for_output("serving http://", 20), web.output()
+        url = re.search(r"serving (http://\S+)", web.output()).group(1)
+        yield url, chromium, web
+    finally:
+        for process in reversed(started):
+            process.stop()
 
 
 def page_view(browser):
@@ -48,16 +74,53 @@ def page_view(browser):
     return browser.execute_script("return window.macsimView || null;")
 
 
-def test_the_page_draws_the_world_and_follows_the_robot(served, domain):
+def test_the_page_lists_a_controllers_plan_as_it_acts_and_labels_what_it_judged(domain, spawn,
+                                                                               chromium):
+    # kurt_plan on the open-door family's layout 5 against a lock-step simulator: a plan of two
+    # steps (go to the door, drive through), the cans it saw judged. First in the file: the
+    # simulator the next two tests share (running in real time) starts after it.
+    start_macsim(spawn, domain, "worlds/goals/door_open.xml", "--seed", "5", "--lockstep")
+    web = spawn([binary("macsim_web"), "--domain", domain, "--port", "0"])
+    assert web.wait_for_output("serving http://", 20), web.output()
+    url = re.search(r"serving (http://\S+)", web.output()).group(1)
+    browser = chromium
+    browser.get(url)
+    # In lock-step nothing is published before a controller steps the simulation.
+    wait_until(lambda: (v := page_view(browser)) and v["connected"], 30, "no connection")
+    assert page_view(browser)["plan"] is None  # no controller yet
+    plan = spawn([binary("kurt_plan"), "--domain", domain, "--lockstep", "--pddl-domain",
+                  source("affordances/domains/kurt3d_room_by_hand.pddl")])
+    under_way = wait_until(lambda: (v := page_view(browser)) and v["plan"] and v["plan"]["current"] >= 0
+                           and v["plan"], 120, "no step under way on the page")
+    assert under_way["steps"][under_way["current"]][1] == "under way"
+    assert page_view(browser)["drawn"] > 0
+    assert plan.wait(120) == 0, plan.output()
+    shown = wait_until(lambda: (v := page_view(browser)) and v["plan"] and v["plan"]["outcome"]
+                       and v["plan"], 20, "the plan's outcome did not reach the page")
+    assert shown["outcome"].startswith("goal reached: yes, plan steps: 2"), shown
+    assert shown["goal"] == "through-door" and shown["round"] == 1
+    assert shown["steps"] == [["(go start door)", "as predicted"], ["(drive-through door)", "as predicted"]]
+    for action, _ in shown["steps"]:
+        assert action + ": as predicted" in plan.output()
+    # Beside the view, the steps as listed items; over the view, a label per judged thing.
+    items = browser.execute_script(
+        "return [...document.querySelectorAll('#plan li')].map(e => e.textContent);")
+    assert len(items) == 2 and items[1].startswith("(drive-through door) -> (beyond door)"), items
+    assert len(shown["labels"]) >= 1, shown
+    for name in shown["labels"]:
+        assert re.fullmatch(r"[a-z]+_[0-9]+", name), name
+
+
+def test_the_page_draws_the_world_and_follows_the_robot(served, served_domain):
     url, browser, web = served
-    participant = macsim.Participant(domain=domain, name="web_test")
+    participant = macsim.Participant(domain=served_domain, name="web_test")
     world = macsim.WorldState(participant)
     objects = world.wait(lambda o: len(o) > 20, timeout=30)
     browser.get(url)
     view = wait_until(lambda: (v := page_view(browser)) and v["drawn"] == len(objects) and v, 60,
                       f"the page did not draw the world's {len(objects)} objects")
     assert view["objectIds"] == sorted(objects)
-    assert view["domain"] == domain and view["connected"]
+    assert view["domain"] == served_domain and view["connected"]
     assert "objects drawn" in browser.execute_script("return document.title;")
     names = browser.execute_script(
         "return [...document.querySelectorAll('#objects li')].map(e => e.textContent);")
@@ -130,41 +193,3 @@ def test_bad_requests_get_errors_and_the_server_keeps_serving(served):
                "the page after reloads")
     with urllib.request.urlopen(url, timeout=10) as page:
         assert b"macsim_web" in page.read()
-
-
-def test_the_page_lists_a_controllers_plan_as_it_acts_and_labels_what_it_judged(domain, spawn):
-    # kurt_plan on the open-door family's layout 5 against a lock-step simulator: a plan of two
-    # steps (go to the door, drive through), the cans it saw judged.
-    start_macsim(spawn, domain, "worlds/goals/door_open.xml", "--seed", "5", "--lockstep")
-    web = spawn([binary("macsim_web"), "--domain", domain, "--port", "0"])
-    assert web.wait_for_output("serving http://", 20), web.output()
-    url = re.search(r"serving (http://\S+)", web.output()).group(1)
-    browser = headless_chromium.start()
-    try:
-        browser.get(url)
-        # In lock-step nothing is published before a controller steps the simulation.
-        wait_until(lambda: (v := page_view(browser)) and v["connected"], 30, "no connection")
-        assert page_view(browser)["plan"] is None  # no controller yet
-        plan = spawn([binary("kurt_plan"), "--domain", domain, "--lockstep", "--pddl-domain",
-                      source("affordances/domains/kurt3d_room_by_hand.pddl")])
-        under_way = wait_until(lambda: (v := page_view(browser)) and v["plan"] and v["plan"]["current"] >= 0
-                               and v["plan"], 120, "no step under way on the page")
-        assert under_way["steps"][under_way["current"]][1] == "under way"
-        assert page_view(browser)["drawn"] > 0
-        assert plan.wait(120) == 0, plan.output()
-        shown = wait_until(lambda: (v := page_view(browser)) and v["plan"] and v["plan"]["outcome"]
-                           and v["plan"], 20, "the plan's outcome did not reach the page")
-        assert shown["outcome"].startswith("goal reached: yes, plan steps: 2"), shown
-        assert shown["goal"] == "through-door" and shown["round"] == 1
-        assert shown["steps"] == [["(go start door)", "as predicted"], ["(drive-through door)", "as predicted"]]
-        for action, _ in shown["steps"]:
-            assert action + ": as predicted" in plan.output()
-        # Beside the view, the steps as listed items; over the view, a label per judged thing.
-        items = browser.execute_script(
-            "return [...document.querySelectorAll('#plan li')].map(e => e.textContent);")
-        assert len(items) == 2 and items[1].startswith("(drive-through door) -> (beyond door)"), items
-        assert len(shown["labels"]) >= 1, shown
-        for name in shown["labels"]:
-            assert re.fullmatch(r"[a-z]+_[0-9]+", name), name
-    finally:
-        browser.quit()

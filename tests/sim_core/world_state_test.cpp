@@ -6,11 +6,13 @@
 #include <cstring>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "macsim/sim_core/kurt_robot.h"
+#include "state_archive.h"
 #include "support/world_helpers.h"
 
 namespace macsim::test {
@@ -141,6 +143,62 @@ TEST(WorldState, TheHashIsTheHashOfTheSerialisedState) {
   const std::vector<uint8_t> bytes = serialize(state);
   EXPECT_EQ(serialize(deserialize(bytes)), bytes);  // every field read back
   EXPECT_EQ(XXH3_64bits(bytes.data(), bytes.size()), world.state_hash());
+}
+
+}  // namespace
+}  // namespace macsim::test
+
+// A value of the shapes a robot's state has (numbers, strings, optionals, blocks of Eigen
+// vectors, vectors of records), with its field list as sim_core's parts write theirs.
+namespace macsim::test::archived {
+struct Record {
+  std::string name;
+  std::optional<double> reading;
+  std::vector<Eigen::Vector3f> cloud;
+};
+template <class Ar>
+void archive(Ar& ar, Record& r) {
+  ar(r.name, r.reading, r.cloud);
+}
+struct Value {
+  uint64_t count = 0;
+  std::array<double, 3> pose{};
+  std::vector<Record> records;
+  std::mt19937 rng;
+};
+template <class Ar>
+void archive(Ar& ar, Value& v) {
+  ar(v.count, v.pose, v.records, v.rng);
+}
+}  // namespace macsim::test::archived
+
+namespace macsim::test {
+namespace {
+
+TEST(WorldState, AValuesBytesAreCountedThenWrittenOnceAsAGrowingBufferWritesThem) {
+  archived::Value v;  // (not const: its generator is drawn from below)
+  v.count = 7;
+  v.pose = {1.5, -2.25, 3.0};
+  std::mt19937 points(3);
+  for (int r = 0; r < 4; ++r) {
+    archived::Record record{"record_" + std::to_string(r),
+                            r % 2 ? std::optional<double>(r) : std::nullopt, {}};
+    for (int i = 0; i < 20000 * r; ++i) record.cloud.emplace_back(float(points()), float(i), -1.0f);
+    v.records.push_back(record);
+  }
+  v.rng.discard(11);
+  detail::StateWriter<detail::ByteSink> grown;  // the buffer that doubles as it goes
+  grown(v);
+  const auto& sink = grown.sink();
+  const std::vector<uint8_t> expected(sink.data(), sink.data() + sink.size());
+  const std::vector<uint8_t> bytes = detail::to_bytes(v);
+  EXPECT_EQ(bytes.size(), expected.size());
+  EXPECT_EQ(bytes, expected);
+  EXPECT_EQ(bytes.capacity(), bytes.size()) << "reserved to the counted size, not grown";
+  auto back = detail::from_bytes<archived::Value>(bytes);
+  EXPECT_EQ(detail::to_bytes(back), bytes);
+  EXPECT_EQ(back.records[3].cloud.size(), 60000u);
+  EXPECT_EQ(back.rng(), v.rng());
 }
 
 TEST(WorldState, DamagedSnapshotsAreRefusedAndChangeNothing) {

@@ -3,6 +3,7 @@
 // the door, the robot's ground truth), judged from the simulator's own topics.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <signal.h>
 
 #include <chrono>
@@ -100,6 +101,25 @@ inline std::vector<const macsim_msgs::msg::dds_::Object_*> cans_on_platform(cons
 inline const macsim_msgs::msg::dds_::Object_* can_on_platform(const DemoRun& run) {
   const auto cans = cans_on_platform(run);
   return cans.empty() ? nullptr : cans.front();
+}
+
+/// Everything the demonstrator must leave behind, asserted from the simulator's state: the
+/// controller said SUCCESS; a magnetizable can on the switch's platform, the switch triggered by
+/// weight (not virtually), the door open, the robot's ground truth beyond the partition.
+inline void expect_through_the_door(const DemoRun& run, const std::string& what) {
+  ASSERT_EQ(run.exit_code, 0) << what << "\n" << run.output;
+  EXPECT_NE(run.output.find("SUCCESS"), std::string::npos) << run.output;
+  const macsim_msgs::msg::dds_::Object_* can = can_on_platform(run);
+  ASSERT_NE(can, nullptr) << what << ": no can on the switch's platform";
+  EXPECT_TRUE(can->magnetizable());
+  ASSERT_TRUE(run.door.has_value());
+  EXPECT_TRUE(run.door->door().triggered()) << what;
+  EXPECT_FALSE(run.door->door().virtually_triggered()) << what << ": opened by weight only";
+  EXPECT_GT(run.door->door().opening(), 0.9) << what;
+  ASSERT_TRUE(run.truth.has_value());
+  // The partition is at x = 1.5 m; the robot's footprint is beyond it.
+  EXPECT_GT(run.truth->pose().pose().position().x(), 1.5 + 0.3) << what;
+  EXPECT_LT(std::fabs(run.truth->pose().pose().position().y()), 1.9) << what;
 }
 
 }  // namespace macsim::test

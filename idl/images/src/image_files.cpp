@@ -12,10 +12,11 @@ namespace {
 
 using detail::ImageCodecs;
 
-/// lib/macsim/<module> beside the bin/ of the program (or shared object) this code is in.
-std::string module_beside_this_object() {
+}  // namespace
+
+std::string codecs_module_file() {
   Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&module_beside_this_object), &info) == 0 ||
+  if (dladdr(reinterpret_cast<void*>(&codecs_module_file), &info) == 0 ||
       info.dli_fname == nullptr)
     return {};
   std::error_code error;
@@ -26,6 +27,8 @@ std::string module_beside_this_object() {
       .string();
 }
 
+namespace {
+
 /// The module, loaded at the first call; a failed load is tried again at the next call. Found
 /// through the program's run path (lib/macsim of the build tree or of the installation), else
 /// beside the program's bin/: a program under AddressSanitizer calls dlopen through the
@@ -35,7 +38,7 @@ const ImageCodecs& codecs() {
     void* module = dlopen(detail::kModuleFile, RTLD_NOW | RTLD_LOCAL);
     if (module == nullptr) {
       const std::string first_error = dlerror();
-      const std::string beside = module_beside_this_object();
+      const std::string beside = codecs_module_file();
       if (!beside.empty()) module = dlopen(beside.c_str(), RTLD_NOW | RTLD_LOCAL);
       if (module == nullptr) {
         throw CodecsUnavailable(std::string("image files need ") + detail::kModuleFile +

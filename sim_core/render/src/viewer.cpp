@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <string>
 
 #include "macsim/images/image_files.h"
 #include "macsim/sim_core/log_sink.h"
@@ -23,6 +24,7 @@ struct ViewerState {
   int button = -1, last_x = 0, last_y = 0;
   bool close = false;
   bool shot = false;
+  bool failed = false;  // the screenshot asked for could not be written
   std::chrono::steady_clock::time_point opened;
 };
 
@@ -53,9 +55,19 @@ void display() {
     glReadBuffer(GL_BACK);
     glReadPixels(0, 0, in.width, in.height, GL_BGR, GL_UNSIGNED_BYTE, image.data);
     cv::flip(image, image, 0);
-    images::write_image(s.options.screenshot, image);
-    log_message(LogLevel::Info, "viewer: wrote a screenshot to " + s.options.screenshot);
     s.shot = true;
+    std::string problem;
+    try {
+      if (!images::write_image(s.options.screenshot, image)) problem = "cannot write it";
+    } catch (const images::CodecsUnavailable& e) {
+      problem = e.what();
+    }
+    if (problem.empty()) {
+      log_message(LogLevel::Info, "viewer: wrote a screenshot to " + s.options.screenshot);
+    } else {
+      log_message(LogLevel::Error, "viewer: no screenshot to " + s.options.screenshot + ": " + problem);
+      s.failed = s.close = true;  // the window closes and the viewer says it failed
+    }
   }
   glutSwapBuffers();
 }
@@ -130,7 +142,7 @@ int run_viewer(const ViewerOptions& options, const std::function<Scene()>& lates
   if (glutGetWindow() != 0) glutDestroyWindow(window);
   glutMainLoopEvent();
   g_state = nullptr;
-  return 0;
+  return state.failed ? 1 : 0;
 }
 
 }  // namespace macsim::render

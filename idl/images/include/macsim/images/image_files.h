@@ -27,6 +27,9 @@ bool write_image(const std::string& path, const cv::Mat& image);
 /// `image` as a JPEG file's bytes at `quality` (0-100); empty when it cannot be encoded.
 std::vector<unsigned char> encode_jpeg(const cv::Mat& image, int quality);
 
+/// Where the codecs' module lies beside this program: lib/macsim/ above its bin/ (empty if unknown).
+std::string codecs_module_file();
+
 /// The codecs could not be loaded (an installation without lib/macsim/libmacsim_image_codecs.so).
 struct CodecsUnavailable : std::runtime_error {
   using std::runtime_error::runtime_error;

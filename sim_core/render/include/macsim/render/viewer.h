@@ -41,7 +41,8 @@ struct ViewerOptions {
 
 /// Opens the window and shows the newest scene until it is closed (q, Esc, the window's close
 /// button) or `stop()` returns true. Keys 1 to 8 pick the camera modes in the seed's order.
-/// Returns 0, or 1 with a message on stderr if no window can be opened.
+/// Returns 0, or 1 with a message on stderr if no window can be opened or the screenshot asked
+/// for cannot be written (the window then closes).
 int run_viewer(const ViewerOptions& options, const std::function<Scene()>& latest_scene,
                const std::function<bool()>& stop);
 
