@@ -2,6 +2,7 @@
 C++ tests, so the suites never share one), processes that are always reaped, and macsim
 started the way a user starts it."""
 
+import contextlib
 import fcntl
 import os
 import signal
@@ -46,11 +47,20 @@ def _lock_domain():
     raise RuntimeError("no free DDS test domain in 100..232")
 
 
+@contextlib.contextmanager
+def held_domain():
+    """A free DDS test domain, held until the block ends."""
+    number, fd = _lock_domain()
+    try:
+        yield number
+    finally:
+        os.close(fd)
+
+
 @pytest.fixture
 def domain():
-    number, fd = _lock_domain()
-    yield number
-    os.close(fd)
+    with held_domain() as number:
+        yield number
 
 
 class Process:
@@ -84,8 +94,10 @@ class Process:
         self.log.close()
 
 
-@pytest.fixture
-def spawn():
+@contextlib.contextmanager
+def spawning():
+    """start(argv, env=None) -> Process; every process started is stopped and reaped, newest
+    first, when the block ends."""
     started = []
 
     def start(argv, env=None):
@@ -93,9 +105,17 @@ def spawn():
         started.append(process)
         return process
 
-    yield start
-    for process in reversed(started):
-        process.stop()
+    try:
+        yield start
+    finally:
+        for process in reversed(started):
+            process.stop()
+
+
+@pytest.fixture
+def spawn():
+    with spawning() as start:
+        yield start
 
 
 def start_macsim(spawn, domain, world, *options, ready="stepping"):

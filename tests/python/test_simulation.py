@@ -14,7 +14,7 @@ import time
 import pytest
 
 import macsim
-from conftest import _lock_domain, source, start_macsim
+from conftest import held_domain, source, start_macsim
 
 LOCKSTEP = ("--lockstep", "--cameras", "off")
 
@@ -77,12 +77,8 @@ def lockstep_run(domain, spawn):
 
 def test_lockstep_runs_are_deterministic(domain, spawn):
     first = lockstep_run(domain, spawn)
-    other, fd = _lock_domain()
-    try:
+    with held_domain() as other:
         second = lockstep_run(other, spawn)
-    finally:
-        import os
-        os.close(fd)
     assert len(set(first)) == len(first), "the world did not change between steps"
     assert first == second
 

@@ -17,7 +17,7 @@ import pytest
 
 import headless_chromium
 import macsim
-from conftest import Process, _lock_domain, binary, source, start_macsim
+from conftest import binary, held_domain, source, spawning, start_macsim
 
 
 def wait_until(check, timeout, what):
@@ -43,30 +43,20 @@ def chromium():
 @pytest.fixture(scope="module")
 def served_domain():
     """The DDS domain of the simulator the first two tests share."""
-    number, fd = _lock_domain()
-    yield number
-    os.close(fd)
+    with held_domain() as number:
+        yield number
 
 
 @pytest.fixture(scope="module")
 def served(served_domain, chromium):
     """macsim on the demo world and macsim_web serving it, shared by the first two tests (the
     second only reads: it asks for pages and sends malformed messages)."""
-    started = []
-
-    def spawn(argv, env=None):
-        started.append(Process([str(a) for a in argv], env))
-        return started[-1]
-
-    try:
+    with spawning() as spawn:
         start_macsim(spawn, served_domain, "worlds/DemoWorld_v1.xml", "--cameras", "320x240")
         web = spawn([binary("macsim_web"), "--domain", served_domain, "--port", "0"])
         assert web.wait_for_output("serving http://", 20), web.output()
         url = re.search(r"serving (http://\S+)", web.output()).group(1)
         yield url, chromium, web
-    finally:
-        for process in reversed(started):
-            process.stop()
 
 
 def page_view(browser):
