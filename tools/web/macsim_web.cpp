@@ -76,7 +76,8 @@ struct Readers {
   macsim::client::Latest<nav_msgs::msg::dds_::Odometry_PubSubType> truth;
   macsim::client::Latest<kurt_msgs::msg::dds_::CraneState_PubSubType> crane;
   macsim::client::Latest<nav_msgs::msg::dds_::Odometry_PubSubType> odom;
-  macsim::client::Latest<plan_msgs::msg::dds_::Plan_PubSubType> plan;  ///< a controller's, if one publishes
+  macsim::client::Latest<plan_msgs::msg::dds_::Plan_PubSubType>
+      plan;  ///< a controller's, if one publishes
   macsim::client::Latest<sm::LaserScan_PubSubType> scan360, scan;
   macsim::client::Latest<sm::PointCloud2_PubSubType> points;
   macsim::client::StereoCamera cameras;
@@ -199,7 +200,7 @@ int main(int argc, char** argv) {
         if (ids != shown || scene.empty()) {
           scene = macsim::web::scene_message(objects, participant.domain, robot);
           shown = ids;
-          web.broadcast_text(scene);
+          web.broadcast_state(scene);
         }
         update = macsim::web::update_message(objects, sim_time, rtf.update(sim_time), view);
       }
@@ -210,12 +211,13 @@ int main(int argc, char** argv) {
         std::array<double, 3> frame{0, 0, 0};
         const auto pose = truth.get_shared();
         const auto odometry = odom.get_shared();
-        if (pose && odometry) frame = macsim::web::odom_in_world(pose->pose().pose(), odometry->pose().pose());
+        if (pose && odometry)
+          frame = macsim::web::odom_in_world(pose->pose().pose(), odometry->pose().pose());
         std::string text = macsim::web::plan_message(*published, frame);
         std::lock_guard<std::mutex> lock(scene_mutex);
         if (text != plan) {
           plan = std::move(text);
-          web.broadcast_text(plan);
+          web.broadcast_state(plan);
         }
       }
       for (const auto* source : {&scan360, &scan}) {

@@ -75,12 +75,13 @@ struct WebServer::Impl {
 
   std::atomic<std::size_t> skipped{0};
 
-  void send_all(const std::string& payload, websocketpp::frame::opcode::value opcode) {
+  void send_all(const std::string& payload, websocketpp::frame::opcode::value opcode,
+                bool may_drop = true) {
     for (const Handle& handle : connections) {
       websocketpp::lib::error_code error;
       auto connection = server.get_con_from_hdl(handle, error);
       if (error) continue;
-      if (connection->get_buffered_amount() > max_buffered) {
+      if (may_drop && connection->get_buffered_amount() > max_buffered) {
         ++skipped;  // still sending the last ones: this frame is late for it, drop it
         continue;
       }
@@ -204,6 +205,13 @@ void WebServer::broadcast_text(std::string text) {
   Impl& s = *impl_;
   asio::post(s.server.get_io_service(), [&s, payload = std::move(text)] {
     s.send_all(payload, websocketpp::frame::opcode::text);
+  });
+}
+
+void WebServer::broadcast_state(std::string text) {
+  Impl& s = *impl_;
+  asio::post(s.server.get_io_service(), [&s, payload = std::move(text)] {
+    s.send_all(payload, websocketpp::frame::opcode::text, false);
   });
 }
 

@@ -1,6 +1,7 @@
 // A small HTTP + WebSocket server (websocketpp on standalone asio, in a thread of its own):
 // static files from one directory, and WebSocket clients the owner broadcasts frames to. A
-// client whose send queue is still full misses a frame; nothing queues up behind it.
+// client whose send queue is still full misses a frame; nothing queues up behind it, but what a
+// later frame does not replace (broadcast_state) reaches every client.
 #pragma once
 
 #include <cstddef>
@@ -38,6 +39,9 @@ class WebServer {
   std::size_t clients() const;
   /// Sends a text (JSON) frame to every client with room in its queue (from any thread).
   void broadcast_text(std::string text);
+  /// Sends a text frame to every client however far behind it is (from any thread): for what a
+  /// later frame does not replace (the scene, a plan), never dropped.
+  void broadcast_state(std::string text);
   /// Sends a binary frame likewise (images).
   void broadcast_binary(std::string bytes);
   /// Frames a client missed so far because it was still busy with earlier ones.

@@ -1,6 +1,7 @@
 // macsim_web's server without a browser: WebSocket handshakes over a plain socket; at most
 // max_clients at once, the next refused with HTTP 503 naming the cap, a closed one's place free,
-// handshakes in flight at once counted too.
+// handshakes in flight at once counted too; a client that reads nothing misses frames, but not
+// those sent as state.
 #include "web_server.h"
 
 #include <arpa/inet.h>
@@ -72,19 +73,21 @@ bool wait_until(const std::function<bool()>& done) {
   return done();
 }
 
-/// A web server of at most two browsers on a page of its own (a folder removed at the end).
+/// A web server of at most two browsers on a page of its own (a folder removed at the end),
+/// skipping a client with more than `max_buffered` bytes queued.
 struct CappedServer {
-  explicit CappedServer(const std::string& prefix)
+  explicit CappedServer(const std::string& prefix, std::size_t max_buffered = 2u << 20)
       : root(std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))),
-        server(options(root), nullptr, nullptr) {}
+        server(options(root, max_buffered), nullptr, nullptr) {}
   ~CappedServer() { std::filesystem::remove_all(root); }
-  static WebServer::Options options(const std::filesystem::path& root) {
+  static WebServer::Options options(const std::filesystem::path& root, std::size_t max_buffered) {
     std::filesystem::create_directories(root);
     std::ofstream(root / "index.html") << "<html></html>";
     WebServer::Options o;
     o.port = 0;
     o.root = root.string();
     o.max_clients = 2;
+    o.max_buffered = max_buffered;
     return o;
   }
   std::filesystem::path root;
@@ -142,6 +145,71 @@ TEST(WebServer, HandshakesInFlightAtOnceCountAgainstTheCap) {
   EXPECT_TRUE(again2.accepted()) << again2.answer;
   Handshake again3(server.port());
   EXPECT_EQ(again3.answer.rfind("HTTP/1.1 503", 0), 0u) << again3.answer;
+}
+
+/// The payloads of the unmasked text frames a server sent on `fd` after its handshake's answer
+/// (`after`: bytes read past it), read until `enough` holds of them or 10 s pass.
+std::vector<std::string> read_text_frames(
+    int fd, std::string after, const std::function<bool(const std::vector<std::string>&)>& enough) {
+  std::vector<std::string> frames;
+  std::string bytes = std::move(after);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  timeval limit{0, 200000};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+  char buffer[65536];
+  while (!enough(frames) && std::chrono::steady_clock::now() < give_up) {
+    const ssize_t got = ::recv(fd, buffer, sizeof buffer, 0);
+    if (got > 0) bytes.append(buffer, static_cast<std::size_t>(got));
+    for (;;) {  // whole frames off the front
+      if (bytes.size() < 2) break;
+      std::size_t length = static_cast<unsigned char>(bytes[1]) & 0x7f, header = 2;
+      if (length == 126 || length == 127) {
+        header = length == 126 ? 4 : 10;
+        if (bytes.size() < header) break;
+        length = 0;
+        for (std::size_t i = 2; i < header; ++i)
+          length = (length << 8) | static_cast<unsigned char>(bytes[i]);
+      }
+      if (bytes.size() < header + length) break;
+      if ((static_cast<unsigned char>(bytes[0]) & 0x0f) == 0x1)
+        frames.push_back(bytes.substr(header, length));
+      bytes.erase(0, header + length);
+    }
+  }
+  return frames;
+}
+
+TEST(WebServer, AClientThatReadsNothingMissesFramesButNoneSentAsState) {
+  // 64 KB queued at most; the client reads nothing until 20 MB were sent, more than the
+  // sockets' buffers hold.
+  CappedServer served("macsim_web_test_state_", 64u << 10);
+  WebServer& server = served.server;
+  Handshake client(server.port(), /*read_later=*/true);
+  client.read();
+  ASSERT_TRUE(client.accepted()) << client.answer;
+  ASSERT_TRUE(wait_until([&] { return server.clients() == 1; }));
+  const std::string update(100u << 10, 'u');
+  for (int round = 0; round < 2; ++round) {
+    for (int i = 0; i < 100; ++i) server.broadcast_text(update);
+    server.broadcast_state("state " + std::to_string(round));
+  }
+  ASSERT_TRUE(wait_until([&] { return server.frames_skipped() > 0; }));
+  const std::string after = client.answer.substr(client.answer.find("\r\n\r\n") + 4);
+  const auto frames = read_text_frames(client.fd, after, [](const std::vector<std::string>& got) {
+    return !got.empty() && got.back() == "state 1";
+  });
+  std::vector<std::string> states;
+  std::size_t updates = 0;
+  for (const auto& frame : frames) {
+    if (frame == update)
+      ++updates;
+    else
+      states.push_back(frame);
+  }
+  EXPECT_EQ(states, (std::vector<std::string>{"state 0", "state 1"}));
+  EXPECT_LT(updates, 200u);  // some were skipped
+  EXPECT_GT(updates, 0u);
+  EXPECT_EQ(updates + server.frames_skipped(), 200u);
 }
 
 }  // namespace
