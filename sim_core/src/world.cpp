@@ -84,14 +84,42 @@ constexpr int kRobotGroupBase = -100;
 constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1 mm
 }  // namespace
 
-World::World(WorldSpec spec) : spec_(std::move(spec)) {
+/// What the parts ask of ODE, answered by the world that holds it.
+struct World::Physics final : detail::WorldPhysics {
+  explicit Physics(World& world) : world(world) {}
+  void build_object(Object& object) override { world.build_object(object); }
+  void destroy_object(Object& object, bool keep_body) override {
+    world.destroy_ode_object(object, keep_body);
+  }
+  void build_joint(Joint& joint) override { world.build_joint(joint); }
+  void structure_changed() override { world.structure_changed(); }
+  void wake(dBodyID body) override { world.wake(body); }
+  std::vector<std::string> penetrations(const Object& object) const override {
+    return world.penetrations(object);
+  }
+  void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail) override {
+    world.emit(type, subject, detail);
+  }
+  std::vector<MaterialSpec>& materials() override { return world.spec_.materials; }
+  const DataRoots& data_roots() const override { return *world.files_; }
+  World& world;
+};
+
+World::World(WorldSpec spec)
+    : spec_(std::move(spec)),
+      table_(std::make_unique<detail::ObjectTable>()),
+      physics_(std::make_unique<Physics>(*this)),
+      door_table_(std::make_unique<detail::DoorTable>(*table_, *physics_)),
+      objects_view_(*table_),
+      editor_(*table_, *door_table_, *physics_),
+      doors_view_(*door_table_, *table_, *physics_) {
   bounds::check_world(spec_);  // a spec built in code keeps the same bounds as a file
   for (auto& object : spec_.objects) normalize_orientations(object);
   for (auto& robot : spec_.robots) robot.pose.orientation.normalize();
   detail::ensure_ode_ready();
-  for (const auto& object : spec_.objects) add_object_record(next_id_++, object);
-  for (const auto& joint : spec_.joints) add_joint_record(joint);
-  for (const auto& door : spec_.doors) doors_view_.add(door, {});
+  for (const auto& object : spec_.objects) table_->add(table_->take_id(), object);
+  for (const auto& joint : spec_.joints) table_->add_joint(joint);
+  for (const auto& door : spec_.doors) door_table_->add(door, {});
   random_seed_ = spec_.physics.seed;
   build();
   initial_ = state();
@@ -100,28 +128,15 @@ World::World(WorldSpec spec) : spec_(std::move(spec)) {
 
 World::~World() { clear_ode(); }
 
-World::Object& World::add_object_record(ObjectId id, ObjectSpec spec) {
-  auto record = std::make_unique<Object>();
-  record->id = id;
-  record->spec = std::move(spec);
-  objects_.push_back(std::move(record));
-  return *objects_.back();
-}
-
-World::Joint& World::add_joint_record(JointSpec spec) {
-  joints_.push_back(std::make_unique<Joint>(Joint{std::move(spec), nullptr, 0.0}));
-  return *joints_.back();
-}
-
 void World::clear_ode() {
   if (!world_) return;
   robots_.clear();
   robot_tags_.clear();
-  for (auto& joint : joints_) {
+  for (const auto& joint : table_->joints()) {
     if (joint->joint) dJointDestroy(joint->joint);
     joint->joint = nullptr;
   }
-  for (auto& object : objects_) destroy_ode_object(*object);
+  for (const auto& object : table_->objects()) destroy_ode_object(*object);
   if (ground_) dGeomDestroy(ground_);
   ground_ = nullptr;
   dJointGroupDestroy(contact_group_);
@@ -140,7 +155,7 @@ dSpaceID create_space() { return dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XY
 std::vector<dGeomID> World::collision_order() const {
   std::vector<dGeomID> order;
   if (ground_) order.push_back(ground_);
-  for (const auto& object : objects_)
+  for (const auto& object : table_->objects())
     order.insert(order.end(), object->geoms.begin(), object->geoms.end());
   for (const auto& robot : robots_) {
     for (dBodyID body : robot->bodies()) {
@@ -195,11 +210,11 @@ void World::build(const std::vector<int64_t>& body_order) {
       std::make_unique<GeomTag>(GeomTag{kGroundGroup, spec_.ground_friction, 0.0, 0.1, nullptr});
   dGeomSetData(ground_, ground_tag_.get());
 
-  doors_view_.wire();
+  door_table_->wire();
   // Bodies in the order given (ODE's body list is that order reversed, and its islands follow
   // it; restore() checked it), else as loaded: objects in list order, then the robots.
   std::map<int64_t, Object*> by_id;
-  for (auto& object : objects_) {
+  for (const auto& object : table_->objects()) {
     if (object->spec.portable) {
       by_id[static_cast<int64_t>(object->id)] = object.get();
     } else {
@@ -208,7 +223,7 @@ void World::build(const std::vector<int64_t>& body_order) {
   }
   std::vector<int64_t> order = body_order;
   if (order.empty()) {
-    for (auto& object : objects_) {
+    for (const auto& object : table_->objects()) {
       if (object->spec.portable) order.push_back(static_cast<int64_t>(object->id));
     }
     for (std::size_t i = 0; i < spec_.robots.size(); ++i) order.push_back(robot_token(i));
@@ -217,7 +232,7 @@ void World::build(const std::vector<int64_t>& body_order) {
   const auto last_object =
       std::find_if(order.rbegin(), order.rend(), [](int64_t t) { return t >= 0; });
   if (last_object == order.rend()) {
-    for (auto& joint : joints_) build_joint(*joint);
+    for (const auto& joint : table_->joints()) build_joint(*joint);
   }
   for (auto token = order.begin(); token != order.end(); ++token) {
     if (*token < 0) {
@@ -226,7 +241,7 @@ void World::build(const std::vector<int64_t>& body_order) {
     }
     build_object(*by_id.at(*token));
     if (token == last_object.base() - 1) {
-      for (auto& joint : joints_) build_joint(*joint);
+      for (const auto& joint : table_->joints()) build_joint(*joint);
     }
   }
   refresh_bodies();
@@ -253,7 +268,7 @@ void World::build_robot_at(std::size_t index) {
 void World::refresh_bodies() {
   bodies_.clear();
   body_names_.clear();
-  for (const auto& object : objects_) {
+  for (const auto& object : table_->objects()) {
     if (object->body) {
       bodies_.push_back(object->body);
       body_names_.push_back(object->spec.name);
@@ -417,29 +432,8 @@ void World::destroy_ode_object(Object& o, bool keep_body) {
   o.body = nullptr;
 }
 
-World::Object* World::find(ObjectId id) const {
-  for (const auto& o : objects_) {
-    if (o->id == id) return o.get();
-  }
-  return nullptr;
-}
-
-Status World::check_object_id(ObjectId id, const Object*& out) const {
-  out = find(id);
-  if (!out)
-    return Status::error(ErrorCode::UnknownObject, "no object with id " + std::to_string(id));
-  return {};
-}
-
 void World::set_data_roots(std::shared_ptr<const DataRoots> roots) {
   files_ = roots ? std::move(roots) : DataRoots::anywhere();
-}
-
-World::Joint* World::joint_named(const std::string& name) {
-  for (auto& j : joints_) {
-    if (j->spec.name == name) return j.get();
-  }
-  return nullptr;
 }
 
 void World::build_joint(Joint& j) {
@@ -449,12 +443,11 @@ void World::build_joint(Joint& j) {
     dJointDestroy(j.joint);
     j.joint = nullptr;
   }
-  auto id1 = objects_view_.find_object(j.spec.body1);
-  if (!id1) return;
-  Object* moving = find(*id1);
+  Object* moving = table_->find_named(j.spec.body1);
+  if (!moving) return;
   dBodyID other = nullptr;
   if (!j.spec.body2.empty()) {
-    if (auto id2 = objects_view_.find_object(j.spec.body2)) other = find(*id2)->body;
+    if (const Object* second = table_->find_named(j.spec.body2)) other = second->body;
   }
   geoms_changed_ = true;  // the body is put elsewhere and back, maybe asleep
   // ODE takes a joint's zero where the bodies are when it is attached: move the moving body
@@ -601,7 +594,7 @@ std::vector<std::string> World::penetrations(const Object& object) const {
       continue;
     }
     bool found = false;
-    for (const auto& o : objects_) {
+    for (const auto& o : table_->objects()) {
       if (&o->tag == hit) {
         add(o->spec.name);
         found = true;
@@ -616,7 +609,7 @@ std::vector<std::string> World::penetrations(const Object& object) const {
 
 std::vector<ShapeView> World::shapes() const {
   std::vector<ShapeView> out;
-  for (const auto& o : objects_) {
+  for (const auto& o : table_->objects()) {
     for (std::size_t i = 0; i < o->geoms.size(); ++i) {
       const ComponentSpec& c = o->spec.components[i];
       dQuaternion q;
@@ -686,7 +679,7 @@ bool World::step() {
   if (!fault_.empty()) return false;
   const auto begin = Clock::now();
   const double now = time();
-  doors_view_.before_step();
+  door_table_->before_step();
   const auto doors_updated = Clock::now();
   for (auto& robot : robots_) robot->before_step(now);
   contacts_ = 0;
@@ -726,7 +719,7 @@ bool World::step() {
     for (auto& event : robot->take_events()) events_.push_back(std::move(event));
   }
   const auto sensed = Clock::now();
-  doors_view_.after_step();
+  door_table_->after_step();
   const auto end = Clock::now();
   auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
   ++profile_.steps;

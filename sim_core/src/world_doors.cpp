@@ -1,5 +1,6 @@
-// WorldDoors (world.h): the world's door-switch structures: their records, read, triggered and
-// moved by the supervisor, and driven at each step (a pressed switch opens its door).
+// The world's door table (world_internal.h): the door-switch structures' records, driven at
+// each step (a pressed switch opens its door); and WorldDoors (world.h), its view: read,
+// triggered and moved by the supervisor.
 #include <algorithm>
 #include <cmath>
 
@@ -9,14 +10,12 @@
 
 namespace macsim {
 
-WorldDoors::WorldDoors(World& world) : world_(world) {}
-WorldDoors::~WorldDoors() = default;
-
-int WorldDoors::door_count() const { return static_cast<int>(doors_.size()); }
+int WorldDoors::door_count() const { return static_cast<int>(doors_.doors().size()); }
 
 std::optional<int> WorldDoors::find_door(const std::string& name) const {
-  for (std::size_t i = 0; i < doors_.size(); ++i) {
-    if (doors_[i]->spec.name == name) return static_cast<int>(i);
+  const auto& doors = doors_.doors();
+  for (std::size_t i = 0; i < doors.size(); ++i) {
+    if (doors[i]->spec.name == name) return static_cast<int>(i);
   }
   return std::nullopt;
 }
@@ -36,43 +35,38 @@ Status WorldDoors::check_door(int door) const {
   return {};
 }
 
-const std::string& WorldDoors::door_name(int door) const { return doors_.at(door)->spec.name; }
+const std::string& WorldDoors::door_name(int door) const {
+  return doors_.doors().at(door)->spec.name;
+}
 
 Result<DoorState> WorldDoors::door_state(int door) const {
   if (Status s = check_door(door); !s.ok()) return {s};
-  return {{}, state_of(*doors_[door])};
+  return {{}, detail::DoorTable::state_of(*doors_.doors()[door])};
 }
 
 Result<DoorParts> WorldDoors::door_parts(int door) const {
   if (Status s = check_door(door); !s.ok()) return {s};
-  const DoorSpec& s = doors_[door]->spec;
-  DoorParts parts;
-  parts.leaf = world_.objects_view_.find_object(s.leaf).value_or(0);
-  parts.frame = world_.objects_view_.find_object(s.frame).value_or(0);
-  parts.platform = world_.objects_view_.find_object(s.switch_platform);
-  parts.base = world_.objects_view_.find_object(s.switch_base);
-  return {{}, parts};
+  return {{}, doors_.parts(door)};
 }
 
 Status WorldDoors::set_switch_triggered(int door, bool triggered) {
   if (Status s = check_door(door); !s.ok()) return s;
-  doors_[door]->flags.virtual_trigger = triggered;
+  doors_.doors()[door]->flags.virtual_trigger = triggered;
   return {};
 }
 
 Status WorldDoors::move_door_part(int door, bool leaf, const Eigen::Vector3d& position) {
   if (Status s = check_door(door); !s.ok()) return s;
   if (auto p = bounds::position_problem(position)) return detail::invalid_argument(*p);
-  detail::DoorRecord& d = *doors_[door];
+  detail::DoorRecord& d = *doors_.doors()[door];
   const std::string moving_name = leaf ? d.spec.leaf : d.spec.switch_platform;
   const std::string fixed_name = leaf ? d.spec.frame : d.spec.switch_base;
   detail::JointRecord* joint = leaf ? d.door_joint : d.switch_joint;
-  const auto moving = world_.objects_view_.find_object(moving_name);
+  const detail::ObjectRecord* moving = objects_.find_named(moving_name);
   if (!moving || !joint) {
     return Status::error(ErrorCode::NotApplicable, "door '" + d.spec.name + "' has no switch");
   }
-  const Eigen::Vector3d delta =
-      position - world_.objects_view_.object_state(*moving).value.pose.position;
+  const Eigen::Vector3d delta = position - detail::object_state(*moving).pose.position;
   // The moving part, its fixed part and their joint move together.
   joint->position = joint->spec.type == JointSpec::Type::Slider
                         ? dJointGetSliderPosition(joint->joint)
@@ -82,28 +76,28 @@ Status WorldDoors::move_door_part(int door, bool leaf, const Eigen::Vector3d& po
   joint->spec.anchor += delta;
   Status status;
   for (const std::string* name : {&moving_name, &fixed_name}) {
-    auto id = world_.objects_view_.find_object(*name);
-    if (!id) continue;
-    detail::ObjectRecord& o = *world_.find(*id);
-    ObjectState state = world_.objects_view_.object_state(*id).value;
+    detail::ObjectRecord* found = objects_.find_named(*name);
+    if (!found) continue;
+    detail::ObjectRecord& o = *found;
+    ObjectState state = detail::object_state(o);
     state.pose.position += delta;
     o.spec.pose.position += delta;
     const ObjectSpec spec = o.spec;
-    world_.destroy_ode_object(o);
+    physics_.destroy_object(o);
     o.spec = spec;
-    world_.build_object(o);
+    physics_.build_object(o);
     if (o.body) {
       const Pose body = state.pose * Pose{o.com, Eigen::Quaterniond::Identity()};
       detail::set_body_state(
           o.body, {body.position, body.orientation, state.linear_velocity, state.angular_velocity});
     }
-    for (const auto& hit : world_.penetrations(o)) status.penetrated.push_back(hit);
+    for (const auto& hit : physics_.penetrations(o)) status.penetrated.push_back(hit);
   }
-  world_.build_joint(*joint);
-  world_.structure_changed();
+  physics_.build_joint(*joint);
+  physics_.structure_changed();
   if (!status.penetrated.empty()) {
-    world_.emit(WorldEvent::Type::Penetration, d.spec.name,
-                "moved into " + status.penetrated.front());
+    physics_.emit(WorldEvent::Type::Penetration, d.spec.name,
+                  "moved into " + status.penetrated.front());
   }
   return status;
 }
@@ -118,34 +112,49 @@ Status WorldDoors::set_switch_position(int door, const Eigen::Vector3d& position
 
 // ---- the records and the step ------------------------------------------------------------
 
-void WorldDoors::add(DoorSpec spec, DoorFlags flags) {
+namespace detail {
+
+void DoorTable::add(DoorSpec spec, DoorFlags flags) {
   auto record = std::make_unique<detail::DoorRecord>();
   record->spec = std::move(spec);
   record->flags = flags;
   doors_.push_back(std::move(record));
 }
 
-void WorldDoors::remove(int door) {
+void DoorTable::remove(int door) {
   doors_.erase(doors_.begin() + door);
   wire();
 }
 
-void WorldDoors::wire() {
-  for (auto& object : world_.objects_) object->door = -1;
+void DoorTable::wire() {
+  for (const auto& object : objects_.objects()) object->door = -1;
   for (std::size_t d = 0; d < doors_.size(); ++d) {
-    detail::DoorRecord& door = *doors_[d];
-    door.door_joint = world_.joint_named(door.spec.door_joint);
+    DoorRecord& door = *doors_[d];
+    door.door_joint = objects_.joint_named(door.spec.door_joint);
     door.switch_joint =
-        door.spec.switch_joint.empty() ? nullptr : world_.joint_named(door.spec.switch_joint);
+        door.spec.switch_joint.empty() ? nullptr : objects_.joint_named(door.spec.switch_joint);
     const DoorSpec& s = door.spec;
     for (const std::string* part : {&s.leaf, &s.frame, &s.switch_platform, &s.switch_base}) {
-      if (auto id = world_.objects_view_.find_object(*part))
-        world_.find(*id)->door = static_cast<int>(d);
+      if (ObjectRecord* o = objects_.find_named(*part)) o->door = static_cast<int>(d);
     }
   }
 }
 
-void WorldDoors::before_step() {
+DoorParts DoorTable::parts(int door) const {
+  const DoorSpec& s = doors_.at(door)->spec;
+  auto id = [this](const std::string& name) -> std::optional<ObjectId> {
+    if (const ObjectRecord* o = objects_.find_named(name)) return o->id;
+    return std::nullopt;
+  };
+  DoorParts parts;
+  parts.leaf = id(s.leaf).value_or(0);
+  parts.frame = id(s.frame).value_or(0);
+  parts.platform = id(s.switch_platform);
+  parts.base = id(s.switch_base);
+  return parts;
+}
+
+void DoorTable::before_step() {
   for (auto& door : doors_) {
     bool pressed = false;
     if (door->switch_joint && door->switch_joint->joint) {
@@ -156,10 +165,11 @@ void WorldDoors::before_step() {
     const bool triggered = door->flags.virtual_trigger || pressed;
     if (triggered != door->flags.triggered) {
       door->flags.triggered = triggered;
-      world_.emit(triggered ? WorldEvent::Type::SwitchTriggered : WorldEvent::Type::SwitchReleased,
-                  door->spec.name, door->flags.virtual_trigger ? "virtual" : "pressed");
+      physics_.emit(
+          triggered ? WorldEvent::Type::SwitchTriggered : WorldEvent::Type::SwitchReleased,
+          door->spec.name, door->flags.virtual_trigger ? "virtual" : "pressed");
     }
-    detail::JointRecord* j = door->door_joint;
+    JointRecord* j = door->door_joint;
     if (!j || !j->joint) continue;
     const double speed = std::fabs(j->spec.velocity);
     const double velocity = triggered ? speed : -speed;  // open towards HI, close towards LO
@@ -171,19 +181,19 @@ void WorldDoors::before_step() {
   }
 }
 
-void WorldDoors::after_step() {
+void DoorTable::after_step() {
   for (auto& door : doors_) {
     const DoorGap before = door->flags.gap;
     door->flags.gap = state_of(*door).gap;
     if (door->flags.gap != before && door->flags.gap != DoorGap::Half) {
-      world_.emit(door->flags.gap == DoorGap::Open ? WorldEvent::Type::DoorOpened
-                                                   : WorldEvent::Type::DoorClosed,
-                  door->spec.name);
+      physics_.emit(door->flags.gap == DoorGap::Open ? WorldEvent::Type::DoorOpened
+                                                     : WorldEvent::Type::DoorClosed,
+                    door->spec.name);
     }
   }
 }
 
-DoorState WorldDoors::state_of(const detail::DoorRecord& door) {
+DoorState DoorTable::state_of(const DoorRecord& door) {
   DoorState state;
   state.virtually_triggered = door.flags.virtual_trigger;
   state.triggered = door.flags.triggered;
@@ -204,5 +214,7 @@ DoorState WorldDoors::state_of(const detail::DoorRecord& door) {
                                      : DoorGap::Half;
   return state;
 }
+
+}  // namespace detail
 
 }  // namespace macsim

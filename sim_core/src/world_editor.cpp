@@ -30,11 +30,15 @@ Status objects_capped(std::size_t count, std::size_t adding, std::size_t cap) {
                            " more would pass the cap: destroy some first, or raise the cap");
 }
 
+bool has_material(const std::vector<MaterialSpec>& materials, const std::string& name) {
+  return std::any_of(materials.begin(), materials.end(),
+                     [&name](const MaterialSpec& m) { return m.name == name; });
+}
+
 }  // namespace
 
 Status WorldEditor::validate_new_object(ObjectSpec& spec) const {
-  if (world_.objects_.size() >= max_objects_)
-    return objects_capped(world_.objects_.size(), 1, max_objects_);
+  if (table_.size() >= max_objects_) return objects_capped(table_.size(), 1, max_objects_);
   if (spec.kind != ObjectKind::Object && spec.kind != ObjectKind::Wall &&
       spec.kind != ObjectKind::Ramp) {
     return detail::invalid_argument(
@@ -57,15 +61,15 @@ Status WorldEditor::validate_new_object(ObjectSpec& spec) const {
   for (auto& c : spec.components) {
     if (!c.texture.empty()) {
       if (Status s = texture_status(c.texture); !s.ok()) return s;
-      c.texture = world_.files_->identity(c.texture);  // the file checked, in one spelling
+      c.texture = physics_.data_roots().identity(c.texture);  // the file checked, in one spelling
     }
   }
-  if (!world_.spec_.material(spec.material))
+  if (!has_material(physics_.materials(), spec.material))
     return detail::invalid_argument("unknown material '" + spec.material + "'");
   if (!spec.name.empty()) {
     if (auto p = bounds::name_problem(spec.name)) return detail::invalid_argument(*p);
   }
-  if (!spec.name.empty() && world_.objects_view_.find_object(spec.name)) {
+  if (!spec.name.empty() && table_.find_named(spec.name)) {
     return detail::invalid_argument("an object named '" + spec.name + "' exists already");
   }
   return {};
@@ -73,56 +77,55 @@ Status WorldEditor::validate_new_object(ObjectSpec& spec) const {
 
 Result<ObjectId> WorldEditor::create_object(ObjectSpec spec, PenetrationPolicy policy) {
   if (Status s = validate_new_object(spec); !s.ok()) return {s};
-  const ObjectId id = world_.next_id_++;
+  const ObjectId id = table_.take_id();
   if (spec.name.empty()) spec.name = "object_" + std::to_string(id);
-  detail::ObjectRecord& o = world_.add_object_record(id, std::move(spec));
-  world_.build_object(o);
+  detail::ObjectRecord& o = table_.add(id, std::move(spec));
+  physics_.build_object(o);
   Status status;
-  status.penetrated = world_.penetrations(o);
+  status.penetrated = physics_.penetrations(o);
   if (!status.penetrated.empty()) {
     if (policy == PenetrationPolicy::Refuse) {
       Status refused =
           Status::error(ErrorCode::Penetration,
                         "'" + o.spec.name + "' would penetrate " + status.penetrated.front());
-      world_.destroy_ode_object(o);
-      world_.objects_.pop_back();  // `o` is gone from here on
-      world_.next_id_ = id;        // the world as it was, its next id included
+      physics_.destroy_object(o);
+      table_.erase(id);        // `o` is gone from here on
+      table_.set_next_id(id);  // the world as it was, its next id included
       return {refused};
     }
-    world_.emit(WorldEvent::Type::Penetration, o.spec.name,
-                "created inside " + status.penetrated.front());
+    physics_.emit(WorldEvent::Type::Penetration, o.spec.name,
+                  "created inside " + status.penetrated.front());
   }
-  world_.structure_changed();
+  physics_.structure_changed();
   return {status, o.id};
 }
 
 Status WorldEditor::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* ids) {
   if (!fragment.robots.empty())
     return detail::invalid_argument("robots cannot be added to a running world");
-  if (world_.objects_.size() + fragment.objects.size() > max_objects_) {
-    return objects_capped(world_.objects_.size(), fragment.objects.size(), max_objects_);
+  if (table_.size() + fragment.objects.size() > max_objects_) {
+    return objects_capped(table_.size(), fragment.objects.size(), max_objects_);
   }
   for (const auto& object : fragment.objects) {
-    if (world_.objects_view_.find_object(object.name))
+    if (table_.find_named(object.name))
       return detail::invalid_argument("an object named '" + object.name + "' exists already");
   }
   for (const auto& m : fragment.materials) {
-    if (!world_.spec_.material(m.name)) world_.spec_.materials.push_back(m);
+    if (!has_material(physics_.materials(), m.name)) physics_.materials().push_back(m);
   }
   std::vector<detail::ObjectRecord*> added;
   for (auto& object : fragment.objects)
-    added.push_back(&world_.add_object_record(world_.next_id_++, std::move(object)));
+    added.push_back(&table_.add(table_.take_id(), std::move(object)));
   std::vector<detail::JointRecord*> new_joints;
-  for (auto& joint : fragment.joints)
-    new_joints.push_back(&world_.add_joint_record(std::move(joint)));
-  for (auto& door : fragment.doors) world_.doors_view_.add(std::move(door), {});
-  world_.doors_view_.wire();
+  for (auto& joint : fragment.joints) new_joints.push_back(&table_.add_joint(std::move(joint)));
+  for (auto& door : fragment.doors) doors_.add(std::move(door), {});
+  doors_.wire();
   for (detail::ObjectRecord* o : added) {
-    world_.build_object(*o);
+    physics_.build_object(*o);
     if (ids) ids->push_back(o->id);
   }
-  for (detail::JointRecord* j : new_joints) world_.build_joint(*j);
-  world_.structure_changed();
+  for (detail::JointRecord* j : new_joints) physics_.build_joint(*j);
+  physics_.structure_changed();
   return {};
 }
 
@@ -133,7 +136,7 @@ Result<std::vector<ObjectId>> WorldEditor::import_environment(const std::string&
   if (auto p = bounds::id_problem(id)) return {detail::invalid_argument("import id: " + *p)};
   WorldSpec fragment;
   try {
-    fragment = load_environment_file(file, id, world_.spec_.materials, *world_.files_);
+    fragment = load_environment_file(file, id, physics_.materials(), physics_.data_roots());
   } catch (const WorldFileError& e) {
     return {Status::error(ErrorCode::BadFile, e.what())};
   } catch (const FileRefused& e) {  // outside the data roots, a special file, too large
@@ -164,40 +167,40 @@ Result<std::vector<ObjectId>> WorldEditor::add_environment(WorldSpec fragment, c
 }
 
 void WorldEditor::erase_object(ObjectId id) {
-  detail::ObjectRecord* o = world_.find(id);
+  detail::ObjectRecord* o = table_.find(id);
   if (!o) return;
-  for (auto it = world_.joints_.begin(); it != world_.joints_.end();) {
-    if ((*it)->spec.body1 == o->spec.name || (*it)->spec.body2 == o->spec.name) {
-      if ((*it)->joint) dJointDestroy((*it)->joint);
-      it = world_.joints_.erase(it);
-    } else {
-      ++it;
-    }
+  std::vector<const detail::JointRecord*> holding;
+  for (const auto& j : table_.joints()) {
+    if (j->spec.body1 == o->spec.name || j->spec.body2 == o->spec.name) holding.push_back(j.get());
   }
-  world_.destroy_ode_object(*o);
-  world_.objects_.erase(world_.objects_.begin() + *world_.objects_view_.index_of(id));
+  for (const detail::JointRecord* j : holding) {
+    if (j->joint) dJointDestroy(j->joint);
+    table_.erase_joint(j);
+  }
+  physics_.destroy_object(*o);
+  table_.erase(id);
 }
 
 Status WorldEditor::destroy_object(ObjectId id) {
   const detail::ObjectRecord* o = nullptr;
-  if (Status s = world_.check_object_id(id, o); !s.ok()) return s;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
   if (o->door >= 0) {
     // A door part takes its whole door-switch structure with it.
     const int door = o->door;
-    const DoorParts parts = world_.doors_view_.door_parts(door).value;
+    const DoorParts parts = doors_.parts(door);
     for (const auto part : {std::optional<ObjectId>(parts.leaf),
                             std::optional<ObjectId>(parts.frame), parts.platform, parts.base}) {
       if (part) erase_object(*part);
     }
-    world_.doors_view_.remove(door);
-    for (auto& other :
-         world_.objects_) {  // the later doors' indices moved down: so do their groups
+    doors_.remove(door);
+    for (const auto& other :
+         table_.objects()) {  // later doors' indices moved down: their groups too
       if (other->door >= door) other->tag.group = 1'000'000 + other->door;
     }
   } else {
     erase_object(id);
   }
-  world_.structure_changed();
+  physics_.structure_changed();
   return {};
 }
 
@@ -205,11 +208,11 @@ int WorldEditor::destroy_matching(const std::function<bool(const ObjectSpec&)>& 
   int destroyed = 0;
   for (bool again = true; again;) {
     again = false;
-    for (const auto& o : world_.objects_) {
+    for (const auto& o : table_.objects()) {
       if (match(o->spec)) {
-        const int before = world_.objects_view_.object_count();
+        const std::size_t before = table_.size();
         destroy_object(o->id);
-        destroyed += before - world_.objects_view_.object_count();
+        destroyed += static_cast<int>(before - table_.size());
         again = true;
         break;
       }
@@ -237,7 +240,7 @@ int WorldEditor::destroy_all_fixed_objects() {
 void WorldEditor::rebuild_object(detail::ObjectRecord& o, const ObjectSpec& spec,
                                  const ObjectState& state) {
   std::vector<detail::JointRecord*> attached;
-  for (auto& j : world_.joints_) {
+  for (const auto& j : table_.joints()) {
     if (j->joint && (j->spec.body1 == o.spec.name || j->spec.body2 == o.spec.name)) {
       j->position = j->spec.type == JointSpec::Type::Slider ? dJointGetSliderPosition(j->joint)
                                                             : dJointGetHingeAngle(j->joint);
@@ -246,27 +249,27 @@ void WorldEditor::rebuild_object(detail::ObjectRecord& o, const ObjectSpec& spec
       attached.push_back(j.get());
     }
   }
-  world_.destroy_ode_object(o, true);  // changed in place: it keeps its place in ODE's order
+  physics_.destroy_object(o, true);  // changed in place: it keeps its place in ODE's order
   o.spec = spec;
   if (attached.empty()) {
     o.spec.pose = state.pose;  // a jointed body keeps its joint's zero as its reference pose
   }
-  world_.build_object(o);
+  physics_.build_object(o);
   if (o.body) {
     const Pose body = state.pose * Pose{o.com, Eigen::Quaterniond::Identity()};
     detail::set_body_state(
         o.body, {body.position, body.orientation, state.linear_velocity, state.angular_velocity});
   }
-  for (detail::JointRecord* j : attached) world_.build_joint(*j);
+  for (detail::JointRecord* j : attached) physics_.build_joint(*j);
 }
 
 Status WorldEditor::change_object(ObjectId id, PenetrationPolicy policy,
                                   const std::function<Status(ObjectSpec&, Pose&)>& change) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
-  detail::ObjectRecord& o = *world_.find(id);
+  if (Status s = table_.check(id, found); !s.ok()) return s;
+  detail::ObjectRecord& o = *table_.find(id);
   const ObjectSpec old_spec = o.spec;
-  const ObjectState old_state = world_.objects_view_.object_state(id).value;
+  const ObjectState old_state = detail::object_state(o);
   ObjectSpec spec = o.spec;
   Pose pose = old_state.pose;
   if (Status s = change(spec, pose); !s.ok()) return s;
@@ -277,31 +280,31 @@ Status WorldEditor::change_object(ObjectId id, PenetrationPolicy policy,
   state.pose = pose;
   rebuild_object(o, spec, state);
   Status status;
-  status.penetrated = world_.penetrations(o);
+  status.penetrated = physics_.penetrations(o);
   if (!status.penetrated.empty()) {
     if (policy == PenetrationPolicy::Refuse) {
       rebuild_object(o, old_spec, old_state);
-      world_.structure_changed();
+      physics_.structure_changed();
       Status refused =
           Status::error(ErrorCode::Penetration, "refused: '" + o.spec.name + "' would penetrate '" +
                                                     status.penetrated.front() + "'");
       refused.penetrated = status.penetrated;
       return refused;
     }
-    world_.emit(WorldEvent::Type::Penetration, o.spec.name,
-                "penetrates " + status.penetrated.front());
+    physics_.emit(WorldEvent::Type::Penetration, o.spec.name,
+                  "penetrates " + status.penetrated.front());
   }
-  world_.structure_changed();
+  physics_.structure_changed();
   return status;
 }
 
 Status WorldEditor::set_pose(ObjectId id, const Pose& pose, PenetrationPolicy policy) {
   if (auto p = pose_problem(pose)) return detail::invalid_argument(*p);
-  const detail::ObjectRecord* o = world_.find(id);
+  const detail::ObjectRecord* o = table_.find(id);
   if (o && o->door >= 0) {
     return Status::error(ErrorCode::NotApplicable,
                          "'" + o->spec.name + "' is part of door '" +
-                             world_.doors_view_.door_name(o->door) +
+                             doors_.doors().at(o->door)->spec.name +
                              "': move it with set_door_position or set_switch_position");
   }
   Pose target = pose;
@@ -314,18 +317,18 @@ Status WorldEditor::set_pose(ObjectId id, const Pose& pose, PenetrationPolicy po
 
 Status WorldEditor::set_position(ObjectId id, const Eigen::Vector3d& position,
                                  PenetrationPolicy policy) {
-  auto state = world_.objects_view_.object_state(id);
-  if (!state.ok()) return state.status;
-  Pose pose = state.value.pose;
+  const detail::ObjectRecord* o = nullptr;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
+  Pose pose = detail::object_state(*o).pose;
   pose.position = position;
   return set_pose(id, pose, policy);
 }
 
 Status WorldEditor::set_orientation(ObjectId id, const Eigen::Quaterniond& orientation,
                                     PenetrationPolicy policy) {
-  auto state = world_.objects_view_.object_state(id);
-  if (!state.ok()) return state.status;
-  Pose pose = state.value.pose;
+  const detail::ObjectRecord* o = nullptr;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
+  Pose pose = detail::object_state(*o).pose;
   pose.orientation = orientation;
   return set_pose(id, pose, policy);
 }
@@ -333,7 +336,7 @@ Status WorldEditor::set_orientation(ObjectId id, const Eigen::Quaterniond& orien
 Status WorldEditor::resize_component(ObjectId id, int component, Shape shape,
                                      const Eigen::Vector3d& size, PenetrationPolicy policy) {
   const detail::ObjectRecord* o = nullptr;
-  if (Status s = world_.check_object_id(id, o); !s.ok()) return s;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
   if (o->spec.kind == ObjectKind::Ramp) {
     return Status::error(ErrorCode::WrongGeometry,
                          "'" + o->spec.name + "' is a ramp: change it with set_ramp");
@@ -374,7 +377,7 @@ Status WorldEditor::set_sphere_size(ObjectId id, int component, double radius,
 
 Status WorldEditor::set_ramp(ObjectId id, const RampGeometry& ramp, PenetrationPolicy policy) {
   const detail::ObjectRecord* o = nullptr;
-  if (Status s = world_.check_object_id(id, o); !s.ok()) return s;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
   if (o->spec.kind != ObjectKind::Ramp) {
     return Status::error(ErrorCode::WrongGeometry, "'" + o->spec.name + "' is not a ramp");
   }
@@ -390,12 +393,12 @@ Status WorldEditor::set_ramp(ObjectId id, const RampGeometry& ramp, PenetrationP
 
 Status WorldEditor::set_color(ObjectId id, const Color& color, int component) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
+  if (Status s = table_.check(id, found); !s.ok()) return s;
   for (float channel : color) {
     if (!std::isfinite(channel) || channel < 0 || channel > 1)
       return detail::invalid_argument("colour channels must lie in [0, 1]");
   }
-  detail::ObjectRecord& o = *world_.find(id);
+  detail::ObjectRecord& o = *table_.find(id);
   if (component < -1 || component >= static_cast<int>(o.spec.components.size())) {
     return detail::invalid_argument("'" + o.spec.name + "' has no component " +
                                     std::to_string(component));
@@ -408,7 +411,7 @@ Status WorldEditor::set_color(ObjectId id, const Color& color, int component) {
 
 Status WorldEditor::texture_status(const std::string& path) const {
   try {
-    if (auto p = texture_problem(path, *world_.files_))
+    if (auto p = texture_problem(path, physics_.data_roots()))
       return Status::error(ErrorCode::BadTexture, *p);
   } catch (const FileRefused& refused) {
     return Status::error(ErrorCode::BadFile, refused.what());
@@ -418,8 +421,8 @@ Status WorldEditor::texture_status(const std::string& path) const {
 
 Status WorldEditor::set_texture(ObjectId id, const std::string& path, int component) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
-  detail::ObjectRecord& o = *world_.find(id);
+  if (Status s = table_.check(id, found); !s.ok()) return s;
+  detail::ObjectRecord& o = *table_.find(id);
   if (component < -1 || component >= static_cast<int>(o.spec.components.size())) {
     return detail::invalid_argument("'" + o.spec.name + "' has no component " +
                                     std::to_string(component));
@@ -427,7 +430,7 @@ Status WorldEditor::set_texture(ObjectId id, const std::string& path, int compon
   std::string file;
   if (!path.empty()) {
     if (Status s = texture_status(path); !s.ok()) return s;
-    file = world_.files_->identity(path);  // the file checked, in one spelling
+    file = physics_.data_roots().identity(path);  // the file checked, in one spelling
   }
   for (int i = 0; i < static_cast<int>(o.spec.components.size()); ++i) {
     if (component == -1 || component == i) o.spec.components[i].texture = file;
@@ -437,7 +440,7 @@ Status WorldEditor::set_texture(ObjectId id, const std::string& path, int compon
 
 Status WorldEditor::set_mass(ObjectId id, double mass) {
   const detail::ObjectRecord* o = nullptr;
-  if (Status s = world_.check_object_id(id, o); !s.ok()) return s;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
   if (!std::isfinite(mass) || mass <= 0)
     return detail::invalid_argument("mass must be finite and positive");
   if (!o->spec.portable) {
@@ -452,7 +455,7 @@ Status WorldEditor::set_mass(ObjectId id, double mass) {
 
 Status WorldEditor::set_density(ObjectId id, double density) {
   const detail::ObjectRecord* o = nullptr;
-  if (Status s = world_.check_object_id(id, o); !s.ok()) return s;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
   if (!std::isfinite(density) || density <= 0)
     return detail::invalid_argument("density must be finite and positive");
   if (!o->spec.portable) {
@@ -468,15 +471,15 @@ Status WorldEditor::set_density(ObjectId id, double density) {
 Status WorldEditor::dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
                                  dxBody*& body) const {
   const detail::ObjectRecord* o = nullptr;
-  if (Status s = world_.check_object_id(id, o); !s.ok()) return s;
+  if (Status s = table_.check(id, o); !s.ok()) return s;
   const bool angular = std::string(what) == "angular velocity";
   const double max = std::string(what) == "linear velocity" ? bounds::kMaxSpeed
                      : angular                              ? bounds::kMaxAngularSpeed
                                                             : bounds::kMaxForce;
   if (auto p = bounds::magnitude_problem(value, max, what)) return detail::invalid_argument(*p);
-  if (Status s = world_.objects_view_.free_body(id, what); !s.ok()) return s;
+  if (Status s = detail::free_body(*o, what); !s.ok()) return s;
   body = o->body;
-  world_.wake(body);  // it is about to move
+  physics_.wake(body);  // it is about to move
   return {};
 }
 
@@ -510,8 +513,8 @@ Status WorldEditor::add_torque(ObjectId id, const Eigen::Vector3d& t) {
 
 Status WorldEditor::set_frozen(ObjectId id, bool frozen) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
-  detail::ObjectRecord& o = *world_.find(id);
+  if (Status s = table_.check(id, found); !s.ok()) return s;
+  detail::ObjectRecord& o = *table_.find(id);
   if (!o.body)
     return Status::error(ErrorCode::NotApplicable, "'" + o.spec.name + "' is fixed already");
   if (o.door >= 0)
@@ -523,30 +526,30 @@ Status WorldEditor::set_frozen(ObjectId id, bool frozen) {
     dBodySetKinematic(o.body);
   } else {
     dBodySetDynamic(o.body);
-    world_.wake(o.body);
+    physics_.wake(o.body);
   }
   return {};
 }
 
 Status WorldEditor::set_magnetizable(ObjectId id, bool magnetizable) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
-  world_.find(id)->spec.magnetizable = magnetizable;
+  if (Status s = table_.check(id, found); !s.ok()) return s;
+  table_.find(id)->spec.magnetizable = magnetizable;
   return {};
 }
 
 Status WorldEditor::set_user_data(ObjectId id, const std::string& user_data) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
-  world_.find(id)->spec.user_data = user_data;
+  if (Status s = table_.check(id, found); !s.ok()) return s;
+  table_.find(id)->spec.user_data = user_data;
   return {};
 }
 
 Status WorldEditor::set_user_labels(ObjectId id, int user_color, int user_shape) {
   const detail::ObjectRecord* found = nullptr;
-  if (Status s = world_.check_object_id(id, found); !s.ok()) return s;
-  world_.find(id)->spec.user_color = user_color;
-  world_.find(id)->spec.user_shape = user_shape;
+  if (Status s = table_.check(id, found); !s.ok()) return s;
+  table_.find(id)->spec.user_color = user_color;
+  table_.find(id)->spec.user_shape = user_shape;
   return {};
 }
 

@@ -153,14 +153,15 @@ OverlapReport World::overlaps(double tolerance) const {
   OverlapSearch search;
   search.tolerance = tolerance;
   search.ground = ground_tag_.get();
-  for (std::size_t i = 0; i < objects_.size(); ++i) search.object_rank[&objects_[i]->tag] = i;
+  const auto& objects = table_->objects();
+  for (std::size_t i = 0; i < objects.size(); ++i) search.object_rank[&objects[i]->tag] = i;
   for (std::size_t r = 0; r < robots_.size(); ++r) {
     for (dBodyID body : robots_[r]->bodies()) {
-      search.robot_of[body] = {robots_[r].get(), objects_.size() + r};
+      search.robot_of[body] = {robots_[r].get(), objects.size() + r};
     }
   }
-  search.ground_rank = objects_.size() + robots_.size();
-  for (const auto& joint : joints_) {
+  search.ground_rank = objects.size() + robots_.size();
+  for (const auto& joint : table_->joints()) {
     if (!joint->spec.body2.empty()) search.joined.insert({joint->spec.body1, joint->spec.body2});
   }
   detail::ensure_ode_ready();

@@ -114,10 +114,10 @@ WorldState World::state() const {
   WorldState s;
   s.steps = steps_;
   s.random_seed = random_seed_;
-  s.next_id = next_id_;
-  for (const auto& o : objects_) s.objects.emplace_back(o->id, o->spec);
-  for (const auto& j : joints_) s.joints.push_back(j->spec);
-  for (const auto& d : doors_view_.doors_) {
+  s.next_id = table_->next_id();
+  for (const auto& o : table_->objects()) s.objects.emplace_back(o->id, o->spec);
+  for (const auto& j : table_->joints()) s.joints.push_back(j->spec);
+  for (const auto& d : door_table_->doors()) {
     s.doors.push_back(d->spec);
     s.door_flags.push_back(d->flags);
   }
@@ -147,12 +147,11 @@ uint64_t World::world_fingerprint() const {
 
 void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, bool fresh_robots) {
   clear_ode();
-  objects_.clear();
-  joints_.clear();
-  doors_view_.doors_.clear();
-  for (const auto& [id, spec] : s.objects) add_object_record(id, spec);
-  for (const auto& spec : s.joints) add_joint_record(spec);
-  for (std::size_t i = 0; i < s.doors.size(); ++i) doors_view_.add(s.doors[i], s.door_flags[i]);
+  table_->clear();
+  door_table_->clear();
+  for (const auto& [id, spec] : s.objects) table_->add(id, spec);
+  for (const auto& spec : s.joints) table_->add_joint(spec);
+  for (std::size_t i = 0; i < s.doors.size(); ++i) door_table_->add(s.doors[i], s.door_flags[i]);
   build(s.body_order);  // bodies at their reference poses: joints take their zero there
   // Bodies rebuilt fresh (a reset's) start their still steps anew, as loading left them.
   std::vector<int32_t> still_steps_left;
@@ -162,7 +161,7 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
     if (!spec.portable) continue;
     const bool kept = std::find(fresh.begin(), fresh.end(), id) == fresh.end();
     if (kept) {
-      kept_bodies[body] = find(id)->body;
+      kept_bodies[body] = table_->find(id)->body;
       detail::set_body_state(kept_bodies[body], s.bodies[body]);
     }
     still_steps_left.push_back(kept ? s.bodies[body].still_steps_left : kStillStepsToSleep);
@@ -176,8 +175,8 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
       detail::set_body_state(b, s.bodies[body++]);
     }
     robots_[i]->load_state(s.robots[i], [this](const std::string& object) -> dBodyID {
-      const auto id = objects_view_.find_object(object);
-      return id ? find(*id)->body : nullptr;
+      const detail::ObjectRecord* o = table_->find_named(object);
+      return o ? o->body : nullptr;
     });
   }
   // Asleep or awake as saved: a robot taking its state back (the magnet's hold made again)
@@ -200,7 +199,7 @@ void World::rebuild(const WorldState& s, const std::vector<ObjectId>& fresh, boo
   refresh_bodies();
   std::copy(still_steps_left.begin(), still_steps_left.end(), still_steps_left_.begin());
   steps_ = s.steps;
-  next_id_ = s.next_id;
+  table_->set_next_id(s.next_id);
   random_seed_ = s.random_seed;
   events_.clear();
 }

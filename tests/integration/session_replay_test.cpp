@@ -399,5 +399,27 @@ TEST(SessionReplay, ObjectsKeptInsideEachOtherAreKeptByTheReplay) {
   EXPECT_EQ(differs_at(r.output), 0u) << r.output;
 }
 
+// A session recorded by an earlier build and committed (tests/sessions/README.md): objects
+// created, changed, pushed and destroyed by the supervisor, the door's switch triggered and its
+// leaf moved, a snapshot saved and restored, the robot driven. A build that changes how the world
+// holds its objects and doors must still replay it to every hash, in an empty folder.
+TEST(SessionFixture, ARecordingOfAnEarlierBuildReplaysToEveryHash) {
+  const std::string fixture = source("tests/sessions/supervised_demo_world.session");
+  const Session session = read_session(fixture);
+  EXPECT_GT(session.hashes.size(), 60u);
+  std::map<std::string, int> operations;
+  for (const auto& c : session.commands) ++operations[c.command.operation];
+  for (const char* operation : {"create_object", "set_pose", "set_box_size", "add_force",
+                                "set_switch_triggered", "set_door_position", "restore_snapshot",
+                                "destroy_object", "destroy_by_user_data", "twist"}) {
+    EXPECT_GE(operations[operation], 1) << operation;
+  }
+  TempDir empty("macsim_fixture_");
+  const Replay replayed = replay(fixture, empty.path());
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.output;
+  EXPECT_EQ(hashes_equal(replayed.output), static_cast<int>(session.hashes.size()))
+      << replayed.output;
+}
+
 }  // namespace
 }  // namespace macsim::test

@@ -27,6 +27,9 @@ class BroadPhase;
 struct ObjectRecord;
 struct JointRecord;
 struct DoorRecord;
+class ObjectTable;
+class DoorTable;
+class WorldPhysics;
 }  // namespace detail
 
 /// Stable id of an object: never reused while the world lives (list indices shift, ids do not).
@@ -99,12 +102,12 @@ enum class ResetScope {
   Everything,    ///< the world as loaded: spawned objects removed, destroyed ones back
 };
 
-class World;
-
 /// The world's objects, read: found by list index, id, name or user data; their descriptions,
 /// states, masses and textures (World::objects()).
 class WorldObjects {
  public:
+  /// A view of the world's object table (World makes it).
+  explicit WorldObjects(const detail::ObjectTable& table) : table_(table) {}
   WorldObjects(const WorldObjects&) = delete;
   WorldObjects& operator=(const WorldObjects&) = delete;
 
@@ -141,9 +144,7 @@ class WorldObjects {
   Status free_body(ObjectId id, const std::string& what) const;
 
  private:
-  friend class World;
-  explicit WorldObjects(const World& world) : world_(world) {}
-  const World& world_;
+  const detail::ObjectTable& table_;
   mutable std::vector<std::string> textures_;  // texture id - 1 -> file, in the order asked
 };
 
@@ -151,6 +152,10 @@ class WorldObjects {
 /// pushed (World::edit()). On error the world is unchanged.
 class WorldEditor {
  public:
+  /// Changes the world's object table and doors, building in ODE through `physics` (World
+  /// makes it).
+  WorldEditor(detail::ObjectTable& table, detail::DoorTable& doors, detail::WorldPhysics& physics)
+      : table_(table), doors_(doors), physics_(physics) {}
   WorldEditor(const WorldEditor&) = delete;
   WorldEditor& operator=(const WorldEditor&) = delete;
 
@@ -215,8 +220,6 @@ class WorldEditor {
   std::size_t max_objects() const { return max_objects_; }
 
  private:
-  friend class World;
-  explicit WorldEditor(World& world) : world_(world) {}
   /// Checks a new object's description (cap, kind, bounds, textures, material, name) and puts
   /// it in its one form (a ramp's box, normalised orientations, textures in one spelling).
   Status validate_new_object(ObjectSpec& spec) const;
@@ -240,13 +243,18 @@ class WorldEditor {
   Status dynamic_body(ObjectId id, const Eigen::Vector3d& value, const char* what,
                       dxBody*& body) const;
 
-  World& world_;
+  detail::ObjectTable& table_;
+  detail::DoorTable& doors_;
+  detail::WorldPhysics& physics_;
   std::size_t max_objects_ = bounds::kMaxObjects;
 };
 
 /// The world's door-switch structures: read, triggered, moved (World::doors()).
 class WorldDoors {
  public:
+  /// A view of the world's door table, moving their parts through `physics` (World makes it).
+  WorldDoors(detail::DoorTable& doors, detail::ObjectTable& objects, detail::WorldPhysics& physics)
+      : doors_(doors), objects_(objects), physics_(physics) {}
   WorldDoors(const WorldDoors&) = delete;
   WorldDoors& operator=(const WorldDoors&) = delete;
 
@@ -266,29 +274,14 @@ class WorldDoors {
   /// Moves the switch's platform there; the base moves along.
   Status set_switch_position(int door, const Eigen::Vector3d& position);
 
-  ~WorldDoors();
-
  private:
-  friend class World;
-  friend class WorldEditor;
-  explicit WorldDoors(World& world);
   Status check_door(int door) const;
   /// Moves the leaf (or the switch's platform) with its fixed part and their joint.
   Status move_door_part(int door, bool leaf, const Eigen::Vector3d& position);
-  /// A door's record; wire() ties it to its joints and objects.
-  void add(DoorSpec spec, DoorFlags flags);
-  /// Forgets a door (its objects destroyed already) and ties the rest anew.
-  void remove(int door);
-  /// Ties each door to its joints and marks its objects as its parts.
-  void wire();
-  /// Before a step: each door driven open or shut by its switch; events when a switch changes.
-  void before_step();
-  /// After a step: events for the doors that came fully open or shut.
-  void after_step();
-  static DoorState state_of(const detail::DoorRecord& door);
 
-  World& world_;
-  std::vector<std::unique_ptr<detail::DoorRecord>> doors_;
+  detail::DoorTable& doors_;
+  detail::ObjectTable& objects_;
+  detail::WorldPhysics& physics_;
 };
 
 /// The ODE world of one simulation.
@@ -391,13 +384,9 @@ class World {
  private:
   using Object = detail::ObjectRecord;
   using Joint = detail::JointRecord;
-  friend class WorldObjects;
-  friend class WorldEditor;
-  friend class WorldDoors;
+  /// World as what its parts ask of ODE (detail::WorldPhysics), in world.cpp.
+  struct Physics;
 
-  // The one factory of each object's and joint's record (a door's: WorldDoors::add).
-  Object& add_object_record(ObjectId id, ObjectSpec spec);
-  Joint& add_joint_record(JointSpec spec);
   /// Builds ODE from the records, the bodies in `body_order` (WorldState::body_order).
   void build(const std::vector<int64_t>& body_order = {});
   /// Builds the robot of that index in the spec.
@@ -424,10 +413,6 @@ class World {
   /// again, keeping its place in ODE's order (an object changed in place).
   void destroy_ode_object(Object& object, bool keep_body = false);
   void build_joint(Joint& joint);
-  Object* find(ObjectId id) const;
-  Joint* joint_named(const std::string& name);
-  /// The object `id` in `out`, or UnknownObject naming the id.
-  Status check_object_id(ObjectId id, const Object*& out) const;
   std::vector<std::string> penetrations(const Object& object) const;
   bool check_stability();  // false if a body had to be put back
   void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail = "");
@@ -443,8 +428,9 @@ class World {
   void* threading_ = nullptr;
   dxGeom* ground_ = nullptr;
   std::unique_ptr<detail::GeomTag> ground_tag_;
-  std::vector<std::unique_ptr<Object>> objects_;  // list order = the seed's indices
-  std::vector<std::unique_ptr<Joint>> joints_;
+  std::unique_ptr<detail::ObjectTable> table_;  // the objects and joints
+  std::unique_ptr<Physics> physics_;
+  std::unique_ptr<detail::DoorTable> door_table_;
   std::vector<std::unique_ptr<RobotModel>> robots_;
   std::vector<std::unique_ptr<detail::GeomTag>> robot_tags_;  // for geoms a robot left untagged
   std::vector<dxBody*> bodies_;                               // every body, for the stability check
@@ -457,20 +443,19 @@ class World {
   std::vector<int32_t> still_steps_left_;
   std::unordered_map<dxBody*, std::size_t> body_index_;
   std::vector<int64_t> body_order_;  // the order the bodies were made in (WorldState::body_order)
-  std::string fault_;  // ODE's error inside a step: the world steps no more
+  std::string fault_;                // ODE's error inside a step: the world steps no more
   std::vector<WorldEvent> events_;
   std::shared_ptr<const DataRoots> files_ = DataRoots::anywhere();
   WorldState initial_;
   uint64_t fingerprint_ = 0;
   unsigned long random_seed_ = 0;  // this world's dRand state
-  ObjectId next_id_ = 1;
   uint64_t steps_ = 0;
   TimeOrigin time_origin_;
   int contacts_ = 0;
   StepProfile profile_;
-  WorldObjects objects_view_{*this};
-  WorldEditor editor_{*this};
-  WorldDoors doors_view_{*this};
+  WorldObjects objects_view_;
+  WorldEditor editor_;
+  WorldDoors doors_view_;
 };
 
 }  // namespace macsim
