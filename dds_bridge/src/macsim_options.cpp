@@ -129,11 +129,8 @@ int compare_sessions(const Options& o) {
   return 0;
 }
 
-}  // namespace
-
-std::optional<int> parse_options(int argc, char** argv, Options& o) {
-  macsim::dds::CommandLine cli("macsim",
-                               "Loads a MACSim world, steps its physics and serves it over DDS.");
+/// The options of the world, the DDS participant and the pace.
+void declare_run_options(macsim::dds::CommandLine& cli, Options& o) {
   cli.option("world", "FILE",
              "world file to load (required); a name not found from here is looked up among the "
              "installed worlds (share/macsim/worlds beside bin/), e.g. DemoWorld_v1.xml",
@@ -150,6 +147,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.duration);
   cli.option("status", "SECONDS", "print each robot's ground-truth pose every SECONDS of wall time",
              &o.status_period);
+}
+
+/// The options of what is rendered: snapshots, pictures, cameras, the viewer.
+void declare_view_options(macsim::dds::CommandLine& cli, Options& o) {
   cli.repeated_option(
       "snapshot", "MODE:FILE.png",
       "render a camera mode (MouseOnly, MouseKeyboard, FixedFollow, Follow, "
@@ -182,6 +183,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              &o.camera_mode);
   cli.option("viewer-screenshot", "FILE.png", "write the window's image after 1 s",
              &o.viewer_screenshot);
+}
+
+/// The options of how a world is taken: validated, strict, overlaps kept, varied by a seed.
+void declare_world_options(macsim::dds::CommandLine& cli, Options& o) {
   cli.flag("validate", "load the world, print a summary and exit", &o.validate);
   cli.flag("strict",
            "refuse a world whose objects start inside each other (exit 1), also when a request "
@@ -195,6 +200,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "vary the world's layout by this seed (0 or more) as its <VARIATION> says: the "
              "same seed, the same layout (default: as written)",
              &o.seed);
+}
+
+/// The caps on what a world and its requests may make the simulator hold, and the data roots.
+void declare_limit_options(macsim::dds::CommandLine& cli, Options& o) {
   cli.option("max-objects", "N",
              "refuse a world of more objects (default " + std::to_string(o.max_objects) + ")",
              &o.max_objects);
@@ -236,6 +245,10 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "(ERR_COMMANDS_MISSING, naming the writer and sample) (default " +
                  fmt::format("{:g}", o.command_wait) + ")",
              &o.command_wait);
+}
+
+/// The options of sessions: recorded, replayed, resumed, extracted, compared.
+void declare_session_options(macsim::dds::CommandLine& cli, Options& o) {
   cli.option("record-session", "FILE",
              "write every command that reaches the world (with its step), the state hash every "
              "--session-hash-every steps, every file the run reads (world, imports, textures, "
@@ -270,12 +283,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
              "aside), else 1, naming the first record where they part",
              &o.compare);
   cli.arguments("[B of --compare A B]", &o.arguments);
-  if (auto code = cli.parse(argc, argv)) return code;
-  if (!o.compare.empty()) return compare_sessions(o);
-  if (!o.arguments.empty()) {
-    macsim::log::error("macsim: unexpected argument '{}' (see --help)", o.arguments.front());
-    return 2;
-  }
+}
+
+/// --kill-at-step, --session-hash-every, --resume and --replay checked; the session to resume or
+/// replay read into `o`, its settings taken.
+std::optional<int> take_session_options(Options& o) {
   if (o.kill_at_step < 0) {
     macsim::log::error("macsim: --kill-at-step takes a step count, 1 or more (0: never)");
     return 2;
@@ -331,6 +343,12 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     }
     if (auto code = take_session_settings(o, "replaying")) return code;
   }
+  return std::nullopt;
+}
+
+/// The caps on snapshots, pictures, queued commands, objects and imports, and --command-wait,
+/// checked and taken.
+std::optional<int> take_limits(Options& o) {
   {
     unsigned long long bytes = 0;
     const std::string& text = o.max_snapshot_bytes;
@@ -356,6 +374,11 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
         "--max-queued-commands must be at least 1");
     return 2;
   }
+  return std::nullopt;
+}
+
+/// The world (required; an installed one found by its name), the seed and the pace, checked.
+std::optional<int> take_world_and_pace(Options& o) {
   if (o.world_file.empty()) {
     macsim::log::error("macsim: --world FILE is required (see --help)");
     return 2;
@@ -376,7 +399,27 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
     return 2;
   }
   if (o.realtime) o.rtf = 1.0;
+  return std::nullopt;
+}
 
+}  // namespace
+
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  macsim::dds::CommandLine cli("macsim",
+                               "Loads a MACSim world, steps its physics and serves it over DDS.");
+  for (auto declare : {declare_run_options, declare_view_options, declare_world_options,
+                       declare_limit_options, declare_session_options}) {
+    declare(cli, o);
+  }
+  if (auto code = cli.parse(argc, argv)) return code;
+  if (!o.compare.empty()) return compare_sessions(o);
+  if (!o.arguments.empty()) {
+    macsim::log::error("macsim: unexpected argument '{}' (see --help)", o.arguments.front());
+    return 2;
+  }
+  for (auto take : {take_session_options, take_limits, take_world_and_pace}) {
+    if (auto code = take(o)) return code;
+  }
   return std::nullopt;
 }
 

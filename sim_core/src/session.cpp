@@ -399,6 +399,250 @@ Session read_session(const std::string& path, SessionRead read) {
   return parse_session(text.str(), path, read);
 }
 
+namespace {
+
+/// Reads a session's lines one by one into `session`: the first line (format version), the
+/// header, then the records (files, commands, runs, requests, hashes) and the closing line.
+struct SessionParser {
+  explicit SessionParser(const std::string& path) : r{path} {}
+
+  /// The first line: "macsim-session <version>", and what that version's header must hold.
+  void first_line(const std::vector<std::string>& f) {
+    if (f.size() != 2 || f[0] != kMagic)
+      r.fail("not a macsim session file (its first line must be 'macsim-session <version>')");
+    for (int v = 1; v <= kSessionFormatVersion; ++v) {
+      if (f[1] == std::to_string(v)) version = v;
+    }
+    if (version == 0) {
+      r.fail("session format version " + f[1] + "; this macsim reads versions 1 to " +
+             std::to_string(kSessionFormatVersion));
+    }
+    session.version = version;
+    if (version == 1) {
+      session.header.overlaps_parted = false;  // recorded before macsim parted them
+    } else {
+      has_overlaps = false;
+    }
+    session.header.self_contained = version >= 4;
+    if (version >= 4) has_settings = false;
+    if (version >= 6) has_wire_types = false;
+  }
+
+  /// Fails naming the header lines this version needs when a record comes before them.
+  void check_header_before(const std::vector<std::string>& f) {
+    const bool header_line =
+        f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps" ||
+        (version >= 4 && (f[0] == "strict" || f[0] == "limits" || f[0] == "snapshots")) ||
+        (version >= 6 && f[0] == "wire-types");
+    if (version >= 4) has_settings = has_strict && has_limits && has_snapshots;
+    if (header_line ||
+        (has_world && has_seed && has_every && has_overlaps && has_settings && has_wire_types))
+      return;
+    std::string missing;  // the lines this version's header lacks, by name
+    for (const auto& [name, has] :
+         {std::pair{"world", has_world}, std::pair{"seed", has_seed},
+          std::pair{"hash-every", has_every}, std::pair{"overlaps", has_overlaps},
+          std::pair{"strict", has_strict || version < 4},
+          std::pair{"limits", has_limits || version < 4},
+          std::pair{"snapshots", has_snapshots || version < 4},
+          std::pair{"wire-types", has_wire_types}}) {
+      if (!has) missing += std::string(missing.empty() ? "" : ", ") + "'" + name + "'";
+    }
+    r.fail("the header needs its " + missing + " line(s) before any record");
+  }
+
+  /// A header line (each once); false when the line is none.
+  bool header_line(const std::vector<std::string>& f) {
+    SessionHeader& h = session.header;
+    if (f[0] == "world" && f.size() == 2 && !has_world) {
+      h.world_file = r.text(f[1], "the world file");
+      has_world = true;
+    } else if (f[0] == "seed" && f.size() == 2 && !has_seed) {
+      h.seed = f[1] == "-1" ? -1 : static_cast<int64_t>(r.number(f[1], "the seed"));
+      if (h.seed > INT32_MAX) r.fail("the seed must be -1 or 0 to 2147483647");
+      has_seed = true;
+    } else if (f[0] == "hash-every" && f.size() == 2 && !has_every) {
+      h.hash_every = r.number(f[1], "hash-every");
+      if (h.hash_every == 0) r.fail("hash-every must be 1 or more");
+      has_every = true;
+    } else if (f[0] == "overlaps" && f.size() == 2 && !has_overlaps) {
+      if (f[1] != "parted" && f[1] != "kept")
+        r.fail("overlaps must be 'parted' or 'kept'; got '" + f[1].substr(0, 20) + "'");
+      h.overlaps_parted = f[1] == "parted";
+      has_overlaps = true;
+    } else if (f[0] == "strict" && f.size() == 2 && version >= 4 && !has_strict) {
+      if (f[1] != "0" && f[1] != "1")
+        r.fail("strict must be 0 or 1; got '" + f[1].substr(0, 20) + "'");
+      h.strict = f[1] == "1";
+      has_strict = true;
+    } else if (f[0] == "limits" && f.size() == 4 && version >= 4 && !has_limits) {
+      auto& l = h.limits;
+      l.max_import_depth = r.number(f[1], "the import depth");
+      l.max_imported_files = r.number(f[2], "the imported files");
+      l.max_objects = r.number(f[3], "the objects");
+      if (l.max_import_depth == 0 || l.max_imported_files == 0 || l.max_objects == 0)
+        r.fail("each limit must be 1 or more");
+      has_limits = true;
+    } else if (f[0] == "snapshots" && f.size() == 3 && version >= 4 && !has_snapshots) {
+      auto& l = h.snapshot_limits;
+      l.max_count = r.number(f[1], "the snapshot count");
+      l.max_bytes = r.number(f[2], "the snapshot bytes");
+      if (l.max_count == 0) r.fail("the snapshot count must be 1 or more");
+      has_snapshots = true;
+    } else if (f[0] == "wire-types" && f.size() == 2 && version >= 6 && !has_wire_types) {
+      h.wire_types = r.text(f[1], "the wire types");
+      has_wire_types = true;
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  /// "f PATH CHECKSUM BYTES": a file the run read, embedded.
+  void file_record(const std::vector<std::string>& f) {
+    EmbeddedFile file;
+    file.path = r.text(f[1], "the file's path");
+    if (file.path.empty()) r.fail("an embedded file must name its path");
+    if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
+      r.fail("a file's checksum must be 16 hex digits; got '" + f[2].substr(0, 20) + "'");
+    const auto bytes = r.bytes(f[3], "an embedded file's bytes");
+    file.bytes.assign(bytes.begin(), bytes.end());
+    if (hex16(file_checksum(file.bytes)) != f[2]) {
+      r.fail("the embedded file '" + file.path +
+             "' does not match its checksum: it was altered after it was recorded");
+    }
+    file.commands_before = session.commands.size();
+    session.files.push_back(std::move(file));
+  }
+
+  /// "c STEP SOURCE OPERATION TARGET VALUES MESSAGE [SENDER]": a command at its step.
+  void command_record(const std::vector<std::string>& f) {
+    RecordedCommand rc;
+    rc.step = r.number(f[1], "a command's step");
+    const auto source = command_source(f[2]);
+    if (!source || *source == CommandSource::Local) r.fail("unknown command source '" + f[2] + "'");
+    rc.command.source = *source;
+    rc.command.operation = r.text(f[3], "the operation");
+    rc.command.target = r.text(f[4], "the target");
+    const auto values = r.values(f[5]);
+    rc.command.message = r.bytes(f[6], "a command's message");
+    if (rc.command.operation.empty()) r.fail("a command must name its operation");
+    if (rc.command.source == CommandSource::Robot) {
+      std::string why;
+      rc.command.robot = robot::decode_command(rc.command.operation, values, &why);
+      if (!rc.command.robot) r.fail(why);
+    } else if (!values.empty()) {
+      r.fail("only a robot command carries numbers");
+    }
+    if (f.size() == 8) {
+      if (rc.command.source != CommandSource::Robot) r.fail("only a robot command has a sender");
+      rc.command.sent_by = r.sender(f[7]);
+    }
+    advance_to(rc.step);
+    rc.last_step = rc.step;
+    ++commands;
+    session.commands.push_back(std::move(rc));
+  }
+
+  /// "k FIRST LAST [ROBOTS]": the robots' commands kept in force over a run of steps.
+  void run_record(const std::vector<std::string>& f) {
+    const uint64_t first = r.number(f[1], "a run's first step");
+    const uint64_t last = r.number(f[2], "a run's last step");
+    if (last < first) r.fail("a run ends before it starts");
+    if (first < last_step) r.fail("steps must not go back");
+    if (last - first >= kMaxRunSteps)
+      r.fail("a run of more than " + std::to_string(kMaxRunSteps) + " steps");
+    RecordedCommand keep;  // one record however many steps it holds
+    keep.command.source = CommandSource::Simulation;
+    keep.command.operation = "keep_robot_commands";
+    if (f.size() == 4) {
+      keep.command.target = r.text(f[3], "the robots held");
+      if (keep.command.target.empty()) r.fail("a run names no robot to hold");
+    }
+    keep.step = first;
+    keep.last_step = last;
+    commands += keep.count();
+    session.commands.push_back(std::move(keep));
+    last_step = last;
+  }
+
+  /// "r STEP taken|answered SERVICE BYTES": a request taken or answered at its step.
+  void request_record(const std::vector<std::string>& f) {
+    RecordedRequest request;
+    request.step = r.number(f[1], "a request's step");
+    if (f[2] != "taken" && f[2] != "answered")
+      r.fail("a request is 'taken' or 'answered'; got '" + f[2].substr(0, 20) + "'");
+    request.kind = f[2] == "taken" ? RecordedRequest::Kind::Taken : RecordedRequest::Kind::Answered;
+    request.service = r.text(f[3], "the service");
+    if (request.service.empty()) r.fail("a request must name its service");
+    request.bytes = r.bytes(f[4], "a request's bytes");
+    if (request.bytes.empty()) r.fail("a request's bytes are empty");
+    advance_to(request.step);
+    request.commands_before = session.commands.size();
+    session.requests.push_back(std::move(request));
+  }
+
+  /// "h STEP HASH": the state hash at a step.
+  void hash_record(const std::vector<std::string>& f) {
+    RecordedHash h;
+    h.step = r.number(f[1], "a hash's step");
+    if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
+      r.fail("a hash must be 16 hex digits; got '" + f[2] + "'");
+    h.hash = std::strtoull(f[2].c_str(), nullptr, 16);
+    advance_to(h.step);
+    session.hashes.push_back(h);
+  }
+
+  /// "end STEPS COMMANDS HASHES": the closing line, its counts those of the records before it.
+  void end_record(const std::vector<std::string>& f) {
+    session.steps = r.number(f[1], "the steps");
+    if (session.steps < last_step) r.fail("the session ends before its last record");
+    if (r.number(f[2], "the command count") != commands ||
+        r.number(f[3], "the hash count") != session.hashes.size()) {
+      r.fail("the closing line's counts do not match the records before it (" +
+             std::to_string(commands) + " commands, " + std::to_string(session.hashes.size()) +
+             " hashes): lines are missing");
+    }
+    ended = true;
+  }
+
+  /// One line after the first: a header line or a record, else a failure naming the line.
+  void line(const std::string& text) {
+    if (ended) r.fail("nothing may follow the closing 'end' line");
+    const auto f = fields_of(text);
+    if (r.line == 1) return first_line(f);
+    check_header_before(f);
+    if (header_line(f)) return;
+    if (f[0] == "f" && f.size() == 4 && version >= 4) return file_record(f);
+    if (f[0] == "c" && (f.size() == 7 || (f.size() == 8 && version >= 6))) return command_record(f);
+    if (f[0] == "k" && (f.size() == 3 || (f.size() == 4 && version >= 4)) && version >= 3)
+      return run_record(f);
+    if (f[0] == "r" && f.size() == 5 && version >= 5) return request_record(f);
+    if (f[0] == "h" && f.size() == 3) return hash_record(f);
+    if (f[0] == "end" && f.size() == 4) return end_record(f);
+    r.fail("not a session record: '" + text.substr(0, 60) + "'");
+  }
+
+  /// A record's step: never before the one before it.
+  void advance_to(uint64_t step) {
+    if (step < last_step) r.fail("steps must not go back");
+    last_step = step;
+  }
+
+  LineReader r;
+  Session session;
+  bool ended = false, has_world = false, has_every = false, has_seed = false;
+  bool has_overlaps = true;  // a version 2 file must say (first_line); version 1 had no parting
+  bool has_settings = true;  // strict, limits and snapshots: a version 4 file must say
+  bool has_strict = false, has_limits = false, has_snapshots = false;
+  bool has_wire_types = true;  // a version 6 file must say
+  uint64_t last_step = 0;
+  uint64_t commands = 0;  // as many as ran: a run of held steps counts each step
+  int version = 0;
+};
+
+}  // namespace
+
 Session parse_session(const std::string& text, const std::string& path, SessionRead read) {
   const bool resuming = read == SessionRead::UpToLastWholeRecord;
   // A resume reads up to the last whole line: a kill may have cut the one after it.
@@ -412,216 +656,31 @@ Session parse_session(const std::string& text, const std::string& path, SessionR
                            ": the file is cut short (its last line is incomplete)");
   }
   std::size_t offset = 0;  // bytes read before this line
-  LineReader r{path};
-  Session session;
+  SessionParser parser(path);
+  Session& session = parser.session;
   std::string line;
-  bool ended = false, has_world = false, has_every = false, has_seed = false;
-  bool has_overlaps = true;  // a version 2 file must say (below); version 1 had no parting
-  bool has_settings = true;  // strict, limits and snapshots: a version 4 file must say (below)
-  bool has_strict = false, has_limits = false, has_snapshots = false;
-  bool has_wire_types = true;  // a version 6 file must say (below)
-  uint64_t last_step = 0;
-  uint64_t commands = 0;  // as many as ran: a run of held steps counts each step
-  int version = 0;
   while (std::getline(in, line)) {
-    ++r.line;
+    ++parser.r.line;
     offset += line.size() + 1;
-    if (ended) r.fail("nothing may follow the closing 'end' line");
-    const auto f = fields_of(line);
-    if (r.line == 1) {
-      if (f.size() != 2 || f[0] != kMagic)
-        r.fail("not a macsim session file (its first line must be 'macsim-session <version>')");
-      for (int v = 1; v <= kSessionFormatVersion; ++v) {
-        if (f[1] == std::to_string(v)) version = v;
-      }
-      if (version == 0) {
-        r.fail("session format version " + f[1] + "; this macsim reads versions 1 to " +
-               std::to_string(kSessionFormatVersion));
-      }
-      session.version = version;
-      if (version == 1) {
-        session.header.overlaps_parted = false;  // recorded before macsim parted them
-      } else {
-        has_overlaps = false;
-      }
-      session.header.self_contained = version >= 4;
-      if (version >= 4) has_settings = false;
-      if (version >= 6) has_wire_types = false;
-      continue;
-    }
-    const bool header_line =
-        f[0] == "world" || f[0] == "seed" || f[0] == "hash-every" || f[0] == "overlaps" ||
-        (version >= 4 && (f[0] == "strict" || f[0] == "limits" || f[0] == "snapshots")) ||
-        (version >= 6 && f[0] == "wire-types");
-    if (version >= 4) has_settings = has_strict && has_limits && has_snapshots;
-    if (!header_line &&
-        !(has_world && has_seed && has_every && has_overlaps && has_settings && has_wire_types)) {
-      std::string missing;  // the lines this version's header lacks, by name
-      for (const auto& [name, has] :
-           {std::pair{"world", has_world}, std::pair{"seed", has_seed},
-            std::pair{"hash-every", has_every}, std::pair{"overlaps", has_overlaps},
-            std::pair{"strict", has_strict || version < 4},
-            std::pair{"limits", has_limits || version < 4},
-            std::pair{"snapshots", has_snapshots || version < 4},
-            std::pair{"wire-types", has_wire_types}}) {
-        if (!has) missing += std::string(missing.empty() ? "" : ", ") + "'" + name + "'";
-      }
-      r.fail("the header needs its " + missing + " line(s) before any record");
-    }
-    if (f[0] == "world" && f.size() == 2 && !has_world) {
-      session.header.world_file = r.text(f[1], "the world file");
-      has_world = true;
-    } else if (f[0] == "seed" && f.size() == 2 && !has_seed) {
-      session.header.seed = f[1] == "-1" ? -1 : static_cast<int64_t>(r.number(f[1], "the seed"));
-      if (session.header.seed > INT32_MAX) r.fail("the seed must be -1 or 0 to 2147483647");
-      has_seed = true;
-    } else if (f[0] == "hash-every" && f.size() == 2 && !has_every) {
-      session.header.hash_every = r.number(f[1], "hash-every");
-      if (session.header.hash_every == 0) r.fail("hash-every must be 1 or more");
-      has_every = true;
-    } else if (f[0] == "overlaps" && f.size() == 2 && !has_overlaps) {
-      if (f[1] != "parted" && f[1] != "kept")
-        r.fail("overlaps must be 'parted' or 'kept'; got '" + f[1].substr(0, 20) + "'");
-      session.header.overlaps_parted = f[1] == "parted";
-      has_overlaps = true;
-    } else if (f[0] == "strict" && f.size() == 2 && version >= 4 && !has_strict) {
-      if (f[1] != "0" && f[1] != "1")
-        r.fail("strict must be 0 or 1; got '" + f[1].substr(0, 20) + "'");
-      session.header.strict = f[1] == "1";
-      has_strict = true;
-    } else if (f[0] == "limits" && f.size() == 4 && version >= 4 && !has_limits) {
-      auto& l = session.header.limits;
-      l.max_import_depth = r.number(f[1], "the import depth");
-      l.max_imported_files = r.number(f[2], "the imported files");
-      l.max_objects = r.number(f[3], "the objects");
-      if (l.max_import_depth == 0 || l.max_imported_files == 0 || l.max_objects == 0)
-        r.fail("each limit must be 1 or more");
-      has_limits = true;
-    } else if (f[0] == "snapshots" && f.size() == 3 && version >= 4 && !has_snapshots) {
-      auto& l = session.header.snapshot_limits;
-      l.max_count = r.number(f[1], "the snapshot count");
-      l.max_bytes = r.number(f[2], "the snapshot bytes");
-      if (l.max_count == 0) r.fail("the snapshot count must be 1 or more");
-      has_snapshots = true;
-    } else if (f[0] == "wire-types" && f.size() == 2 && version >= 6 && !has_wire_types) {
-      session.header.wire_types = r.text(f[1], "the wire types");
-      has_wire_types = true;
-    } else if (f[0] == "f" && f.size() == 4 && version >= 4) {
-      EmbeddedFile file;
-      file.path = r.text(f[1], "the file's path");
-      if (file.path.empty()) r.fail("an embedded file must name its path");
-      if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
-        r.fail("a file's checksum must be 16 hex digits; got '" + f[2].substr(0, 20) + "'");
-      const auto bytes = r.bytes(f[3], "an embedded file's bytes");
-      file.bytes.assign(bytes.begin(), bytes.end());
-      if (hex16(file_checksum(file.bytes)) != f[2]) {
-        r.fail("the embedded file '" + file.path +
-               "' does not match its checksum: it was altered after it was recorded");
-      }
-      file.commands_before = session.commands.size();
-      session.files.push_back(std::move(file));
-    } else if (f[0] == "c" && (f.size() == 7 || (f.size() == 8 && version >= 6))) {
-      RecordedCommand rc;
-      rc.step = r.number(f[1], "a command's step");
-      const auto source = command_source(f[2]);
-      if (!source || *source == CommandSource::Local)
-        r.fail("unknown command source '" + f[2] + "'");
-      rc.command.source = *source;
-      rc.command.operation = r.text(f[3], "the operation");
-      rc.command.target = r.text(f[4], "the target");
-      const auto values = r.values(f[5]);
-      rc.command.message = r.bytes(f[6], "a command's message");
-      if (rc.command.operation.empty()) r.fail("a command must name its operation");
-      if (rc.command.source == CommandSource::Robot) {
-        std::string why;
-        rc.command.robot = robot::decode_command(rc.command.operation, values, &why);
-        if (!rc.command.robot) r.fail(why);
-      } else if (!values.empty()) {
-        r.fail("only a robot command carries numbers");
-      }
-      if (f.size() == 8) {
-        if (rc.command.source != CommandSource::Robot) r.fail("only a robot command has a sender");
-        rc.command.sent_by = r.sender(f[7]);
-      }
-      if (rc.step < last_step) r.fail("steps must not go back");
-      last_step = rc.step;
-      rc.last_step = rc.step;
-      ++commands;
-      session.commands.push_back(std::move(rc));
-    } else if (f[0] == "k" && (f.size() == 3 || (f.size() == 4 && version >= 4)) && version >= 3) {
-      const uint64_t first = r.number(f[1], "a run's first step");
-      const uint64_t last = r.number(f[2], "a run's last step");
-      if (last < first) r.fail("a run ends before it starts");
-      if (first < last_step) r.fail("steps must not go back");
-      if (last - first >= kMaxRunSteps)
-        r.fail("a run of more than " + std::to_string(kMaxRunSteps) + " steps");
-      RecordedCommand keep;  // one record however many steps it holds
-      keep.command.source = CommandSource::Simulation;
-      keep.command.operation = "keep_robot_commands";
-      if (f.size() == 4) {
-        keep.command.target = r.text(f[3], "the robots held");
-        if (keep.command.target.empty()) r.fail("a run names no robot to hold");
-      }
-      keep.step = first;
-      keep.last_step = last;
-      commands += keep.count();
-      session.commands.push_back(std::move(keep));
-      last_step = last;
-    } else if (f[0] == "r" && f.size() == 5 && version >= 5) {
-      RecordedRequest request;
-      request.step = r.number(f[1], "a request's step");
-      if (f[2] != "taken" && f[2] != "answered")
-        r.fail("a request is 'taken' or 'answered'; got '" + f[2].substr(0, 20) + "'");
-      request.kind =
-          f[2] == "taken" ? RecordedRequest::Kind::Taken : RecordedRequest::Kind::Answered;
-      request.service = r.text(f[3], "the service");
-      if (request.service.empty()) r.fail("a request must name its service");
-      request.bytes = r.bytes(f[4], "a request's bytes");
-      if (request.bytes.empty()) r.fail("a request's bytes are empty");
-      if (request.step < last_step) r.fail("steps must not go back");
-      last_step = request.step;
-      request.commands_before = session.commands.size();
-      session.requests.push_back(std::move(request));
-    } else if (f[0] == "h" && f.size() == 3) {
-      RecordedHash h;
-      h.step = r.number(f[1], "a hash's step");
-      if (f[2].size() != 16 || f[2].find_first_not_of("0123456789abcdef") != std::string::npos)
-        r.fail("a hash must be 16 hex digits; got '" + f[2] + "'");
-      h.hash = std::strtoull(f[2].c_str(), nullptr, 16);
-      if (h.step < last_step) r.fail("steps must not go back");
-      last_step = h.step;
-      session.hashes.push_back(h);
-    } else if (f[0] == "end" && f.size() == 4) {
-      session.steps = r.number(f[1], "the steps");
-      if (session.steps < last_step) r.fail("the session ends before its last record");
-      if (r.number(f[2], "the command count") != commands ||
-          r.number(f[3], "the hash count") != session.hashes.size()) {
-        r.fail("the closing line's counts do not match the records before it (" +
-               std::to_string(commands) + " commands, " + std::to_string(session.hashes.size()) +
-               " hashes): lines are missing");
-      }
-      ended = true;
-      session.whole_bytes = offset - line.size() - 1;
-    } else {
-      r.fail("not a session record: '" + line.substr(0, 60) + "'");
-    }
-    if (!ended) session.whole_bytes = offset;
+    parser.line(line);
+    // The whole records' bytes, from the header on: the closing line is none.
+    if (parser.r.line > 1) session.whole_bytes = parser.ended ? offset - line.size() - 1 : offset;
   }
-  if (r.line == 0) throw SessionFileError(path + ": empty, not a session file");
-  if (resuming && !ended) {
+  if (parser.r.line == 0) throw SessionFileError(path + ": empty, not a session file");
+  if (resuming && !parser.ended) {
     if (session.commands.empty() && session.hashes.empty() && session.requests.empty())
-      throw SessionFileError(path + ":" + std::to_string(r.line) +
+      throw SessionFileError(path + ":" + std::to_string(parser.r.line) +
                              ": the session holds no record to resume from");
     session.cut_short = true;
-    session.steps = last_step;
-    return session;
+    session.steps = parser.last_step;
+    return std::move(session);
   }
-  if (!ended) {
-    throw SessionFileError(path + ":" + std::to_string(r.line) +
+  if (!parser.ended) {
+    throw SessionFileError(path + ":" + std::to_string(parser.r.line) +
                            ": the file is cut short (no closing 'end' line): the simulator did "
                            "not stop cleanly, or the file was truncated");
   }
-  return session;
+  return std::move(session);
 }
 
 void write_session(const std::string& path, const Session& session) {

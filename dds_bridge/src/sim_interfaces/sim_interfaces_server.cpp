@@ -83,11 +83,22 @@ void SimInterfacesServer::refuse(const std::string& name, const std::string& why
 SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& runner,
                                          LoadLimits limits, std::function<void()> quit)
     : participant_(participant), runner_(runner), limits_(limits), quit_(std::move(quit)) {
-  namespace sim = sim_interfaces;
   runner_.set_executor(CommandSource::Ros2Service, [this](const Command& c, World& world) {
     const auto found = on_world_.find(c.operation);
     return found != on_world_.end() && found->second(c, world);
   });
+  serve_entity_services();
+  serve_simulation_state();
+  serve_stepping();
+  serve_world_loading();
+  refuse_unsupported();
+  simulate_steps_ = std::make_unique<SimulateStepsAction>(
+      participant_, runner_, kNamespace + std::string("simulate_steps"));
+}
+
+/// The entities' and worlds' services, run on the world between steps (the features: at once).
+void SimInterfacesServer::serve_entity_services() {
+  namespace sim = sim_interfaces;
   // Constant, and its response has no result to say a full queue with: answered at once.
   serve<MACSIM_SERVICE(GetSimulatorFeatures)>(
       "get_simulator_features",
@@ -118,7 +129,10 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
         if (r.result().result() == rc::RESULT_OK) stopped_ = false;
         return r;
       });
+}
 
+/// Get and set the simulation's state: playing, paused, stopped (paused at the start), quitting.
+void SimInterfacesServer::serve_simulation_state() {
   serve_on_world<MACSIM_SERVICE(GetSimulationState)>(
       "get_simulation_state", [this](const ss::GetSimulationState_Request_&, World&) {
         ss::GetSimulationState_Response_ r;
@@ -168,7 +182,10 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
                               "QUITTING (3)");
         }
       });
+}
 
+/// StepSimulation, answered once its steps are done.
+void SimInterfacesServer::serve_stepping() {
   // Answered once its steps are done: the request and where it came from, as a command.
   using StepServer = dds::ServiceServer<MACSIM_SERVICE(StepSimulation)>;
   using StepReplyTo = std::pair<dds::RequestId, StepServer*>;
@@ -216,7 +233,10 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
         c.reply_to = StepReplyTo{id, &server};
         if (!runner_.push(std::move(c))) refuse_full(id, server);
       });
+}
 
+/// LoadWorld: parsed off the simulation thread, answered once the new world runs.
+void SimInterfacesServer::serve_world_loading() {
   serve<MACSIM_SERVICE(LoadWorld)>(
       "load_world", [this](const ss::LoadWorld_Request_& q, const dds::RequestId& id,
                            dds::ServiceServer<MACSIM_SERVICE(LoadWorld)>& server) {
@@ -259,7 +279,10 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
           refuse_now(rc::RESULT_OPERATION_FAILED, runner_.queue_full_message());
         }
       });
+}
 
+/// The services this simulator has no use for, refused saying why.
+void SimInterfacesServer::refuse_unsupported() {
   refuse<MACSIM_SERVICE(UnloadWorld)>("unload_world",
                                       "a macsim always runs a world: LoadWorld replaces it");
   refuse<MACSIM_SERVICE(SetEntityInfo)>(
@@ -270,8 +293,6 @@ SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& 
                                         "world files of this simulator name no poses");
   refuse<MACSIM_SERVICE(GetNamedPoseBounds)>("get_named_pose_bounds",
                                              "world files of this simulator name no poses");
-  simulate_steps_ = std::make_unique<SimulateStepsAction>(
-      participant_, runner_, kNamespace + std::string("simulate_steps"));
 }
 
 SimInterfacesServer::~SimInterfacesServer() {

@@ -33,6 +33,11 @@ class SimInterfacesServer {
   static std::vector<std::string> service_names();
 
  private:
+  void serve_entity_services();
+  void serve_simulation_state();
+  void serve_stepping();
+  void serve_world_loading();
+  void refuse_unsupported();
   template <class Req, class Resp>
   using Respond = std::function<void(const typename Req::type&, const dds::RequestId&,
                                      dds::ServiceServer<Req, Resp>&)>;
