@@ -98,7 +98,13 @@ bool Runner::execute(const Command& command) {
       if (command.local) command.local(*world_);
       return false;  // code, not a value: never recorded
     case CommandSource::Robot:
-      acted = run_robot_command(command, *world_);
+      // The robot interface that serves the robot when one is set (the simulator's bridge),
+      // else the world's robot itself (a replay, a test).
+      if (const auto& run = executors_[static_cast<std::size_t>(CommandSource::Robot)]) {
+        acted = run(command, *world_);
+      } else {
+        acted = run_robot_command(command, *world_);
+      }
       if (!acted) {
         log_message(LogLevel::Warning, "robot command refused: " +
                                            (world_->robot(command.target)

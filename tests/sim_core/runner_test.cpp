@@ -66,6 +66,27 @@ TEST(Runner, ARepeatAnsweredByItsExecutorIsNotCountedAsRun) {
   EXPECT_EQ(runner.commands_run(CommandSource::Simulation), 0u);
 }
 
+TEST(Runner, ARobotCommandGoesToTheRobotsExecutorWhenOneIsSetElseToTheWorldsRobot) {
+  Runner runner(small_room());
+  std::vector<std::string> served;  // what the robot interface was given
+  runner.set_executor(CommandSource::Robot, [&](const Command& c, World& world) {
+    served.push_back(c.target + " " + c.operation);
+    return run_robot_command(c, world);
+  });
+  ASSERT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.3, 0.0})));
+  for (int i = 0; i < 200; ++i) runner.step();
+  EXPECT_EQ(served, std::vector<std::string>{"kurt twist"});
+  EXPECT_EQ(runner.commands_run(CommandSource::Robot), 1u);
+  const double moved = runner.world().robot("kurt")->base_footprint_pose().position.x();
+  EXPECT_GT(moved, 0.01);  // it acted through the executor
+  // Without one, the world's robot takes it itself.
+  runner.set_executor(CommandSource::Robot, {});
+  ASSERT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.0, 0.0})));
+  runner.step();
+  EXPECT_EQ(served.size(), 1u);
+  EXPECT_EQ(runner.commands_run(CommandSource::Robot), 2u);
+}
+
 TEST(Runner, SameWorldAndCommandsGiveBitIdenticalStates) {
   auto run = [] {
     Runner runner(small_room());

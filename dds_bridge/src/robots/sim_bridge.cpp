@@ -170,9 +170,19 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
     }
     robots_.push_back(std::move(topics));
   }
+  // One way in for a robot command, as for the real robot: the robot interface the node serves
+  // (a robot of a world loaded later, not served, is the world's own).
+  runner.set_executor(CommandSource::Robot, [this](const Command& c, World& world) {
+    for (auto& t : robots_) {
+      if (t->name == c.target) return c.robot && t->simulated.execute(*c.robot);
+    }
+    return run_robot_command(c, world);
+  });
 }
 
-SimBridge::~SimBridge() = default;
+SimBridge::~SimBridge() {
+  runner_.set_executor(CommandSource::Robot, {});  // to the world's robots again
+}
 
 void SimBridge::poll_commands() {
   for (auto& t : robots_) t->node.poll_commands();

@@ -19,7 +19,8 @@ class SimulatedRobot : public robot::RobotInterface {
 
   std::string name() const override { return name_; }
   robot::Capabilities capabilities() const override { return capabilities_; }
-  /// The robot's own RobotModel::execute, at the world's time.
+  /// The robot's own RobotModel::execute, at the world's time: the simulator's one way in for a
+  /// robot command (the runner gives each one here, SimBridge).
   bool execute(const robot::RobotCommand& command) override;
   /// What the steps since the last call produced (RobotModel::read); after a reset, a restore
   /// or a new world (also one before this robot's first read), everything the robot has.

@@ -142,7 +142,8 @@ class Runner {
   bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
 
   // ---- before run() -----------------------------------------------------------------------
-  /// Who runs the commands of `source` (robot, Local and the runner's own commands need none).
+  /// Who runs the commands of `source` (Local and the runner's own commands need none; robot
+  /// commands without one go to the world's robot, run_robot_command).
   void set_executor(CommandSource source, CommandExecutor executor);
   /// Writes every command that acts on the world from now on, with the step it runs at, and
   /// the state hash every writer->hash_every() steps (and now, unless it goes on with a session
