@@ -100,6 +100,9 @@ struct World::Physics final : detail::WorldPhysics {
   void emit(WorldEvent::Type type, const std::string& subject, const std::string& detail) override {
     world.emit(type, subject, detail);
   }
+  const MaterialSpec* material(const std::string& name) const override {
+    return world.spec_.material(name);
+  }
   std::vector<MaterialSpec>& materials() override { return world.spec_.materials; }
   const DataRoots& data_roots() const override { return *world.files_; }
   World& world;

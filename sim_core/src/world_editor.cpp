@@ -30,11 +30,6 @@ Status objects_capped(std::size_t count, std::size_t adding, std::size_t cap) {
                            " more would pass the cap: destroy some first, or raise the cap");
 }
 
-bool has_material(const std::vector<MaterialSpec>& materials, const std::string& name) {
-  return std::any_of(materials.begin(), materials.end(),
-                     [&name](const MaterialSpec& m) { return m.name == name; });
-}
-
 }  // namespace
 
 Status WorldEditor::validate_new_object(ObjectSpec& spec) const {
@@ -64,7 +59,7 @@ Status WorldEditor::validate_new_object(ObjectSpec& spec) const {
       c.texture = physics_.data_roots().identity(c.texture);  // the file checked, in one spelling
     }
   }
-  if (!has_material(physics_.materials(), spec.material))
+  if (!physics_.material(spec.material))
     return detail::invalid_argument("unknown material '" + spec.material + "'");
   if (!spec.name.empty()) {
     if (auto p = bounds::name_problem(spec.name)) return detail::invalid_argument(*p);
@@ -111,7 +106,7 @@ Status WorldEditor::add_spec_objects(WorldSpec fragment, std::vector<ObjectId>* 
       return detail::invalid_argument("an object named '" + object.name + "' exists already");
   }
   for (const auto& m : fragment.materials) {
-    if (!has_material(physics_.materials(), m.name)) physics_.materials().push_back(m);
+    if (!physics_.material(m.name)) physics_.materials().push_back(m);
   }
   std::vector<detail::ObjectRecord*> added;
   for (auto& object : fragment.objects)

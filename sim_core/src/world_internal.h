@@ -99,6 +99,8 @@ class WorldPhysics {
   virtual std::vector<std::string> penetrations(const ObjectRecord& object) const = 0;
   virtual void emit(WorldEvent::Type type, const std::string& subject,
                     const std::string& detail = "") = 0;
+  /// The world's material of that name, or nullptr (WorldSpec::material).
+  virtual const MaterialSpec* material(const std::string& name) const = 0;
   /// The world's materials (an environment added brings its own).
   virtual std::vector<MaterialSpec>& materials() = 0;
   /// Where the operations that name files may read them.
