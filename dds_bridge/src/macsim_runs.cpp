@@ -359,13 +359,15 @@ int serve(macsim::Runner& runner, const Options& o, const macsim::SessionWriter*
 }
 
 int replay(macsim::Runner& runner, const Options& o) {
-  runner.set_executor(macsim::CommandSource::Supervisor,
-                      [&runner](const macsim::Command& c, macsim::World& world) {
-                        return macsim::replay(c, world, runner.snapshots());
-                      });
-  runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
+  runner.set_executor<macsim::SupervisorCall>(
+      [&runner](const macsim::SupervisorCall& q, const macsim::Command&, macsim::World& world) {
+        macsim::dispatch(q.message(), world, runner.snapshots());  // as served, unanswered
+        return true;
+      });
+  macsim::sim_interfaces::replay_on(runner);
   const auto load = session_world_loader(runner, o);
-  const auto outcome = macsim::replay_session(*o.session, runner, load, o.session_files.get());
+  const auto outcome = macsim::replay_session(*o.session, runner, load, o.session_files.get(), {},
+                                              macsim::read_recorded_request);
   std::printf("macsim: %s\n", outcome.message.c_str());
   return outcome.equal ? 0 : 1;
 }
@@ -410,28 +412,28 @@ int resume(macsim::Runner& runner, const Options& o) {
     // The supervisor's requests run as they did, their replies kept for a repeat (the latest
     // ones: a client repeats only what it had in flight).
     constexpr std::size_t kKeptReplies = 4096;
-    runner.set_executor(macsim::CommandSource::Supervisor,
-                        [&runner, &resumed](const macsim::Command& c, macsim::World& world) {
-                          namespace mm = macsim_msgs::msg::dds_;
-                          const auto q =
-                              macsim::dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
-                          if (!q) return false;
-                          auto& replies = resumed.supervisor_replies;
-                          if (replies.size() >= 2 * kKeptReplies)
-                            replies.erase(replies.begin(), replies.begin() + kKeptReplies);
-                          replies.push_back(macsim::dispatch(*q, world, runner.snapshots()));
-                          return true;
-                        });
-    runner.set_executor(macsim::CommandSource::Ros2Service, macsim::sim_interfaces::replay);
+    runner.set_executor<macsim::SupervisorCall>([&runner, &resumed](const macsim::SupervisorCall& q,
+                                                                    const macsim::Command&,
+                                                                    macsim::World& world) {
+      auto& replies = resumed.supervisor_replies;
+      if (replies.size() >= 2 * kKeptReplies)
+        replies.erase(replies.begin(), replies.begin() + kKeptReplies);
+      replies.push_back(macsim::dispatch(q.message(), world, runner.snapshots()));
+      return true;
+    });
+    macsim::sim_interfaces::replay_on(runner);
     const auto load = session_world_loader(runner, o);
     const auto start = std::chrono::steady_clock::now();
     // A step's readings as the killed process took them: kept back in the begun request's
     // steps, else gone out with it (up to the step before the request's first, then).
-    const auto outcome = macsim::replay_session(session, runner, load, o.session_files.get(), [&] {
-      const uint64_t step = runner.steps_run();
-      bridge.replayed_step(held && step >= held->first && step <= held->last);
-      if (held && step + 1 == held->first) bridge.replayed_as_sent();
-    });
+    const auto outcome = macsim::replay_session(
+        session, runner, load, o.session_files.get(),
+        [&] {
+          const uint64_t step = runner.steps_run();
+          bridge.replayed_step(held && step >= held->first && step <= held->last);
+          if (held && step + 1 == held->first) bridge.replayed_as_sent();
+        },
+        macsim::read_recorded_request);
     bridge.caught_up();
     if (!outcome.equal) {
       macsim::log::error("macsim: --resume: cannot resume {}: {}", o.resume, outcome.message);

@@ -418,61 +418,19 @@ def client_source(operations):
 # --- The dispatch ---------------------------------------------------------------------------
 
 def dispatch(operations):
-    """Per operation: a template that calls the hand-written ops::<name>(context, arguments)
-    when supervisor_operations.h declares one, else world.<name>(converted fields, in the
-    builder's order) on the world or the part of it that has <name> (objects(), edit(), doors()),
-    and fill()s the reply with the result (its first reply field, then the
-    others derived from it with also()); and the switch over the operations."""
+    """The switch over the operations: each calls the hand-written ops::<name>(context,
+    arguments) of dds_bridge/src/supervisor/supervisor_operations.h (ops::<name>(context) for an
+    operation without arguments); what only reads; and each operation's name."""
     out = [f"// {HEADER_NOTE}",
            "// Included by supervisor_dispatch.cpp inside namespace macsim::generated.", ""]
-    for op in operations:
-        arg = "" if op.arg_type == "none" else f", const mm::{op.arg_type}& a"
-        call_arg = "" if op.arg_type == "none" else ", a"
-        out.append(f"template <class Context>")
-        out.append(f"Status {op.name}_operation(Context& c{arg}) {{")
-        out.append(f"  if constexpr (requires {{ {op.name}(c{call_arg}); }}) {{")
-        out.append(f"    return {op.name}(c{call_arg});")
-        out.append("  } else {")
-        args = []
-        for p in op.cpp_params():
-            get = f"a.{p.field.name}()"
-            if p.field.idl_type == "Pose_":
-                if p.sub == "orientation":
-                    continue
-                args.append(f"codec::pose_of({get})")
-            elif p.kind == "vec3":
-                args.append(f"codec::vector_of({get})")
-            elif p.kind == "quat":
-                args.append(f"codec::quaternion_of({get})")
-            elif p.field.name == "allow_penetration":
-                args.append(f"policy({get})")
-            else:
-                args.append(get)
-        primary = op.replies[0] if op.replies else "none"
-        # The world serves it itself, or one of its parts does (objects(), edit(), doors()).
-        call = f"{op.name}({', '.join(args)})"
-        out.append("    auto&& result = [&]() -> decltype(auto) {")
-        for i, part in enumerate(["", ".objects()", ".edit()", ".doors()"]):
-            keyword = "if" if i == 0 else "else if"
-            out.append(f"      {keyword} constexpr (requires {{ c.world{part}.{call}; }})")
-            out.append(f"        return c.world{part}.{call};")
-        out.append(f'      else static_assert(sizeof(c) == 0, "World has no {op.name}()");')
-        out.append("    }();")
-        out.append(f"    Status status = fill(c, result, reply_field::{primary}{{}});")
-        for extra in op.replies[1:]:
-            out.append(f"    if (status.ok()) also(c, result, reply_field::{extra}{{}});")
-        out.append("    return status;")
-        out.append("  }")
-        out.append("}")
-        out.append("")
-    out.append("/// Runs the operation against c.world; nullopt for an unknown operation.")
-    out.append("template <class Context>")
-    out.append("std::optional<Status> run_operation(Context& c, const mm::SupervisorOperation_& op) {")
+    out.append("/// Runs the operation (ops::<its name>) against c.world; nullopt for an unknown one.")
+    out.append("inline std::optional<Status> run_operation(ops::Context& c,")
+    out.append("                                           const mm::SupervisorOperation_& op) {")
     out.append("  switch (op._d()) {")
     for op in operations:
         arg = "" if op.arg_type == "none" else f", op.{op.member}()"
         out.append(f"    case mm::{op.const}:")
-        out.append(f"      return {op.name}_operation(c{arg});")
+        out.append(f"      return ops::{op.name}(c{arg});")
     out.append("  }")
     out.append("  return std::nullopt;")
     out.append("}")

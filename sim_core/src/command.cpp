@@ -36,22 +36,39 @@ std::optional<CommandSource> command_source(std::string_view name) {
   return std::nullopt;
 }
 
+std::vector<uint8_t> LoadWorldRequest::wire() const {
+  const std::string& text = file.empty() ? xml : file;
+  return {text.begin(), text.end()};
+}
+
+std::string_view operation_name(const Command& c) {
+  if (c.robot) return c.robot->name();
+  if (c.request) return c.request->name();
+  return {};
+}
+
+std::vector<uint8_t> wire_of(const Command& c) {
+  return c.request ? c.request->wire() : std::vector<uint8_t>{};
+}
+
 std::string describe(const Command& c) {
-  std::string text = std::string(to_string(c.source)) + " " + c.operation;
+  std::string text = std::string(to_string(c.source)) + " " + std::string(operation_name(c));
   if (!c.target.empty()) text += " " + c.target;
   for (double v : c.robot ? c.robot->values() : std::vector<double>{}) {
     char number[32];
     std::snprintf(number, sizeof number, " %g", v);
     text += number;
   }
-  if (!c.message.empty()) text += " (" + std::to_string(c.message.size()) + " bytes)";
+  if (c.request && !c.robot) {
+    const std::size_t bytes = c.request->wire().size();
+    if (bytes > 0) text += " (" + std::to_string(bytes) + " bytes)";
+  }
   return text;
 }
 
 Command robot_command(std::string robot, robot::RobotCommand command) {
   Command c;
   c.source = CommandSource::Robot;
-  c.operation = std::string(command.name());
   c.target = std::move(robot);
   c.robot = std::move(command);
   return c;

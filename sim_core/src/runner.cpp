@@ -42,12 +42,31 @@ Runner::Runner(WorldSpec spec, RunSettings settings)
     : world_(std::make_unique<World>(std::move(spec))),
       settings_(settings),
       max_queued_(std::max<std::size_t>(settings.max_queued_commands, 1)) {
-  executors_.resize(kCommandSources);
   commands_run_.resize(kCommandSources, 0);
 }
 
-void Runner::set_executor(CommandSource source, CommandExecutor executor) {
-  executors_[static_cast<std::size_t>(source)] = std::move(executor);
+void Runner::set_request_executor(std::type_index type, CommandExecutor executor) {
+  std::lock_guard<std::mutex> lock(executors_mutex_);
+  if (executor) {
+    request_executors_[type] = std::make_shared<const CommandExecutor>(std::move(executor));
+  } else {
+    request_executors_.erase(type);
+  }
+}
+
+void Runner::set_robot_executor(CommandExecutor executor) {
+  std::lock_guard<std::mutex> lock(executors_mutex_);
+  robot_executor_ = std::move(executor);
+}
+
+std::shared_ptr<const CommandExecutor> Runner::executor_of(const Request& request) const {
+  std::lock_guard<std::mutex> lock(executors_mutex_);
+  const auto found = request_executors_.find(typeid(request));
+  return found == request_executors_.end() ? nullptr : found->second;
+}
+
+bool Runner::takes(const Request& request) const {
+  return dynamic_cast<const KeepRobotCommands*>(&request) || executor_of(request) != nullptr;
 }
 
 void Runner::record(std::shared_ptr<SessionWriter> writer, bool resumed) {
@@ -97,31 +116,33 @@ bool Runner::execute(const Command& command) {
     case CommandSource::Local:
       if (command.local) command.local(*world_);
       return false;  // code, not a value: never recorded
-    case CommandSource::Robot:
+    case CommandSource::Robot: {
       // The robot interface that serves the robot when one is set (the simulator's bridge),
       // else the world's robot itself (a replay, a test).
-      if (const auto& run = executors_[static_cast<std::size_t>(CommandSource::Robot)]) {
-        acted = run(command, *world_);
-      } else {
-        acted = run_robot_command(command, *world_);
+      CommandExecutor run;
+      {
+        std::lock_guard<std::mutex> lock(executors_mutex_);
+        run = robot_executor_;
       }
+      acted = run ? run(command, *world_) : run_robot_command(command, *world_);
       if (!acted) {
-        log_message(LogLevel::Warning, "robot command refused: " +
-                                           (world_->robot(command.target)
-                                                ? "robot '" + command.target +
-                                                      "' has no command '" + command.operation + "'"
-                                                : "no robot '" + command.target + "'"));
+        log_message(
+            LogLevel::Warning,
+            "robot command refused: " + (world_->robot(command.target)
+                                             ? "robot '" + command.target + "' has no command '" +
+                                                   std::string(operation_name(command)) + "'"
+                                             : "no robot '" + command.target + "'"));
       }
       break;
+    }
     default:
-      if (command.source == CommandSource::Simulation &&
-          command.operation == "keep_robot_commands") {
+      if (command.request_as<KeepRobotCommands>()) {
         world_->keep_robot_commands(command.target);
         acted = true;
         break;
       }
-      if (const auto& run = executors_[static_cast<std::size_t>(command.source)]) {
-        acted = run(command, *world_);
+      if (const auto run = command.request ? executor_of(*command.request) : nullptr) {
+        acted = (*run)(command, *world_);
       } else {
         say("macsim: nobody runs " + describe(command) + "; dropped");
       }
@@ -166,6 +187,11 @@ void Runner::note_arrival(const Sender& sent) {
 void Runner::arrived(const Sender& sent) { keep_highest(arrived_from_, sent); }
 
 bool Runner::push(Command command) {
+  if (command.request && !takes(*command.request)) {  // refused by its type, before the queue
+    log_message(LogLevel::Error, "macsim: refused " + describe(command) +
+                                     ": no executor takes a request of its type");
+    return false;
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     // Arrived, even when refused below: a step request waits no more.
@@ -296,8 +322,7 @@ void Runner::replace_world(Load& load) {
       snapshots_.clear();
       outcome.ok = true;
       fence(load.recorded.sent_before);
-      if (recording_ && !load.recorded.operation.empty())
-        recording_->command(steps_run_, load.recorded);
+      if (recording_ && load.recorded.request) recording_->command(steps_run_, load.recorded);
     }
   } catch (const WorldFileError& e) {
     outcome.code = ErrorCode::BadFile;
@@ -370,9 +395,11 @@ bool Runner::wait_for_named_commands(const StepHooks& hooks) {
       std::snprintf(waited, sizeof waited, "%g", settings_.command_wait);
       const std::string why =
           "refused: robot command " + std::to_string(missing->sequence) + " of writer " +
-          guid_text(missing->id) + ", named by the step request (commands_sent), did not arrive within " +
-          waited + " s (macsim --command-wait); " +
-          (had ? "the last of that writer was " + std::to_string(had) : "none of that writer arrived");
+          guid_text(missing->id) +
+          ", named by the step request (commands_sent), did not arrive within " + waited +
+          " s (macsim --command-wait); " +
+          (had ? "the last of that writer was " + std::to_string(had)
+               : "none of that writer arrived");
       say("macsim: a step request was " + why);
       auto refused = std::move(request_.refused);
       auto done = std::move(request_.done);
@@ -402,9 +429,7 @@ void Runner::step(const StepHooks& hooks) {
     return;
   }
   if (requested_steps_ > 0 && request_.hold_commands) {
-    Command keep;
-    keep.source = CommandSource::Simulation;
-    keep.operation = "keep_robot_commands";
+    Command keep = request_command<KeepRobotCommands>(CommandSource::Simulation);
     keep.target = request_.hold_robots;
     execute(keep);
   }

@@ -140,9 +140,10 @@ std::string sender_text(const Sender& s) {
 
 std::string command_line(uint64_t step, const Command& c) {
   return "c " + std::to_string(step) + " " + std::string(to_string(c.source)) + " " +
-         encode(c.operation) + " " + encode(c.target) + " " +
+         encode(std::string(operation_name(c))) + " " + encode(c.target) + " " +
          values_text(c.robot ? c.robot->values() : std::vector<double>{}) + " " +
-         bytes_text(c.message) + (c.robot && c.sent_by ? " " + sender_text(*c.sent_by) : "") + "\n";
+         bytes_text(wire_of(c)) + (c.robot && c.sent_by ? " " + sender_text(*c.sent_by) : "") +
+         "\n";
 }
 
 std::string hex16(uint64_t v) {
@@ -178,8 +179,7 @@ struct KeepRun {
   std::string robots;  // held, comma-separated; empty: every robot
 
   static bool is_keep(const Command& c) {
-    return c.source == CommandSource::Simulation && c.operation == "keep_robot_commands" &&
-           !c.robot && c.message.empty();
+    return c.source == CommandSource::Simulation && c.request_as<KeepRobotCommands>() != nullptr;
   }
   /// The run's record, if one is open; closes it.
   std::string close() {
@@ -515,6 +515,26 @@ struct SessionParser {
     session.files.push_back(std::move(file));
   }
 
+  /// A recorded request: the runner's own as their types (a world load, the robots' commands
+  /// kept), a server's as its name and bytes (replay_session() has them read as typed).
+  static std::shared_ptr<const Request> request_of(CommandSource source, const std::string& name,
+                                                   std::vector<uint8_t> bytes) {
+    if (source == CommandSource::Simulation) {
+      const std::string text(bytes.begin(), bytes.end());
+      if (name == "load_world" || name == "load_world_xml") {
+        auto load = std::make_shared<LoadWorldRequest>();
+        (name == "load_world" ? load->file : load->xml) = text;
+        return load;
+      }
+      if (name == "keep_robot_commands" && bytes.empty())
+        return std::make_shared<KeepRobotCommands>();
+    }
+    auto wire = std::make_shared<WireRequest>();
+    wire->operation = name;
+    wire->bytes = std::move(bytes);
+    return wire;
+  }
+
   /// "c STEP SOURCE OPERATION TARGET VALUES MESSAGE [SENDER]": a command at its step.
   void command_record(const std::vector<std::string>& f) {
     RecordedCommand rc;
@@ -522,17 +542,19 @@ struct SessionParser {
     const auto source = command_source(f[2]);
     if (!source || *source == CommandSource::Local) r.fail("unknown command source '" + f[2] + "'");
     rc.command.source = *source;
-    rc.command.operation = r.text(f[3], "the operation");
+    const std::string operation = r.text(f[3], "the operation");
     rc.command.target = r.text(f[4], "the target");
     const auto values = r.values(f[5]);
-    rc.command.message = r.bytes(f[6], "a command's message");
-    if (rc.command.operation.empty()) r.fail("a command must name its operation");
+    std::vector<uint8_t> message = r.bytes(f[6], "a command's message");
+    if (operation.empty()) r.fail("a command must name its operation");
     if (rc.command.source == CommandSource::Robot) {
       std::string why;
-      rc.command.robot = robot::decode_command(rc.command.operation, values, &why);
+      rc.command.robot = robot::decode_command(operation, values, &why);
       if (!rc.command.robot) r.fail(why);
     } else if (!values.empty()) {
       r.fail("only a robot command carries numbers");
+    } else {
+      rc.command.request = request_of(rc.command.source, operation, std::move(message));
     }
     if (f.size() == 8) {
       if (rc.command.source != CommandSource::Robot) r.fail("only a robot command has a sender");
@@ -553,8 +575,7 @@ struct SessionParser {
     if (last - first >= kMaxRunSteps)
       r.fail("a run of more than " + std::to_string(kMaxRunSteps) + " steps");
     RecordedCommand keep;  // one record however many steps it holds
-    keep.command.source = CommandSource::Simulation;
-    keep.command.operation = "keep_robot_commands";
+    keep.command = request_command<KeepRobotCommands>(CommandSource::Simulation);
     if (f.size() == 4) {
       keep.command.target = r.text(f[3], "the robots held");
       if (keep.command.target.empty()) r.fail("a run names no robot to hold");
@@ -744,7 +765,8 @@ void embed_first_files(const Session& session, MemoryFiles& files) {
 }
 
 ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
-                             MemoryFiles* files, const std::function<void()>& after_step) {
+                             MemoryFiles* files, const std::function<void()>& after_step,
+                             const RequestReader& read) {
   ReplayOutcome out;
   std::size_t c = 0, h = 0, f = 0;
   const auto hex = hex16;
@@ -779,7 +801,10 @@ ReplayOutcome replay_session(const Session& session, Runner& runner, const Sessi
         if (step < recorded.last_step) break;  // again before the next step
         continue;
       }
-      const Command& command = recorded.command;
+      Command command = recorded.command;
+      if (read && command.request_as<WireRequest>()) {  // the server's typed request
+        if (auto typed = read(command)) command.request = std::move(typed);
+      }
       if (auto parse = load(command)) {
         std::optional<LoadOutcome> loaded;
         (void)runner.load(

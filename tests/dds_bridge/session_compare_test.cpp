@@ -40,10 +40,12 @@ Session run(const std::string& world, const std::string& client,
   reset.client_id(client);
   reset.sequence_number(1);
   reset.commands_sent(sent);
-  RecordedCommand c;
+  RecordedCommand c;  // as a session file holds it
+  auto recorded = std::make_shared<WireRequest>();
+  recorded->operation = "reset";
+  recorded->bytes = dds::to_wire<mm::SupervisorRequest_PubSubType>(reset);
   c.command.source = CommandSource::Supervisor;
-  c.command.operation = "reset";
-  c.command.message = dds::to_wire<mm::SupervisorRequest_PubSubType>(reset);
+  c.command.request = recorded;
   s.commands.push_back(c);
   s.commands.push_back({10, robot_command("kurt", robot::Twist{speed, 0.0}), 10});
   mm::SimulationRequest_ step;
@@ -66,7 +68,8 @@ Session run(const std::string& world, const std::string& client,
 }
 
 TEST(SessionCompare, RunsOfClientsAndWritersOfOtherIdentitiesAreTheSameRun) {
-  const Session a = run("elsewhere/room.xml", "kurt_demo-1f2e", {sample(guid(1, 3), 5), sample(guid(1, 4), 2)}, 0.3);
+  const Session a = run("elsewhere/room.xml", "kurt_demo-1f2e",
+                        {sample(guid(1, 3), 5), sample(guid(1, 4), 2)}, 0.3);
   const Session b =
       run("room.xml", "kurt_demo-77aa01", {sample(guid(9, 3), 5), sample(guid(9, 4), 2)}, 0.3);
   EXPECT_EQ(first_difference(a, b), std::nullopt);
@@ -77,17 +80,22 @@ TEST(SessionCompare, ACommandChangedIsNamed) {
   const Session b = run("room.xml", "c2", {sample(guid(2, 3), 5)}, 0.31);
   const auto part = first_difference(a, b);
   ASSERT_TRUE(part.has_value());
-  EXPECT_NE(part->find("A command 2 at step 10: robot twist kurt 0.3 0"), std::string::npos) << *part;
-  EXPECT_NE(part->find("B command 2 at step 10: robot twist kurt 0.31 0"), std::string::npos) << *part;
+  EXPECT_NE(part->find("A command 2 at step 10: robot twist kurt 0.3 0"), std::string::npos)
+      << *part;
+  EXPECT_NE(part->find("B command 2 at step 10: robot twist kurt 0.31 0"), std::string::npos)
+      << *part;
 }
 
 TEST(SessionCompare, WritersNamedInAnotherOrderOrAnotherSampleAreNotTheSameRun) {
   const Session a = run("room.xml", "c1", {sample(guid(1, 3), 5), sample(guid(1, 4), 2)}, 0.3);
   // The same writers, the second named first: another run.
-  const Session swapped = run("room.xml", "c1", {sample(guid(1, 4), 2), sample(guid(1, 3), 5)}, 0.3);
+  const Session swapped =
+      run("room.xml", "c1", {sample(guid(1, 4), 2), sample(guid(1, 3), 5)}, 0.3);
   const auto part = first_difference(a, swapped);
   ASSERT_TRUE(part.has_value());
-  EXPECT_NE(part->find("command 1 at step 0: supervisor reset (its bytes differ)"), std::string::npos) << *part;
+  EXPECT_NE(part->find("command 1 at step 0: supervisor reset (its bytes differ)"),
+            std::string::npos)
+      << *part;
   // Another sample of a writer.
   const Session later = run("room.xml", "c1", {sample(guid(1, 3), 6), sample(guid(1, 4), 2)}, 0.3);
   EXPECT_TRUE(first_difference(a, later).has_value());

@@ -22,6 +22,7 @@
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
+#include "simulation/simulation_dispatch.h"
 #include "supervisor/supervisor_dispatch.h"
 #include "support/child_process.h"
 #include "support/supervisor_actions.h"
@@ -59,12 +60,7 @@ constexpr int kRobotKinds = 5;
 /// The command a move gives to the runner, and its name for a report.
 Command command_for(const Move& m, const World& world, std::string& said) {
   if (m.action.kind < kKinds) {
-    Command c;
-    c.source = CommandSource::Supervisor;
-    const auto request = request_for(m.action, world, said);
-    c.operation = operation_name(request.operation()._d());
-    c.message = dds::to_wire<mm::SupervisorRequest_PubSubType>(request);
-    return c;
+    return supervisor_command(request_for(m.action, world, said));
   }
   std::mt19937 rng(m.action.seed);
   const auto u = [&](double lo, double hi) {
@@ -93,8 +89,9 @@ Command command_for(const Move& m, const World& world, std::string& said) {
 std::unique_ptr<Runner> runner() {
   auto r = std::make_unique<Runner>(scene(), RunSettings{true, 0.0});
   Runner& self = *r;
-  r->set_executor(CommandSource::Supervisor, [&self](const Command& c, World& world) {
-    return replay(c, world, self.snapshots());
+  r->set_executor<SupervisorCall>([&self](const SupervisorCall& q, const Command&, World& world) {
+    dispatch(q.message(), world, self.snapshots());
+    return true;
   });
   return r;
 }
@@ -136,7 +133,8 @@ std::optional<std::string> broken(const std::vector<Move>& moves, std::size_t at
   }
   auto replayed = runner();
   const ReplayOutcome outcome = replay_session(
-      read_session(path), *replayed, [](const Command&) { return std::function<WorldSpec()>(); });
+      read_session(path), *replayed, [](const Command&) { return std::function<WorldSpec()>(); },
+      nullptr, {}, read_recorded_request);
   if (!outcome.equal) return "the session's replay: " + outcome.message;
   auto restored = runner();
   if (!restored->world().restore(*snapshot).ok()) return "the snapshot was refused";

@@ -188,17 +188,19 @@ int main(int argc, char** argv) {
     macsim::RecordedCommand twist{0, macsim::robot_command("kurt", macsim::robot::Twist{0.2, 0.3})};
     session.commands.push_back(twist);
     macsim::RecordedCommand keep;
-    keep.command.source = macsim::CommandSource::Simulation;
-    keep.command.operation = "keep_robot_commands";
+    keep.command =
+        macsim::request_command<macsim::KeepRobotCommands>(macsim::CommandSource::Simulation);
     for (uint64_t step = 5; step < 9; ++step) {
       keep.step = step;
       session.commands.push_back(keep);
     }
     macsim::RecordedCommand request;
     request.step = 12;
+    auto recorded = std::make_shared<macsim::WireRequest>();
+    recorded->operation = "set_density";
+    recorded->bytes = {0x00, 0x01, 0x02, 0xff};
     request.command.source = macsim::CommandSource::Supervisor;
-    request.command.operation = "set_density";
-    request.command.message = {0x00, 0x01, 0x02, 0xff};
+    request.command.request = recorded;
     session.commands.push_back(request);
     session.files.push_back({"../other/moved world.xml", "bytes\x00\x01", 6});
     session.hashes.push_back({50, 0xfedcba9876543210ULL});

@@ -30,7 +30,7 @@ std::size_t with_one_twist_changed(const std::string& from, const std::string& t
   Session s = read_session(from);
   for (std::size_t k = 0; k < s.commands.size(); ++k) {
     Command& c = s.commands[k].command;
-    if (c.source != CommandSource::Robot || c.operation != "twist" || !c.robot) continue;
+    if (c.source != CommandSource::Robot || operation_name(c) != "twist" || !c.robot) continue;
     const auto v = c.robot->values();
     c = robot_command(c.target, robot::Twist{v[0] + 0.01, v[1]});
     write_session(to, s);

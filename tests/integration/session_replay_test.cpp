@@ -123,7 +123,7 @@ TEST_F(DemonstratorSession, ReplaysWithEveryHashEqual) {
   EXPECT_EQ(session.hashes.size(), session.steps / 100 + 1);
   EXPECT_GT(session.commands.size(), 2000u);
   std::map<std::string, int> operations;
-  for (const auto& c : session.commands) ++operations[c.command.operation];
+  for (const auto& c : session.commands) ++operations[std::string(operation_name(c.command))];
   EXPECT_GT(operations["twist"], 100);
   EXPECT_GT(operations["crane"], 100);
   EXPECT_GT(operations["magnet"], 10);
@@ -180,12 +180,12 @@ TEST_F(DemonstratorSession, OneChangedCommandIsReportedAtTheFirstHashAfterIt) {
   const auto superseded = [&](std::size_t i) {
     for (std::size_t j = i + 1; j < session.commands.size(); ++j) {
       if (session.commands[j].step != session.commands[i].step) return false;
-      if (session.commands[j].command.operation == "twist") return true;
+      if (operation_name(session.commands[j].command) == "twist") return true;
     }
     return false;
   };
   while (pick < session.commands.size() &&
-         (session.commands[pick].command.operation != "twist" || superseded(pick)))
+         (operation_name(session.commands[pick].command) != "twist" || superseded(pick)))
     ++pick;
   ASSERT_LT(pick, session.commands.size());
   RecordedCommand& changed = session.commands[pick];
@@ -346,7 +346,8 @@ TEST(SessionReplay, SupervisorRequestsAServiceAndALoadReplay) {
   const Session session = read_session(path);
   std::map<std::string, int> operations;
   for (const auto& c : session.commands)
-    ++operations[std::string(to_string(c.command.source)) + " " + c.command.operation];
+    ++operations[std::string(to_string(c.command.source)) + " " +
+                 std::string(operation_name(c.command))];
   EXPECT_EQ(operations["simulation load_world"], 1);
   EXPECT_EQ(operations["simulation load_world_xml"], 1);
   EXPECT_EQ(operations["ros2_service set_simulation_state"], 0);  // playing changes no world
@@ -408,7 +409,7 @@ TEST(SessionFixture, ARecordingOfAnEarlierBuildReplaysToEveryHash) {
   const Session session = read_session(fixture);
   EXPECT_GT(session.hashes.size(), 60u);
   std::map<std::string, int> operations;
-  for (const auto& c : session.commands) ++operations[c.command.operation];
+  for (const auto& c : session.commands) ++operations[std::string(operation_name(c.command))];
   for (const char* operation : {"create_object", "set_pose", "set_box_size", "add_force",
                                 "set_switch_triggered", "set_door_position", "restore_snapshot",
                                 "destroy_object", "destroy_by_user_data", "twist"}) {

@@ -1,7 +1,6 @@
 // The runner: queued commands run at the step with the world current then, runs are
 // deterministic, a world is parsed off the simulation thread and swapped in between batches,
 // and what belongs to one world (named snapshots, generation) goes with it.
-#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/runner.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +12,7 @@
 #include <string>
 #include <thread>
 
+#include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
 #include "support/child_process.h"
@@ -21,6 +21,49 @@ namespace macsim {
 namespace {
 
 WorldSpec small_room() { return load_world_file(test::source("worlds/small_room.xml")); }
+
+/// A server's request as a test makes one: its name alone.
+struct Named final : Request {
+  explicit Named(std::string name) : operation(std::move(name)) {}
+  std::string operation;
+  std::string_view name() const override { return operation; }
+  std::vector<uint8_t> wire() const override { return {operation.begin(), operation.end()}; }
+};
+
+/// Another request type, which no executor takes unless a test sets one.
+struct Other final : Request {
+  std::string_view name() const override { return "set_density"; }
+  std::vector<uint8_t> wire() const override { return {}; }
+};
+
+TEST(Runner, ARequestOfATypeNoExecutorTakesCannotBeQueued) {
+  Runner runner(small_room(), RunSettings{true, 0.0});
+  std::vector<std::string> ran;
+  runner.set_executor<Named>([&](const Named& q, const Command&, World&) {
+    ran.push_back(q.operation);
+    return false;
+  });
+  // Refused by its type, whatever its name or source says.
+  EXPECT_FALSE(runner.push(request_command<Other>(CommandSource::Supervisor)));
+  EXPECT_TRUE(runner.push(request_command<Named>(CommandSource::Supervisor, "set_density")));
+  runner.apply_commands();
+  EXPECT_EQ(ran, std::vector<std::string>{"set_density"});
+  EXPECT_EQ(runner.commands_run(CommandSource::Supervisor), 1u);
+  // Taken once an executor takes its type; refused again once that executor is gone.
+  int others = 0;
+  runner.set_executor<Other>([&](const Other&, const Command&, World&) { return ++others > 0; });
+  EXPECT_TRUE(runner.push(request_command<Other>(CommandSource::Supervisor)));
+  runner.apply_commands();
+  EXPECT_EQ(others, 1);
+  runner.set_executor<Other>({});
+  EXPECT_FALSE(runner.push(request_command<Other>(CommandSource::Supervisor)));
+  // A queued request whose executor went meanwhile runs nowhere.
+  EXPECT_TRUE(runner.push(request_command<Named>(CommandSource::Supervisor, "late")));
+  runner.set_executor<Named>({});
+  runner.apply_commands();
+  EXPECT_EQ(ran.size(), 1u);
+  EXPECT_TRUE(runner.takes(KeepRobotCommands{}));  // the runner's own needs none
+}
 
 TEST(Runner, CommandsRunOnlyWhenTheRunnerSteps) {
   Runner runner(small_room());
@@ -51,15 +94,12 @@ TEST(Runner, CommandsRunInArrivalOrderBeforeTheStep) {
 TEST(Runner, ARepeatAnsweredByItsExecutorIsNotCountedAsRun) {
   Runner runner(small_room());
   std::set<std::string> answered;
-  runner.set_executor(CommandSource::Supervisor, [&](const Command& c, World&) {
-    if (!answered.insert(c.operation).second) runner.answered_repeat(c);  // sent again
+  runner.set_executor<Named>([&](const Named& q, const Command& c, World&) {
+    if (!answered.insert(q.operation).second) runner.answered_repeat(c);  // sent again
     return false;
   });
-  Command first;
-  first.source = CommandSource::Supervisor;
-  first.operation = "find_object";
-  Command other = first;
-  other.operation = "add_force";
+  const Command first = request_command<Named>(CommandSource::Supervisor, "find_object");
+  const Command other = request_command<Named>(CommandSource::Supervisor, "add_force");
   for (const Command& c : {first, first, other, first}) ASSERT_TRUE(runner.push(Command(c)));
   runner.step();
   EXPECT_EQ(runner.commands_run(CommandSource::Supervisor), 2u);  // two ran, two were repeats
@@ -69,8 +109,8 @@ TEST(Runner, ARepeatAnsweredByItsExecutorIsNotCountedAsRun) {
 TEST(Runner, ARobotCommandGoesToTheRobotsExecutorWhenOneIsSetElseToTheWorldsRobot) {
   Runner runner(small_room());
   std::vector<std::string> served;  // what the robot interface was given
-  runner.set_executor(CommandSource::Robot, [&](const Command& c, World& world) {
-    served.push_back(c.target + " " + c.operation);
+  runner.set_robot_executor([&](const Command& c, World& world) {
+    served.push_back(c.target + " " + std::string(operation_name(c)));
     return run_robot_command(c, world);
   });
   ASSERT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.3, 0.0})));
@@ -80,7 +120,7 @@ TEST(Runner, ARobotCommandGoesToTheRobotsExecutorWhenOneIsSetElseToTheWorldsRobo
   const double moved = runner.world().robot("kurt")->base_footprint_pose().position.x();
   EXPECT_GT(moved, 0.01);  // it acted through the executor
   // Without one, the world's robot takes it itself.
-  runner.set_executor(CommandSource::Robot, {});
+  runner.set_robot_executor({});
   ASSERT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.0, 0.0})));
   runner.step();
   EXPECT_EQ(served.size(), 1u);
@@ -132,7 +172,8 @@ TEST(Runner, CommandsAfterALoadInTheSameBatchActOnTheNewWorld) {
   EXPECT_EQ(seen[1], &runner.world());  // the world current when it ran: the new one
   EXPECT_EQ(runner.world().steps(), 0u);
   EXPECT_EQ(runner.generation(), 1u);
-  EXPECT_EQ(runner.world().robot_as<KurtRobot>("kurt")->state().active.left, 0.0);  // set at the step
+  EXPECT_EQ(runner.world().robot_as<KurtRobot>("kurt")->state().active.left,
+            0.0);  // set at the step
   EXPECT_GT(runner.world().robot_as<KurtRobot>("kurt")->state().commanded.left, 0.0);
 }
 
@@ -404,7 +445,7 @@ TEST(Runner, ARobotCommandSentBeforeAResetAndRunAfterItNeverActs) {
   // A controller (sender 7) drives, asks for a reset, and its drive command (its 5th sample)
   // arrives only after the reset: dropped. Its next command, and another sender's, act.
   Runner runner(small_room(), RunSettings{true, 0.0});
-  runner.set_executor(CommandSource::Supervisor, [](const Command&, World& world) {
+  runner.set_executor<Named>([](const Named&, const Command&, World& world) {
     world.reset(ResetScope::Everything);
     return true;
   });
@@ -415,9 +456,7 @@ TEST(Runner, ARobotCommandSentBeforeAResetAndRunAfterItNeverActs) {
     c.sent_by = Sender{{sender}, sequence};
     return c;
   };
-  Command reset;
-  reset.source = CommandSource::Supervisor;
-  reset.operation = "reset";
+  Command reset = request_command<Named>(CommandSource::Supervisor, "reset");
   reset.sent_before = {Sender{{7}, 5}, Sender{{9}, 2}};
   const auto travelled = [&](std::vector<Command> commands) {
     for (auto& c : commands) EXPECT_TRUE(runner.push(std::move(c)));
@@ -434,7 +473,7 @@ TEST(Runner, ARobotCommandSentBeforeAResetAndRunAfterItNeverActs) {
   EXPECT_GT(travelled({robot_command(name, robot::Twist{0.3, 0.0})}), 0.03);  // sender unknown
   EXPECT_EQ(runner.commands_sent_before_reset(), 2u);
   // A reset that did not act (refused) drops nothing.
-  runner.set_executor(CommandSource::Supervisor, [](const Command&, World&) { return false; });
+  runner.set_executor<Named>([](const Named&, const Command&, World&) { return false; });
   reset.sent_before = {Sender{{8}, 10}};
   EXPECT_GT(travelled({reset, sent(8, 2, 0.3)}), 0.03);
   EXPECT_EQ(runner.commands_sent_before_reset(), 2u);
@@ -456,7 +495,8 @@ TEST(Runner, AStepRequestWaitsForTheCommandItNamesAndHoldsOnesWrittenAfterIt) {
   StepHooks hooks;
   bool delivered = false;
   hooks.before_step = [&] {
-    if (delivered || std::chrono::steady_clock::now() - asked < std::chrono::milliseconds(100)) return;
+    if (delivered || std::chrono::steady_clock::now() - asked < std::chrono::milliseconds(100))
+      return;
     delivered = true;
     EXPECT_TRUE(runner.push(sent(3, 0.3)));
     EXPECT_TRUE(runner.push(sent(4, 0.0)));
@@ -465,7 +505,8 @@ TEST(Runner, AStepRequestWaitsForTheCommandItNamesAndHoldsOnesWrittenAfterIt) {
   uint64_t robot_commands_at_first_step = 0;
   hooks.after_step = [&](World&) {
     if (first_step_after) return;
-    first_step_after = std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+    first_step_after =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
     robot_commands_at_first_step = runner.commands_run(CommandSource::Robot);
   };
   const double x0 = runner.world().robots().front()->base_footprint_pose().position.x();
@@ -482,8 +523,8 @@ TEST(Runner, AStepRequestWaitsForTheCommandItNamesAndHoldsOnesWrittenAfterIt) {
   ASSERT_TRUE(completed.has_value());
   EXPECT_TRUE(*completed);
   ASSERT_TRUE(first_step_after.has_value());
-  EXPECT_GE(*first_step_after, 0.1);              // the first step waited for it
-  EXPECT_EQ(robot_commands_at_first_step, 1u);    // and took it before its first tick
+  EXPECT_GE(*first_step_after, 0.1);                  // the first step waited for it
+  EXPECT_EQ(robot_commands_at_first_step, 1u);        // and took it before its first tick
   EXPECT_EQ(runner.commands_held_for_request(), 1u);  // the stop waited for the request's end
   const double x1 = runner.world().robots().front()->base_footprint_pose().position.x();
   EXPECT_GT(x1 - x0, 0.03);  // it drove the whole request

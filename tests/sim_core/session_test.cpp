@@ -81,7 +81,7 @@ TEST(Session, ARecordedRunReplaysToEveryHash) {
   EXPECT_EQ(session.steps, 600u);
   EXPECT_EQ(session.hashes.size(), 13u);    // steps 0, 50, ..., 600
   EXPECT_EQ(session.commands.size(), 18u);  // 17 twists and one crane command; not the local one
-  EXPECT_EQ(session.commands[0].command.operation, "twist");
+  EXPECT_EQ(operation_name(session.commands[0].command), "twist");
   ASSERT_TRUE(session.commands[0].command.robot.has_value());
   ASSERT_NE(session.commands[0].command.robot->as<robot::Twist>(), nullptr);
   EXPECT_DOUBLE_EQ(session.commands[0].command.robot->as<robot::Twist>()->angular, 0.3);
@@ -120,10 +120,11 @@ TEST(Session, FilesAreEmbeddedWhenReadAndTheReplayReadsThemFromTheFileAlone) {
         EXPECT_TRUE(runner.push(robot_command("kurt", robot::Twist{0.3, 0.1})));
       }
       if (step == 100) {
+        auto load = std::make_shared<LoadWorldRequest>();
+        load->file = second;
         Command recorded;
         recorded.source = CommandSource::Simulation;
-        recorded.operation = "load_world";
-        recorded.message.assign(second.begin(), second.end());
+        recorded.request = load;
         std::optional<LoadOutcome> loaded;
         EXPECT_EQ(runner.load([&] { return load_world_file(second, options); },
                               [&](const LoadOutcome& o) { loaded = o; }, recorded),
@@ -159,8 +160,9 @@ TEST(Session, FilesAreEmbeddedWhenReadAndTheReplayReadsThemFromTheFileAlone) {
   const auto outcome = replay_session(
       session, runner,
       [&](const Command& c) -> std::function<WorldSpec()> {
-        if (c.operation != "load_world") return {};
-        const std::string file(c.message.begin(), c.message.end());
+        const auto* load = c.request_as<LoadWorldRequest>();
+        if (!load || load->file.empty()) return {};
+        const std::string file = load->file;
         return [file, &from_session] { return load_world_file(file, from_session); };
       },
       &files);
@@ -196,7 +198,7 @@ TEST(Session, AChangedCommandIsFoundAtTheFirstHashAfterIt) {
   record(path);
   Session session = read_session(path);
   RecordedCommand& changed = session.commands[6];  // the twist at step 185
-  ASSERT_EQ(changed.command.operation, "twist");
+  ASSERT_EQ(operation_name(changed.command), "twist");
   ASSERT_EQ(changed.step, 185u);
   const robot::Twist twist = *changed.command.robot->as<robot::Twist>();
   changed.command.robot = robot::Twist{twist.linear + 0.1, twist.angular};
@@ -554,9 +556,7 @@ TEST(Session, ARobotCommandsSenderIsWrittenAndReadBack) {
 TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
   test::TempDir dir("macsim_session_");
   const std::string path = dir.path() + "/held.session";
-  Command keep;
-  keep.source = CommandSource::Simulation;
-  keep.operation = "keep_robot_commands";
+  const Command keep = request_command<KeepRobotCommands>(CommandSource::Simulation);
   std::vector<std::pair<uint64_t, std::string>> ran;  // step, operation
   {
     SessionWriter writer(path, header(kWorld, 100));
@@ -566,7 +566,7 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
       Command k = keep;
       if (step >= 150 && step < 200) k.target = "kurt";  // a request holding one robot
       writer.command(step, k);
-      ran.emplace_back(step, keep.operation);
+      ran.emplace_back(step, std::string(operation_name(keep)));
       if (step == 120) {
         writer.command(step, robot_command("kurt", robot::Twist{0.2, 0.0}));
         ran.emplace_back(step, "twist");
@@ -594,7 +594,7 @@ TEST(Session, HeldStepsAreOneRecordARunAndReadBackAsOneCommandAStep) {
     const bool kurts = ran[i].second == "twist" || (step >= 150 && step < 200);
     EXPECT_EQ(read[i].second->target, kurts ? "kurt" : "") << i;
     EXPECT_EQ(step, ran[i].first) << i;
-    EXPECT_EQ(read[i].second->operation, ran[i].second) << i;
+    EXPECT_EQ(operation_name(*read[i].second), ran[i].second) << i;
   }
   // Written again from what was read, the file is the same.
   const std::string again = dir.path() + "/again.session";

@@ -8,12 +8,16 @@
 #include "macsim/dds/wire.h"
 #include "macsim/images/image_files.h"
 #include "macsim/render/camera_modes.h"
+#include "typed_request.h"
 
 namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
 
 namespace {
+
+/// A picture request as the runner queues it: the scene is taken between two steps.
+using PictureCall = TypedRequest<mm::PictureRequest_PubSubType>;
 
 /// A file name of letters, digits, '_', '-' and '.', not starting with '.', at most 100 long.
 bool safe_name(const std::string& name) {
@@ -33,14 +37,12 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
       admission_(kMaxInFlight, max_files),
       progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread: the scene is taken between two steps (the world only read).
-  runner_.set_executor(CommandSource::Pictures, [this](const Command& c, World& world) {
-    if (auto r = dds::from_wire<mm::PictureRequest_PubSubType>(c.message)) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        jobs_.push_back({std::move(*r), capture_scene(world), world.time()});
-      }
-      queued_.notify_one();
+  runner_.set_executor<PictureCall>([this](const PictureCall& call, const Command&, World& world) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      jobs_.push_back({call.message(), capture_scene(world), world.time()});
     }
+    queued_.notify_one();
     return false;
   });
   if (!folder_.empty()) renderer_ = std::thread([this] { render_loop(); });
@@ -50,7 +52,7 @@ PictureServer::PictureServer(dds::Participant& participant, Runner& runner, std:
 
 PictureServer::~PictureServer() {
   service_.close();
-  runner_.set_executor(CommandSource::Pictures, {});  // what is still queued runs nowhere
+  runner_.set_executor<PictureCall>({});  // what is still queued runs nowhere
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
@@ -120,11 +122,8 @@ void PictureServer::accept(const Request& r) {
     return;
   }
   // The scene is taken between two steps, on the simulation thread.
-  Command take;
-  take.source = CommandSource::Pictures;
-  take.operation = "take_picture";
-  take.message = dds::to_wire<mm::PictureRequest_PubSubType>(r);
-  const bool pushed = runner_.push(std::move(take));
+  const bool pushed =
+      runner_.push(request_command<PictureCall>(CommandSource::Pictures, r, "take_picture"));
   if (!pushed) {
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -172,7 +172,7 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
   }
   // One way in for a robot command, as for the real robot: the robot interface the node serves
   // (a robot of a world loaded later, not served, is the world's own).
-  runner.set_executor(CommandSource::Robot, [this](const Command& c, World& world) {
+  runner.set_robot_executor([this](const Command& c, World& world) {
     for (auto& t : robots_) {
       if (t->name == c.target) return c.robot && t->simulated.execute(*c.robot);
     }
@@ -181,7 +181,7 @@ SimBridge::SimBridge(dds::Participant& participant, Runner& runner, const Bridge
 }
 
 SimBridge::~SimBridge() {
-  runner_.set_executor(CommandSource::Robot, {});  // to the world's robots again
+  runner_.set_robot_executor({});  // to the world's robots again
 }
 
 void SimBridge::poll_commands() {

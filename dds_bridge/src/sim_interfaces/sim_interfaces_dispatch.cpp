@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -40,7 +41,8 @@ std::vector<Entity> entities(const World& world) {
   std::vector<Entity> all;
   for (const auto& robot : world.robots())
     all.push_back({robot->name(), std::nullopt, robot.get()});
-  for (ObjectId id : world.objects().object_ids()) all.push_back({world.objects().object(id)->name, id, nullptr});
+  for (ObjectId id : world.objects().object_ids())
+    all.push_back({world.objects().object(id)->name, id, nullptr});
   return all;
 }
 
@@ -71,7 +73,8 @@ Pose pose_of(const World& world, const Entity& e) {
 
 uint8_t category_of(const World& world, const Entity& e) {
   if (e.robot) return cat::CATEGORY_ROBOT;
-  return world.objects().object(*e.object)->portable ? cat::CATEGORY_OBJECT : cat::CATEGORY_STATIC_OBJECT;
+  return world.objects().object(*e.object)->portable ? cat::CATEGORY_OBJECT
+                                                     : cat::CATEGORY_STATIC_OBJECT;
 }
 
 const char* kind_name(ObjectKind kind) {
@@ -708,13 +711,26 @@ ss::ResetSimulation_Response_ reset_simulation(const ss::ResetSimulation_Request
 
 namespace {
 
-/// A recorded request of one service run on the world as its server runs it, unanswered.
+/// A service whose requests a session records: its name there, how its request is read back,
+/// and how a replay runs it.
+struct RecordedService {
+  const char* name;
+  std::shared_ptr<const Request> (*read)(const WireRequest&);
+  void (*replay_on)(Runner&);
+};
+
+/// The entry of the service whose request is a PubSubType, run on the world by `run` (its
+/// response dropped: a replay answers nobody).
 template <class PubSubType, auto run>
-bool replayed(const Command& c, World& world) {
-  const auto request = dds::from_wire<PubSubType>(c.message);
-  if (!request) return false;
-  run(*request, world);
-  return true;
+constexpr RecordedService recorded(const char* name) {
+  static_assert(kChangesWorld<PubSubType>, "only a service that changes the world is recorded");
+  using Queued = ServiceRequest<PubSubType>;
+  return {name, &Queued::read, [](Runner& runner) {
+            runner.set_executor<Queued>([](const Queued& q, const Command&, World& world) {
+              run(q.message(), world);
+              return true;
+            });
+          }};
 }
 
 /// Only STOPPED changes the world: it puts it back as loaded.
@@ -723,28 +739,27 @@ void stop(const ss::SetSimulationState_Request_& q, World& world) {
     world.reset(ResetScope::Everything);
 }
 
-using Replay = bool (*)(const Command&, World&);
-
-/// The services whose requests change the world, and how a replay runs each.
-const std::map<std::string, Replay>& replays() {
-  static const std::map<std::string, Replay> kReplays{
-      {"set_entity_state", replayed<ss::SetEntityState_Request_PubSubType, set_entity_state>},
-      {"spawn_entity", replayed<ss::SpawnEntity_Request_PubSubType, spawn_entity>},
-      {"spawn_entities", replayed<ss::SpawnEntities_Request_PubSubType, spawn_entities>},
-      {"delete_entity", replayed<ss::DeleteEntity_Request_PubSubType, delete_entity>},
-      {"reset_simulation", replayed<ss::ResetSimulation_Request_PubSubType, reset_simulation>},
-      {"set_simulation_state", replayed<ss::SetSimulationState_Request_PubSubType, stop>},
-  };
-  return kReplays;
-}
+/// The services whose requests change the world, as a session names them (their servers' names).
+constexpr std::array<RecordedService, 6> kRecorded{{
+    recorded<ss::SetEntityState_Request_PubSubType, set_entity_state>("set_entity_state"),
+    recorded<ss::SpawnEntity_Request_PubSubType, spawn_entity>("spawn_entity"),
+    recorded<ss::SpawnEntities_Request_PubSubType, spawn_entities>("spawn_entities"),
+    recorded<ss::DeleteEntity_Request_PubSubType, delete_entity>("delete_entity"),
+    recorded<ss::ResetSimulation_Request_PubSubType, reset_simulation>("reset_simulation"),
+    recorded<ss::SetSimulationState_Request_PubSubType, stop>("set_simulation_state"),
+}};
 
 }  // namespace
 
-bool changes_world(const std::string& service) { return replays().count(service) > 0; }
+void replay_on(Runner& runner) {
+  for (const RecordedService& service : kRecorded) service.replay_on(runner);
+}
 
-bool replay(const Command& c, World& world) {
-  const auto found = replays().find(c.operation);
-  return found != replays().end() && found->second(c, world);
+std::shared_ptr<const Request> read_recorded(const WireRequest& recorded) {
+  for (const RecordedService& service : kRecorded) {
+    if (recorded.operation == service.name) return service.read(recorded);
+  }
+  return nullptr;
 }
 
 }  // namespace macsim::sim_interfaces

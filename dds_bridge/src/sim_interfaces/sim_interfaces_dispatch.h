@@ -4,12 +4,15 @@
 // unique names) and its robots (by theirs).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
 #include "macsim/sim_core/command.h"
+#include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world.h"
+#include "typed_request.h"
 
 namespace macsim::sim_interfaces {
 
@@ -56,10 +59,32 @@ ss::GetAvailableWorlds_Response_ get_available_worlds(
 ss::ResetSimulation_Response_ reset_simulation(const ss::ResetSimulation_Request_& request,
                                                World& world);
 
-/// True for a service whose requests change the world (a session records them).
-bool changes_world(const std::string& service);
-/// Runs a recorded service command on the world as the server did, without answering it
-/// (a replay); false for a service that does not change the world or a damaged message.
-bool replay(const Command& command, World& world);
+/// A service's request as the runner queues it (Req: its request's PubSubType).
+template <class Req>
+using ServiceRequest = TypedRequest<Req>;
+
+/// True for a service whose requests can change the world: a session records one that did (the
+/// server says when), and a replay runs it again (replay_on()).
+template <class Req>
+inline constexpr bool kChangesWorld = false;
+template <>
+inline constexpr bool kChangesWorld<ss::SetEntityState_Request_PubSubType> = true;
+template <>
+inline constexpr bool kChangesWorld<ss::SpawnEntity_Request_PubSubType> = true;
+template <>
+inline constexpr bool kChangesWorld<ss::SpawnEntities_Request_PubSubType> = true;
+template <>
+inline constexpr bool kChangesWorld<ss::DeleteEntity_Request_PubSubType> = true;
+template <>
+inline constexpr bool kChangesWorld<ss::ResetSimulation_Request_PubSubType> = true;
+template <>
+inline constexpr bool kChangesWorld<ss::SetSimulationState_Request_PubSubType> = true;
+
+/// From now on the runner runs the service requests a session recorded as their server did,
+/// without answering them (a replay).
+void replay_on(Runner& runner);
+/// The typed request of a service request a session recorded; nullptr for a service that
+/// changes no world, or bytes that are not its request.
+std::shared_ptr<const Request> read_recorded(const WireRequest& recorded);
 
 }  // namespace macsim::sim_interfaces

@@ -38,25 +38,22 @@ template <class Req, class Resp, class Run>
 void SimInterfacesServer::serve_on_world(const std::string& name, Run run) {
   using Server = dds::ServiceServer<Req, Resp>;
   using ReplyTo = std::pair<dds::RequestId, Server*>;
-  // On the simulation thread: the request from its wire form, answered where it came from.
-  on_world_[name] = [this, run](const Command& c, World& world) {
-    const auto q = dds::from_wire<Req>(c.message);
-    if (!q) return false;
-    const auto response = run(*q, world);
+  using Queued = sim_interfaces::ServiceRequest<Req>;
+  // On the simulation thread: the request run, answered where it came from.
+  runner_.set_executor<Queued>([this, run](const Queued& q, const Command& c, World& world) {
+    const auto response = run(q.message(), world);
     if (const auto* to = std::any_cast<ReplyTo>(&c.reply_to))
       to->second->reply(to->first, response);
     // Recorded when it changed the world: a service that can, answered RESULT_OK (a
     // set_simulation_state only when it stopped the simulation, which resets the world).
-    return sim_interfaces::changes_world(c.operation) &&
-           response.result().result() == rc::RESULT_OK &&
-           (c.operation != "set_simulation_state" || stopped_);
-  };
+    constexpr bool kSetsState = std::is_same_v<Req, ss::SetSimulationState_Request_PubSubType>;
+    return sim_interfaces::kChangesWorld<Req> && response.result().result() == rc::RESULT_OK &&
+           (!kSetsState || stopped_);
+  });
+  forget_executors_.push_back([this] { runner_.set_executor<Queued>({}); });
   serve<Req, Resp>(
       name, [this, name](const typename Req::type& q, const dds::RequestId& id, Server& server) {
-        Command c;
-        c.source = CommandSource::Ros2Service;
-        c.operation = name;
-        c.message = dds::to_wire<Req>(q);
+        Command c = request_command<Queued>(CommandSource::Ros2Service, q, name);
         c.reply_to = ReplyTo{id, &server};
         if (!runner_.push(std::move(c))) refuse_full(id, server);
       });
@@ -83,10 +80,6 @@ void SimInterfacesServer::refuse(const std::string& name, const std::string& why
 SimInterfacesServer::SimInterfacesServer(dds::Participant& participant, Runner& runner,
                                          LoadLimits limits, std::function<void()> quit)
     : participant_(participant), runner_(runner), limits_(limits), quit_(std::move(quit)) {
-  runner_.set_executor(CommandSource::Ros2Service, [this](const Command& c, World& world) {
-    const auto found = on_world_.find(c.operation);
-    return found != on_world_.end() && found->second(c, world);
-  });
   serve_entity_services();
   serve_simulation_state();
   serve_stepping();
@@ -189,11 +182,11 @@ void SimInterfacesServer::serve_stepping() {
   // Answered once its steps are done: the request and where it came from, as a command.
   using StepServer = dds::ServiceServer<MACSIM_SERVICE(StepSimulation)>;
   using StepReplyTo = std::pair<dds::RequestId, StepServer*>;
-  on_world_["step_simulation"] = [this](const Command& c, World&) {
+  using StepCall = sim_interfaces::ServiceRequest<ss::StepSimulation_Request_PubSubType>;
+  runner_.set_executor<StepCall>([this](const StepCall& call, const Command& c, World&) {
     const auto* to = std::any_cast<StepReplyTo>(&c.reply_to);
-    const auto request = dds::from_wire<ss::StepSimulation_Request_PubSubType>(c.message);
-    if (!to || !request) return false;
-    const ss::StepSimulation_Request_& q = *request;
+    if (!to) return false;
+    const ss::StepSimulation_Request_& q = call.message();
     const dds::RequestId id = to->first;
     StepServer& server = *to->second;
     ss::StepSimulation_Response_ r;
@@ -222,14 +215,12 @@ void SimInterfacesServer::serve_stepping() {
       server.reply(id, r);
     }
     return false;
-  };
+  });
+  forget_executors_.push_back([this] { runner_.set_executor<StepCall>({}); });
   serve<MACSIM_SERVICE(StepSimulation)>(
       "step_simulation",
       [this](const ss::StepSimulation_Request_& q, const dds::RequestId& id, StepServer& server) {
-        Command c;
-        c.source = CommandSource::Ros2Service;
-        c.operation = "step_simulation";
-        c.message = dds::to_wire<ss::StepSimulation_Request_PubSubType>(q);
+        Command c = request_command<StepCall>(CommandSource::Ros2Service, q, "step_simulation");
         c.reply_to = StepReplyTo{id, &server};
         if (!runner_.push(std::move(c))) refuse_full(id, server);
       });
@@ -298,7 +289,7 @@ void SimInterfacesServer::refuse_unsupported() {
 SimInterfacesServer::~SimInterfacesServer() {
   simulate_steps_.reset();
   servers_.clear();
-  runner_.set_executor(CommandSource::Ros2Service, {});  // what is still queued runs nowhere
+  for (const auto& forget : forget_executors_) forget();  // what is still queued runs nowhere
 }
 
 std::vector<std::string> SimInterfacesServer::service_names() {

@@ -60,8 +60,8 @@ class SimInterfacesServer {
   std::function<void()> quit_;
   bool stopped_ = false;  // STATE_STOPPED: paused at the start (simulation thread only)
   std::vector<std::shared_ptr<void>> servers_;
-  /// What runs each service's command on the simulation thread, by service name.
-  std::map<std::string, std::function<bool(const Command&, World&)>> on_world_;
+  /// Each takes the runner's executor of one service's requests away (the destructor runs them).
+  std::vector<std::function<void()>> forget_executors_;
   std::unique_ptr<SimulateStepsAction> simulate_steps_;  // progress and cancel of steps
 };
 

@@ -54,29 +54,30 @@ std::optional<std::vector<uint8_t>> numbered(const std::vector<uint8_t>& bytes, 
 }
 
 std::vector<uint8_t> numbered_command(const Command& c, Identities& ids) {
-  if (c.message.empty()) return {};
+  const std::vector<uint8_t> bytes = wire_of(c);
+  if (bytes.empty()) return {};
   std::optional<std::vector<uint8_t>> out;
   switch (c.source) {
     case CommandSource::Supervisor:
-      out = numbered<mm::SupervisorRequest_PubSubType>(c.message, [&](auto& m) {
+      out = numbered<mm::SupervisorRequest_PubSubType>(bytes, [&](auto& m) {
         m.client_id(ids.client(m.client_id()));
         number_commands_sent(m, ids);
       });
       break;
     case CommandSource::Simulation:
-      out = numbered<mm::SimulationRequest_PubSubType>(c.message, [&](auto& m) {
+      out = numbered<mm::SimulationRequest_PubSubType>(bytes, [&](auto& m) {
         m.client_id(ids.client(m.client_id()));
         number_commands_sent(m, ids);
       });
       break;
     case CommandSource::Pictures:
       out = numbered<mm::PictureRequest_PubSubType>(
-          c.message, [&](auto& m) { m.client_id(ids.client(m.client_id())); });
+          bytes, [&](auto& m) { m.client_id(ids.client(m.client_id())); });
       break;
     default:
       break;
   }
-  return out ? *out : c.message;
+  return out ? *out : bytes;
 }
 
 std::vector<uint8_t> numbered_request(const RecordedRequest& r, Identities& ids) {
@@ -95,16 +96,17 @@ std::vector<uint8_t> numbered_request(const RecordedRequest& r, Identities& ids)
 
 /// A command as a session line says it (its message's bytes compared apart).
 std::string command_said(const Command& c) {
-  std::string text = std::string(to_string(c.source)) + " " + c.operation;
+  std::string text = std::string(to_string(c.source)) + " " + std::string(operation_name(c));
   if (!c.target.empty()) text += " " + c.target;
-  for (double v : c.robot ? c.robot->values() : std::vector<double>{}) text += fmt::format(" {}", v);
+  for (double v : c.robot ? c.robot->values() : std::vector<double>{})
+    text += fmt::format(" {}", v);
   return text;
 }
 
 /// One record of a run, as compared: when it happened, what it is, and its content.
 struct Record {
   uint64_t step = 0;
-  std::string said;             // for the report
+  std::string said;              // for the report
   std::vector<uint8_t> content;  // compared (with `said`)
 };
 
@@ -112,9 +114,9 @@ std::string header_said(const SessionHeader& h) {
   return fmt::format(
       "header: seed {}, hash every {} steps, overlaps {}, {}, limits {} {} {}, snapshots {} {}, "
       "{}",
-      h.seed, h.hash_every, h.overlaps_parted ? "parted" : "kept", h.strict ? "strict" : "not strict",
-      h.limits.max_import_depth, h.limits.max_imported_files, h.limits.max_objects,
-      h.snapshot_limits.max_count, h.snapshot_limits.max_bytes,
+      h.seed, h.hash_every, h.overlaps_parted ? "parted" : "kept",
+      h.strict ? "strict" : "not strict", h.limits.max_import_depth, h.limits.max_imported_files,
+      h.limits.max_objects, h.snapshot_limits.max_count, h.snapshot_limits.max_bytes,
       h.self_contained ? "files embedded" : "files not embedded");
 }
 
@@ -132,29 +134,31 @@ Records records_of(const Session& s) {
   std::size_t c = 0, r = 0;
   while (c < s.commands.size() || r < s.requests.size()) {
     const bool command_next =
-        r == s.requests.size() ||
-        (c < s.commands.size() && c < s.requests[r].commands_before);
+        r == s.requests.size() || (c < s.commands.size() && c < s.requests[r].commands_before);
     if (command_next) {
       const RecordedCommand& rc = s.commands[c++];
       Record rec;
       rec.step = rc.step;
-      rec.said = fmt::format("command {} at step {}: {}{}", c, rc.step, command_said(rc.command),
-                             rc.last_step > rc.step ? fmt::format(", held to step {}", rc.last_step) : "");
+      rec.said =
+          fmt::format("command {} at step {}: {}{}", c, rc.step, command_said(rc.command),
+                      rc.last_step > rc.step ? fmt::format(", held to step {}", rc.last_step) : "");
       rec.content = numbered_command(rc.command, ids);
       out.commands.push_back(std::move(rec));
     } else {
       const RecordedRequest& rr = s.requests[r++];
       Record rec;
       rec.step = rr.step;
-      rec.said = fmt::format("request record {} after step {}: {} {}", r, rr.step,
-                             rr.kind == RecordedRequest::Kind::Taken ? "taken" : "answered", rr.service);
+      rec.said =
+          fmt::format("request record {} after step {}: {} {}", r, rr.step,
+                      rr.kind == RecordedRequest::Kind::Taken ? "taken" : "answered", rr.service);
       rec.content = numbered_request(rr, ids);
       out.requests.push_back(std::move(rec));
     }
   }
   for (std::size_t k = 0; k < s.hashes.size(); ++k) {
     const auto& h = s.hashes[k];
-    out.hashes.push_back({h.step, fmt::format("state hash after step {}: {:016x}", h.step, h.hash), {}});
+    out.hashes.push_back(
+        {h.step, fmt::format("state hash after step {}: {:016x}", h.step, h.hash), {}});
   }
   for (std::size_t k = 0; k < s.files.size(); ++k) {
     const auto& f = s.files[k];
@@ -185,12 +189,15 @@ std::optional<std::string> first_difference(const Session& a, const Session& b) 
     const std::size_t n = std::max(x.size(), y.size());
     for (std::size_t k = 0; k < n; ++k) {
       if (k < x.size() && k < y.size() && same(x[k], y[k])) continue;
-      const uint64_t step = std::min(k < x.size() ? x[k].step : y[k].step, k < y.size() ? y[k].step : x[k].step);
+      const uint64_t step =
+          std::min(k < x.size() ? x[k].step : y[k].step, k < y.size() ? y[k].step : x[k].step);
       if (step < first_step) {
         first_step = step;
         const auto side = [&](const std::vector<Record>& z) {
           if (k >= z.size()) return std::string("none (it ends before)");
-          return z[k].said + (k < x.size() && k < y.size() && x[k].said == y[k].said ? " (its bytes differ)" : "");
+          return z[k].said + (k < x.size() && k < y.size() && x[k].said == y[k].said
+                                  ? " (its bytes differ)"
+                                  : "");
         };
         first = "A " + side(x) + "; B " + side(y);
       }

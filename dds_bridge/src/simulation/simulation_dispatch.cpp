@@ -3,7 +3,9 @@
 #include <memory>
 #include <utility>
 
+#include "sim_interfaces/sim_interfaces_dispatch.h"
 #include "supervisor/supervisor_codec.h"
+#include "supervisor/supervisor_dispatch.h"
 
 namespace macsim {
 
@@ -153,20 +155,32 @@ LoadQueued queue_world_load(Runner& runner, LoadLimits limits, WorldSource sourc
 }
 
 Command load_command(const WorldSource& source) {
+  auto load = std::make_shared<LoadWorldRequest>();
+  load->file = source.file;
+  load->xml = source.file.empty() ? source.xml : "";
   Command c;
   c.source = CommandSource::Simulation;
-  c.operation = source.file.empty() ? "load_world_xml" : "load_world";
-  const std::string& text = source.file.empty() ? source.xml : source.file;
-  c.message.assign(text.begin(), text.end());
+  c.request = std::move(load);
   return c;
 }
 
+std::shared_ptr<const Request> read_recorded_request(const Command& recorded) {
+  const auto* wire = recorded.request_as<WireRequest>();
+  if (!wire) return nullptr;
+  switch (recorded.source) {
+    case CommandSource::Supervisor:
+      return SupervisorCall::read(*wire);
+    case CommandSource::Ros2Service:
+      return sim_interfaces::read_recorded(*wire);
+    default:
+      return nullptr;  // the runner's own are typed as read; pictures are never recorded
+  }
+}
+
 std::optional<WorldSource> load_source(const Command& c) {
-  if (c.source != CommandSource::Simulation) return std::nullopt;
-  const std::string text(c.message.begin(), c.message.end());
-  if (c.operation == "load_world") return WorldSource{text, ""};
-  if (c.operation == "load_world_xml") return WorldSource{"", text};
-  return std::nullopt;
+  const auto* load = c.request_as<LoadWorldRequest>();
+  if (!load) return std::nullopt;
+  return WorldSource{load->file, load->xml};
 }
 
 }  // namespace macsim

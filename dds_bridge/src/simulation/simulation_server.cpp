@@ -8,12 +8,28 @@
 #include "macsim/sim_core/world_loader.h"
 #include "simulation/simulation_dispatch.h"
 #include "supervisor/supervisor_codec.h"
+#include "typed_request.h"
 
 namespace macsim {
 
 namespace mm = macsim_msgs::msg::dds_;
 
 namespace {
+
+using SimPubSub = mm::SimulationRequest_PubSubType;
+/// A simulation request run on the simulation thread (a step, a pause, a reset, ...).
+using SimulationCall = TypedRequest<SimPubSub>;
+/// A world load sent again: answered as the first was, never loaded twice.
+using RepeatedLoad = TypedRequest<SimPubSub, struct RepeatedLoadKind>;
+/// A world load sent while another still runs: refused.
+using LoadWhileLoading = TypedRequest<SimPubSub, struct LoadWhileLoadingKind>;
+
+/// The request as a command of type R (named by its command code).
+template <class R>
+Command simulation_command(const mm::SimulationRequest_& r, const char* name) {
+  return request_command<R>(CommandSource::Simulation, r,
+                            name ? std::string(name) : "SIM_" + std::to_string(r.command()));
+}
 
 /// What a request waits for before the simulation thread takes it.
 std::string waiting_text(const mm::SimulationRequest_& r) {
@@ -32,46 +48,46 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
       progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread: control of the run, not of the world (a load is recorded by the
   // runner when the new world is swapped in).
-  runner_.set_executor(CommandSource::Simulation, [this](const Command& c, World&) {
-    const auto r = dds::from_wire<mm::SimulationRequest_PubSubType>(c.message);
-    if (!r) return false;
-    if (c.operation == "answer_repeated_load") {
-      progress_.end(r->client_id(), r->sequence_number());
-      repeated(*r);
-      runner_.answered_repeat(c);
-    } else if (c.operation == "answer_load_running") {
-      send(reply_to(*r, mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
-    } else if (auto resumed = resumable_.extract({r->client_id(), r->sequence_number()})) {
-      execute(resumed.mapped());  // begun before a kill: on to the end it asked for
-    } else if (repeated(*r)) {
-      runner_.answered_repeat(c);
-    } else {
-      execute(*r);
-    }
+  runner_.set_executor<SimulationCall>(
+      [this](const SimulationCall& call, const Command& c, World&) {
+        const Request& r = call.message();
+        if (auto resumed = resumable_.extract({r.client_id(), r.sequence_number()})) {
+          execute(resumed.mapped());  // begun before a kill: on to the end it asked for
+        } else if (repeated(r)) {
+          runner_.answered_repeat(c);
+        } else {
+          execute(r);
+        }
+        return false;
+      });
+  runner_.set_executor<RepeatedLoad>([this](const RepeatedLoad& call, const Command& c, World&) {
+    progress_.end(call.message().client_id(), call.message().sequence_number());
+    repeated(call.message());
+    runner_.answered_repeat(c);
     return false;
   });
-  const auto command = [](const char* operation, const Request& r) {
-    Command c;
-    c.source = CommandSource::Simulation;
-    c.operation = operation ? std::string(operation) : "SIM_" + std::to_string(r.command());
-    c.message = dds::to_wire<mm::SimulationRequest_PubSubType>(r);
-    return c;
-  };
+  runner_.set_executor<LoadWhileLoading>(
+      [this](const LoadWhileLoading& call, const Command&, World&) {
+        send(reply_to(call.message(), mm::ERR_INVALID_ARGUMENT, "a world load is still running"));
+        return false;
+      });
   // On Fast DDS's thread: queue the request; it runs on the simulation thread. A load is queued
   // as a load, so that its file is parsed at once, off the simulation thread. A repeat of a
   // request still running gets its progress (RequestProgress) and is not queued again.
   service_.open(participant, {dds::topics::kSimulationRequest, dds::topics::kSimulationReply},
-                [this, command](const Request& r, const dds::RequestId&) {
+                [this](const Request& r, const dds::RequestId&) {
                   const auto asked = [steps = r.command() == mm::SIM_STEP ? r.steps() : 0](
                                          Reply& p) { p.steps_asked(steps); };
                   if (!progress_.begin(r, waiting_text(r), asked)) return;
                   if (r.command() != mm::SIM_LOAD_WORLD) {
-                    if (!runner_.push(command(nullptr, r))) refuse_full(r);
+                    if (!runner_.push(simulation_command<SimulationCall>(r, nullptr)))
+                      refuse_full(r);
                     return;
                   }
                   if (load_seen(r)) {
                     // Sent again: never load twice; answer again if the load was answered.
-                    const bool pushed = runner_.push(command("answer_repeated_load", r));
+                    const bool pushed =
+                        runner_.push(simulation_command<RepeatedLoad>(r, "answer_repeated_load"));
                     if (!pushed) refuse_full(r);
                     return;
                   }
@@ -85,7 +101,8 @@ SimulationServer::SimulationServer(dds::Participant& participant, Runner& runner
                     forget_load(r);  // not loaded: a repeat may try again
                     refuse_full(r);
                   } else if (queued == LoadQueued::LoadRunning) {
-                    const bool pushed = runner_.push(command("answer_load_running", r));
+                    const bool pushed = runner_.push(
+                        simulation_command<LoadWhileLoading>(r, "answer_load_running"));
                     if (!pushed) refuse_full(r);
                   }
                 });
@@ -142,7 +159,10 @@ void SimulationServer::forget_load(const Request& r) {
 
 SimulationServer::~SimulationServer() {
   service_.close();
-  runner_.set_executor(CommandSource::Simulation, {});  // what is still queued runs nowhere
+  // What is still queued runs nowhere.
+  runner_.set_executor<SimulationCall>({});
+  runner_.set_executor<RepeatedLoad>({});
+  runner_.set_executor<LoadWhileLoading>({});
 }
 
 SimulationServer::Reply SimulationServer::reply_to(const Request& q, int code,

@@ -13,10 +13,7 @@ namespace mm = macsim_msgs::msg::dds_;
 
 namespace generated {
 
-using ops::policy;
-namespace reply_field = ops::reply_field;
-
-// One function per operation and the switch over them (idl/tools/generate_operations.py).
+// The switch over the operations, each to its ops::<name> (idl/tools/generate_operations.py).
 #include "supervisor_dispatch_operations.inc"
 
 }  // namespace generated
@@ -34,10 +31,12 @@ std::optional<Status> run(const mm::SupervisorOperation_& op, World& world,
 
 bool changes_world(int32_t code) { return generated::changes_world(code); }
 
-bool replay(const Command& command, World& world, SnapshotStore& snapshots) {
-  const auto request = dds::from_wire<mm::SupervisorRequest_PubSubType>(command.message);
-  if (request) dispatch(*request, world, snapshots);
-  return request.has_value();
+Command supervisor_command(const mm::SupervisorRequest_& q) {
+  const int32_t op = q.operation()._d();
+  Command c = request_command<SupervisorCall>(CommandSource::Supervisor, q, operation_name(op));
+  if (op == mm::OP_RESET || op == mm::OP_RESTORE_SNAPSHOT)
+    c.sent_before = codec::senders(q.commands_sent());
+  return c;
 }
 
 std::string operation_name(int32_t code) {

@@ -6,9 +6,11 @@
 #include <string>
 
 #include "macsim/msg/macsim_msgs.h"
+#include "macsim/msg/macsim_msgsPubSubTypes.h"
 #include "macsim/sim_core/command.h"
 #include "macsim/sim_core/snapshot_store.h"
 #include "macsim/sim_core/world.h"
+#include "typed_request.h"
 
 namespace macsim {
 
@@ -16,9 +18,12 @@ namespace macsim {
 /// false for one that only reads (get_*, list_*, find_*, door_count, state_hash).
 bool changes_world(int32_t code);
 
-/// Runs a recorded supervisor command (its request in the wire form) as the server did,
-/// unanswered (a replay); false for a damaged message.
-bool replay(const Command& command, World& world, SnapshotStore& snapshots);
+/// A supervisor request as the runner queues it.
+using SupervisorCall = TypedRequest<macsim_msgs::msg::dds_::SupervisorRequest_PubSubType>;
+
+/// The request as a command (named by its operation); a reset or a snapshot restored carries
+/// the robot commands its client sent before it.
+Command supervisor_command(const macsim_msgs::msg::dds_::SupervisorRequest_& request);
 
 /// The name of an operation code (OP_SET_DENSITY: "set_density"); "operation_<code>" if unknown.
 std::string operation_name(int32_t code);

@@ -117,7 +117,7 @@ Status destroy_all(Context& c, const mm::DestroyAll_& a) {
 
 Status set_ramp(Context& c, const mm::SetRamp_& a) {
   return c.world.edit().set_ramp(a.object_id(), RampGeometry{a.width(), a.height(), a.angle()},
-                          policy(a.allow_penetration()));
+                                 policy(a.allow_penetration()));
 }
 
 Status get_door(Context& c, const mm::DoorRef_& a) {
@@ -165,5 +165,122 @@ Status list_snapshots(Context& c) {
   c.reply.count(static_cast<int32_t>(c.snapshots.size()));
   return Status{};
 }
+
+// ---- Operations that are one call of World or of one of its parts -------------------------
+
+Status find_by_user_data(Context& c, const mm::UserData_& a) {
+  const auto result = c.world.objects().find_by_user_data(a.user_data());
+  Status status = fill(c, result, reply_field::object_ids{});
+  if (status.ok()) also(c, result, reply_field::count{});
+  return status;
+}
+
+Status destroy_object(Context& c, const mm::ObjectRef_& a) {
+  return c.world.edit().destroy_object(a.object_id());
+}
+
+Status set_pose(Context& c, const mm::SetPose_& a) {
+  return c.world.edit().set_pose(a.object_id(), codec::pose_of(a.pose()),
+                                 policy(a.allow_penetration()));
+}
+
+Status set_position(Context& c, const mm::SetPosition_& a) {
+  return c.world.edit().set_position(a.object_id(), codec::vector_of(a.position()),
+                                     policy(a.allow_penetration()));
+}
+
+Status set_orientation(Context& c, const mm::SetOrientation_& a) {
+  return c.world.edit().set_orientation(a.object_id(), codec::quaternion_of(a.orientation()),
+                                        policy(a.allow_penetration()));
+}
+
+Status set_box_size(Context& c, const mm::SetBoxSize_& a) {
+  return c.world.edit().set_box_size(a.object_id(), a.component_index(), codec::vector_of(a.size()),
+                                     policy(a.allow_penetration()));
+}
+
+Status set_cylinder_size(Context& c, const mm::SetCylinderSize_& a) {
+  return c.world.edit().set_cylinder_size(a.object_id(), a.component_index(), a.radius(),
+                                          a.height(), policy(a.allow_penetration()));
+}
+
+Status set_sphere_size(Context& c, const mm::SetSphereSize_& a) {
+  return c.world.edit().set_sphere_size(a.object_id(), a.component_index(), a.radius(),
+                                        policy(a.allow_penetration()));
+}
+
+Status set_color(Context& c, const mm::SetColor_& a) {
+  return c.world.edit().set_color(a.object_id(), a.rgba(), a.component_index());
+}
+
+Status set_texture(Context& c, const mm::SetTexture_& a) {
+  return c.world.edit().set_texture(a.object_id(), a.file(), a.component_index());
+}
+
+Status set_mass(Context& c, const mm::SetMass_& a) {
+  return c.world.edit().set_mass(a.object_id(), a.mass());
+}
+
+Status set_density(Context& c, const mm::SetDensity_& a) {
+  return c.world.edit().set_density(a.object_id(), a.density());
+}
+
+Status set_linear_velocity(Context& c, const mm::ObjectVector_& a) {
+  return c.world.edit().set_linear_velocity(a.object_id(), codec::vector_of(a.value()));
+}
+
+Status set_angular_velocity(Context& c, const mm::ObjectVector_& a) {
+  return c.world.edit().set_angular_velocity(a.object_id(), codec::vector_of(a.value()));
+}
+
+Status add_force(Context& c, const mm::ObjectVector_& a) {
+  return c.world.edit().add_force(a.object_id(), codec::vector_of(a.value()));
+}
+
+Status add_torque(Context& c, const mm::ObjectVector_& a) {
+  return c.world.edit().add_torque(a.object_id(), codec::vector_of(a.value()));
+}
+
+Status set_frozen(Context& c, const mm::ObjectFlag_& a) {
+  return c.world.edit().set_frozen(a.object_id(), a.value());
+}
+
+Status set_magnetizable(Context& c, const mm::ObjectFlag_& a) {
+  return c.world.edit().set_magnetizable(a.object_id(), a.value());
+}
+
+Status set_user_data(Context& c, const mm::SetUserData_& a) {
+  return c.world.edit().set_user_data(a.object_id(), a.user_data());
+}
+
+Status set_user_labels(Context& c, const mm::SetUserLabels_& a) {
+  return c.world.edit().set_user_labels(a.object_id(), a.color_label(), a.shape_label());
+}
+
+Status door_count(Context& c) {
+  return fill(c, c.world.doors().door_count(), reply_field::count{});
+}
+
+Status set_switch_triggered(Context& c, const mm::SetSwitchTriggered_& a) {
+  return c.world.doors().set_switch_triggered(a.door(), a.triggered());
+}
+
+Status set_door_position(Context& c, const mm::DoorPosition_& a) {
+  return c.world.doors().set_door_position(a.door(), codec::vector_of(a.position()));
+}
+
+Status set_switch_position(Context& c, const mm::DoorPosition_& a) {
+  return c.world.doors().set_switch_position(a.door(), codec::vector_of(a.position()));
+}
+
+Status get_door_by_name(Context& c, const mm::DoorName_& a) {
+  const auto result = c.world.doors().get_door_by_name(a.name());
+  Status status = fill(c, result, reply_field::index{});
+  if (status.ok()) also(c, result, reply_field::door{});
+  if (status.ok()) also(c, result, reply_field::object_ids{});
+  return status;
+}
+
+Status state_hash(Context& c) { return fill(c, c.world.state_hash(), reply_field::hash{}); }
 
 }  // namespace macsim::ops

@@ -1,11 +1,8 @@
-// The hand-written part of the supervisor's dispatch. The generated part (from the IDL's list of
-// operations, see idl/kurt/macsim_msgs.idl) runs each operation as a function of this namespace
-// of the operation's name when one is declared here, called (context, arguments) or (context)
-// for an operation without arguments; otherwise it calls the World method of the operation's
-// name with the arguments' fields (in the order of the client's builder, converted: points and
-// vectors to Eigen vectors, quaternions, poses, allow_penetration to a PenetrationPolicy) and
-// hands its result to fill() with the first reply field the operation lists, then to also() for
-// each further one.
+// The supervisor's operations, one function each of the operation's name (set_density: the
+// request's OP_SET_DENSITY), called (context, arguments), or (context) for an operation without
+// arguments. The generated switch over the IDL's list of operations (idl/kurt/macsim_msgs.idl)
+// calls them; a function missing here does not compile. Each fills the reply's results with
+// fill() (the first reply field the IDL lists for it) and also() (each further one).
 #pragma once
 
 #include <cstdint>
@@ -56,6 +53,34 @@ void also(Context& c, const std::vector<ObjectId>& ids, reply_field::count);
 /// A door index's door and its parts' object ids (leaf, frame, platform, base; 0: none).
 void also(Context& c, const Result<int>& door, reply_field::door);
 void also(Context& c, const Result<int>& door, reply_field::object_ids);
+
+// Operations that are one call of World or of one of its parts.
+Status find_by_user_data(Context& c, const mm::UserData_& a);
+Status destroy_object(Context& c, const mm::ObjectRef_& a);
+Status set_pose(Context& c, const mm::SetPose_& a);
+Status set_position(Context& c, const mm::SetPosition_& a);
+Status set_orientation(Context& c, const mm::SetOrientation_& a);
+Status set_box_size(Context& c, const mm::SetBoxSize_& a);
+Status set_cylinder_size(Context& c, const mm::SetCylinderSize_& a);
+Status set_sphere_size(Context& c, const mm::SetSphereSize_& a);
+Status set_color(Context& c, const mm::SetColor_& a);
+Status set_texture(Context& c, const mm::SetTexture_& a);
+Status set_mass(Context& c, const mm::SetMass_& a);
+Status set_density(Context& c, const mm::SetDensity_& a);
+Status set_linear_velocity(Context& c, const mm::ObjectVector_& a);
+Status set_angular_velocity(Context& c, const mm::ObjectVector_& a);
+Status add_force(Context& c, const mm::ObjectVector_& a);
+Status add_torque(Context& c, const mm::ObjectVector_& a);
+Status set_frozen(Context& c, const mm::ObjectFlag_& a);
+Status set_magnetizable(Context& c, const mm::ObjectFlag_& a);
+Status set_user_data(Context& c, const mm::SetUserData_& a);
+Status set_user_labels(Context& c, const mm::SetUserLabels_& a);
+Status door_count(Context& c);
+Status set_switch_triggered(Context& c, const mm::SetSwitchTriggered_& a);
+Status set_door_position(Context& c, const mm::DoorPosition_& a);
+Status set_switch_position(Context& c, const mm::DoorPosition_& a);
+Status get_door_by_name(Context& c, const mm::DoorName_& a);
+Status state_hash(Context& c);
 
 // Operations whose arguments or results do not map onto one World method.
 Status list_objects(Context& c);

@@ -21,14 +21,15 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
       events_stamped_(participant, dds::topics::kWorldEventsStamped, QosFamily::Command),
       progress_([this](const Reply& reply) { service_.reply(reply); }) {
   // On the simulation thread, live or in a replay: the request from its wire form.
-  runner_.set_executor(CommandSource::Supervisor, [this](const Command& c, World& world) {
-    const auto q = dds::from_wire<mm::SupervisorRequest_PubSubType>(c.message);
-    if (q && answer_repeat(*q, std::any_cast<dds::RequestId>(&c.reply_to))) {
-      runner_.answered_repeat(c);
-      return false;
-    }
-    return q && execute(*q, world, std::any_cast<dds::RequestId>(&c.reply_to), c);
-  });
+  runner_.set_executor<SupervisorCall>(
+      [this](const SupervisorCall& call, const Command& c, World& world) {
+        const auto* reply_to = std::any_cast<dds::RequestId>(&c.reply_to);
+        if (answer_repeat(call.message(), reply_to)) {
+          runner_.answered_repeat(c);
+          return false;
+        }
+        return execute(call.message(), world, reply_to, c);
+      });
   // On Fast DDS's thread: copy the request and queue it; the world is touched only later. A
   // repeat of a request still waiting gets its progress and is not queued again.
   service_.open(participant,
@@ -39,7 +40,7 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
                                        "before it)")) {
                     return;
                   }
-                  Command c = command(r);
+                  Command c = supervisor_command(r);
                   c.reply_to = id;
                   if (!runner_.push(std::move(c))) {
                     refuse(r, id, mm::ERR_LIMIT_REACHED, runner_.queue_full_message());
@@ -49,7 +50,7 @@ SupervisorServer::SupervisorServer(dds::Participant& participant, Runner& runner
 
 SupervisorServer::~SupervisorServer() {
   service_.close();
-  runner_.set_executor(CommandSource::Supervisor, {});  // what is still queued runs nowhere
+  runner_.set_executor<SupervisorCall>({});  // what is still queued runs nowhere
 }
 
 void SupervisorServer::refuse(const Request& q, const dds::RequestId& id, int code,
@@ -61,17 +62,6 @@ void SupervisorServer::refuse(const Request& q, const dds::RequestId& id, int co
   reply.message(message);
   progress_.end(q.client_id(), q.sequence_number());
   service_.reply(reply, &id);
-}
-
-Command SupervisorServer::command(const Request& q) {
-  Command c;
-  c.source = CommandSource::Supervisor;
-  c.operation = operation_name(q.operation()._d());
-  c.message = dds::to_wire<mm::SupervisorRequest_PubSubType>(q);
-  const int32_t op = q.operation()._d();
-  if (op == mm::OP_RESET || op == mm::OP_RESTORE_SNAPSHOT)
-    c.sent_before = codec::senders(q.commands_sent());
-  return c;
 }
 
 void SupervisorServer::remember(const std::vector<Reply>& replies) {

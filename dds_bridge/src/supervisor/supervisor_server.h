@@ -49,8 +49,6 @@ class SupervisorServer {
   /// Answers a repeat of a request already run (its reply sent again, or that it is too old to
   /// run again); false for a request not run before.
   bool answer_repeat(const Request& request, const dds::RequestId* id);
-  /// The request as a command value.
-  static Command command(const Request& request);
   /// Answers a request that was not queued, from the listener (nothing of the world read; not
   /// kept for repeats: a repeat is tried again).
   void refuse(const Request& request, const dds::RequestId& id, int code,

@@ -17,6 +17,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <type_traits>
+#include <typeindex>
 #include <variant>
 #include <vector>
 
@@ -29,9 +31,14 @@ namespace macsim {
 class SessionWriter;
 struct RecordedRequest;
 
-/// Runs the commands of one source on the simulation thread, with the world current at that
-/// moment; true when the command acted on the world (a recorded session keeps it).
+/// Runs a command on the simulation thread, with the world current at that moment; true when
+/// the command acted on the world (a recorded session keeps it).
 using CommandExecutor = std::function<bool(const Command&, World&)>;
+
+/// Runs a request of type R (its command carries it) on the simulation thread; true when it
+/// acted on the world.
+template <class R>
+using RequestExecutor = std::function<bool(const R&, const Command&, World&)>;
 
 /// How a world load ended: the new world runs, or the old one runs on and `error` says why
 /// (`code`: BadFile when it cannot be read or built, InvalidArgument when it does not fit).
@@ -93,7 +100,7 @@ struct StepRequest {
   /// Asked on the simulation thread after the step's hooks: true ends the request there.
   std::function<bool(const World&)> until;
   std::function<void(const World&)> each_step;  ///< after every step's hooks (e.g. hash it)
-  bool hold_commands = false;   ///< the robots' last commands do not time out meanwhile
+  bool hold_commands = false;  ///< the robots' last commands do not time out meanwhile
   /// The robots hold_commands holds, comma-separated (empty: every robot).
   std::string hold_robots;
   bool publish_at_end = false;  ///< the hooks need publish only the newest data, at the end
@@ -120,7 +127,8 @@ class Runner {
 
   // ---- from any thread -------------------------------------------------------------------
   /// Queues a command; it runs before the next step (or at once while paused). False (and
-  /// nothing queued) when the queue is full (RunSettings::max_queued_commands).
+  /// nothing queued) when the queue is full (RunSettings::max_queued_commands), or when it
+  /// carries a request of a type no executor takes (set_executor; said in the log).
   [[nodiscard]] bool push(Command command);
   /// A robot command that arrived and was dropped before the queue (not finite): a step
   /// request naming it waits for it no more.
@@ -142,9 +150,25 @@ class Runner {
   bool wait_for_commands(std::chrono::steady_clock::time_point deadline);
 
   // ---- before run() -----------------------------------------------------------------------
-  /// Who runs the commands of `source` (Local and the runner's own commands need none; robot
-  /// commands without one go to the world's robot, run_robot_command).
-  void set_executor(CommandSource source, CommandExecutor executor);
+  /// Who runs the requests of type R (a Request; null: nobody, and push() refuses them). The
+  /// runner's own (KeepRobotCommands) and Local commands need none.
+  template <class R>
+  void set_executor(RequestExecutor<R> run) {
+    static_assert(std::is_base_of_v<Request, R>, "an executor runs a Request's subclass");
+    CommandExecutor erased;
+    if (run) {
+      erased = [run = std::move(run)](const Command& c, World& world) {
+        return run(static_cast<const R&>(*c.request), c, world);  // its type, checked
+      };
+    }
+    set_request_executor(typeid(R), std::move(erased));
+  }
+  /// Who runs robot commands: the robot interface the simulator's node serves; null: the
+  /// world's robot itself (run_robot_command: a replay, a test).
+  void set_robot_executor(CommandExecutor executor);
+  /// True when a request of this type can be queued: an executor takes it, or it is the
+  /// runner's own.
+  bool takes(const Request& request) const;
   /// Writes every command that acts on the world from now on, with the step it runs at, and
   /// the state hash every writer->hash_every() steps (and now, unless it goes on with a session
   /// resumed, whose last step may have its commands written: a hash comes before them). Null
@@ -225,6 +249,9 @@ class Runner {
  private:
   /// A warning to sim_core's log (log_sink.h).
   void say(const std::string& warning) const;
+  void set_request_executor(std::type_index type, CommandExecutor executor);
+  /// The executor of the request's type, or null.
+  std::shared_ptr<const CommandExecutor> executor_of(const Request& request) const;
   /// From now on, drops every robot command of these senders numbered at or below theirs.
   void fence(const std::vector<Sender>& sent_before);
   /// True if `command` was sent before a request that put the world back.
@@ -254,8 +281,11 @@ class Runner {
   void end_request(bool completed);
 
   std::unique_ptr<World> world_;
-  std::vector<CommandExecutor> executors_;  // by CommandSource
-  std::vector<uint64_t> commands_run_;      // by CommandSource
+  mutable std::mutex executors_mutex_;  // set_executor() against push() of other threads
+  // By the request's type; shared, so that a command runs its executor outside the lock.
+  std::map<std::type_index, std::shared_ptr<const CommandExecutor>> request_executors_;
+  CommandExecutor robot_executor_;
+  std::vector<uint64_t> commands_run_;                  // by CommandSource
   std::map<std::array<uint8_t, 16>, uint64_t> fences_;  // by sender: its last command dropped
   uint64_t commands_fenced_ = 0;
   std::map<std::array<uint8_t, 16>, uint64_t> named_;  // of the running request, by writer
@@ -282,8 +312,8 @@ class Runner {
   std::size_t queued_ = 0;        // items queued and not yet run (in pending_ or a batch running)
   const std::size_t max_queued_;  // settings_.max_queued_commands (at least 1), for any thread
   std::map<std::array<uint8_t, 16>, uint64_t> arrived_from_;  // by writer: the last number pushed
-  std::vector<std::future<void>> loaders_;  // parses running or done
-  bool loading_ = false;                    // a load is queued or parsing (guarded by mutex_)
+  std::vector<std::future<void>> loaders_;                    // parses running or done
+  bool loading_ = false;  // a load is queued or parsing (guarded by mutex_)
 };
 
 }  // namespace macsim

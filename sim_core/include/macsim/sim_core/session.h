@@ -190,16 +190,23 @@ struct ReplayOutcome {
 /// `command` is no load.
 using SessionWorldLoader = std::function<std::function<WorldSpec()>(const Command& command)>;
 
+/// The typed request of a server's request a session recorded (`recorded` carries it as a
+/// WireRequest: its name and bytes), as its server would have queued it; nullptr when its bytes
+/// are not one.
+using RequestReader = std::function<std::shared_ptr<const Request>(const Command& recorded)>;
+
 /// Replays a session on a runner built from its header's world, with the executors of its
 /// sources set (the same as a live run's, minus the answers): runs each command at its step
 /// (a robot command's sender noted as arrived: Runner::note_arrival()),
 /// steps, checks each recorded hash, and stops at the first that differs. Each embedded file
 /// goes into `files` (what the runner's data roots read) before the first command recorded
 /// after it. `after_step` runs after each step it takes (e.g. a resumed simulator's robots
-/// read what the step made).
+/// read what the step made). `read` makes each server's request typed before it runs (one
+/// it cannot read runs nowhere).
 ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
                              MemoryFiles* files = nullptr,
-                             const std::function<void()>& after_step = {});
+                             const std::function<void()>& after_step = {},
+                             const RequestReader& read = {});
 /// Puts the files the session embeds before its first command into `files` (what its first
 /// world is read from).
 void embed_first_files(const Session& session, MemoryFiles& files);
