@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <limits>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <regex>
 #include <set>
@@ -220,105 +220,11 @@ struct FileContents {
   std::vector<std::string> joints;              // full names
 };
 
-/// Loads a world file and its <IMPORT> tree into one WorldSpec.
-class Loader {
+/// Reads a world's own settings into it: <PHYSICS> (joint force ranges, areas), <VARIATION>
+/// (placements, groups) and <MATERIAL>.
+class SettingsReader {
  public:
-  explicit Loader(const LoadOptions& options, const std::vector<MaterialSpec>& materials = {})
-      : limits_(options.limits), files_(*options.files) {
-    world_.materials = materials;
-    if (!world_.material("default")) {
-      MaterialSpec fallback;
-      fallback.name = "default";
-      world_.materials.insert(world_.materials.begin(), fallback);
-    }
-  }
-
-  WorldSpec take() { return std::move(world_); }
-
-  void load_root(tinyxml2::XMLDocument& doc, const std::string& file) {
-    if (doc.Error()) throw WorldFileError(file, doc.ErrorLineNum(), xml_error_message(doc));
-    const Reader r(file, files_);
-    const XMLElement* root = doc.RootElement();
-    if (!root || upper(root->Name()) != "WORLD") {
-      r.fail(root, "the root element of a world file must be <WORLD>");
-    }
-    world_.file = file;
-    world_.name = fs::path(file).stem().string();
-    try {
-      if (files_.read(file)) stack_.push_back(files_.identity(file));
-    } catch (const FileRefused&) {  // text named after a file it is not: nothing to cycle back to
-    }
-    FileContents contents;
-    read_children(r, root, Pose{}, "", contents, true);
-  }
-
- private:
-  std::string full_name(const std::string& prefix, const std::string& id) const {
-    return prefix.empty() ? id : prefix + "/" + id;
-  }
-
-  std::size_t imported_files_ = 0;  // every <IMPORT> read so far, at any depth
-
-  void claim_name(const Reader& r, const XMLElement* e, const std::string& name) {
-    if (!names_.insert(name).second) r.fail(e, "duplicate id '" + name + "'");
-  }
-
-  // Elements allowed in both <WORLD> and <ENVIRONMENT>.
-  void read_children(const Reader& r, const XMLElement* parent, const Pose& frame,
-                     const std::string& prefix, FileContents& contents, bool is_world) {
-    for (auto* e = parent->FirstChildElement(); e; e = e->NextSiblingElement()) {
-      const std::string tag = upper(e->Name());
-      if (is_world && tag == "NAME") {
-        world_.name = r.text(e);
-      } else if (is_world && tag == "PHYSICS") {
-        read_physics(r, e);
-      } else if (is_world && tag == "VARIATION") {
-        read_variation(r, e);
-      } else if (is_world && tag == "GROUND") {
-        for (auto* g = e->FirstChildElement(); g; g = g->NextSiblingElement()) {
-          if (upper(g->Name()) == "FRICTION") {
-            world_.ground_friction = r.non_negative(g);
-          } else {
-            r.unknown(g, "GROUND");
-          }
-        }
-      } else if (tag == "MATERIAL") {
-        read_material(r, e);
-      } else if (tag == "OBJECT" || tag == "WALL" || tag == "RAMP") {
-        ObjectSpec object = tag == "OBJECT" ? read_object(r, e)
-                            : tag == "WALL" ? read_wall(r, e)
-                                            : read_ramp(r, e);
-        object.name = full_name(prefix, object.name);
-        claim_name(r, e, object.name);
-        object.pose = frame * object.pose;
-        if (world_.objects.size() >= limits_.max_objects) {
-          r.fail(e, "a world holds at most " + std::to_string(limits_.max_objects) +
-                        " objects (LoadLimits::max_objects)");
-        }
-        contents.objects.push_back(object.name);
-        world_.objects.push_back(std::move(object));
-      } else if (tag == "JOINT") {
-        JointSpec joint = read_joint(r, e);
-        joint.name = full_name(prefix, joint.name);
-        claim_name(r, e, joint.name);
-        joint.body1 = full_name(prefix, joint.body1);
-        if (!joint.body2.empty()) joint.body2 = full_name(prefix, joint.body2);
-        joint.axis = frame.orientation * joint.axis;
-        joint.anchor = frame.position + frame.orientation * joint.anchor;
-        contents.joints.push_back(joint.name);
-        world_.joints.push_back(std::move(joint));
-      } else if (tag == "ROBOT") {
-        RobotSpec robot = read_robot(r, e);
-        claim_name(r, e, robot.name);
-        robot.pose = frame * robot.pose;
-        world_.robots.push_back(std::move(robot));
-      } else if (tag == "IMPORT") {
-        read_import(r, e, frame, prefix, contents);
-      } else {
-        r.unknown(e, is_world ? "WORLD" : "ENVIRONMENT");
-      }
-    }
-  }
+  explicit SettingsReader(WorldSpec& world) : world_(world) {}
 
   void read_physics(const Reader& r, const XMLElement* physics) {
     PhysicsSpec& spec = world_.physics;
@@ -379,8 +285,8 @@ class Loader {
       } else if (tag == "MAX_FORCE") {
         const auto v = r.numbers(e, 2, 2);
         if (!(v[0] >= 0 && v[0] <= v[1] && v[1] <= bounds::kMaxForce)) {
-          r.fail(e, "<MAX_FORCE> expects lo,hi with 0 <= lo <= hi <= " + std::to_string(int(bounds::kMaxForce)) +
-                        ", got " + r.text(e));
+          r.fail(e, "<MAX_FORCE> expects lo,hi with 0 <= lo <= hi <= " +
+                        std::to_string(int(bounds::kMaxForce)) + ", got " + r.text(e));
         }
         range.lo = v[0];
         range.hi = v[1];
@@ -496,6 +402,16 @@ class Loader {
     }
     world_.materials.push_back(m);
   }
+
+ private:
+  WorldSpec& world_;
+};
+
+/// Reads the elements a world or environment file places: <OBJECT>, <WALL>, <RAMP> (their
+/// components, shapes and masses, with the world's materials), <JOINT> and <ROBOT>.
+class ElementReader {
+ public:
+  explicit ElementReader(const WorldSpec& world) : world_(world) {}
 
   Shape read_shape(const Reader& r, const XMLElement* e) const {
     const std::string value = upper(r.text(e));
@@ -825,6 +741,110 @@ class Loader {
     return spec;
   }
 
+ private:
+  const WorldSpec& world_;
+};
+
+/// Loads a world file and its <IMPORT> tree into one WorldSpec.
+class Loader {
+ public:
+  explicit Loader(const LoadOptions& options, const std::vector<MaterialSpec>& materials = {})
+      : limits_(options.limits), files_(*options.files) {
+    world_.materials = materials;
+    if (!world_.material("default")) {
+      MaterialSpec fallback;
+      fallback.name = "default";
+      world_.materials.insert(world_.materials.begin(), fallback);
+    }
+  }
+
+  WorldSpec take() { return std::move(world_); }
+
+  void load_root(tinyxml2::XMLDocument& doc, const std::string& file) {
+    if (doc.Error()) throw WorldFileError(file, doc.ErrorLineNum(), xml_error_message(doc));
+    const Reader r(file, files_);
+    const XMLElement* root = doc.RootElement();
+    if (!root || upper(root->Name()) != "WORLD") {
+      r.fail(root, "the root element of a world file must be <WORLD>");
+    }
+    world_.file = file;
+    world_.name = fs::path(file).stem().string();
+    try {
+      if (files_.read(file)) stack_.push_back(files_.identity(file));
+    } catch (const FileRefused&) {  // text named after a file it is not: nothing to cycle back to
+    }
+    FileContents contents;
+    read_children(r, root, Pose{}, "", contents, true);
+  }
+
+ private:
+  std::string full_name(const std::string& prefix, const std::string& id) const {
+    return prefix.empty() ? id : prefix + "/" + id;
+  }
+
+  std::size_t imported_files_ = 0;  // every <IMPORT> read so far, at any depth
+
+  void claim_name(const Reader& r, const XMLElement* e, const std::string& name) {
+    if (!names_.insert(name).second) r.fail(e, "duplicate id '" + name + "'");
+  }
+
+  // Elements allowed in both <WORLD> and <ENVIRONMENT>.
+  void read_children(const Reader& r, const XMLElement* parent, const Pose& frame,
+                     const std::string& prefix, FileContents& contents, bool is_world) {
+    for (auto* e = parent->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = upper(e->Name());
+      if (is_world && tag == "NAME") {
+        world_.name = r.text(e);
+      } else if (is_world && tag == "PHYSICS") {
+        settings_.read_physics(r, e);
+      } else if (is_world && tag == "VARIATION") {
+        settings_.read_variation(r, e);
+      } else if (is_world && tag == "GROUND") {
+        for (auto* g = e->FirstChildElement(); g; g = g->NextSiblingElement()) {
+          if (upper(g->Name()) == "FRICTION") {
+            world_.ground_friction = r.non_negative(g);
+          } else {
+            r.unknown(g, "GROUND");
+          }
+        }
+      } else if (tag == "MATERIAL") {
+        settings_.read_material(r, e);
+      } else if (tag == "OBJECT" || tag == "WALL" || tag == "RAMP") {
+        ObjectSpec object = tag == "OBJECT" ? elements_.read_object(r, e)
+                            : tag == "WALL" ? elements_.read_wall(r, e)
+                                            : elements_.read_ramp(r, e);
+        object.name = full_name(prefix, object.name);
+        claim_name(r, e, object.name);
+        object.pose = frame * object.pose;
+        if (world_.objects.size() >= limits_.max_objects) {
+          r.fail(e, "a world holds at most " + std::to_string(limits_.max_objects) +
+                        " objects (LoadLimits::max_objects)");
+        }
+        contents.objects.push_back(object.name);
+        world_.objects.push_back(std::move(object));
+      } else if (tag == "JOINT") {
+        JointSpec joint = elements_.read_joint(r, e);
+        joint.name = full_name(prefix, joint.name);
+        claim_name(r, e, joint.name);
+        joint.body1 = full_name(prefix, joint.body1);
+        if (!joint.body2.empty()) joint.body2 = full_name(prefix, joint.body2);
+        joint.axis = frame.orientation * joint.axis;
+        joint.anchor = frame.position + frame.orientation * joint.anchor;
+        contents.joints.push_back(joint.name);
+        world_.joints.push_back(std::move(joint));
+      } else if (tag == "ROBOT") {
+        RobotSpec robot = elements_.read_robot(r, e);
+        claim_name(r, e, robot.name);
+        robot.pose = frame * robot.pose;
+        world_.robots.push_back(std::move(robot));
+      } else if (tag == "IMPORT") {
+        read_import(r, e, frame, prefix, contents);
+      } else {
+        r.unknown(e, is_world ? "WORLD" : "ENVIRONMENT");
+      }
+    }
+  }
+
   void read_import(const Reader& r, const XMLElement* import, const Pose& frame,
                    const std::string& prefix, FileContents& contents) {
     std::string id, file;
@@ -936,6 +956,8 @@ class Loader {
   const LoadLimits limits_;
   const WorldFiles& files_;
   WorldSpec world_;
+  SettingsReader settings_{world_};
+  ElementReader elements_{world_};
   std::set<std::string> names_;
   std::vector<std::string> stack_;  // canonical paths of the files being read
 };

@@ -166,8 +166,10 @@ mm::Object_ carried_object(const Carried& a) {
   return object;
 }
 
-struct TrialRobot::Impl {
-  explicit Impl(const InstanceOptions& options)
+/// The robot and its simulator as a trial uses them over DDS: the clients, the lock-step
+/// advance, the commands, the readings, the supervisor's calls, and the trial under way.
+struct TrialLink {
+  explicit TrialLink(const InstanceOptions& options)
       : o(options),
         participant({options.domain, options.profile, "affordance_trials"}),
         drive(participant, options.robot, kReading),
@@ -293,12 +295,8 @@ struct TrialRobot::Impl {
     speed = v;
     drive.drive(v, 0.0);
   }
-  void crane_to(double slew, double lift, double hoist) {
-    crane.command(slew, lift, hoist);
-  }
-  void magnet(bool on) {
-    crane.magnet(on);
-  }
+  void crane_to(double slew, double lift, double hoist) { crane.command(slew, lift, hoist); }
+  void magnet(bool on) { crane.magnet(on); }
 
   /// The newest sample of a topic due by now: stamped after `now - window`. Waits for it.
   template <class Get>
@@ -368,6 +366,12 @@ struct TrialRobot::Impl {
   uint32_t spawn(const mm::Object_& object) {
     return call(sv::create_object(object, false), "create_object").object_id();
   }
+};
+
+/// A trial's robot: it looks (perceive), reaches, and carries out the behaviours (stack,
+/// traverse, lift, push, climb) over the link.
+struct TrialRobot::Impl : TrialLink {
+  explicit Impl(const InstanceOptions& options) : TrialLink(options) {}
 
   /// Looks: the crane swung out of the laser's plane (its boom at `lift`), then one stereo pair
   /// and one sweep.
