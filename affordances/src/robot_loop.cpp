@@ -247,6 +247,9 @@ void RobotLoop::tick(double seconds) {
   if (elapsed() > loop_options_.timeout) {
     linear_ = angular_ = 0;
     drive_.stop();
+    // Lock-step: the stop is taken by contract, by a step that names it, not left to race the
+    // simulator's end (two runs of one layout would differ by whether it came in time).
+    if (simulation_) (void)simulation_->step(1);
     char text[128];
     std::snprintf(text, sizeof text, "the run took longer than %.0f s of robot time",
                   loop_options_.timeout);
