@@ -27,6 +27,7 @@
 #include "robots/sim_bridge.h"
 #include "sim_interfaces/sim_interfaces_dispatch.h"
 #include "sim_interfaces/sim_interfaces_server.h"
+#include "recorded_requests.h"
 #include "simulation/simulation_dispatch.h"
 #include "simulation/simulation_server.h"
 #include "supervisor/supervisor_dispatch.h"

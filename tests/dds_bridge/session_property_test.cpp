@@ -22,7 +22,7 @@
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/session.h"
 #include "macsim/sim_core/world_loader.h"
-#include "simulation/simulation_dispatch.h"
+#include "recorded_requests.h"
 #include "supervisor/supervisor_dispatch.h"
 #include "support/child_process.h"
 #include "support/supervisor_actions.h"

@@ -3,9 +3,7 @@
 #include <memory>
 #include <utility>
 
-#include "sim_interfaces/sim_interfaces_dispatch.h"
 #include "supervisor/supervisor_codec.h"
-#include "supervisor/supervisor_dispatch.h"
 
 namespace macsim {
 
@@ -162,19 +160,6 @@ Command load_command(const WorldSource& source) {
   c.source = CommandSource::Simulation;
   c.request = std::move(load);
   return c;
-}
-
-std::shared_ptr<const Request> read_recorded_request(const Command& recorded) {
-  const auto* wire = recorded.request_as<WireRequest>();
-  if (!wire) return nullptr;
-  switch (recorded.source) {
-    case CommandSource::Supervisor:
-      return SupervisorCall::read(*wire);
-    case CommandSource::Ros2Service:
-      return sim_interfaces::read_recorded(*wire);
-    default:
-      return nullptr;  // the runner's own are typed as read; pictures are never recorded
-  }
 }
 
 std::optional<WorldSource> load_source(const Command& c) {

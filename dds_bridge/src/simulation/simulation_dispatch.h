@@ -36,10 +36,6 @@ LoadQueued queue_world_load(Runner& runner, LoadLimits limits, WorldSource sourc
 Command load_command(const WorldSource& source);
 /// The load a recorded command names; nullopt if it names none.
 std::optional<WorldSource> load_source(const Command& command);
-/// The typed request of a server's request a session recorded (replay_session()'s
-/// RequestReader): a supervisor request or a simulation_interfaces service's; nullptr for
-/// bytes that are not one.
-std::shared_ptr<const Request> read_recorded_request(const Command& recorded);
 
 /// The reply to `request` with `code` and `message`, stamped with the runner's time, steps,
 /// state hash, pause flag, real-time factor and features.
