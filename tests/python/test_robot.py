@@ -53,6 +53,11 @@ def drive_until(kurt, linear, angular, done, limit=20.0):
 
 def test_drives_by_odometry_and_stops(robot):
     start = robot.odometry()
+    # Odometry may come before this writer of cmd_vel is matched: each endpoint is discovered
+    # on its own.
+    deadline = time.monotonic() + 10
+    while not robot.connected and time.monotonic() < deadline:
+        time.sleep(0.02)
     assert robot.connected and robot.name == "kurt"
     end = drive_until(robot, 0.4, 0.0, lambda o: o.position[0] - start.position[0] > 0.5)
     assert abs(end.position[1] - start.position[1]) < 0.05 and abs(end.yaw) < 0.1
