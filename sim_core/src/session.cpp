@@ -803,7 +803,16 @@ ReplayOutcome replay_session(const Session& session, Runner& runner, const Sessi
       }
       Command command = recorded.command;
       if (read && command.request_as<WireRequest>()) {  // the server's typed request
-        if (auto typed = read(command)) command.request = std::move(typed);
+        auto typed = read(command);
+        if (!typed) {  // no server records such a request: the file was altered
+          out.equal = false;
+          out.steps = step;
+          out.message = "the replay cannot read command " + std::to_string(c + 1) + " (step " +
+                        std::to_string(recorded.step) + ", " + describe(command) +
+                        "): its bytes are no request its server records";
+          return out;
+        }
+        command.request = std::move(typed);
       }
       if (auto parse = load(command)) {
         std::optional<LoadOutcome> loaded;

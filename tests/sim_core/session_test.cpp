@@ -227,6 +227,66 @@ std::string refusal(const std::string& path, const std::string& text) {
   return "";
 }
 
+/// A server's request as a test makes one: its name alone.
+struct Named final : Request {
+  explicit Named(std::string name) : operation(std::move(name)) {}
+  std::string operation;
+  std::string_view name() const override { return operation; }
+  std::vector<uint8_t> wire() const override { return {operation.begin(), operation.end()}; }
+};
+
+// A server's request comes back from the file as its name and bytes; the replay has it read as
+// its typed request before it runs, and one the reader cannot read ends the replay, naming it.
+TEST(Session, ARecordedRequestRunsAsReadAndOneThatCannotBeReadEndsTheReplayNamingIt) {
+  test::TempDir dir("macsim_session_");
+  const std::string path = dir.path() + "/requests.session";
+  {
+    Runner runner(load_world_file(test::source(kWorld)), RunSettings{true, 0.0});
+    runner.set_executor<Named>([](const Named&, const Command&, World&) { return true; });
+    runner.record(std::make_shared<SessionWriter>(path, header(kWorld, 50)));
+    for (int step = 0; step < 100; ++step) {
+      if (step == 10 || step == 60) {
+        const std::string name = step == 10 ? "set_density" : "add_force";
+        EXPECT_TRUE(runner.push(request_command<Named>(CommandSource::Supervisor, name)));
+      }
+      runner.step();
+    }
+    runner.record(nullptr);
+  }
+  const Session session = read_session(path);
+  ASSERT_EQ(session.commands.size(), 2u);
+  const auto* recorded = session.commands[1].command.request_as<WireRequest>();
+  ASSERT_NE(recorded, nullptr);
+  EXPECT_EQ(recorded->operation, "add_force");
+  EXPECT_EQ(recorded->bytes, (std::vector<uint8_t>{'a', 'd', 'd', '_', 'f', 'o', 'r', 'c', 'e'}));
+  const auto no_load = [](const Command&) { return std::function<WorldSpec()>(); };
+  std::vector<std::string> ran;
+  const auto replay_reading = [&](const RequestReader& read) {
+    Runner runner(load_world_file(test::source(kWorld)), RunSettings{true, 0.0});
+    runner.set_executor<Named>([&](const Named& q, const Command&, World&) {
+      ran.push_back(q.operation);
+      return true;
+    });
+    return replay_session(session, runner, no_load, nullptr, {}, read);
+  };
+  const auto as_named = [](const Command& c) -> std::shared_ptr<const Request> {
+    const auto* wire = c.request_as<WireRequest>();
+    return std::make_shared<Named>(std::string(wire->bytes.begin(), wire->bytes.end()));
+  };
+  const ReplayOutcome read = replay_reading(as_named);
+  EXPECT_TRUE(read.equal) << read.message;
+  EXPECT_EQ(ran, (std::vector<std::string>{"set_density", "add_force"}));
+  ran.clear();
+  // A reader that knows only the first: the replay ends at the second, naming it.
+  const ReplayOutcome cut = replay_reading([&](const Command& c) {
+    return c.request_as<WireRequest>()->operation == "set_density" ? as_named(c) : nullptr;
+  });
+  EXPECT_FALSE(cut.equal);
+  EXPECT_EQ(ran, std::vector<std::string>{"set_density"});
+  EXPECT_NE(cut.message.find("command 2 (step 60, supervisor add_force"), std::string::npos)
+      << cut.message;
+}
+
 TEST(Session, ADamagedOrOtherVersionFileIsRefusedNamingTheLine) {
   test::TempDir dir("macsim_session_");
   const std::string path = dir.path() + "/run.session";

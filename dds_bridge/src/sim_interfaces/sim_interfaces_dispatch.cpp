@@ -748,6 +748,8 @@ constexpr std::array<RecordedService, 6> kRecorded{{
     recorded<ss::ResetSimulation_Request_PubSubType, reset_simulation>("reset_simulation"),
     recorded<ss::SetSimulationState_Request_PubSubType, stop>("set_simulation_state"),
 }};
+static_assert(kRecorded.size() == std::tuple_size_v<WorldChangingServices>,
+              "a replay entry for every service that changes the world");
 
 }  // namespace
 

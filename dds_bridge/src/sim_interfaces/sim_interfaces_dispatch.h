@@ -6,6 +6,8 @@
 
 #include <memory>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "macsim/msg/simulation_interfacesPubSubTypes.h"
@@ -63,22 +65,20 @@ ss::ResetSimulation_Response_ reset_simulation(const ss::ResetSimulation_Request
 template <class Req>
 using ServiceRequest = TypedRequest<Req>;
 
-/// True for a service whose requests can change the world: a session records one that did (the
-/// server says when), and a replay runs it again (replay_on()).
-template <class Req>
+/// The services whose requests can change the world (their requests' PubSubTypes): a session
+/// records one that did (the server says when), and a replay runs it again (replay_on(), one
+/// entry each).
+using WorldChangingServices =
+    std::tuple<ss::SetEntityState_Request_PubSubType, ss::SpawnEntity_Request_PubSubType,
+               ss::SpawnEntities_Request_PubSubType, ss::DeleteEntity_Request_PubSubType,
+               ss::ResetSimulation_Request_PubSubType, ss::SetSimulationState_Request_PubSubType>;
+
+template <class Req, class Services = WorldChangingServices>
 inline constexpr bool kChangesWorld = false;
-template <>
-inline constexpr bool kChangesWorld<ss::SetEntityState_Request_PubSubType> = true;
-template <>
-inline constexpr bool kChangesWorld<ss::SpawnEntity_Request_PubSubType> = true;
-template <>
-inline constexpr bool kChangesWorld<ss::SpawnEntities_Request_PubSubType> = true;
-template <>
-inline constexpr bool kChangesWorld<ss::DeleteEntity_Request_PubSubType> = true;
-template <>
-inline constexpr bool kChangesWorld<ss::ResetSimulation_Request_PubSubType> = true;
-template <>
-inline constexpr bool kChangesWorld<ss::SetSimulationState_Request_PubSubType> = true;
+/// True for a service of WorldChangingServices.
+template <class Req, class... Services>
+inline constexpr bool kChangesWorld<Req, std::tuple<Services...>> =
+    (std::is_same_v<Req, Services> || ...);
 
 /// From now on the runner runs the service requests a session recorded as their server did,
 /// without answering them (a replay).

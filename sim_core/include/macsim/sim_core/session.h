@@ -201,8 +201,8 @@ using RequestReader = std::function<std::shared_ptr<const Request>(const Command
 /// steps, checks each recorded hash, and stops at the first that differs. Each embedded file
 /// goes into `files` (what the runner's data roots read) before the first command recorded
 /// after it. `after_step` runs after each step it takes (e.g. a resumed simulator's robots
-/// read what the step made). `read` makes each server's request typed before it runs (one
-/// it cannot read runs nowhere).
+/// read what the step made). `read` makes each server's request typed before it runs; one
+/// it cannot read ends the replay there, naming the command.
 ReplayOutcome replay_session(const Session& session, Runner& runner, const SessionWorldLoader& load,
                              MemoryFiles* files = nullptr,
                              const std::function<void()>& after_step = {},
