@@ -31,19 +31,31 @@ macsim_phases() {
   printf '   %-10s %6d.%d s\n' "total" $((total / 1000)) $((total % 1000 / 100))
 }
 
-# Installs what is missing, configures, and builds TARGETS (all when none are named). The demo
-# and the tests configure the same way, so neither recompiles what the other built.
+# `macsim_setup_and_build PARTS [TARGETS...]` installs what is missing, configures, and builds
+# TARGETS (all when none are named). PARTS `demo`: the demo's packages only (install_deps.sh
+# --demo) and, in a tree configured for the first time, MACSIM_DEMO_ONLY (no tests, benchmarks,
+# Python module, web view or topic tools; a tree configured before keeps its parts). PARTS `all`:
+# every package, every part. Compile flags do not depend on the parts, so the test command after
+# the demo recompiles nothing the demo built.
 macsim_setup_and_build() {
+  local parts="$1"
+  shift
   macsim_phase install
-  "$MACSIM_ROOT/deploy/install_deps.sh"
+  local configure=()
+  if [[ $parts == demo ]]; then
+    "$MACSIM_ROOT/deploy/install_deps.sh" --demo
+    [[ -f "$MACSIM_BUILD/CMakeCache.txt" ]] || configure+=(-DMACSIM_DEMO_ONLY=ON)
+  else
+    "$MACSIM_ROOT/deploy/install_deps.sh"
+    configure+=(-DMACSIM_DEMO_ONLY=OFF)
+  fi
   macsim_phase configure
   # Ninja (it keeps both cores busy across targets: a target's objects need not wait for the
   # libraries it links); a tree configured earlier keeps its generator.
-  local generator=()
   if [[ ! -f "$MACSIM_BUILD/CMakeCache.txt" ]] && command -v ninja > /dev/null; then
-    generator=(-G Ninja)
+    configure+=(-G Ninja)
   fi
-  cmake -S "$MACSIM_ROOT" -B "$MACSIM_BUILD" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  cmake -S "$MACSIM_ROOT" -B "$MACSIM_BUILD" "${configure[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo
   macsim_phase build
   local targets=()
   for t in "$@"; do targets+=(--target "$t"); done

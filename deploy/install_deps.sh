@@ -1,27 +1,50 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages MACSim-DDS builds and runs with.
+#   deploy/install_deps.sh          everything: the build, the tests, the benchmarks, the tools
+#   deploy/install_deps.sh --demo   only what the simulator and the controllers build and run
+#                                   with (the demo command; its tree is configured with
+#                                   MACSIM_DEMO_ONLY, and the test command installs the rest)
 # Idempotent: when every package is present it does nothing and needs no network;
 # it runs `apt-get update` only when something must be installed.
 set -euo pipefail
+demo=0
+case "${1:-}" in
+  "") ;;
+  --demo) demo=1 ;;
+  -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  *) echo "install_deps.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+esac
 
-PACKAGES=(
-  # toolchain; Ninja, ccache and the mold linker make the build faster (tests/README.md)
-  cmake g++ make pkg-config ninja-build ccache mold
-  # DDS: Fast DDS 2.9 runtime, CDR, IDL generator (pulls a headless JRE), CLI tools
-  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+# What the libraries, macsim and the example controllers need (MACSIM_DEMO_ONLY=ON).
+DEMO_PACKAGES=(
+  # toolchain; Ninja, ccache and the mold linker make the build faster (tests/README.md); any
+  # Python 3 runs the generator of the supervisor's operations
+  cmake g++ make pkg-config ninja-build ccache mold python3
+  # DDS: Fast DDS 2.9 runtime, CDR, IDL generator (pulls a headless JRE)
+  libfastrtps-dev libfastcdr-dev fastddsgen
   # physics, XML, math, images
   libode-dev libtinyxml2-dev libeigen3-dev libopencv-dev
   # the state hash (XXH3)
   libxxhash-dev
+  # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe
+  libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  # the interactive window (freeglut on X)
+  libglut-dev
+  # every program's options (CLI11) and leveled logging (spdlog)
+  libcli11-dev libspdlog-dev
+)
+
+# The rest: the tests, the benchmarks, the Python module, the topic tools and the web view.
+PACKAGES=(
+  # Fast DDS's command-line tools (the discovery server)
+  fastdds-tools
   # topic tools: YAML for echo/pub and bag metadata, sqlite3 for rosbag2 bags (+ its CLI)
   libyaml-cpp-dev libsqlite3-dev sqlite3
   # Python (its sqlite3 module) reads the bags in a test; the `macsim` Python module (pybind11,
   # numpy arrays) and its pytest suite, for Debian's /usr/bin/python3
-  python3 python3-dev pybind11-dev python3-numpy python3-pytest
-  # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe
-  libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
-  # the interactive window (freeglut on X) and a virtual X server for its tests
-  libglut-dev xvfb xauth
+  python3-dev pybind11-dev python3-numpy python3-pytest
+  # a virtual X server for the interactive window's tests
+  xvfb xauth
   # the fuzzers' stage of the tests: clang with libFuzzer and the sanitizers' runtimes
   clang-14 libclang-rt-14-dev
   # tests and benchmarks; Cyclone DDS (C, with idlc) for the interoperability test; stress-ng
@@ -48,10 +71,11 @@ PACKAGES=(
   # macsim_web: HTTP + WebSocket (websocketpp on standalone asio), JSON; its browser test drives
   # Debian's Chromium through chromedriver
   libwebsocketpp-dev libasio-dev nlohmann-json3-dev chromium chromium-driver
-  # every program's options (CLI11) and leveled logging (spdlog); the browser test's WebDriver
-  # client (selenium) and its screenshot decoding (PIL)
-  libcli11-dev libspdlog-dev python3-selenium python3-pil
+  # the browser test's WebDriver client (selenium) and its screenshot decoding (PIL)
+  python3-selenium python3-pil
 )
+if [[ $demo == 1 ]]; then PACKAGES=("${DEMO_PACKAGES[@]}")
+else PACKAGES=("${DEMO_PACKAGES[@]}" "${PACKAGES[@]}"); fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -62,7 +86,7 @@ done
 
 # The page's three.js comes from the npm registry into the build tree (npm ci); Node.js and npm
 # are Debian's when the machine has none.
-if ! command -v npm > /dev/null; then missing+=(npm); fi
+if [[ $demo == 0 ]] && ! command -v npm > /dev/null; then missing+=(npm); fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#PACKAGES[@]} packages present"

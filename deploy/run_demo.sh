@@ -25,7 +25,7 @@ while [[ $# -gt 0 ]]; do
 done
 domain="${MACSIM_DOMAIN:-42}"
 # Only what the demo runs; the test command builds the rest in the same tree.
-macsim_setup_and_build macsim kurt_demo
+macsim_setup_and_build demo macsim kurt_demo
 macsim_phase run
 bin="$MACSIM_BUILD/bin"
 pictures="$MACSIM_BUILD/demo_pictures"

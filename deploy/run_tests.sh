@@ -26,13 +26,13 @@ cores=$(nproc)
 jobs=$(( 2 * cores + 1 ))
 resources="$MACSIM_BUILD/ctest_resources.json"
 if [[ $quick == 1 ]]; then
-  macsim_setup_and_build quick_tests
+  macsim_setup_and_build all quick_tests
   macsim_phase test
   (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" -L quick "${ctest_args[@]}") ||
     ctest_status=$?
   status=$ctest_status
 else
-  macsim_setup_and_build
+  macsim_setup_and_build all
   macsim_seed_test_costs
   printf '{"version": {"major": 1, "minor": 0}, "local": [{"cores": [{"id": "0", "slots": %d}]}]}\n' \
     "$cores" > "$resources"

@@ -72,14 +72,13 @@ SeenThing seen_thing(const std::string& name, const std::string& colour, Kind ki
   return t;
 }
 
-/// Whether the switch seen is a plate flush with the floor (its yellow seen wide).
+}  // namespace
+
 bool flush_switch(const Scene& scene) {
   if (!scene.switch_platform) return false;
   const auto width = scene.switch_platform->features.find("width_m");
   return width != scene.switch_platform->features.end() && width->second > kFlushPlateWidth;
 }
-
-}  // namespace
 
 double switch_keep_off(const Scene& scene) {
   if (!scene.switch_platform || flush_switch(scene)) return 0;
@@ -102,31 +101,6 @@ std::string robot_place(const Scene& scene) {
   const bool at_lost = std::any_of(scene.things.begin(), scene.things.end(),
                                    [&](const SeenThing& t) { return t.lost && t.name == scene.at; });
   return at_lost ? "start" : scene.at;
-}
-
-std::vector<pddl::Atom> scene_atoms(const Scene& scene) {
-  std::vector<pddl::Atom> atoms{{"robot-at", {robot_place(scene)}}};
-  if (scene.holding.empty()) atoms.push_back({"hand-free", {}});
-  else atoms.push_back({"holding", {scene.holding}});
-  for (const auto& t : scene.things) {
-    if (t.lost) continue;
-    if (t.tried) atoms.push_back({"tried", {t.name}});
-    // Untried, but of the colour of one that did not come up.
-    const bool like_failed = std::any_of(scene.things.begin(), scene.things.end(), [&](const SeenThing& o) {
-      return o.tried && o.colour == t.colour && o.outcome != "lifted";
-    });
-    if (!t.tried && like_failed) atoms.push_back({"like-failed", {t.name}});
-    if (t.kind == Kind::Box) atoms.push_back({"box", {t.name}});
-  }
-  for (const auto& t : scene.on_switch) atoms.push_back({"on", {t, "switch"}});
-  if (!scene.on_switch.empty()) atoms.push_back({"loaded", {"switch"}});
-  if (scene.door && !scene.on_switch.empty()) atoms.push_back({"pressed", {"switch"}});
-  if (scene.door) atoms.push_back({"open", {"door"}});
-  if (scene.beyond_door) atoms.push_back({"beyond", {"door"}});
-  if (scene.switch_platform) atoms.push_back({"opens", {"switch", "door"}});
-  if (flush_switch(scene)) atoms.push_back({"flush", {"switch"}});
-  std::sort(atoms.begin(), atoms.end());
-  return atoms;
 }
 
 Behaviours::Behaviours(macsim::dds::Participant& participant, const BehaviourOptions& options)

@@ -14,6 +14,7 @@
 #include "macsim/affordances/effects.h"
 #include "macsim/affordances/pddl.h"
 #include "macsim/affordances/planner.h"
+#include "macsim/affordances/scene_atoms.h"
 #include "macsim/dds/participant.h"
 #include "macsim/msg/plan_msgsPubSubTypes.h"
 

@@ -23,6 +23,7 @@
 
 #include "macsim/affordances/behaviours.h"
 #include "macsim/affordances/effects.h"
+#include "macsim/affordances/scene_atoms.h"
 #include "macsim/dds/command_line.h"
 #include "macsim/dds/data_files.h"
 #include "macsim/dds/log.h"

@@ -18,7 +18,6 @@
 #include "macsim/affordances/laser_map.h"
 #include "macsim/affordances/laser_odometry.h"
 #include "macsim/affordances/model.h"
-#include "macsim/affordances/pddl.h"
 #include "macsim/affordances/robot_loop.h"
 #include "macsim/affordances/vision.h"
 #include "macsim/client/picture_client.h"
@@ -71,13 +70,8 @@ struct Scene {
 /// sight of (a plan starts from a place of its own then).
 std::string robot_place(const Scene& scene);
 
-/// The scene as atoms of the room's vocabulary (affordances/README.md, "The scene's atoms"):
-/// robot-at, hand-free or holding, tried (a lift was tried on it), like-failed (untried, of the
-/// colour of one that did not come up), box (a box the cameras saw), on, loaded, pressed (the door
-/// was seen open with something on the switch), flush (a switch plate level with the floor),
-/// open, beyond and opens; objects named as in the scene ("switch", "door", "start"); lost
-/// things say nothing.
-std::vector<pddl::Atom> scene_atoms(const Scene& scene);
+/// Whether the switch seen is a plate flush with the floor (its yellow seen wide).
+bool flush_switch(const Scene& scene);
 
 /// How far from a raised switch platform's middle travel keeps off (m): its base and the tracks'
 /// slip beyond the yellow seen, so that what stands on it is not knocked off; 0 when no switch
