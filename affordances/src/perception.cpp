@@ -3,19 +3,20 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <filesystem>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 
+#include "macsim/affordances/traverse.h"
 #include "macsim/images/image_files.h"
 
 namespace macsim::affordances {
 
 namespace {
 
-struct Blob {
+struct SaturatedBlob {
   double area = 0, cx = 0, cy = 0;
   cv::Rect box;
   cv::Scalar mean_bgr;
@@ -23,16 +24,16 @@ struct Blob {
 
 /// Saturated, not dark regions of a BGR image, largest first; those touching the border (the
 /// robot's own crane at the edge of the view, something half seen) after the others.
-std::vector<Blob> blobs(const cv::Mat& bgr) {
+std::vector<SaturatedBlob> blobs(const cv::Mat& bgr) {
   cv::Mat hsv, mask;
   cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   cv::inRange(hsv, cv::Scalar(0, 90, 40), cv::Scalar(180, 255, 255), mask);
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
-  std::vector<std::pair<bool, Blob>> found;
+  std::vector<std::pair<bool, SaturatedBlob>> found;
   for (int i = 1; i < n; ++i) {
     if (stats.at<int>(i, cv::CC_STAT_AREA) < 12) continue;  // a few stray pixels
-    Blob b;
+    SaturatedBlob b;
     b.area = stats.at<int>(i, cv::CC_STAT_AREA);
     b.cx = centroids.at<double>(i, 0);
     b.cy = centroids.at<double>(i, 1);
@@ -46,7 +47,7 @@ std::vector<Blob> blobs(const cv::Mat& bgr) {
   std::stable_sort(found.begin(), found.end(), [](const auto& x, const auto& y) {
     return x.first != y.first ? !x.first : x.second.area > y.second.area;
   });
-  std::vector<Blob> out;
+  std::vector<SaturatedBlob> out;
   for (auto& f : found) out.push_back(f.second);
   return out;
 }
@@ -81,12 +82,12 @@ void perceive_image(const macsim::client::StereoFrame& frame, Percept& p,
   if (frame.left.empty() || frame.right.empty() || !(frame.focal > 0)) return;
   auto in_left = blobs(frame.left);
   if (region) {
-    std::erase_if(in_left, [&](const Blob& b) {
+    std::erase_if(in_left, [&](const SaturatedBlob& b) {
       return !region->contains(cv::Point(static_cast<int>(b.cx), static_cast<int>(b.cy)));
     });
   }
   if (in_left.empty()) return;
-  const Blob* left = &in_left.front();
+  const SaturatedBlob* left = &in_left.front();
   p.seen = true;
   p.b = left->mean_bgr[0] / 255.0;
   p.g = left->mean_bgr[1] / 255.0;
@@ -101,10 +102,10 @@ void perceive_image(const macsim::client::StereoFrame& frame, Percept& p,
   p.fill = left->area / (static_cast<double>(left->box.width) * left->box.height);
   p.bearing = std::atan2(frame.cx - left->cx, frame.focal);
   // Its match in the right image: on the same rows, of about its size, left of it.
-  const std::vector<Blob> in_right = blobs(frame.right);
-  const Blob* right = nullptr;
+  const std::vector<SaturatedBlob> in_right = blobs(frame.right);
+  const SaturatedBlob* right = nullptr;
   double best = 1e9;
-  for (const Blob& b : in_right) {
+  for (const SaturatedBlob& b : in_right) {
     const double cost =
         std::fabs(b.cy - left->cy) + std::fabs(b.area - left->area) / left->area * 20;
     if (b.cx < left->cx + 1 && cost < best) best = cost, right = &b;
@@ -200,9 +201,6 @@ void perceive_scan(const macsim::client::Laser::Scan& scan, const SensorMount& m
 }
 
 namespace {
-
-/// Returns higher than this above the floor stand on it, m.
-constexpr double kAboveFloor = 0.03;
 
 /// The shape features of the points (x, y, height above the floor) that stand in the grid's reach.
 void perceive_shape(const std::vector<std::array<double, 3>>& standing, Percept& p) {
@@ -351,7 +349,7 @@ std::vector<double> features(const Percept& p, Affordance affordance) {
 std::vector<cv::Rect> objects_in_view(const cv::Mat& bgr) {
   std::vector<cv::Rect> boxes;
   if (bgr.empty()) return boxes;
-  for (const Blob& b : blobs(bgr)) boxes.push_back(b.box);
+  for (const SaturatedBlob& b : blobs(bgr)) boxes.push_back(b.box);
   return boxes;
 }
 

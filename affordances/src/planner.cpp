@@ -260,7 +260,7 @@ std::vector<Ground> useful(std::vector<Ground> ops, const Problem& problem, Grou
   return ops;
 }
 
-struct Node {
+struct SearchNode {
   Bits state;
   int parent = -1;
   int via = -1;  // ground operator
@@ -345,10 +345,10 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
       return node > o.node;
     }
   };
-  std::vector<Node> nodes;
+  std::vector<SearchNode> nodes;
   std::unordered_map<Bits, int, BitsHash> seen;
   std::priority_queue<Open, std::vector<Open>, std::greater<>> open;
-  nodes.push_back(Node{start, -1, -1, 0, 0});
+  nodes.push_back(SearchNode{start, -1, -1, 0, 0});
   seen.emplace(start, 0);
   open.push({hmax(start, goal_true), 0, 0, 0});
   result.generated = 1;
@@ -358,7 +358,7 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
     open.pop();
     if (closed[top.node]) continue;
     closed[top.node] = 1;
-    const Node current = nodes[top.node];
+    const SearchNode current = nodes[top.node];
     if (satisfied(current.state)) {
       Plan p;
       for (int at = top.node; nodes[at].parent >= 0; at = nodes[at].parent) {
@@ -388,7 +388,7 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
       const auto it = seen.find(next);
       int index;
       if (it != seen.end()) {
-        Node& known = nodes[it->second];
+        SearchNode& known = nodes[it->second];
         if (known.steps < steps || (known.steps == steps && known.surprise <= surprise)) continue;
         known.parent = top.node;
         known.via = static_cast<int>(i);
@@ -398,7 +398,7 @@ PlanResult plan(const Domain& domain, const Problem& problem, const PlanLimits& 
         index = it->second;
       } else {
         index = static_cast<int>(nodes.size());
-        nodes.push_back(Node{next, top.node, static_cast<int>(i), steps, surprise});
+        nodes.push_back(SearchNode{next, top.node, static_cast<int>(i), steps, surprise});
         closed.push_back(0);
         seen.emplace(std::move(next), index);
       }

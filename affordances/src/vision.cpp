@@ -33,7 +33,7 @@ constexpr double kCanRadius = 0.033;
 constexpr double kBoxHalf = 0.1;  // m: half a pushable box's side (the demonstrator's are 0.2 m)
 constexpr double kOneBoxWidest = 0.4;  // m: one box seen from any side is at most this wide
 
-struct Blob {
+struct ColourBlob {
   int colour = 0;
   cv::Rect box;
   double cx = 0, cy = 0;
@@ -65,14 +65,14 @@ bool dark_below(const cv::Mat& labels, int label, const cv::Rect& box, const cv:
   return columns > 0 && dark * 2 >= columns;
 }
 
-std::vector<Blob> find_blobs(const cv::Mat& bgr) {
+std::vector<ColourBlob> find_blobs(const cv::Mat& bgr) {
   cv::Mat hsv;
   cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   std::vector<cv::Mat> channel;
   cv::split(hsv, channel);
   const cv::Mat bright = channel[2] >= kMinValue;
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
-  std::vector<Blob> blobs;
+  std::vector<ColourBlob> blobs;
   for (int c = 0; c < static_cast<int>(kColours.size()); ++c) {
     const ColourClass& colour = kColours[c];
     cv::Mat mask = (channel[0] >= colour.lo) & (channel[0] <= colour.hi);
@@ -96,10 +96,10 @@ std::vector<Blob> find_blobs(const cv::Mat& bgr) {
 
 /// The right eye's blob that is the left one's: same colour, same rows, a similar size, in
 /// front of the cameras; the closest such by rows and size.
-std::optional<Blob> match(const Blob& left, const std::vector<Blob>& right) {
-  std::optional<Blob> best;
+std::optional<ColourBlob> match(const ColourBlob& left, const std::vector<ColourBlob>& right) {
+  std::optional<ColourBlob> best;
   double best_cost = 1e9;
-  for (const Blob& r : right) {
+  for (const ColourBlob& r : right) {
     if (r.colour != left.colour) continue;
     const double rows = std::fabs(r.cy - left.cy);
     const double size = static_cast<double>(r.area) / left.area;
@@ -141,11 +141,11 @@ bool yellow_below(const cv::Mat& bgr, const cv::Rect& box) {
 
 std::vector<Sighting> find_objects(const macsim::client::StereoFrame& frame,
                                    const KurtGeometry& g) {
-  const std::vector<Blob> left = find_blobs(frame.left);
-  const std::vector<Blob> right = find_blobs(frame.right);
+  const std::vector<ColourBlob> left = find_blobs(frame.left);
+  const std::vector<ColourBlob> right = find_blobs(frame.right);
   const double f = frame.focal, cp = std::cos(g.camera_pitch), sp = std::sin(g.camera_pitch);
   std::vector<Sighting> out;
-  for (const Blob& l : left) {
+  for (const ColourBlob& l : left) {
     if (touches_border(l.box, frame.left.size())) continue;  // part of it is out of sight
     const auto r = match(l, right);
     if (!r) continue;
@@ -238,10 +238,10 @@ std::optional<FlushPlate> find_flush_plate(const macsim::client::StereoFrame& fr
     return std::nullopt;  // part of it out of sight
   const double f = frame.focal, cp = std::cos(g.camera_pitch), sp = std::sin(g.camera_pitch);
   const double above = g.camera_z + g.base_height - kPlateTop;
-  struct Point2 {
+  struct FloorPoint {
     double x, y;
   };
-  std::vector<Point2> floor;
+  std::vector<FloorPoint> floor;
   floor.reserve(pixels.size());
   for (const cv::Point& p : pixels) {
     // The pixel's ray (camera frame: x ahead, y left, z up, per metre ahead), pitched down, to
@@ -252,8 +252,9 @@ std::optional<FlushPlate> find_flush_plate(const macsim::client::StereoFrame& fr
     const double t = above / down;
     floor.push_back({g.camera_x + t * (cp + sp * up), g.camera_y + t * left_of});
   }
-  const auto [least, most] = std::minmax_element(floor.begin(), floor.end(),
-                                                 [](const Point2& a, const Point2& b) { return a.y < b.y; });
+  const auto [least, most] =
+      std::minmax_element(floor.begin(), floor.end(),
+                          [](const FloorPoint& a, const FloorPoint& b) { return a.y < b.y; });
   const double least_y = least->y, most_y = most->y, half = (most_y - least_y) / 2;
   if (half < kLeast || half > kMost) return std::nullopt;
   // The leftmost and rightmost of a square are two opposite corners (or, square to the view, its
@@ -262,7 +263,7 @@ std::optional<FlushPlate> find_flush_plate(const macsim::client::StereoFrame& fr
   constexpr double kEdge = 0.02;  // m: the points within this of the extreme are the corner or side
   double left_x = 0, right_x = 0;
   int left_n = 0, right_n = 0;
-  for (const Point2& p : floor) {
+  for (const FloorPoint& p : floor) {
     if (p.y >= most_y - kEdge) left_x += p.x, ++left_n;
     if (p.y <= least_y + kEdge) right_x += p.x, ++right_n;
   }

@@ -16,18 +16,10 @@
 namespace macsim {
 
 using detail::GeomTag;
+using detail::make_robot_body;
+using detail::wrap_angle;
 
 namespace {
-
-dBodyID make_body(dWorldID world, const Pose& pose, const dMass& mass) {
-  dBodyID body = dBodyCreate(world);
-  dBodySetMass(body, &mass);
-  detail::set_body_pose(body, pose);
-  dBodySetAutoDisableFlag(body, 0);  // robots never sleep
-  return body;
-}
-
-double wrap(double angle) { return std::remainder(angle, 2.0 * M_PI); }
 
 /// The chassis box's centre above base_link (its bottom clears the floor by 2 cm).
 double chassis_above_base_link(const DiffDriveConfig& c) {
@@ -62,7 +54,7 @@ DiffDriveRobot::DiffDriveRobot(const RobotSpec& spec, const RobotBuild& build,
   const double lift = chassis_above_base_link(c);
   dMass mass;
   dMassSetBoxTotal(&mass, c.base_mass, c.base_size.x(), c.base_size.y(), c.base_size.z());
-  chassis_ = make_body(build.world, {base_link + q * Eigen::Vector3d(0, 0, lift), q}, mass);
+  chassis_ = make_robot_body(build.world, {base_link + q * Eigen::Vector3d(0, 0, lift), q}, mass);
   dGeomID box = dCreateBox(build.space, c.base_size.x(), c.base_size.y(), c.base_size.z());
   dGeomSetBody(box, chassis_);
   dGeomSetData(box, chassis_tag_.get());
@@ -85,7 +77,7 @@ DiffDriveRobot::DiffDriveRobot(const RobotSpec& spec, const RobotBuild& build,
         base_link + q * Eigen::Vector3d(0, side == 0 ? c.track / 2 : -c.track / 2, 0);
     dMass wheel_mass;
     dMassSetCylinderTotal(&wheel_mass, c.wheel_mass, 3, c.wheel_radius, c.wheel_width);
-    wheels_[side] = make_body(build.world, {centre, wheel_q}, wheel_mass);
+    wheels_[side] = make_robot_body(build.world, {centre, wheel_q}, wheel_mass);
     dGeomID geom = dCreateCylinder(build.space, c.wheel_radius, c.wheel_width);
     dGeomSetBody(geom, wheels_[side]);
     dGeomSetData(geom, wheel_tag_.get());
@@ -143,7 +135,7 @@ void DiffDriveRobot::before_step(double now) {
 void DiffDriveRobot::after_step(double now, double /*step*/) {
   for (int side = 0; side < 2; ++side) {
     const double angle = dJointGetHingeAngle(hinges_[side]);
-    state_.wheel_angle[side] += wrap(angle - state_.last_hinge_angle[side]);
+    state_.wheel_angle[side] += wrap_angle(angle - state_.last_hinge_angle[side]);
     state_.last_hinge_angle[side] = angle;
   }
   if (now + 1e-9 >= state_.next_scan_time) {
@@ -162,7 +154,7 @@ void DiffDriveRobot::after_step(double now, double /*step*/) {
   const double heading = o.yaw + turn / 2;
   o.x += distance * std::cos(heading);
   o.y += distance * std::sin(heading);
-  o.yaw = wrap(o.yaw + turn);
+  o.yaw = wrap_angle(o.yaw + turn);
   o.linear = distance / period;
   o.angular = turn / period;
   ++state_.frames;

@@ -19,10 +19,12 @@ using detail::add_stereo_frames;
 using detail::body_pose;
 using detail::GeomTag;
 using detail::ground_truth_reading;
+using detail::make_robot_body;
 using detail::odometry_reading;
 using detail::robot_mount;
 using detail::scan_reading;
 using detail::set_body_pose;
+using detail::wrap_angle;
 
 namespace {
 
@@ -33,8 +35,6 @@ constexpr double kRotunitTicks = robot::kurt3d::kRotunitTicks;
 
 double wrap_difference(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
 
-double wrap(double angle) { return std::remainder(angle, 2.0 * M_PI); }
-
 double yaw_of(const Eigen::Quaterniond& q) {
   const Eigen::Vector3d x = q * Eigen::Vector3d::UnitX();
   return std::atan2(x.y(), x.x());
@@ -43,14 +43,6 @@ double yaw_of(const Eigen::Quaterniond& q) {
 /// A position motor: velocity towards the target, limited in speed.
 double servo_velocity(double target, double position, double max_speed) {
   return std::clamp(5.0 * (target - position), -max_speed, max_speed);
-}
-
-dBodyID make_body(dWorldID world, const Pose& pose, const dMass& mass) {
-  dBodyID body = dBodyCreate(world);
-  dBodySetMass(body, &mass);
-  set_body_pose(body, pose);
-  dBodySetAutoDisableFlag(body, 0);  // robots never sleep
-  return body;
 }
 
 /// A standard normal number. A fresh distribution each time keeps no cached value, so the
@@ -117,8 +109,8 @@ KurtRobot::KurtRobot(const RobotSpec& spec, const RobotBuild& build, const KurtC
   dMass mass;
   dMassSetParameters(&mass, body.base_mass, 0, 0, 0, body.base_inertia.x(), body.base_inertia.y(),
                      body.base_inertia.z(), 0, 0, 0);
-  chassis_ =
-      make_body(world, {base_link + q * Eigen::Vector3d(0, 0, -body.com_below_base_link), q}, mass);
+  chassis_ = make_robot_body(
+      world, {base_link + q * Eigen::Vector3d(0, 0, -body.com_below_base_link), q}, mass);
   dGeomID box = dCreateBox(space, body.base_size.x(), body.base_size.y(), body.base_size.z());
   dGeomSetBody(box, chassis_);
   dGeomSetOffsetPosition(box, 0, 0, body.com_below_base_link);
@@ -136,7 +128,7 @@ KurtRobot::KurtRobot(const RobotSpec& spec, const RobotBuild& build, const KurtC
         base_link + q * Eigen::Vector3d(xs[i % 3], y, -body.wheel_axle_below_base_link);
     dMass wheel_mass;
     dMassSetCylinderTotal(&wheel_mass, body.wheel_mass, 3, r, body.wheel_width);
-    dBodyID wheel = make_body(world, {centre, wheel_q}, wheel_mass);
+    dBodyID wheel = make_robot_body(world, {centre, wheel_q}, wheel_mass);
     dGeomID geom = dCreateCylinder(space, r, body.wheel_width);
     dGeomSetBody(geom, wheel);
     dGeomSetData(geom, wheel_tag_.get());
@@ -177,7 +169,7 @@ void KurtRobot::build_crane(dWorldID world, dSpaceID space, const Pose& base_lin
   const double turret_height = c.pivot_height - box_top;
   dMass m;
   dMassSetCylinderTotal(&m, 1.0, 3, 0.05, turret_height);
-  turret_ = make_body(world, {at(c.pivot_x, 0, box_top + turret_height / 2), q}, m);
+  turret_ = make_robot_body(world, {at(c.pivot_x, 0, box_top + turret_height / 2), q}, m);
   add_geom(dCreateCylinder(space, 0.05, turret_height), turret_);
   slew_ = dJointCreateHinge(world, nullptr);
   dJointAttach(slew_, turret_, chassis_);
@@ -188,7 +180,7 @@ void KurtRobot::build_crane(dWorldID world, dSpaceID space, const Pose& base_lin
 
   // Boom from the pivot forwards; lifting turns it about -y (the tip goes up).
   dMassSetBoxTotal(&m, 0.5, c.boom_length, 0.04, 0.04);
-  boom_ = make_body(world, {at(c.pivot_x + c.boom_length / 2, 0, c.pivot_height), q}, m);
+  boom_ = make_robot_body(world, {at(c.pivot_x + c.boom_length / 2, 0, c.pivot_height), q}, m);
   add_geom(dCreateBox(space, c.boom_length, 0.04, 0.04), boom_);
   lift_ = dJointCreateHinge(world, nullptr);
   dJointAttach(lift_, boom_, turret_);
@@ -201,7 +193,7 @@ void KurtRobot::build_crane(dWorldID world, dSpaceID space, const Pose& base_lin
 
   // The magnet hangs below the boom tip on the hoist (a slider along the boom's down axis).
   dMassSetCylinderTotal(&m, c.magnet_mass, 3, c.magnet_radius, kMagnetHeight);
-  magnet_ = make_body(
+  magnet_ = make_robot_body(
       world, {at(c.pivot_x + c.boom_length, 0, c.pivot_height - 0.02 - kMagnetHeight / 2), q}, m);
   add_geom(dCreateCylinder(space, c.magnet_radius, kMagnetHeight), magnet_);
   hoist_ = dJointCreateSlider(world, nullptr);
@@ -381,7 +373,8 @@ void KurtRobot::read_frame_sensors(double now) {
   if (config_.gyro_noise > 0) noise = config_.gyro_noise * gaussian(state_.noise_rng);
   const Eigen::Vector3d x = base.orientation * Eigen::Vector3d::UnitX();
   const Eigen::Vector3d y = base.orientation * Eigen::Vector3d::UnitY();
-  state_.imu.yaw = wrap(state_.yaw_unwrapped - state_.start_yaw + config_.gyro_drift * now + noise);
+  state_.imu.yaw =
+      wrap_angle(state_.yaw_unwrapped - state_.start_yaw + config_.gyro_drift * now + noise);
   state_.imu.yaw_rate = angular_velocity().z();
   state_.imu.pitch = -std::asin(std::clamp(x.z(), -1.0, 1.0));
   state_.imu.roll = std::asin(std::clamp(y.z(), -1.0, 1.0));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 
 #include "macsim/sim_core/world_spec.h"
@@ -49,6 +50,21 @@ inline void set_body_pose(dBodyID body, const Pose& pose) {
   dQuaternion q;
   to_ode(pose.orientation, q);
   dBodySetQuaternion(body, q);
+}
+
+/// The most contacts asked of dCollide for one pair of geoms.
+constexpr int kMaxContacts = 8;
+
+/// An angle wrapped to [-pi, pi].
+inline double wrap_angle(double angle) { return std::remainder(angle, 2.0 * M_PI); }
+
+/// A robot's body of MASS at POSE in WORLD; robots never sleep.
+inline dBodyID make_robot_body(dWorldID world, const Pose& pose, const dMass& mass) {
+  dBodyID body = dBodyCreate(world);
+  dBodySetMass(body, &mass);
+  set_body_pose(body, pose);
+  dBodySetAutoDisableFlag(body, 0);
+  return body;
 }
 
 inline Pose body_pose(dBodyID body) {

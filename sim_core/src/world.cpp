@@ -78,7 +78,6 @@ bool plausible(const BodyState& s) {
 using detail::GeomTag;
 
 namespace {
-constexpr int kMaxContacts = 8;
 constexpr int kGroundGroup = -2;
 constexpr int kRobotGroupBase = -100;
 constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1 mm
@@ -86,7 +85,7 @@ constexpr double kPenetrationDepth = 0.002;  // m; resting contacts sink about 1
 
 /// What the parts ask of ODE, answered by the world that holds it.
 struct World::Physics final : detail::WorldPhysics {
-  explicit Physics(World& world) : world(world) {}
+  explicit Physics(World& owner) : world(owner) {}
   void build_object(Object& object) override { world.build_object(object); }
   void destroy_object(Object& object, bool keep_body) override {
     world.destroy_ode_object(object, keep_body);
@@ -508,8 +507,8 @@ void World::near_callback(void* data, dGeomID a, dGeomID b) {
   if ((!ba || !dBodyIsEnabled(ba)) && (!bb || !dBodyIsEnabled(bb))) return;
   if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
 
-  dContact contacts[kMaxContacts];
-  const int n = dCollide(a, b, kMaxContacts, &contacts[0].geom, sizeof(dContact));
+  dContact contacts[detail::kMaxContacts];
+  const int n = dCollide(a, b, detail::kMaxContacts, &contacts[0].geom, sizeof(dContact));
   if (n == 0) return;
   const double mu = std::sqrt(ta->friction * tb->friction);
   const double bounce = std::max(ta->bounce, tb->bounce);
@@ -569,8 +568,8 @@ void penetration_callback(void* data, dGeomID a, dGeomID b) {
   dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
   if (!ba && !bb) return;  // fixed against fixed (or the ground): no physical meaning
   if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
-  dContactGeom contacts[kMaxContacts];
-  const int n = dCollide(a, b, kMaxContacts, contacts, sizeof(dContactGeom));
+  dContactGeom contacts[detail::kMaxContacts];
+  const int n = dCollide(a, b, detail::kMaxContacts, contacts, sizeof(dContactGeom));
   auto centre_inside = [](dGeomID outer, dGeomID inner) {
     return dGeomGetClass(inner) != dPlaneClass &&
            detail::point_depth(outer, dGeomGetPosition(inner)) > kPenetrationDepth;

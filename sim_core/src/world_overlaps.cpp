@@ -18,8 +18,6 @@ namespace macsim {
 
 namespace {
 
-constexpr int kMaxContacts = 8;
-
 /// Who a geom belongs to: an object, a robot or the ground; `rank` orders the names of a pair
 /// (objects in list order, then robots, then the ground).
 struct Owner {
@@ -87,8 +85,8 @@ struct OverlapSearch {
 /// How far `a` and `b` are inside each other: the deepest contact ODE gives, or how deep the
 /// centre of one lies inside the other (ODE misses some concentric overlaps).
 double depth_between(dGeomID a, dGeomID b) {
-  dContactGeom contacts[kMaxContacts];
-  const int n = dCollide(a, b, kMaxContacts, contacts, sizeof(dContactGeom));
+  dContactGeom contacts[detail::kMaxContacts];
+  const int n = dCollide(a, b, detail::kMaxContacts, contacts, sizeof(dContactGeom));
   double depth = 0.0;
   for (int i = 0; i < n; ++i) depth = std::max(depth, double(contacts[i].depth));
   if (dGeomGetClass(b) != dPlaneClass) {

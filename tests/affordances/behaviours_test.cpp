@@ -9,17 +9,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "affordances/seen_thing.h"
 #include "support/child_process.h"
 
 namespace macsim::affordances {
 namespace {
 
-SeenThing seen(const std::string& name, const std::string& colour) {
-  SeenThing t;
-  t.name = name;
-  t.colour = colour;
-  return t;
-}
+using test_scenes::seen;
 
 TEST(Behaviours, TravelKeepsOffARaisedSwitchBeyondItsBaseAndDrivesOverAFlushPlate) {
   Scene scene;

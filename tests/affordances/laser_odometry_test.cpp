@@ -11,14 +11,14 @@
 namespace macsim::affordances {
 namespace {
 
-const double kFloor = -SensorMount{}.base_height;  // the floor's z in base_link
+const double kFloorZ = -SensorMount{}.base_height;  // the floor's z in base_link
 
 TEST(LaserOdometry, WhatStandsStillIsWhatRisesAboveWhatTheRobotPushes) {
   macsim::client::Cloud cloud;
   // Returns straight ahead at 2 m: 10 cm high (a log: left out), 30 cm (kept), 70 cm (above the
   // walls: left out); at 30 cm high: 0.4 m away (its own crane: out), 9 m (kept), 10 m (out).
-  for (double h : {0.1, 0.3, 0.7}) cloud.points.push_back({2.0f, 0.0f, float(kFloor + h)});
-  for (double r : {0.4, 9.0, 10.0}) cloud.points.push_back({0.0f, float(r), float(kFloor + 0.3)});
+  for (double h : {0.1, 0.3, 0.7}) cloud.points.push_back({2.0f, 0.0f, float(kFloorZ + h)});
+  for (double r : {0.4, 9.0, 10.0}) cloud.points.push_back({0.0f, float(r), float(kFloorZ + 0.3)});
   const auto still = static_structure(cloud, macsim::affordances::Pose2{1.0, 2.0, M_PI / 2});
   ASSERT_EQ(still.size(), 2u);
   std::vector<Point2> expected{{1.0, 4.0},

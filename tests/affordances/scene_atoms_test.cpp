@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include "affordances/seen_thing.h"
 #include "macsim/affordances/planner.h"
 #include "support/child_process.h"
 
@@ -15,12 +16,7 @@ namespace {
 
 using pddl::Atom;
 
-SeenThing seen(const std::string& name, const std::string& colour) {
-  SeenThing t;
-  t.name = name;
-  t.colour = colour;
-  return t;
-}
+using test_scenes::seen;
 
 bool has(const std::vector<Atom>& atoms, const Atom& a) {
   return std::find(atoms.begin(), atoms.end(), a) != atoms.end();

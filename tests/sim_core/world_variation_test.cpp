@@ -182,8 +182,11 @@ TEST(WorldVariation, AJointsMotorForceIsDrawnPerSeedWithinItsRangeAndLeavesThePl
     drawn.insert(joint->max_force);
     WorldSpec again = shipped_world("goals/stiff_switch.xml");
     vary_world(again, seed);
-    for (const auto& j : again.joints)
-      if (j.name == joint->name) EXPECT_EQ(j.max_force, joint->max_force);
+    for (const auto& j : again.joints) {
+      if (j.name == joint->name) {
+        EXPECT_EQ(j.max_force, joint->max_force);
+      }
+    }
   }
   EXPECT_EQ(drawn.size(), 20u);
 
