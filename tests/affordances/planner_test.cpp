@@ -79,8 +79,11 @@ TEST(Planner, TheApplicableStepsAreThoseWhosePreconditionsHoldAndThatChangeSomet
   EXPECT_NE(std::find(steps.begin(), steps.end(), "(lift thing-1)"), steps.end());
   EXPECT_EQ(std::find(steps.begin(), steps.end(), "(lift thing-2)"), steps.end());
   EXPECT_EQ(std::find(steps.begin(), steps.end(), "(go thing-1 thing-1)"), steps.end());
-  for (const auto& s : applicable(room(), p))
-    if (s.operator_name == "lift") EXPECT_DOUBLE_EQ(s.probability, 0.5);  // the likelier of its outcomes
+  for (const auto& s : applicable(room(), p)) {
+    if (s.operator_name == "lift") {
+      EXPECT_DOUBLE_EQ(s.probability, 0.5);  // the likelier of its outcomes
+    }
+  }
 }
 
 TEST(Planner, AnOpenDoorIsDrivenThroughAtOnce) {

@@ -17,7 +17,7 @@ namespace macsim::affordances {
 namespace {
 
 namespace af = macsim::affordances;
-const double kFloor = -SensorMount{}.base_height;  // base_link z of the floor
+const double kFloorInBase = -SensorMount{}.base_height;  // base_link z of the floor
 
 /// A post 0.3 m high at (x, y) (base_link), its points every 2 cm up and every 22.5 degrees
 /// around, and a square of floor about the robot (points off the grid's cell borders): turned
@@ -27,13 +27,13 @@ macsim::client::Cloud post_at(double x, double y) {
   for (double z = 0.02; z <= 0.3; z += 0.02)
     for (int k = 0; k < 16; ++k)
       cloud.points.push_back({float(x + 0.05 * std::cos(k * M_PI / 8)),
-                              float(y + 0.05 * std::sin(k * M_PI / 8)), float(kFloor + z)});
+                              float(y + 0.05 * std::sin(k * M_PI / 8)), float(kFloorInBase + z)});
   std::vector<float> along;  // -1.97 ... 1.97, as many each side, none on a cell's border
   for (int i = 0; i < 20; ++i)
     for (double v : {0.1 * i + 0.03, 0.1 * i + 0.07})
       along.insert(along.end(), {float(v), -float(v)});
   for (float a : along)
-    for (float b : along) cloud.points.push_back({a, b, float(kFloor)});
+    for (float b : along) cloud.points.push_back({a, b, float(kFloorInBase)});
   return cloud;
 }
 
@@ -44,7 +44,7 @@ void add_post(macsim::client::Cloud& cloud, double x, double y, double height) {
   for (double z = 0.02; z <= height; z += 0.02)
     for (int k = 0; k < 16; ++k)
       cloud.points.push_back({float(x + 0.05 * std::cos(k * M_PI / 8)),
-                              float(y + 0.05 * std::sin(k * M_PI / 8)), float(kFloor + z)});
+                              float(y + 0.05 * std::sin(k * M_PI / 8)), float(kFloorInBase + z)});
 }
 
 /// A thing whose cells fill a disc of `radius` about (x, y) (odometry frame).
@@ -78,7 +78,7 @@ TEST(Traverse, ACloudsThingsAreItsReturnsAboveTheFloorGroupedLeavingOutTheRobot)
   macsim::client::Cloud cloud;
   for (double x = -2; x <= 2; x += 0.1)  // the floor
     for (double y = -2; y <= 2; y += 0.1)
-      cloud.points.push_back({float(x), float(y), float(kFloor)});
+      cloud.points.push_back({float(x), float(y), float(kFloorInBase)});
   add_post(cloud, 1.0, 0.5, 0.3);
   add_post(cloud, 1.0, -0.5, 0.3);
   add_post(cloud, 0.1, 0.0, 0.2);             // on the robot's own body
@@ -101,15 +101,15 @@ void add_box(macsim::client::Cloud& cloud, double x0, double y0, double x1, doub
              double height) {
   for (double x = x0; x <= x1 + 1e-9; x += 0.02)
     for (double y = y0; y <= y1 + 1e-9; y += 0.02)
-      cloud.points.push_back({float(x), float(y), float(kFloor + height)});
+      cloud.points.push_back({float(x), float(y), float(kFloorInBase + height)});
   for (double z = 0.02; z < height; z += 0.02) {
     for (double x = x0; x <= x1 + 1e-9; x += 0.02) {
-      cloud.points.push_back({float(x), float(y0), float(kFloor + z)});
-      cloud.points.push_back({float(x), float(y1), float(kFloor + z)});
+      cloud.points.push_back({float(x), float(y0), float(kFloorInBase + z)});
+      cloud.points.push_back({float(x), float(y1), float(kFloorInBase + z)});
     }
     for (double y = y0; y <= y1 + 1e-9; y += 0.02) {
-      cloud.points.push_back({float(x0), float(y), float(kFloor + z)});
-      cloud.points.push_back({float(x1), float(y), float(kFloor + z)});
+      cloud.points.push_back({float(x0), float(y), float(kFloorInBase + z)});
+      cloud.points.push_back({float(x1), float(y), float(kFloorInBase + z)});
     }
   }
 }

@@ -9,19 +9,17 @@
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
+#include "support/world_helpers.h"
 
 namespace macsim {
 namespace {
+
+using test::yaw_of;
 
 WorldSpec flat_world() {
   return load_world_string(R"(<WORLD><ROBOT><ID>kurt</ID><TYPE>kurt3d</TYPE>
       <POS>0,0,0</POS></ROBOT></WORLD>)",
                            "flat.xml");
-}
-
-double yaw_of(const Pose& p) {
-  const Eigen::Vector3d x = p.orientation * Eigen::Vector3d::UnitX();
-  return std::atan2(x.y(), x.x());
 }
 
 // Steps `seconds` of sim time, repeating the twist every 0.1 s like a controller would.

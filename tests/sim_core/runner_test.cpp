@@ -15,20 +15,16 @@
 #include "macsim/sim_core/kurt_robot.h"
 #include "macsim/sim_core/world_bounds.h"
 #include "macsim/sim_core/world_loader.h"
+#include "sim_core/named_request.h"
 #include "support/child_process.h"
+#include "support/world_helpers.h"
 
 namespace macsim {
 namespace {
 
-WorldSpec small_room() { return load_world_file(test::source("worlds/small_room.xml")); }
+using test::small_room;
 
-/// A server's request as a test makes one: its name alone.
-struct Named final : Request {
-  explicit Named(std::string name) : operation(std::move(name)) {}
-  std::string operation;
-  std::string_view name() const override { return operation; }
-  std::vector<uint8_t> wire() const override { return {operation.begin(), operation.end()}; }
-};
+using test::Named;
 
 /// Another request type, which no executor takes unless a test sets one.
 struct Other final : Request {

@@ -16,14 +16,16 @@
 
 #include "macsim/sim_core/runner.h"
 #include "macsim/sim_core/world_loader.h"
+#include "sim_core/named_request.h"
 #include "support/child_process.h"
+#include "support/world_helpers.h"
 
 namespace macsim {
 namespace {
 
 const std::string kWorld = "worlds/small_room.xml";
 
-WorldSpec small_room() { return load_world_file(test::source(kWorld)); }
+using test::small_room;
 
 /// A session's header: its world, a hash every `every` steps, overlaps parted or kept.
 SessionHeader header(const std::string& world, uint64_t every, bool parted = true) {
@@ -227,13 +229,7 @@ std::string refusal(const std::string& path, const std::string& text) {
   return "";
 }
 
-/// A server's request as a test makes one: its name alone.
-struct Named final : Request {
-  explicit Named(std::string name) : operation(std::move(name)) {}
-  std::string operation;
-  std::string_view name() const override { return operation; }
-  std::vector<uint8_t> wire() const override { return {operation.begin(), operation.end()}; }
-};
+using test::Named;
 
 // A server's request comes back from the file as its name and bytes; the replay has it read as
 // its typed request before it runs, and one the reader cannot read ends the replay, naming it.

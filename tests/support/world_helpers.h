@@ -19,6 +19,15 @@ inline WorldSpec shipped_world(const std::string& file) {
   return load_world_file(source("worlds/" + file));
 }
 
+/// The small room the runner's and the session's tests use.
+inline WorldSpec small_room() { return shipped_world("small_room.xml"); }
+
+/// The heading of a pose about the z axis, rad.
+inline double yaw_of(const Pose& p) {
+  const Eigen::Vector3d x = p.orientation * Eigen::Vector3d::UnitX();
+  return std::atan2(x.y(), x.x());
+}
+
 /// Steps `seconds` of sim time.
 inline void run_for(World& world, double seconds) {
   const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));

@@ -33,11 +33,11 @@ function(macsim_units out_var dir root size)
   set(${out_var} ${units} PARENT_SCOPE)
 endfunction()
 
-# TARGET's own C++ sources (the .cpp files of the source tree) compiled MACSIM_UNIT_SIZE to a
-# unit, in the order the target lists them. Generated sources, and sources with compile
+# TARGET's own C++ sources (the .cpp files of the source tree) compiled SIZE to a unit, in the
+# order the target lists them. Generated sources, and sources with compile
 # properties of their own or SKIP_UNITY_BUILD_INCLUSION, are compiled alone. The target then
 # includes the source tree's root, privately, for the units' paths.
-function(macsim_compile_in_units target)
+function(macsim_compile_in_units target size)
   get_target_property(type ${target} TYPE)
   get_target_property(imported ${target} IMPORTED)
   if(imported OR type STREQUAL "INTERFACE_LIBRARY" OR type STREQUAL "UTILITY")
@@ -72,20 +72,24 @@ function(macsim_compile_in_units target)
   if(count LESS 2)
     return()
   endif()
-  macsim_units(units ${binary_dir}/${target}_units ${PROJECT_SOURCE_DIR} ${MACSIM_UNIT_SIZE}
-               ${grouped})
+  macsim_units(units ${binary_dir}/${target}_units ${PROJECT_SOURCE_DIR} ${size} ${grouped})
   set_property(TARGET ${target} PROPERTY SOURCES ${units} ${kept})
   set_property(TARGET ${target} APPEND PROPERTY INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR})
 endfunction()
 
-# Every target defined under DIR and its subdirectories, in units.
-function(macsim_compile_all_in_units dir)
+# Every target defined under DIR and its subdirectories, in units of SIZE sources, or of the
+# size a directory sets in MACSIM_DIRECTORY_UNIT_SIZE for its own targets and those below it.
+function(macsim_compile_all_in_units dir size)
+  get_directory_property(own DIRECTORY ${dir} DEFINITION MACSIM_DIRECTORY_UNIT_SIZE)
+  if(own)
+    set(size ${own})
+  endif()
   get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
   foreach(target ${targets})
-    macsim_compile_in_units(${target})
+    macsim_compile_in_units(${target} ${size})
   endforeach()
   get_property(subdirectories DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
   foreach(subdirectory ${subdirectories})
-    macsim_compile_all_in_units(${subdirectory})
+    macsim_compile_all_in_units(${subdirectory} ${size})
   endforeach()
 endfunction()
