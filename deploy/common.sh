@@ -36,17 +36,27 @@ macsim_phases() {
 # --demo) and, in a tree configured for the first time, MACSIM_DEMO_ONLY (no tests, benchmarks,
 # Python module, web view or topic tools; a tree configured before keeps its parts). PARTS `all`:
 # every package, every part. Compile flags do not depend on the parts, so the test command after
-# the demo recompiles nothing the demo built.
+# the demo recompiles nothing the demo built. The same in two steps: `macsim_install PARTS`, then
+# `macsim_build PARTS [TARGETS...]`.
 macsim_setup_and_build() {
-  local parts="$1"
-  shift
+  macsim_install "$1"
+  macsim_build "$@"
+}
+macsim_install() {
   macsim_phase install
-  local configure=()
-  if [[ $parts == demo ]]; then
+  if [[ $1 == demo ]]; then
     "$MACSIM_ROOT/deploy/install_deps.sh" --demo
-    [[ -f "$MACSIM_BUILD/CMakeCache.txt" ]] || configure+=(-DMACSIM_DEMO_ONLY=ON)
   else
     "$MACSIM_ROOT/deploy/install_deps.sh"
+  fi
+}
+macsim_build() {
+  local parts="$1"
+  shift
+  local configure=()
+  if [[ $parts == demo ]]; then
+    [[ -f "$MACSIM_BUILD/CMakeCache.txt" ]] || configure+=(-DMACSIM_DEMO_ONLY=ON)
+  else
     configure+=(-DMACSIM_DEMO_ONLY=OFF)
   fi
   macsim_phase configure

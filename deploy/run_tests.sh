@@ -32,21 +32,26 @@ if [[ $quick == 1 ]]; then
     ctest_status=$?
   status=$ctest_status
 else
-  macsim_setup_and_build all
+  macsim_install all
+  # The fuzzers' clang tree builds at the lowest priority from here on, on the time the build
+  # and then the tests leave the cores idle (a code generator or a link holding one core; tests
+  # waiting for discovery, for children, for real time).
+  mkdir -p "$MACSIM_BUILD"
+  fuzz_log="$MACSIM_BUILD/fuzz_build.log"
+  # In a process group of its own, so that a failed main build ends it with all its compilers.
+  setsid nice -n 19 "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --build-only > "$fuzz_log" 2>&1 &
+  fuzz_build=$!
+  trap 'kill -- -"$fuzz_build" 2> /dev/null || true' EXIT
+  macsim_build all
   macsim_seed_test_costs
   printf '{"version": {"major": 1, "minor": 0}, "local": [{"cores": [{"id": "0", "slots": %d}]}]}\n' \
     "$cores" > "$resources"
-  # The fuzzers' clang tree builds at the lowest priority while ctest runs, on the time the
-  # tests leave the cores idle (waiting for discovery, for children, for real time).
-  fuzz_log="$MACSIM_BUILD/fuzz_build.log"
-  nice -n 19 "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --build-only > "$fuzz_log" 2>&1 &
-  fuzz_build=$!
   macsim_phase test
   (cd "$MACSIM_BUILD" && ctest --output-on-failure -j "$jobs" --resource-spec-file "$resources" \
      --timeout 300 "${ctest_args[@]}") || ctest_status=$?
   status=$ctest_status
   # The fuzzers, a short run each from the seeds and the committed corpus (tests/fuzz/README.md):
-  # the four side by side for 30 s, about 15 s of a core each.
+  # the five side by side for 30 s, about 12 s of a core each.
   macsim_phase fuzz
   if wait "$fuzz_build"; then
     "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --no-build "${MACSIM_FUZZ_SECONDS:-30}" ||
