@@ -38,9 +38,12 @@ else
   # waiting for discovery, for children, for real time).
   mkdir -p "$MACSIM_BUILD"
   fuzz_log="$MACSIM_BUILD/fuzz_build.log"
-  # In a process group of its own, so that a failed main build ends it with all its compilers.
+  # In a session of its own, so that a failed main build ends it with all its compilers. Where
+  # the kernel groups each session's processes (autogroup), nice counts only inside a group:
+  # the group itself is made nice, else the two builds would share the cores half and half.
   setsid nice -n 19 "$MACSIM_ROOT/tests/fuzz/run_fuzzers.sh" --build-only > "$fuzz_log" 2>&1 &
   fuzz_build=$!
+  if [[ -w /proc/$fuzz_build/autogroup ]]; then echo 19 > "/proc/$fuzz_build/autogroup" || true; fi
   trap 'kill -- -"$fuzz_build" 2> /dev/null || true' EXIT
   macsim_build all
   macsim_seed_test_costs
