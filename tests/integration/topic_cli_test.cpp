@@ -202,11 +202,15 @@ TEST_F(TopicCli, RecordsWithoutLossAndPlaysEverySampleBack) {
   topic::BagReader bag(bag_dir);
   std::map<std::string, std::uint64_t> counts;
   for (const auto& t : bag.topics()) counts[t.name] = t.message_count;
-  EXPECT_GT(counts["/kurt/odom"], 4000u) << record;
-  EXPECT_GT(counts["/kurt/scan360"], 1000u) << record;
-  // a reliable topic loses nothing: every 10 ms of sim time has its clock sample
+  // a reliable topic loses nothing: every 10 ms of sim time has its clock sample. How much sim
+  // time 20 s of wall time holds depends on the machine's load (3x asked, 2.4x seen on a loaded
+  // machine), so the other topics are counted against the clock's samples, not against 60 s:
+  // at least real time, odometry more than two thirds as many, the laser more than a sixth (the
+  // shares the floors of 4,000 and 1,000 were of the 6,000 samples of 60 s).
   const auto stamps = clock_stamps(bag);
-  ASSERT_GT(stamps.size(), 5000u);
+  ASSERT_GT(stamps.size(), 2000u) << record;
+  EXPECT_GT(counts["/kurt/odom"], stamps.size() * 2 / 3) << record;
+  EXPECT_GT(counts["/kurt/scan360"], stamps.size() / 6) << record;
   std::size_t gaps = 0;
   for (std::size_t i = 1; i < stamps.size(); ++i) gaps += stamps[i] - stamps[i - 1] != 10000000;
   EXPECT_EQ(gaps, 0u) << stamps.size() << " clock samples from " << stamps.front() << " to "
