@@ -423,8 +423,12 @@ TEST_F(TwoHosts, UnderPacketLossLockstepResultsAreBitIdenticalAndControllersStil
     std::vector<std::string> rows;
     {
       ChildProcess sim(
+          // A step waits up to 10 s for the commands it names (2 s by default): at 20 % loss on
+          // a loaded machine a command's repeats once took longer than 2 s and the step was
+          // refused. The results must still be bit-identical; only the wait is longer.
           on(host_a_, {bin("macsim"), "--world", source("worlds/affordance_trials.xml"), "--domain",
-                       std::to_string(domain_), "--lockstep", "--camera-rate", "1.25"}));
+                       std::to_string(domain_), "--lockstep", "--camera-rate", "1.25",
+                       "--command-wait", "10"}));
       ASSERT_TRUE(sim.wait_for_output("stepping", 30s)) << sim.output();
       const std::string csv = dir.path() + "/rows" + std::to_string(percent) + ".csv";
       const auto start = std::chrono::steady_clock::now();
