@@ -15,6 +15,7 @@ namespace macsim {
 namespace {
 
 using test::run_for;
+using test::drive;
 using test::yaw_of;
 
 WorldSpec rover_world(const std::string& wall = "") {
@@ -26,15 +27,6 @@ WorldSpec rover_world(const std::string& wall = "") {
 const std::string kWall = R"(<OBJECT><ID>wall</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE>
     <DIMS>0.1,3,0.5</DIMS><POS>2.05,0,0.25</POS></OBJECT>)";
 
-// `seconds` of sim time, the twist repeated every 0.1 s as a controller sends it.
-void drive_rover(World& world, double linear, double angular, double seconds) {
-  RobotModel& rover = *world.robot("rover");
-  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
-  for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) rover.execute(robot::Twist{linear, angular}, world.time());
-    world.step();
-  }
-}
 
 TEST(DiffDriveRobot, StandsOnItsWheelsWithBaseLinkAtTheAxles) {
   World world(rover_world());
@@ -50,7 +42,7 @@ TEST(DiffDriveRobot, StandsOnItsWheelsWithBaseLinkAtTheAxles) {
 TEST(DiffDriveRobot, DrivesStraightAndItsOdometryFollows) {
   World world(rover_world());
   run_for(world, 0.5);
-  drive_rover(world, 0.4, 0.0, 3.0);
+  drive(world, "rover", 0.4, 0.0, 3.0);
   const RobotModel& rover = *world.robot("rover");
   const Pose truth = rover.base_footprint_pose();
   EXPECT_NEAR(truth.position.x(), 1.2, 0.15);
@@ -64,7 +56,7 @@ TEST(DiffDriveRobot, DrivesStraightAndItsOdometryFollows) {
 TEST(DiffDriveRobot, TurnsOnTheSpot) {
   World world(rover_world());
   run_for(world, 0.5);
-  drive_rover(world, 0.0, 0.8, 1.5);  // 1.2 rad
+  drive(world, "rover", 0.0, 0.8, 1.5);  // 1.2 rad
   const RobotModel& rover = *world.robot("rover");
   EXPECT_NEAR(yaw_of(rover.base_footprint_pose()), 1.2, 0.15);
   EXPECT_NEAR(rover.odometry().yaw, yaw_of(rover.base_footprint_pose()), 0.05);
@@ -73,7 +65,7 @@ TEST(DiffDriveRobot, TurnsOnTheSpot) {
 
 TEST(DiffDriveRobot, StopsWhenCommandsStop) {
   World world(rover_world());
-  drive_rover(world, 0.4, 0.0, 1.0);
+  drive(world, "rover", 0.4, 0.0, 1.0);
   run_for(world, 1.5);  // the command timed out after 0.5 s
   const RobotModel& rover = *world.robot("rover");
   EXPECT_LT(rover.linear_velocity().norm(), 0.01);
@@ -121,10 +113,10 @@ TEST(DiffDriveRobot, ServesWhatItHasAndDescribesItself) {
 
 TEST(DiffDriveRobot, ItsStateIsSavedAndRestoredWithTheWorlds) {
   World world(rover_world(kWall));
-  drive_rover(world, 0.3, 0.2, 1.0);
+  drive(world, "rover", 0.3, 0.2, 1.0);
   const WorldSnapshot saved = world.snapshot();
   const WorldState at_save = world.state();
-  drive_rover(world, 0.3, -0.4, 1.0);
+  drive(world, "rover", 0.3, -0.4, 1.0);
   const WorldState first = world.state();
   ASSERT_NE(first.robots, at_save.robots);
   ASSERT_TRUE(world.restore(saved).ok());
@@ -133,13 +125,13 @@ TEST(DiffDriveRobot, ItsStateIsSavedAndRestoredWithTheWorlds) {
   EXPECT_EQ(restored.robots, at_save.robots);
   EXPECT_EQ(serialize(restored), serialize(at_save));
   // And the continuation is the first one, bit for bit.
-  drive_rover(world, 0.3, -0.4, 1.0);
+  drive(world, "rover", 0.3, -0.4, 1.0);
   EXPECT_EQ(serialize(world.state()), serialize(first));
 }
 
 TEST(DiffDriveRobot, DamagedStateIsRefusedAndChangesNothing) {
   World world(rover_world());
-  drive_rover(world, 0.3, 0.0, 0.5);
+  drive(world, "rover", 0.3, 0.0, 0.5);
   const uint64_t before = world.state_hash();
   WorldState state = world.state();
   ASSERT_EQ(state.robots.size(), 1u);

@@ -14,6 +14,7 @@
 namespace macsim {
 namespace {
 
+using test::run_for;
 using test::yaw_of;
 
 WorldSpec flat_world() {
@@ -22,24 +23,14 @@ WorldSpec flat_world() {
                            "flat.xml");
 }
 
-// Steps `seconds` of sim time, repeating the twist every 0.1 s like a controller would.
+// The KURT of these worlds driven as a controller drives it: the twist every 0.1 s.
 void drive(World& world, double linear, double angular, double seconds) {
-  KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
-  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
-  for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) kurt.command_twist(linear, angular, world.time());
-    world.step();
-  }
-}
-
-void idle(World& world, double seconds) {
-  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
-  for (long i = 0; i < steps; ++i) world.step();
+  test::drive(world, "kurt", linear, angular, seconds);
 }
 
 TEST(KurtRobot, RestsOnItsWheels) {
   World world(flat_world());
-  idle(world, 1.0);
+  run_for(world, 1.0);
   const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const Pose p = kurt.base_footprint_pose();
   EXPECT_NEAR(p.position.z(), 0.0, 0.005);  // sinks at most a few mm into the soft contact
@@ -51,7 +42,7 @@ TEST(KurtRobot, RestsOnItsWheels) {
 
 TEST(KurtRobot, PositiveSpeedDrivesForwardAtTheCommandedSpeed) {
   World world(flat_world());
-  idle(world, 0.5);
+  run_for(world, 0.5);
   drive(world, 0.3, 0.0, 3.0);
   const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   EXPECT_NEAR(kurt.linear_velocity().x(), 0.3, 0.01);
@@ -64,10 +55,10 @@ TEST(KurtRobot, PositiveSpeedDrivesForwardAtTheCommandedSpeed) {
 
 TEST(KurtRobot, EncoderOdometryAgreesWithGroundTruthOnAStraightRun) {
   World world(flat_world());
-  idle(world, 0.5);
+  run_for(world, 0.5);
   const double x0 = world.robot("kurt")->base_footprint_pose().position.x();
   drive(world, 0.3, 0.0, 3.5);
-  idle(world, 1.0);
+  run_for(world, 1.0);
   const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const double truth = kurt.base_footprint_pose().position.x() - x0;
   const auto odom = kurt.odometry();
@@ -80,13 +71,13 @@ TEST(KurtRobot, EncoderOdometryAgreesWithGroundTruthOnAStraightRun) {
 
 TEST(KurtRobot, EncoderFramesComeEveryTenMilliseconds) {
   World world(flat_world());
-  idle(world, 1.0);
+  run_for(world, 1.0);
   EXPECT_EQ(world.robot_as<KurtRobot>("kurt")->state().frames, 100u);
 }
 
 TEST(KurtRobot, PositiveAngularTwistTurnsCounterClockwise) {
   World world(flat_world());
-  idle(world, 0.5);
+  run_for(world, 0.5);
   drive(world, 0.0, 0.5, 2.0);
   const KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   const Pose p = kurt.base_footprint_pose();
@@ -97,15 +88,15 @@ TEST(KurtRobot, PositiveAngularTwistTurnsCounterClockwise) {
 
 TEST(KurtRobot, StopsWhenCommandsStopForTheTimeout) {
   World world(flat_world());
-  idle(world, 0.5);
+  run_for(world, 0.5);
   KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   kurt.command_twist(0.4, 0.0, world.time());
-  idle(world, 0.55);
+  run_for(world, 0.55);
   EXPECT_DOUBLE_EQ(kurt.state().active.left, 0.4);  // still within 0.6 s
-  idle(world, 0.1);
+  run_for(world, 0.1);
   EXPECT_EQ(kurt.state().active.left, 0.0);  // 0.65 s after the command
   EXPECT_EQ(kurt.state().active.right, 0.0);
-  idle(world, 0.5);
+  run_for(world, 0.5);
   EXPECT_LT(kurt.linear_velocity().norm(), 0.01);
 }
 
@@ -206,7 +197,7 @@ TEST(KurtRobot, WheelTorqueLimitsTheSlopeItCanClimb) {
 
 TEST(KurtRobot, OdometryErrorOverAMetreSquareIsWhatTheSlipFactorPredicts) {
   World world(flat_world());
-  idle(world, 0.5);
+  run_for(world, 0.5);
   KurtRobot& kurt = *world.robot_as<KurtRobot>("kurt");
   // How much does this robot skid when it turns? Turning in place at w = 0.4 commands wheel
   // speeds -+0.28 w: kinematically 2 w; the true rate over the kinematic one is the slip.
@@ -217,7 +208,7 @@ TEST(KurtRobot, OdometryErrorOverAMetreSquareIsWhatTheSlipFactorPredicts) {
       std::remainder(yaw_of(kurt.base_footprint_pose()) - yaw_before, 2 * M_PI) / (2 * 0.4 * 2.0);
   EXPECT_NEAR(slip, 0.69, 0.1);  // the order of the real robot's turning adaptation (0.65 here)
   kurt.command_twist(0.0, 0.0, world.time());
-  idle(world, 0.5);
+  run_for(world, 0.5);
   const PlanarOdometry origin = kurt.odometry();
   const Eigen::Vector2d start_position = kurt.base_footprint_pose().position.head<2>();
   // Drive a 1 m square by odometry: straight 1 m, turn +90 degrees, four times.
@@ -241,7 +232,7 @@ TEST(KurtRobot, OdometryErrorOverAMetreSquareIsWhatTheSlipFactorPredicts) {
       track();
     }
     kurt.command_twist(0.0, 0.0, world.time());
-    idle(world, 0.5);
+    run_for(world, 0.5);
     track();
   }
   // Odometry scales turns by the driver's 0.69 where the robot, turning steadily, really turns

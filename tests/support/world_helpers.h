@@ -34,6 +34,18 @@ inline void run_for(World& world, double seconds) {
   for (long i = 0; i < steps; ++i) world.step();
 }
 
+/// Steps `seconds` of sim time driving ROBOT at (linear m/s, angular rad/s), the twist sent
+/// through the robot's command interface every 0.1 s, as a controller sends it.
+inline void drive(World& world, const std::string& robot, double linear, double angular,
+                  double seconds) {
+  RobotModel& model = *world.robot(robot);
+  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
+  for (long i = 0; i < steps; ++i) {
+    if (i % 100 == 0) model.execute(macsim::robot::Twist{linear, angular}, world.time());
+    world.step();
+  }
+}
+
 /// A pose at (x, y, z) without rotation.
 inline Pose at(double x, double y, double z) {
   return {{x, y, z}, Eigen::Quaterniond::Identity()};

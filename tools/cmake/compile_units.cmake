@@ -8,8 +8,8 @@
 # including its sources by their path under ROOT. A unit's text is rewritten only when it changes.
 function(macsim_units out_var dir root size)
   if(NOT size MATCHES "^[1-9][0-9]*$")
-    message(FATAL_ERROR "compile units: the unit size must be a whole number of sources >= 1 "
-                        "(MACSIM_UNIT_SIZE), not '${size}'")
+    message(FATAL_ERROR "compile units: the unit size must be a whole number of sources >= 1, "
+                        "not '${size}'")
   endif()
   set(units)
   list(LENGTH ARGN total)
