@@ -22,8 +22,10 @@ DEMO_PACKAGES=(
   cmake g++ make pkg-config ninja-build ccache mold python3
   # DDS: Fast DDS 2.9 runtime, CDR, IDL generator (pulls a headless JRE)
   libfastrtps-dev libfastcdr-dev fastddsgen
-  # physics, XML, math, images
-  libode-dev libtinyxml2-dev libeigen3-dev libopencv-dev
+  # physics, XML, math; OpenCV's four modules, not libopencv-dev (which brings every module, with
+  # VTK, Qt, GDAL and FFmpeg: 146 more packages; deploy/cmake/macsimOpenCV.cmake)
+  libode-dev libtinyxml2-dev libeigen3-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-ml-dev
   # the state hash (XXH3)
   libxxhash-dev
   # offscreen rendering on the CPU: EGL + OpenGL through Mesa's llvmpipe

@@ -31,13 +31,13 @@ set(CPACK_DEBIAN_DEV_PACKAGE_NAME macsim-dev)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-macsim)
 # Beyond the shared libraries dpkg-shlibdeps finds: the cameras render through Mesa (EGL and
 # llvmpipe, loaded at run time) and the discovery server's unit runs Fast DDS's own server; the
-# SDK's static libraries need the headers and CMake packages of what they link (OpenCV's CMake
-# package is in libopencv-dev only; spdlog's and fmt's for the log, CLI11 is compiled into the
-# command line and not needed); the Python module
-# is built for Debian 12's Python 3.11 and hands out numpy arrays.
+# SDK's static libraries need the headers and CMake packages of what they link (of OpenCV, the
+# three modules' packages: cmake/macsimOpenCV.cmake finds them without libopencv-dev; spdlog's
+# and fmt's for the log, CLI11 is compiled into the command line and not needed); the Python
+# module is built for Debian 12's Python 3.11 and hands out numpy arrays.
 set(CPACK_DEBIAN_SIMULATOR_PACKAGE_DEPENDS "fastdds-tools, libegl-mesa0, libgl1-mesa-dri")
-set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
-  "libfastrtps-dev (>= 2.9), libfastcdr-dev, libopencv-dev, libspdlog-dev, libfmt-dev")
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libfastrtps-dev (>= 2.9), libfastcdr-dev, libopencv-core-dev, \
+libopencv-imgproc-dev, libopencv-ml-dev, libspdlog-dev, libfmt-dev")
 set(CPACK_DEBIAN_DEV_PACKAGE_RECOMMENDS "cmake, g++")
 set(CPACK_DEBIAN_COMMON_PACKAGE_RECOMMENDS "openssl")  # security/make_security.sh
 set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS "python3 (>= 3.11), python3 (<< 3.12), python3-numpy")

@@ -138,8 +138,12 @@ def test_an_out_of_tree_controller_loads_a_model_the_installed_learner_saved(pre
         "  std::printf(\"%s %s %.2f\\n\", model.info().affordance.c_str(), p.label.c_str(),\n"
         "              p.confidence);\n}\n")
     build = tmp_path / "ranker_build"
-    run(["cmake", "-S", project, "-B", build, f"-DCMAKE_PREFIX_PATH={prefix}",
-         "-DCMAKE_BUILD_TYPE=Release"], env=installed_env)
+    # OpenCV's modules as the package finds them without OpenCV's own CMake package (a machine
+    # with Debian's module packages and no libopencv-dev), wherever that package is installed.
+    configure = run(["cmake", "-S", project, "-B", build, f"-DCMAKE_PREFIX_PATH={prefix}",
+                     "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_DISABLE_FIND_PACKAGE_OpenCV=ON"],
+                    env=installed_env)
+    assert "OpenCV: the modules core imgproc ml from" in configure, configure
     run(["cmake", "--build", build], env=installed_env)
     result = subprocess.run([build / "ranker", models / "lift.yml"], capture_output=True,
                             text=True, env=installed_env, timeout=30)

@@ -78,8 +78,9 @@ def test_dependencies_are_debian_packages(debs):
     for name in ["opencv", "libgl", "libegl", "libglut", "libode", "libx11", "python"]:
         assert name not in robot, robot
     dev = field(debs["macsim-dev"], "Depends")
-    for name in ["libfastrtps-dev", "libfastcdr-dev", "libopencv-dev"]:  # OpenCV's CMake package
+    for name in ["libfastrtps-dev", "libfastcdr-dev", "libopencv-core-dev", "libopencv-ml-dev"]:
         assert name in dev, dev
+    assert "libopencv-dev" not in dev, dev  # every module of OpenCV, with VTK, Qt and GDAL
     python = field(debs["python3-macsim"], "Depends")
     assert "python3-numpy" in python and "libfastrtps2.9" in python, python
 
