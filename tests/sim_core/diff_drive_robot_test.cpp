@@ -27,7 +27,6 @@ WorldSpec rover_world(const std::string& wall = "") {
 const std::string kWall = R"(<OBJECT><ID>wall</ID><TYPE>FIXED</TYPE><SHAPE>BOX</SHAPE>
     <DIMS>0.1,3,0.5</DIMS><POS>2.05,0,0.25</POS></OBJECT>)";
 
-
 TEST(DiffDriveRobot, StandsOnItsWheelsWithBaseLinkAtTheAxles) {
   World world(rover_world());
   run_for(world, 1.0);

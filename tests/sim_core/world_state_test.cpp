@@ -20,8 +20,7 @@ namespace {
 
 // A trial: the robot drives an arc, an object is pushed, the door opens.
 void trial(World& world, double seconds) {
-  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
-  for (long i = 0; i < steps; ++i) {
+  for (long i = 0, steps = steps_in(world, seconds); i < steps; ++i) {
     if (i % 100 == 0) world.robot("kurt")->execute(robot::Twist{0.3, 0.3}, world.time());
     if (i == 200) world.doors().set_switch_triggered(0, true);
     if (i == 300) world.edit().add_force(id_of(world, "environment_01/ball_green"), {0, 300, 0});

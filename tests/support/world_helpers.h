@@ -1,6 +1,7 @@
 // Helpers for sim_core tests: load shipped worlds, step for a while, make simple objects.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -28,10 +29,14 @@ inline double yaw_of(const Pose& p) {
   return std::atan2(x.y(), x.x());
 }
 
+/// The number of the world's steps in `seconds` of sim time.
+inline long steps_in(const World& world, double seconds) {
+  return static_cast<long>(std::llround(seconds / world.step_size()));
+}
+
 /// Steps `seconds` of sim time.
 inline void run_for(World& world, double seconds) {
-  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
-  for (long i = 0; i < steps; ++i) world.step();
+  for (long i = 0, steps = steps_in(world, seconds); i < steps; ++i) world.step();
 }
 
 /// Steps `seconds` of sim time driving ROBOT at (linear m/s, angular rad/s), the twist sent
@@ -39,9 +44,9 @@ inline void run_for(World& world, double seconds) {
 inline void drive(World& world, const std::string& robot, double linear, double angular,
                   double seconds) {
   RobotModel& model = *world.robot(robot);
-  const auto steps = static_cast<long>(std::llround(seconds / world.step_size()));
-  for (long i = 0; i < steps; ++i) {
-    if (i % 100 == 0) model.execute(macsim::robot::Twist{linear, angular}, world.time());
+  const long repeat = std::max(1L, steps_in(world, 0.1));
+  for (long i = 0, steps = steps_in(world, seconds); i < steps; ++i) {
+    if (i % repeat == 0) model.execute(macsim::robot::Twist{linear, angular}, world.time());
     world.step();
   }
 }
